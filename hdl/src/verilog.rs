@@ -1,0 +1,534 @@
+//! Clean Verilog export.
+//!
+//! rust-hdl 0.46 emits every module as `top` or `top$path`, puts `$` in signal
+//! names, sizes every integer literal at 32 bits, and gives each flip-flop its
+//! own module whose clock is assigned inside the parent's `always @(*)` block
+//! (a delta-cycle race that simulators may resolve differently). This module
+//! rewrites that output so that:
+//!
+//! * the top module is named after the block and each submodule
+//!   `<block>__<path>`, so every generated file can be read into one project;
+//! * flip-flops are inlined as `always @(posedge clock)` in their parent, the
+//!   clock wired straight to them;
+//! * no identifier contains `$`;
+//! * integer literals take the width of what they are assigned to or
+//!   compared with, so `verilator --lint-only -Wall` sees no WIDTH mismatch.
+//!
+//! Anything outside the patterns rust-hdl emits for our blocks is a panic
+//! naming the line, never a silent mistranslation.
+
+use regex::Regex;
+use rust_hdl::prelude::{generate_verilog, Block};
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::OnceLock;
+
+/// Exports `uut` (already `connect_all`ed) as Verilog whose top module is
+/// `name`. `banner` lines are written first, each as a `//` comment.
+pub fn export<B: Block>(uut: &B, name: &str, banner: &[String]) -> String {
+    let raw = generate_verilog(uut);
+    let body = rewrite(&raw, name);
+    let mut out = String::new();
+    for line in banner {
+        out.push_str("// ");
+        out.push_str(line);
+        out.push('\n');
+    }
+    out.push_str("`timescale 1ns / 1ps\n`default_nettype none\n");
+    out.push_str(&body);
+    out.push_str("\n`default_nettype wire\n");
+    out
+}
+
+struct RawModule {
+    name: String,
+    args: Vec<String>,
+    lines: Vec<String>,
+}
+
+struct Dff {
+    init: String,
+}
+
+fn re(cell: &'static OnceLock<Regex>, pat: &str) -> &'static Regex {
+    cell.get_or_init(|| Regex::new(pat).expect("valid regex"))
+}
+
+fn parse_modules(raw: &str) -> Vec<RawModule> {
+    static HEADER: OnceLock<Regex> = OnceLock::new();
+    let header = re(&HEADER, r"^module ([\w$]+)\(([^)]*)\);$");
+    let mut modules = Vec::new();
+    let mut current: Option<RawModule> = None;
+    for line in raw.lines() {
+        if let Some(c) = header.captures(line) {
+            assert!(current.is_none(), "nested module at `{line}`");
+            current = Some(RawModule {
+                name: c[1].to_string(),
+                args: c[2]
+                    .split(',')
+                    .map(|s| s.trim().to_string())
+                    .filter(|s| !s.is_empty())
+                    .collect(),
+                lines: Vec::new(),
+            });
+        } else if line.starts_with("endmodule") {
+            modules.push(current.take().expect("endmodule without module"));
+        } else if let Some(m) = current.as_mut() {
+            m.lines.push(line.trim_end().to_string());
+        } else {
+            assert!(line.trim().is_empty(), "text outside a module: `{line}`");
+        }
+    }
+    assert!(current.is_none(), "unterminated module");
+    modules
+}
+
+/// Recognises rust-hdl's `DFF` module and returns its initial value.
+fn as_dff(m: &RawModule) -> Option<Dff> {
+    static INIT: OnceLock<Regex> = OnceLock::new();
+    let init = re(&INIT, r"^\s*q = (\d+'[hb][0-9a-f]+);$");
+    if m.args != ["d", "q", "clock"] {
+        return None;
+    }
+    let code: Vec<&str> = m
+        .lines
+        .iter()
+        .map(|l| l.trim())
+        .filter(|l| !l.is_empty())
+        .collect();
+    let shape_ok = code.contains(&"// Update code (custom)")
+        && code.contains(&"always @(posedge clock) begin")
+        && code.contains(&"q <= d;");
+    if !shape_ok {
+        return None;
+    }
+    let init = m.lines.iter().find_map(|l| init.captures(l))?[1].to_string();
+    Some(Dff { init })
+}
+
+
+
+/// An instance as rust-hdl writes it: `kind name(` then `.port(sig),` lines then `);`.
+struct Instance {
+    kind: String,
+    name: String,
+    ports: Vec<(String, String)>,
+    first_line: usize,
+    last_line: usize,
+}
+
+fn instances(lines: &[String]) -> Vec<Instance> {
+    static OPEN: OnceLock<Regex> = OnceLock::new();
+    let open = re(&OPEN, r"^\s*([\w$]+) ([\w$]+)\($");
+    static PORT: OnceLock<Regex> = OnceLock::new();
+    let port = re(&PORT, r"^\s*\.(\w+)\(([\w$]+)\),?$");
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        if let Some(c) = open.captures(&lines[i]) {
+            let mut inst = Instance {
+                kind: c[1].to_string(),
+                name: c[2].to_string(),
+                ports: Vec::new(),
+                first_line: i,
+                last_line: i,
+            };
+            i += 1;
+            while lines[i].trim() != ");" {
+                let p = port
+                    .captures(&lines[i])
+                    .unwrap_or_else(|| panic!("unexpected port line `{}`", lines[i]));
+                inst.ports.push((p[1].to_string(), p[2].to_string()));
+                i += 1;
+            }
+            inst.last_line = i;
+            out.push(inst);
+        }
+        i += 1;
+    }
+    out
+}
+
+fn rewrite(raw: &str, top: &str) -> String {
+    let modules: BTreeMap<String, RawModule> = parse_modules(raw)
+        .into_iter()
+        .map(|m| (m.name.clone(), m))
+        .collect();
+    let dffs: BTreeMap<String, Dff> = modules
+        .values()
+        .filter_map(|m| as_dff(m).map(|d| (m.name.clone(), d)))
+        .collect();
+    let root = modules.get("top").expect("rust-hdl output has a top module");
+    let mut flat = flatten(root, &modules, &dffs);
+    resolve_flop_clocks(&mut flat, &root.args);
+    render(top, root, &flat)
+}
+
+/// A module with every child inlined: its own declarations, one
+/// combinational block per original module, and its flip-flops.
+#[derive(Default)]
+struct Flat {
+    /// (kind, width, name, init) for every non-port net, in order.
+    nets: Vec<Net>,
+    /// Width of every port and net, by name.
+    widths: BTreeMap<String, usize>,
+    /// Local parameters: (name, value).
+    params: Vec<(String, String)>,
+    /// Combinational blocks, each a list of statement lines (unindented).
+    comb: Vec<Vec<String>>,
+    /// Flip-flops: (clock, q, d).
+    flops: Vec<(String, String, String)>,
+}
+
+#[derive(Clone)]
+struct Net {
+    width: usize,
+    signed: bool,
+    name: String,
+    init: Option<String>,
+}
+
+fn flatten(m: &RawModule, modules: &BTreeMap<String, RawModule>, dffs: &BTreeMap<String, Dff>) -> Flat {
+    static DECL: OnceLock<Regex> = OnceLock::new();
+    let decl = re(
+        &DECL,
+        r"^(input wire|output reg|output wire|inout wire|reg|wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$",
+    );
+    static PARAM: OnceLock<Regex> = OnceLock::new();
+    let param = re(&PARAM, r"^localparam\s+(?:signed\s+)?([\w$]+) = (\d+'[hb][0-9a-f]+);$");
+    let mut flat = Flat::default();
+    let insts = instances(&m.lines);
+    let in_instance = |i: usize| insts.iter().any(|n| (n.first_line..=n.last_line).contains(&i));
+    let mut i = 0;
+    while i < m.lines.len() {
+        let line = m.lines[i].trim();
+        if line.is_empty() || line.starts_with("//") || in_instance(i) {
+        } else if let Some(c) = decl.captures(line) {
+            let width = c.get(3).map_or(1, |w| w.as_str().parse::<usize>().unwrap() + 1);
+            let name = c[4].to_string();
+            flat.widths.insert(name.clone(), width);
+            if !c[1].starts_with("input") && !c[1].starts_with("output") && !c[1].starts_with("inout") {
+                flat.nets.push(Net { width, signed: c.get(2).is_some(), name, init: None });
+            }
+        } else if let Some(c) = param.captures(line) {
+            let w: usize = c[2].split('\'').next().unwrap().parse().unwrap();
+            flat.widths.insert(c[1].to_string(), w);
+            flat.params.push((c[1].to_string(), c[2].to_string()));
+        } else if line == "always @(*) begin" {
+            let mut depth = 1;
+            let mut body = Vec::new();
+            i += 1;
+            loop {
+                let l = m.lines[i].trim();
+                depth += l.matches(" begin").count() + usize::from(l == "begin");
+                if l == "end" || l.starts_with("end ") || l.starts_with("end\t") {
+                    depth -= 1;
+                    if depth == 0 {
+                        break;
+                    }
+                }
+                body.push(m.lines[i].clone());
+                i += 1;
+            }
+            flat.comb.push(dedent(&body));
+        } else {
+            panic!("unexpected line in rust-hdl module {}: `{line}`", m.name);
+        }
+        i += 1;
+    }
+    for inst in insts {
+        let conn = |p: &str| -> String {
+            inst.ports
+                .iter()
+                .find(|(n, _)| n == p)
+                .unwrap_or_else(|| panic!("instance {} has no port {p}", inst.name))
+                .1
+                .clone()
+        };
+        if let Some(dff) = dffs.get(&inst.kind) {
+            let q = conn("q");
+            let net = flat
+                .nets
+                .iter_mut()
+                .find(|n| n.name == q)
+                .unwrap_or_else(|| panic!("flop output {q} is not a local net of {}", m.name));
+            net.init = Some(dff.init.clone());
+            flat.flops.push((conn("clock"), q, conn("d")));
+            continue;
+        }
+        let child = modules
+            .get(&inst.kind)
+            .unwrap_or_else(|| panic!("no module {}", inst.kind));
+        let sub = flatten(child, modules, dffs);
+        let rename = |id: &str| -> String {
+            if child.args.iter().any(|a| a == id) {
+                conn(id)
+            } else {
+                format!("{}${id}", inst.name)
+            }
+        };
+        for n in sub.nets {
+            let name = rename(&n.name);
+            flat.widths.insert(name.clone(), n.width);
+            flat.nets.push(Net { name, ..n });
+        }
+        for (p, v) in sub.params {
+            let name = rename(&p);
+            flat.widths.insert(name.clone(), sub.widths[&p]);
+            flat.params.push((name, v));
+        }
+        for block in sub.comb {
+            flat.comb.push(block.iter().map(|l| rename_identifiers(l, &rename)).collect());
+        }
+        for (c, q, d) in sub.flops {
+            flat.flops.push((rename(&c), rename(&q), rename(&d)));
+        }
+    }
+    flat
+}
+
+fn dedent(lines: &[String]) -> Vec<String> {
+    let indent = lines
+        .iter()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.len() - l.trim_start().len())
+        .min()
+        .unwrap_or(0);
+    lines.iter().map(|l| l.get(indent..).unwrap_or("").to_string()).collect()
+}
+
+const KEYWORDS: &[&str] = &[
+    "always", "begin", "end", "if", "else", "case", "endcase", "default", "posedge", "negedge",
+    "or", "and", "not",
+];
+
+/// Renames every identifier in a statement line, leaving keywords, sized
+/// literals (`4'h0`) and system functions (`$signed`) alone.
+fn rename_identifiers(line: &str, rename: &dyn Fn(&str) -> String) -> String {
+    static TOKEN: OnceLock<Regex> = OnceLock::new();
+    let token = re(&TOKEN, r"(\d+'[bhd][0-9a-fA-F_]+)|(\$[A-Za-z_]\w*)|([A-Za-z_][\w$]*)");
+    token
+        .replace_all(line, |c: &regex::Captures| {
+            match c.get(3) {
+                Some(id) if !KEYWORDS.contains(&id.as_str()) => rename(id.as_str()),
+                _ => c[0].to_string(),
+            }
+        })
+        .to_string()
+}
+
+/// rust-hdl routes each flop's clock through a stub assigned in a
+/// combinational block (`x$clock = clock;`). Wire the flop to the source
+/// instead and drop the stub, so no clock passes through `always @(*)`.
+fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
+    for f in 0..flat.flops.len() {
+        let mut clk = flat.flops[f].0.clone();
+        while !ports.contains(&clk) {
+            let prefix = format!("{clk} = ");
+            let (b, l, src) = flat
+                .comb
+                .iter()
+                .enumerate()
+                .find_map(|(b, block)| {
+                    block.iter().position(|l| l.starts_with(&prefix)).map(|l| {
+                        (b, l, block[l][prefix.len()..].trim_end_matches(';').to_string())
+                    })
+                })
+                .unwrap_or_else(|| panic!("flop clock `{clk}` has no simple driver"));
+            assert!(
+                src.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '$'),
+                "flop clock `{clk}` is driven by logic `{src}`"
+            );
+            flat.comb[b].remove(l);
+            flat.nets.retain(|n| n.name != clk);
+            clk = src;
+        }
+        flat.flops[f].0 = clk;
+    }
+    // A removed clock stub read anywhere else would now be undeclared.
+    for b in &flat.comb {
+        for l in b {
+            for n in l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '$')) {
+                assert!(
+                    !n.ends_with("$clock") || flat.nets.iter().any(|x| x.name == n) || ports.iter().any(|p| p == n),
+                    "clock stub `{n}` is still read in `{l}`"
+                );
+            }
+        }
+    }
+}
+
+fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
+    let assigned: BTreeSet<String> = flat
+        .comb
+        .iter()
+        .flatten()
+        .filter_map(|l| l.trim().split(" = ").next().filter(|_| l.contains(" = ")))
+        .map(|s| s.to_string())
+        .chain(flat.flops.iter().map(|f| f.1.clone()))
+        .collect();
+    let decl_width = |w: usize| if w == 1 { String::new() } else { format!("[{}:0] ", w - 1) };
+    let mut t = format!("\nmodule {name}({});\n", root.args.join(", "));
+    static PORT: OnceLock<Regex> = OnceLock::new();
+    let port = re(&PORT, r"^(input wire|output reg|output wire|inout wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$");
+    for arg in &root.args {
+        let l = root
+            .lines
+            .iter()
+            .map(|l| l.trim())
+            .find(|l| port.captures(l).is_some_and(|c| &c[4] == arg))
+            .unwrap_or_else(|| panic!("no declaration for port {arg}"));
+        let c = port.captures(l).unwrap();
+        let dir = match &c[1] {
+            "input wire" => "input wire".to_string(),
+            "inout wire" => "inout wire".to_string(),
+            _ if assigned.contains(arg) => "output reg".to_string(),
+            _ => "output wire".to_string(),
+        };
+        let signed = if c.get(2).is_some() { "signed " } else { "" };
+        t.push_str(&format!("    {dir} {signed}{}{arg};\n", decl_width(flat.widths[arg])));
+    }
+    if !flat.params.is_empty() {
+        t.push('\n');
+        for (p, v) in &flat.params {
+            t.push_str(&format!("    localparam {p} = {v};\n"));
+        }
+    }
+    if !flat.nets.is_empty() {
+        t.push('\n');
+        for n in &flat.nets {
+            let kind = if assigned.contains(&n.name) { "reg" } else { "wire" };
+            let signed = if n.signed { "signed " } else { "" };
+            let init = n.init.as_ref().map(|i| format!(" = {i}")).unwrap_or_default();
+            t.push_str(&format!("    {kind} {signed}{}{}{init};\n", decl_width(n.width), n.name));
+        }
+    }
+    for block in &flat.comb {
+        if block.iter().all(|l| l.trim().is_empty()) {
+            continue;
+        }
+        t.push_str("\n    always @(*) begin\n");
+        for l in block {
+            t.push_str(&format!("        {}\n", size_literals(l, &flat.widths)));
+        }
+        t.push_str("    end\n");
+    }
+    if !flat.flops.is_empty() {
+        t.push('\n');
+        for (c, q, d) in &flat.flops {
+            t.push_str(&format!("    always @(posedge {c}) {q} <= {d};\n"));
+        }
+    }
+    t.push_str(&format!("endmodule // {name}\n"));
+    // Every name must stay distinct once `$` becomes `_`.
+    let mut seen: BTreeMap<String, &str> = BTreeMap::new();
+    for n in flat.widths.keys() {
+        let clean = n.replace('$', "_");
+        if let Some(other) = seen.insert(clean.clone(), n) {
+            panic!("in {name}: `{other}` and `{n}` would both become `{clean}`");
+        }
+    }
+    strip_dollars(&t)
+}
+
+/// Replaces `$` inside identifiers with `_`; system tasks such as `$signed`
+/// start with `$` and are left alone.
+fn strip_dollars(text: &str) -> String {
+    static ID: OnceLock<Regex> = OnceLock::new();
+    let id = re(&ID, r"([A-Za-z0-9_])\$([A-Za-z0-9_])");
+    let mut t = text.to_string();
+    loop {
+        let next = id.replace_all(&t, "${1}_${2}").to_string();
+        if next == t {
+            return t;
+        }
+        t = next;
+    }
+}
+
+/// Gives 32-bit integer literals the width of their context: the left-hand
+/// side of an assignment, or the other operand of a binary operator.
+fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
+    static LIT: OnceLock<Regex> = OnceLock::new();
+    let lit = re(&LIT, r"32'h([0-9a-f]+)");
+    if !lit.is_match(line) {
+        return line.to_string();
+    }
+    static ASSIGN: OnceLock<Regex> = OnceLock::new();
+    let assign = re(&ASSIGN, r"^(\s*)([\w$]+) = 32'h([0-9a-f]+);$");
+    static INDEX: OnceLock<Regex> = OnceLock::new();
+    let index = re(&INDEX, r"\[32'h([0-9a-f]+)\]");
+    static BINOP: OnceLock<Regex> = OnceLock::new();
+    let binop = re(
+        &BINOP,
+        r"([\w$]+) (==|!=|<=|>=|<|>|\+|-|&|\||\^) 32'h([0-9a-f]+)",
+    );
+    let width_of = |name: &str| -> usize {
+        decls
+            .get(name)
+            .copied()
+            .unwrap_or_else(|| panic!("literal sized against unknown signal `{name}` in `{line}`"))
+    };
+    let sized = |width: usize, hex: &str| -> String {
+        let v = u128::from_str_radix(hex, 16).unwrap();
+        assert!(
+            width >= 128 || v < (1u128 << width),
+            "literal 0x{hex} does not fit {width} bits in `{line}`"
+        );
+        format!("{width}'h{v:x}")
+    };
+    let mut l = index
+        .replace_all(line, |c: &regex::Captures| {
+            format!("[{}]", u128::from_str_radix(&c[1], 16).unwrap())
+        })
+        .to_string();
+    if let Some(c) = assign.captures(&l.clone()) {
+        l = format!("{}{} = {};", &c[1], &c[2], sized(width_of(&c[2]), &c[3]));
+    }
+    l = binop
+        .replace_all(&l, |c: &regex::Captures| {
+            format!("{} {} {}", &c[1], &c[2], sized(width_of(&c[1]), &c[3]))
+        })
+        .to_string();
+    if lit.is_match(&l) {
+        let w32 = lit.find_iter(&l).count();
+        // A literal left at 32 bits is right only if its context is 32 bits wide.
+        panic!("cannot size {w32} 32-bit literal(s) in `{line}`: assign or compare against a named signal, or use a Constant");
+    }
+    l
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn decls(pairs: &[(&str, usize)]) -> BTreeMap<String, usize> {
+        pairs.iter().map(|(n, w)| (n.to_string(), *w)).collect()
+    }
+
+    #[test]
+    fn literals_take_their_context_width() {
+        let d = decls(&[("q$d", 4), ("x", 28)]);
+        assert_eq!(size_literals("    q$d = 32'h0;", &d), "    q$d = 4'h0;");
+        assert_eq!(size_literals("    a = x + 32'h1;", &d), "    a = x + 28'h1;");
+        assert_eq!(size_literals("if (x == 32'h3) begin", &d), "if (x == 28'h3) begin");
+        assert_eq!(size_literals("    a = x[32'h3];", &d), "    a = x[3];");
+    }
+
+    #[test]
+    #[should_panic(expected = "does not fit")]
+    fn oversized_literal_is_rejected() {
+        size_literals("    q$d = 32'h10;", &decls(&[("q$d", 4)]));
+    }
+
+    #[test]
+    #[should_panic(expected = "cannot size")]
+    fn unsizable_literal_is_rejected() {
+        size_literals("    a = (32'h1 << b);", &decls(&[]));
+    }
+
+    #[test]
+    fn dollars_leave_system_functions_alone() {
+        assert_eq!(strip_dollars("a$b$c = $signed(x$y);"), "a_b_c = $signed(x_y);");
+    }
+
+}

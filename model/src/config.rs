@@ -1,0 +1,134 @@
+//! Build-time configuration of the gateware: axis count, counter width, clock.
+
+use std::fmt;
+use std::ops::RangeInclusive;
+
+/// Gateware configuration. Construct with [`Config::new`] so that every value
+/// is checked; [`Config::default`] is the built-in default (4 axes, 28-bit
+/// counters, 50 MHz).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Config {
+    axes: u32,
+    counter_width: u32,
+    clock_hz: u64,
+}
+
+impl Config {
+    /// Axes the counter bank and pulse generators can be built for.
+    pub const AXES: RangeInclusive<u64> = 1..=16;
+    /// Counter widths in bits. Below 8 a counter wraps too fast to be useful;
+    /// above 32 a count no longer fits one 32-bit firmware read.
+    pub const COUNTER_WIDTH: RangeInclusive<u64> = 8..=32;
+    /// FPGA clock frequencies in Hz that the timing constraints cover.
+    pub const CLOCK_HZ: RangeInclusive<u64> = 1_000_000..=400_000_000;
+
+    /// Checks every value against its allowed range.
+    pub fn new(axes: u64, counter_width: u64, clock_hz: u64) -> Result<Self, ConfigError> {
+        check("axes", axes, Self::AXES)?;
+        check("counter_width", counter_width, Self::COUNTER_WIDTH)?;
+        check("clock_hz", clock_hz, Self::CLOCK_HZ)?;
+        Ok(Self {
+            axes: axes as u32,
+            counter_width: counter_width as u32,
+            clock_hz,
+        })
+    }
+
+    pub fn axes(&self) -> u32 {
+        self.axes
+    }
+    pub fn counter_width(&self) -> u32 {
+        self.counter_width
+    }
+    pub fn clock_hz(&self) -> u64 {
+        self.clock_hz
+    }
+    /// Clock period in picoseconds, rounded to the nearest picosecond.
+    pub fn clock_period_ps(&self) -> u64 {
+        (1_000_000_000_000 + self.clock_hz / 2) / self.clock_hz
+    }
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            axes: 4,
+            counter_width: 28,
+            clock_hz: 50_000_000,
+        }
+    }
+}
+
+fn check(name: &'static str, value: u64, range: RangeInclusive<u64>) -> Result<(), ConfigError> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange {
+            name,
+            value,
+            min: *range.start(),
+            max: *range.end(),
+        })
+    }
+}
+
+/// A configuration value outside its allowed range.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ConfigError {
+    OutOfRange {
+        name: &'static str,
+        value: u64,
+        min: u64,
+        max: u64,
+    },
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConfigError::OutOfRange {
+                name,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "{name} = {value} is out of range: allowed {min}..={max}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_is_valid_and_matches_the_seed_card() {
+        let d = Config::default();
+        assert_eq!(Config::new(4, 28, 50_000_000), Ok(d));
+        assert_eq!(d.clock_period_ps(), 20_000);
+    }
+
+    #[test]
+    fn every_bound_is_enforced_and_named() {
+        for (axes, width, clk, name, value) in [
+            (0, 28, 50_000_000, "axes", 0),
+            (17, 28, 50_000_000, "axes", 17),
+            (4, 0, 50_000_000, "counter_width", 0),
+            (4, 7, 50_000_000, "counter_width", 7),
+            (4, 33, 50_000_000, "counter_width", 33),
+            (4, 28, 0, "clock_hz", 0),
+            (4, 28, 400_000_001, "clock_hz", 400_000_001),
+        ] {
+            let err = Config::new(axes, width, clk).unwrap_err();
+            let msg = err.to_string();
+            assert!(msg.starts_with(&format!("{name} = {value} ")), "{msg}");
+            assert!(msg.contains("allowed"), "{msg}");
+        }
+        assert!(Config::new(1, 8, 1_000_000).is_ok());
+        assert!(Config::new(16, 32, 400_000_000).is_ok());
+    }
+}

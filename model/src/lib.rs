@@ -1,0 +1,11 @@
+//! Bit-accurate reference model of the motionhdl gateware.
+//!
+//! Pure Rust with no rust-hdl dependency, so firmware and host tools can use it
+//! directly. Every HDL block in `motionhdl-hdl` has its twin here; the
+//! testbench compares the two.
+
+pub mod config;
+pub mod ls153;
+pub mod pulse_mode_selector;
+
+pub use config::{Config, ConfigError};
