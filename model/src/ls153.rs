@@ -43,8 +43,8 @@ impl Ls153Inputs {
         let bits = word.view_bits::<Lsb0>();
         let mut c1 = DataInputs::ZERO;
         let mut c2 = DataInputs::ZERO;
-        c1[..4].copy_from_bitslice(&bits[4..8]);
-        c2[..4].copy_from_bitslice(&bits[8..12]);
+        c1[..4].store::<u8>(bits[4..8].load::<u8>());
+        c2[..4].store::<u8>(bits[8..12].load::<u8>());
         Self {
             a: bits[0],
             b: bits[1],
@@ -63,8 +63,8 @@ impl Ls153Inputs {
         bits.set(1, self.b);
         bits.set(2, self.g1_n);
         bits.set(3, self.g2_n);
-        bits[4..8].copy_from_bitslice(&self.c1[..4]);
-        bits[8..12].copy_from_bitslice(&self.c2[..4]);
+        bits[4..8].store::<u8>(self.c1[..4].load::<u8>());
+        bits[8..12].store::<u8>(self.c2[..4].load::<u8>());
         word
     }
 

@@ -1,1 +1,16 @@
-//! testbench
+//! HDL-vs-model checks, scenario traces and external simulator drivers.
+//!
+//! * [`harness`]: stepping rust-hdl blocks directly (no `Simulation` thread),
+//!   check reports, and the rule for external tools under CI.
+//! * [`selector`]: exhaustive checks of the 74LS153 and the pulse-mode selector.
+//! * [`verilog_sim`]: runs the generated Verilog in Icarus Verilog and Verilator.
+//! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
+//! * [`scenarios`]: the named traces `motionhdl trace` writes.
+
+pub mod harness;
+pub mod scenarios;
+pub mod selector;
+pub mod trace;
+pub mod verilog_sim;
+
+pub use harness::CheckReport;

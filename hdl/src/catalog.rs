@@ -1,0 +1,64 @@
+//! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
+
+use crate::{banner, verilog, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use rust_hdl::prelude::Block;
+
+/// One exported module.
+pub struct VerilogModule {
+    /// Module name, also the file stem.
+    pub name: &'static str,
+    /// What the module is, for the file banner.
+    pub summary: &'static str,
+    /// The Verilog text.
+    pub text: String,
+}
+
+fn module<B: Block>(mut uut: B, name: &'static str, summary: &'static str) -> VerilogModule {
+    uut.connect_all();
+    let text = verilog::export(
+        &uut,
+        name,
+        &[
+            banner(),
+            format!("{name}: {summary}"),
+            "Flattened from the rust-hdl description in motionhdl-hdl; one module per file.".into(),
+        ],
+    );
+    VerilogModule {
+        name,
+        summary,
+        text,
+    }
+}
+
+/// The 74LS153 dual 4-to-1 data selector.
+pub fn ls153() -> VerilogModule {
+    module(
+        Ls153::default(),
+        "ls153",
+        "74LS153 dual 4-to-1 data selector, one port per chip pin (combinational)",
+    )
+}
+
+/// The combinational pulse-mode selector.
+pub fn pulse_mode_selector() -> VerilogModule {
+    module(
+        PulseModeSelector::default(),
+        "pulse_mode_selector",
+        "command-pulse mode selector, K=0 pulse+direction, K=1 CW/CCW, one 74LS153 (combinational)",
+    )
+}
+
+/// The registered pulse-mode selector, for output pins.
+pub fn pulse_mode_selector_registered() -> VerilogModule {
+    module(
+        PulseModeSelectorRegistered::default(),
+        "pulse_mode_selector_registered",
+        "pulse-mode selector with registered, glitch-free outputs (one clock latency, synchronous reset)",
+    )
+}
+
+/// Every exported module.
+pub fn all() -> Vec<VerilogModule> {
+    vec![ls153(), pulse_mode_selector(), pulse_mode_selector_registered()]
+}

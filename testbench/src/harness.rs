@@ -1,0 +1,130 @@
+//! Stepping rust-hdl blocks directly, and reporting checks.
+
+use rust_hdl::prelude::{simulate, Block, Clock, Signal, In};
+use std::path::PathBuf;
+
+/// Propagates inputs through combinational logic until nothing changes.
+pub fn settle<B: Block>(uut: &mut B) {
+    assert!(simulate(uut, 1000), "circuit did not settle (combinational loop?)");
+}
+
+/// One full clock cycle: rising edge, settle, falling edge, settle.
+/// `clock` selects the block's clock input.
+pub fn cycle<B: Block>(uut: &mut B, clock: fn(&mut B) -> &mut Signal<In, Clock>) {
+    clock(uut).next = Clock::from(true);
+    settle(uut);
+    clock(uut).next = Clock::from(false);
+    settle(uut);
+}
+
+/// The outcome of one check: how many cases it covered against how many it
+/// had to cover, and every mismatch (with the inputs that produced it).
+#[derive(Clone, Debug)]
+pub struct CheckReport {
+    pub block: String,
+    pub check: String,
+    pub covered: u64,
+    pub expected: u64,
+    pub failures: Vec<String>,
+    /// Why the check did not run (a missing external tool outside CI).
+    pub skipped: Option<String>,
+}
+
+impl CheckReport {
+    pub fn new(block: &str, check: &str, expected: u64) -> Self {
+        Self {
+            block: block.into(),
+            check: check.into(),
+            covered: 0,
+            expected,
+            failures: Vec::new(),
+            skipped: None,
+        }
+    }
+
+    /// Records one case; `failure` is `Some(description)` on a mismatch.
+    /// Only the first 20 failures are kept in full.
+    pub fn case(&mut self, failure: Option<String>) {
+        self.covered += 1;
+        if let Some(f) = failure {
+            if self.failures.len() < 20 {
+                self.failures.push(f);
+            } else if self.failures.len() == 20 {
+                self.failures.push("… further failures not shown".into());
+            }
+        }
+    }
+
+    /// Records that the check could not run.
+    pub fn skip(mut self, why: String) -> Self {
+        self.skipped = Some(why);
+        self
+    }
+
+    pub fn passed(&self) -> bool {
+        self.skipped.is_none() && self.failures.is_empty() && self.covered == self.expected
+    }
+
+    pub fn result(&self) -> String {
+        if let Some(why) = &self.skipped {
+            format!("SKIPPED ({why})")
+        } else if !self.failures.is_empty() {
+            format!("FAIL ({} mismatches)", self.failures.len())
+        } else if self.covered != self.expected {
+            "FAIL (coverage)".into()
+        } else {
+            "pass".into()
+        }
+    }
+
+    /// Panics with every failure unless the check passed. A skip is
+    /// accepted only outside CI (see [`tool`]).
+    pub fn assert_passed(&self) {
+        if let Some(why) = &self.skipped {
+            assert!(!in_ci(), "{} / {}: skipped in CI: {why}", self.block, self.check);
+            eprintln!("SKIPPED {} / {}: {why}", self.block, self.check);
+            return;
+        }
+        assert!(
+            self.failures.is_empty(),
+            "{} / {}: {} mismatches:\n{}",
+            self.block,
+            self.check,
+            self.failures.len(),
+            self.failures.join("\n")
+        );
+        assert_eq!(
+            self.covered, self.expected,
+            "{} / {}: covered {} of {} cases",
+            self.block, self.check, self.covered, self.expected
+        );
+    }
+}
+
+/// True when running under CI (the `CI` environment variable is set).
+pub fn in_ci() -> bool {
+    std::env::var_os("CI").is_some_and(|v| !v.is_empty() && v != "false" && v != "0")
+}
+
+/// Finds an external tool on PATH. `Err` names the tool; callers turn that
+/// into a skip outside CI and a failure under CI.
+pub fn tool(name: &str) -> Result<PathBuf, String> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+        .ok_or_else(|| format!("`{name}` not found on PATH"))
+}
+
+/// Like [`tool`], for tests: panics under CI when the tool is missing,
+/// otherwise prints why the test is skipped and returns `None`.
+pub fn require_tool(name: &str) -> Option<PathBuf> {
+    match tool(name) {
+        Ok(p) => Some(p),
+        Err(why) if in_ci() => panic!("{why}: CI must install it (see .ci/run)"),
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            None
+        }
+    }
+}

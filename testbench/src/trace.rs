@@ -1,0 +1,128 @@
+//! Our VCD writer: a real timescale, signals named as the ports, one scope
+//! per block. Deterministic: no `$date`, the banner as the first comment.
+
+use std::collections::BTreeMap;
+use std::io::{self, Write};
+use vcd::{IdCode, TimescaleUnit, Value};
+
+/// Handle of one traced signal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct SignalId(usize);
+
+struct SignalDef {
+    scope: Vec<String>,
+    name: String,
+    width: u32,
+}
+
+/// A trace under construction: declare signals, then record values at
+/// times in nanoseconds. Only changes are written.
+pub struct Trace {
+    banner: String,
+    signals: Vec<SignalDef>,
+    /// time (ns) -> signal -> value; later writes at the same time win.
+    changes: BTreeMap<u64, BTreeMap<SignalId, u64>>,
+}
+
+impl Trace {
+    pub fn new(banner: impl Into<String>) -> Self {
+        Self {
+            banner: banner.into(),
+            signals: Vec::new(),
+            changes: BTreeMap::new(),
+        }
+    }
+
+    /// Declares a signal `name` of `width` bits inside the scope path
+    /// `scope` (outermost first).
+    pub fn signal(&mut self, scope: &[&str], name: &str, width: u32) -> SignalId {
+        assert!((1..=64).contains(&width), "signal {name}: width {width} not in 1..=64");
+        self.signals.push(SignalDef {
+            scope: scope.iter().map(|s| s.to_string()).collect(),
+            name: name.into(),
+            width,
+        });
+        SignalId(self.signals.len() - 1)
+    }
+
+    /// Records `value` on `id` at `time_ns`.
+    pub fn set(&mut self, time_ns: u64, id: SignalId, value: u64) {
+        let w = self.signals[id.0].width;
+        assert!(
+            w == 64 || value < (1u64 << w),
+            "value {value} does not fit {} ({w} bits)",
+            self.signals[id.0].name
+        );
+        self.changes.entry(time_ns).or_default().insert(id, value);
+    }
+
+    /// Writes the VCD file.
+    pub fn write(&self, out: &mut impl Write) -> io::Result<()> {
+        let mut w = vcd::Writer::new(out);
+        w.comment(&self.banner)?;
+        w.timescale(1, TimescaleUnit::NS)?;
+        // Declare in scope order so each scope is opened once.
+        let mut order: Vec<usize> = (0..self.signals.len()).collect();
+        order.sort_by(|a, b| self.signals[*a].scope.cmp(&self.signals[*b].scope).then(a.cmp(b)));
+        let mut ids: BTreeMap<usize, IdCode> = BTreeMap::new();
+        let mut open: Vec<String> = Vec::new();
+        for i in order {
+            let s = &self.signals[i];
+            let common = open.iter().zip(&s.scope).take_while(|(a, b)| a == b).count();
+            while open.len() > common {
+                w.upscope()?;
+                open.pop();
+            }
+            for name in &s.scope[common..] {
+                w.add_module(name)?;
+                open.push(name.clone());
+            }
+            ids.insert(i, w.add_wire(s.width, &s.name)?);
+        }
+        while open.pop().is_some() {
+            w.upscope()?;
+        }
+        w.enddefinitions()?;
+        let mut last: BTreeMap<SignalId, u64> = BTreeMap::new();
+        let mut first = true;
+        for (t, changes) in &self.changes {
+            let changed: Vec<(&SignalId, &u64)> =
+                changes.iter().filter(|(id, v)| last.get(id) != Some(v)).collect();
+            if changed.is_empty() {
+                continue;
+            }
+            w.timestamp(*t)?;
+            if first {
+                // Every signal gets a value at the first timestamp.
+                for i in 0..self.signals.len() {
+                    let v = changes.get(&SignalId(i)).copied().unwrap_or(0);
+                    self.emit(&mut w, ids[&i], i, v)?;
+                    last.insert(SignalId(i), v);
+                }
+                first = false;
+                continue;
+            }
+            for (id, v) in changed {
+                self.emit(&mut w, ids[&id.0], id.0, *v)?;
+                last.insert(*id, *v);
+            }
+        }
+        Ok(())
+    }
+
+    fn emit<W: Write>(&self, w: &mut vcd::Writer<W>, code: IdCode, i: usize, v: u64) -> io::Result<()> {
+        let width = self.signals[i].width;
+        if width == 1 {
+            w.change_scalar(code, Value::from(v != 0))
+        } else {
+            w.change_vector(code, (0..width).rev().map(|b| Value::from((v >> b) & 1 != 0)))
+        }
+    }
+
+    /// The VCD text as a string.
+    pub fn to_vcd_string(&self) -> String {
+        let mut buf = Vec::new();
+        self.write(&mut buf).expect("writing to memory cannot fail");
+        String::from_utf8(buf).expect("VCD is ASCII/UTF-8")
+    }
+}

@@ -1,0 +1,214 @@
+//! Runs exported Verilog in Icarus Verilog or Verilator, driven by a vector
+//! testbench written here, so the same stimulus the rust-hdl block sees goes
+//! through the generated files.
+//!
+//! Each vector sets every input; the testbench waits for the logic to settle,
+//! prints every output, then (for clocked designs) applies one rising edge.
+//! The rust-hdl side does the same: set inputs, settle, read, clock.
+
+use crate::harness::tool;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+use std::process::Command;
+
+/// A simulator for generated Verilog.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Simulator {
+    Icarus,
+    /// Verilator 5 with default options (`--binary`; no `-fno-inline`).
+    Verilator,
+}
+
+impl Simulator {
+    pub fn name(self) -> &'static str {
+        match self {
+            Simulator::Icarus => "Icarus Verilog",
+            Simulator::Verilator => "Verilator",
+        }
+    }
+    /// The executables this simulator needs.
+    pub fn tools(self) -> &'static [&'static str] {
+        match self {
+            Simulator::Icarus => &["iverilog", "vvp"],
+            Simulator::Verilator => &["verilator"],
+        }
+    }
+    /// `Err(reason)` when a needed executable is missing.
+    pub fn available(self) -> Result<(), String> {
+        for t in self.tools() {
+            tool(t)?;
+        }
+        Ok(())
+    }
+}
+
+/// A port of the design under test.
+#[derive(Clone, Debug)]
+pub struct Port {
+    pub name: String,
+    pub width: u32,
+}
+
+impl Port {
+    pub fn new(name: &str, width: u32) -> Self {
+        assert!((1..=64).contains(&width));
+        Self {
+            name: name.into(),
+            width,
+        }
+    }
+}
+
+/// What to simulate.
+pub struct Design<'a> {
+    /// Module name of the design under test.
+    pub top: &'a str,
+    /// Verilog source text of the design (one or more modules).
+    pub source: &'a str,
+    pub inputs: Vec<Port>,
+    pub outputs: Vec<Port>,
+    /// Clock input, if the design is clocked (not listed in `inputs`).
+    pub clock: Option<&'a str>,
+}
+
+fn testbench(design: &Design, vectors: usize) -> String {
+    let in_width: u32 = design.inputs.iter().map(|p| p.width).sum();
+    let mut t = String::new();
+    let _ = writeln!(t, "`timescale 1ns / 1ps\n`default_nettype none");
+    let _ = writeln!(t, "module motionhdl_tb;");
+    let _ = writeln!(t, "    reg [{}:0] vectors [0:{}];", in_width - 1, vectors - 1);
+    let _ = writeln!(t, "    reg [{}:0] v;", in_width - 1);
+    let _ = writeln!(t, "    integer i;");
+    if let Some(c) = design.clock {
+        let _ = writeln!(t, "    reg {c};");
+    }
+    for o in &design.outputs {
+        let _ = writeln!(t, "    wire [{}:0] out_{};", o.width - 1, o.name);
+    }
+    let _ = writeln!(t, "    {} dut (", design.top);
+    let mut conns = Vec::new();
+    if let Some(c) = design.clock {
+        conns.push(format!("        .{c}({c})"));
+    }
+    // First input in the most significant bits, as in the hex file.
+    let mut hi = in_width;
+    for p in &design.inputs {
+        let lo = hi - p.width;
+        conns.push(format!("        .{}(v[{}:{}])", p.name, hi - 1, lo));
+        hi = lo;
+    }
+    for o in &design.outputs {
+        conns.push(format!("        .{}(out_{})", o.name, o.name));
+    }
+    let _ = writeln!(t, "{}\n    );", conns.join(",\n"));
+    let fmt: Vec<&str> = design.outputs.iter().map(|_| "%h").collect();
+    let args: Vec<String> = design.outputs.iter().map(|o| format!("out_{}", o.name)).collect();
+    let _ = writeln!(t, "    initial begin");
+    if let Some(c) = design.clock {
+        let _ = writeln!(t, "        {c} = 1'b0;");
+    }
+    let _ = writeln!(t, "        $readmemh(\"vectors.hex\", vectors);");
+    let _ = writeln!(t, "        for (i = 0; i < {vectors}; i = i + 1) begin");
+    let _ = writeln!(t, "            v = vectors[i];");
+    let _ = writeln!(t, "            #4;");
+    let _ = writeln!(t, "            $display(\"OUT {}\", {});", fmt.join(" "), args.join(", "));
+    if let Some(c) = design.clock {
+        let _ = writeln!(t, "            {c} = 1'b1;\n            #5;\n            {c} = 1'b0;\n            #1;");
+    } else {
+        let _ = writeln!(t, "            #6;");
+    }
+    let _ = writeln!(t, "        end\n        $finish;\n    end\nendmodule");
+    t
+}
+
+fn run(cmd: &mut Command, what: &str) -> Result<String, String> {
+    let out = cmd.output().map_err(|e| format!("{what}: cannot start: {e}"))?;
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    if !out.status.success() {
+        return Err(format!(
+            "{what} failed ({}):\n{}\n{}",
+            out.status,
+            stdout,
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(stdout)
+}
+
+/// Runs `vectors` (one value per input, in `design.inputs` order) through
+/// the design and returns one value per output per vector.
+pub fn run_vectors(sim: Simulator, design: &Design, vectors: &[Vec<u64>]) -> Result<Vec<Vec<u64>>, String> {
+    sim.available()?;
+    assert!(!vectors.is_empty());
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let d = dir.path();
+    fs::write(d.join("dut.v"), design.source).map_err(|e| e.to_string())?;
+    fs::write(d.join("tb.v"), testbench(design, vectors.len())).map_err(|e| e.to_string())?;
+    let mut hex = String::new();
+    for v in vectors {
+        assert_eq!(v.len(), design.inputs.len(), "one value per input");
+        let mut word: u128 = 0;
+        for (p, x) in design.inputs.iter().zip(v) {
+            assert!(p.width == 64 || *x < (1u64 << p.width), "{} = {x} exceeds {} bits", p.name, p.width);
+            word = (word << p.width) | u128::from(*x);
+        }
+        let _ = writeln!(hex, "{word:x}");
+    }
+    fs::write(d.join("vectors.hex"), hex).map_err(|e| e.to_string())?;
+    let stdout = match sim {
+        Simulator::Icarus => {
+            run(
+                Command::new("iverilog")
+                    .current_dir(d)
+                    .args(["-g2005", "-Wall", "-o", "sim.vvp", "-s", "motionhdl_tb", "tb.v", "dut.v"]),
+                "iverilog",
+            )?;
+            run(Command::new("vvp").current_dir(d).args(["-n", "sim.vvp"]), "vvp")?
+        }
+        Simulator::Verilator => {
+            run(
+                Command::new("verilator").current_dir(d).args([
+                    "--binary",
+                    "-j",
+                    "2",
+                    "--top-module",
+                    "motionhdl_tb",
+                    "-Mdir",
+                    "obj",
+                    "-o",
+                    "sim",
+                    "tb.v",
+                    "dut.v",
+                ]),
+                "verilator",
+            )?;
+            run(Command::new(d.join("obj").join("sim")).current_dir(d), "verilated simulation")?
+        }
+    };
+    parse_outputs(&stdout, design.outputs.len(), vectors.len())
+}
+
+fn parse_outputs(stdout: &str, n_out: usize, n_vec: usize) -> Result<Vec<Vec<u64>>, String> {
+    let rows: Vec<Vec<u64>> = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("OUT "))
+        .map(|l| {
+            l.split_whitespace()
+                .map(|x| u64::from_str_radix(x, 16).map_err(|_| format!("bad output value `{x}` (X or Z?)")))
+                .collect::<Result<Vec<u64>, String>>()
+        })
+        .collect::<Result<_, _>>()?;
+    if rows.len() != n_vec || rows.iter().any(|r| r.len() != n_out) {
+        return Err(format!("expected {n_vec} rows of {n_out} outputs, got:\n{stdout}"));
+    }
+    Ok(rows)
+}
+
+/// Writes `source` to `dir/name.v` (the file name Verilator's DECLFILENAME
+/// expects) and returns the path.
+pub fn write_named(dir: &Path, name: &str, source: &str) -> std::io::Result<std::path::PathBuf> {
+    let p = dir.join(format!("{name}.v"));
+    fs::write(&p, source)?;
+    Ok(p)
+}
