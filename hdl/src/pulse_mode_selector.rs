@@ -25,6 +25,13 @@ pub struct PulseModeSelector {
     chip: Ls153,
 }
 
+impl PulseModeSelector {
+    /// The 74LS153 inside, for probing its pins in tests and traces.
+    pub fn chip(&self) -> &Ls153 {
+        &self.chip
+    }
+}
+
 impl Logic for PulseModeSelector {
     #[hdl_gen]
     fn update(&mut self) {
@@ -73,6 +80,13 @@ pub struct PulseModeSelectorRegistered {
     selector: PulseModeSelector,
     f1_reg: DFF<Bit>,
     f2_reg: DFF<Bit>,
+}
+
+impl PulseModeSelectorRegistered {
+    /// The combinational selector inside, for probing in traces.
+    pub fn selector(&self) -> &PulseModeSelector {
+        &self.selector
+    }
 }
 
 impl Logic for PulseModeSelectorRegistered {

@@ -1,1 +1,175 @@
-pub fn placeholder() {}
+//! Named scenario traces, written by `motionhdl trace NAME` and by
+//! `motionhdl generate` into `generated/vcd/`. Every value in a trace comes
+//! from stepping the rust-hdl blocks; nothing is drawn from the model.
+
+use crate::harness::settle;
+use crate::trace::{SignalId, Trace};
+use motionhdl_hdl::{banner, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use motionhdl_model::Config;
+use rust_hdl::prelude::*;
+
+/// A scenario: its name and what it shows.
+pub struct Scenario {
+    pub name: &'static str,
+    pub summary: &'static str,
+    build: fn(&Config) -> Trace,
+}
+
+impl Scenario {
+    pub fn trace(&self, config: &Config) -> Trace {
+        (self.build)(config)
+    }
+}
+
+/// Every scenario, in the order `motionhdl trace --help` lists them.
+pub const SCENARIOS: &[Scenario] = &[Scenario {
+    name: "pulse_mode_selector",
+    summary: "all 8 (K,S2,S1) inputs in both modes, then pulse trains with a direction change, \
+              through the combinational and the registered selector",
+    build: pulse_mode_selector,
+}];
+
+/// Looks a scenario up by name.
+pub fn find(name: &str) -> Option<&'static Scenario> {
+    SCENARIOS.iter().find(|s| s.name == name)
+}
+
+/// Every scenario name, for error messages.
+pub fn names() -> Vec<&'static str> {
+    SCENARIOS.iter().map(|s| s.name).collect()
+}
+
+fn half_period_ns(config: &Config) -> u64 {
+    (config.clock_period_ps() / 2).div_ceil(1000).max(1)
+}
+
+struct ChipIds {
+    pins: Vec<SignalId>,
+}
+
+impl ChipIds {
+    const PINS: [&'static str; 14] = [
+        "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2", "c2_3", "y1", "y2",
+    ];
+    fn new(trace: &mut Trace, scope: &[&str]) -> Self {
+        Self {
+            pins: Self::PINS.iter().map(|p| trace.signal(scope, p, 1)).collect(),
+        }
+    }
+    fn record(&self, trace: &mut Trace, t: u64, c: &Ls153) {
+        let v = [
+            c.a.val(),
+            c.b.val(),
+            c.g1_n.val(),
+            c.g2_n.val(),
+            c.c1_0.val(),
+            c.c1_1.val(),
+            c.c1_2.val(),
+            c.c1_3.val(),
+            c.c2_0.val(),
+            c.c2_1.val(),
+            c.c2_2.val(),
+            c.c2_3.val(),
+            c.y1.val(),
+            c.y2.val(),
+        ];
+        for (id, v) in self.pins.iter().zip(v) {
+            trace.set(t, *id, v.into());
+        }
+    }
+}
+
+/// One clock period per input vector (K, S2, S1): inputs change on the
+/// falling edge, the registered selector samples them on the rising edge.
+fn pulse_mode_selector(config: &Config) -> Trace {
+    let mut trace = Trace::new(format!(
+        "{} | scenario pulse_mode_selector | clock {} Hz",
+        banner(),
+        config.clock_hz()
+    ));
+    let comb_scope = ["pulse_mode_selector"];
+    let reg_scope = ["pulse_mode_selector_registered"];
+    let c = [
+        trace.signal(&comb_scope, "k", 1),
+        trace.signal(&comb_scope, "s1", 1),
+        trace.signal(&comb_scope, "s2", 1),
+        trace.signal(&comb_scope, "f1", 1),
+        trace.signal(&comb_scope, "f2", 1),
+    ];
+    let chip = ChipIds::new(&mut trace, &["pulse_mode_selector", "chip"]);
+    let r = [
+        trace.signal(&reg_scope, "clock", 1),
+        trace.signal(&reg_scope, "reset", 1),
+        trace.signal(&reg_scope, "k", 1),
+        trace.signal(&reg_scope, "s1", 1),
+        trace.signal(&reg_scope, "s2", 1),
+        trace.signal(&reg_scope, "f1", 1),
+        trace.signal(&reg_scope, "f2", 1),
+    ];
+    let mut comb = PulseModeSelector::default();
+    comb.connect_all();
+    let mut reg = PulseModeSelectorRegistered::default();
+    reg.connect_all();
+
+    // (reset, K, S2, S1) per clock.
+    let mut steps: Vec<(bool, bool, bool, bool)> = vec![(true, false, false, false); 2];
+    for k in [false, true] {
+        for m in 0..4u8 {
+            steps.push((false, k, m & 2 != 0, m & 1 != 0));
+        }
+    }
+    for k in [false, true] {
+        steps.extend([(false, k, false, false); 2]);
+        for dir in [false, true] {
+            for _ in 0..3 {
+                steps.push((false, k, dir, true));
+                steps.push((false, k, dir, false));
+            }
+            steps.push((false, k, dir, false));
+        }
+        steps.extend([(false, k, false, false); 2]);
+    }
+
+    let half = half_period_ns(config);
+    let mut t = 0;
+    let record = |trace: &mut Trace, t: u64, comb: &PulseModeSelector, reg: &PulseModeSelectorRegistered| {
+        for (id, v) in c.iter().zip([comb.k.val(), comb.s1.val(), comb.s2.val(), comb.f1.val(), comb.f2.val()]) {
+            trace.set(t, *id, v.into());
+        }
+        chip.record(trace, t, comb.chip());
+        let rv = [
+            reg.clock.val().clk,
+            reg.reset.val(),
+            reg.k.val(),
+            reg.s1.val(),
+            reg.s2.val(),
+            reg.f1.val(),
+            reg.f2.val(),
+        ];
+        for (id, v) in r.iter().zip(rv) {
+            trace.set(t, *id, v.into());
+        }
+    };
+    for (reset, k, s2, s1) in steps {
+        comb.k.next = k;
+        comb.s2.next = s2;
+        comb.s1.next = s1;
+        settle(&mut comb);
+        reg.reset.next = reset;
+        reg.k.next = k;
+        reg.s2.next = s2;
+        reg.s1.next = s1;
+        reg.clock.next = Clock::from(false);
+        settle(&mut reg);
+        record(&mut trace, t, &comb, &reg);
+        t += half;
+        reg.clock.next = Clock::from(true);
+        settle(&mut reg);
+        record(&mut trace, t, &comb, &reg);
+        t += half;
+    }
+    reg.clock.next = Clock::from(false);
+    settle(&mut reg);
+    record(&mut trace, t, &comb, &reg);
+    trace
+}

@@ -58,8 +58,10 @@ impl Trace {
 
     /// Writes the VCD file.
     pub fn write(&self, out: &mut impl Write) -> io::Result<()> {
+        // The banner on the first line, as every generated file has it.
+        assert!(!self.banner.contains("$end") && !self.banner.contains('\n'));
+        writeln!(out, "$comment {} $end", self.banner)?;
         let mut w = vcd::Writer::new(out);
-        w.comment(&self.banner)?;
         w.timescale(1, TimescaleUnit::NS)?;
         // Declare in scope order so each scope is opened once.
         let mut order: Vec<usize> = (0..self.signals.len()).collect();

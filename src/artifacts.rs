@@ -1,0 +1,68 @@
+//! Everything `motionhdl generate` writes, computed in memory first so that
+//! any error happens before a byte is written.
+
+use motionhdl_hdl::{banner, catalog, VERSION};
+use motionhdl_model::Config;
+use motionhdl_testbench::scenarios;
+use std::path::PathBuf;
+
+/// One generated file: path relative to the output directory, and contents.
+pub struct Artifact {
+    pub path: PathBuf,
+    pub contents: Vec<u8>,
+}
+
+/// Every generated file for `config`, in a fixed order.
+pub fn all(config: &Config) -> Vec<Artifact> {
+    let mut out = Vec::new();
+    for m in catalog::all() {
+        out.push(Artifact {
+            path: PathBuf::from("verilog").join(format!("{}.v", m.name)),
+            contents: m.text.into_bytes(),
+        });
+    }
+    for s in scenarios::SCENARIOS {
+        out.push(Artifact {
+            path: PathBuf::from("vcd").join(format!("{}.vcd", s.name)),
+            contents: s.trace(config).to_vcd_string().into_bytes(),
+        });
+    }
+    out.push(Artifact {
+        path: PathBuf::from("include").join("motionhdl_config.h"),
+        contents: config_header(config).into_bytes(),
+    });
+    out
+}
+
+/// The build configuration as a C header, so firmware can check at compile
+/// time that it matches the gateware it talks to.
+pub fn config_header(config: &Config) -> String {
+    format!(
+        "/* {banner} */
+/* motionhdl_config.h: build configuration of the motionhdl gateware. */
+#ifndef MOTIONHDL_CONFIG_H
+#define MOTIONHDL_CONFIG_H
+
+#include <stdint.h>
+
+#define MOTIONHDL_VERSION \"{VERSION}\"
+
+/* Number of axes in the counter bank and pulse generators. */
+#define MOTIONHDL_AXES {axes}u
+/* Counter width in bits; counts wrap modulo 2^width and read sign-extended. */
+#define MOTIONHDL_COUNTER_WIDTH {width}u
+/* FPGA clock frequency in Hz. */
+#define MOTIONHDL_CLOCK_HZ {clock}ul
+
+/* Pulse-mode selector K input (74LS153 wiring of the dual-CPU seed card). */
+#define MOTIONHDL_PULSE_MODE_PULSE_DIR 0u /* F1 = pulse, F2 = direction */
+#define MOTIONHDL_PULSE_MODE_CW_CCW 1u    /* F1 = CW pulses, F2 = CCW pulses */
+
+#endif /* MOTIONHDL_CONFIG_H */
+",
+        banner = banner(),
+        axes = config.axes(),
+        width = config.counter_width(),
+        clock = config.clock_hz(),
+    )
+}

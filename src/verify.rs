@@ -1,0 +1,59 @@
+//! `motionhdl verify`: every exhaustive check, as a table.
+
+use motionhdl_testbench::harness::in_ci;
+use motionhdl_testbench::{selector, CheckReport};
+
+/// Runs every check. `external` includes the generated-Verilog runs in
+/// Icarus Verilog and Verilator.
+pub fn run(external: bool) -> Vec<CheckReport> {
+    selector::all(external)
+}
+
+/// A skip is a failure under CI: a check that did not run has not passed.
+pub fn ok(report: &CheckReport) -> bool {
+    report.passed() || (report.skipped.is_some() && report.failures.is_empty() && !in_ci())
+}
+
+/// The table `motionhdl verify` prints.
+pub fn table(reports: &[CheckReport]) -> String {
+    let headers = ["block", "check", "covered", "expected", "result"];
+    let rows: Vec<[String; 5]> = reports
+        .iter()
+        .map(|r| {
+            [
+                r.block.clone(),
+                r.check.clone(),
+                r.covered.to_string(),
+                r.expected.to_string(),
+                r.result(),
+            ]
+        })
+        .collect();
+    let mut widths = headers.map(|h| h.chars().count());
+    for row in &rows {
+        for (w, c) in widths.iter_mut().zip(row) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    let line = |cells: [&str; 5]| -> String {
+        let mut s = String::new();
+        for (i, (c, w)) in cells.iter().zip(widths).enumerate() {
+            let pad = w - c.chars().count();
+            if i == 2 || i == 3 {
+                s.push_str(&" ".repeat(pad));
+                s.push_str(c);
+            } else {
+                s.push_str(c);
+                s.push_str(&" ".repeat(pad));
+            }
+            s.push_str("  ");
+        }
+        s.trim_end().to_string() + "\n"
+    };
+    let mut out = line(headers);
+    out.push_str(&line(widths.map(|w| "-".repeat(w)).each_ref().map(|s| s.as_str())));
+    for row in &rows {
+        out.push_str(&line(row.each_ref().map(|s| s.as_str())));
+    }
+    out
+}
