@@ -1,0 +1,186 @@
+//! The `motionhdl` binary: generate, trace, verify, configuration errors.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn motionhdl(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motionhdl"))
+        .args(args)
+        .output()
+        .expect("run motionhdl")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn generate_writes_exactly_the_artifacts() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("gen");
+    let o = motionhdl(&["generate", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let want = motionhdl::artifacts::all(&Default::default());
+    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.path.clone()).collect();
+    want_paths.sort();
+    assert_eq!(files_under(&out), want_paths);
+    for a in &want {
+        assert_eq!(fs::read(out.join(&a.path)).unwrap(), a.contents, "{}", a.path.display());
+    }
+    // Nothing left beside it.
+    assert_eq!(fs::read_dir(t.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn committed_generated_dir_is_fresh() {
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated");
+    let want = motionhdl::artifacts::all(&Default::default());
+    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.path.clone()).collect();
+    want_paths.sort();
+    assert_eq!(
+        files_under(&committed),
+        want_paths,
+        "generated/ has other files than `motionhdl generate` writes: run it and commit"
+    );
+    for a in &want {
+        let got = fs::read(committed.join(&a.path)).unwrap();
+        assert!(
+            got == a.contents,
+            "generated/{} differs from a fresh `motionhdl generate`: run it and commit",
+            a.path.display()
+        );
+    }
+}
+
+#[test]
+fn generate_is_deterministic() {
+    let a = motionhdl::artifacts::all(&Default::default());
+    let b = motionhdl::artifacts::all(&Default::default());
+    assert!(a.iter().zip(&b).all(|(x, y)| x.path == y.path && x.contents == y.contents));
+}
+
+#[test]
+fn bad_config_exits_2_names_the_value_and_writes_nothing() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("gen");
+    for (text, needle) in [
+        ("axes = 0\n", "axes = 0 is out of range: allowed 1..=16"),
+        ("axes = 17\n", "axes = 17 is out of range: allowed 1..=16"),
+        ("counter_width = 0\n", "counter_width = 0 is out of range: allowed 8..=32"),
+        ("counter_width = 33\n", "counter_width = 33 is out of range: allowed 8..=32"),
+        ("clock_hz = 0\n", "clock_hz = 0 is out of range: allowed 1000000..=400000000"),
+        ("axis = 4\n", "axis"),
+    ] {
+        let cfg = t.path().join("bad.toml");
+        fs::write(&cfg, text).unwrap();
+        let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{text}: {}", stderr(&o));
+        assert!(!out.exists(), "{text}: output directory was created");
+        let o = motionhdl(&["trace", "pulse_mode_selector", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(!out.exists(), "{text}: trace file was created");
+    }
+    // An existing output directory is left untouched by a failed run.
+    fs::create_dir_all(&out).unwrap();
+    fs::write(out.join("keep.txt"), "old").unwrap();
+    let cfg = t.path().join("bad.toml");
+    fs::write(&cfg, "axes = 0").unwrap();
+    let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(fs::read_to_string(out.join("keep.txt")).unwrap(), "old");
+    assert_eq!(fs::read_dir(t.path()).unwrap().count(), 2, "stray temporary files");
+}
+
+#[test]
+fn missing_config_file_exits_2() {
+    let o = motionhdl(&["generate", "--out", "/nonexistent/x", "--config", "/nonexistent/cfg.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("/nonexistent/cfg.toml"), "{}", stderr(&o));
+}
+
+#[test]
+fn config_changes_the_outputs() {
+    let t = tempfile::tempdir().unwrap();
+    let cfg = t.path().join("c.toml");
+    fs::write(&cfg, "axes = 8\nclock_hz = 100_000_000\n").unwrap();
+    let out = t.path().join("gen");
+    let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let h = fs::read_to_string(out.join("include/motionhdl_config.h")).unwrap();
+    assert!(h.contains("#define MOTIONHDL_AXES 8u"), "{h}");
+    assert!(h.contains("#define MOTIONHDL_CLOCK_HZ 100000000ul"), "{h}");
+    // 100 MHz: 5 ns half period in the trace.
+    let v = fs::read_to_string(out.join("vcd/pulse_mode_selector.vcd")).unwrap();
+    assert!(v.contains("\n#5\n"), "no 5 ns step in the 100 MHz trace");
+}
+
+#[test]
+fn trace_writes_a_named_scenario_and_rejects_unknown_names() {
+    let t = tempfile::tempdir().unwrap();
+    let f = t.path().join("sel.vcd");
+    let o = motionhdl(&["trace", "pulse_mode_selector", "--out", f.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let want = motionhdl_testbench::scenarios::find("pulse_mode_selector")
+        .unwrap()
+        .trace(&Default::default())
+        .to_vcd_string();
+    assert_eq!(fs::read_to_string(&f).unwrap(), want);
+
+    let g = t.path().join("nope.vcd");
+    let o = motionhdl(&["trace", "no_such_scenario", "--out", g.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no_such_scenario"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("pulse_mode_selector"), "{}", stderr(&o));
+    assert!(!g.exists());
+}
+
+#[test]
+fn verify_prints_the_coverage_table() {
+    let o = motionhdl(&["verify", "--no-external"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = String::from_utf8_lossy(&o.stdout);
+    let header = s.lines().next().unwrap();
+    for col in ["block", "check", "covered", "expected", "result"] {
+        assert!(header.contains(col), "{header}");
+    }
+    let ls153 = s
+        .lines()
+        .find(|l| l.starts_with("ls153") && l.contains("rust-hdl"))
+        .expect("ls153 row");
+    assert!(ls153.contains("4096      4096  pass"), "{ls153}");
+}
+
+#[test]
+fn every_subcommand_has_help() {
+    for (args, needle) in [
+        (vec!["--help"], "generate"),
+        (vec!["generate", "--help"], "--config"),
+        (vec!["verify", "--help"], "covered"),
+        (vec!["trace", "--help"], "pulse_mode_selector"),
+    ] {
+        let o = motionhdl(&args);
+        assert!(o.status.success());
+        assert!(String::from_utf8_lossy(&o.stdout).contains(needle), "{args:?}");
+    }
+    let o = motionhdl(&["frobnicate"]);
+    assert_eq!(o.status.code(), Some(2));
+}
