@@ -47,8 +47,9 @@ pub fn load(path: Option<&Path>) -> Result<Config, CliError> {
     match path {
         None => Ok(Config::default()),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| CliError::input(format!("cannot read config file {}: {e}", p.display())))?;
+            let text = std::fs::read_to_string(p).map_err(|e| {
+                CliError::input(format!("cannot read config file {}: {e}", p.display()))
+            })?;
             parse(&text, &p.display().to_string())
         }
     }
@@ -65,17 +66,30 @@ mod tests {
 
     #[test]
     fn values_are_read() {
-        let c = parse("axes = 8\ncounter_width = 32\nclock_hz = 100_000_000\n", "t").unwrap();
-        assert_eq!((c.axes(), c.counter_width(), c.clock_hz()), (8, 32, 100_000_000));
+        let c = parse(
+            "axes = 8\ncounter_width = 32\nclock_hz = 100_000_000\n",
+            "t",
+        )
+        .unwrap();
+        assert_eq!(
+            (c.axes(), c.counter_width(), c.clock_hz()),
+            (8, 32, 100_000_000)
+        );
     }
 
     #[test]
     fn out_of_range_names_value_and_range() {
         let e = parse("axes = 0", "cfg.toml").unwrap_err();
         assert_eq!(e.exit_code, 2);
-        assert_eq!(e.message, "cfg.toml: axes = 0 is out of range: allowed 1..=16");
+        assert_eq!(
+            e.message,
+            "cfg.toml: axes = 0 is out of range: allowed 1..=16"
+        );
         let e = parse("counter_width = 33", "c").unwrap_err();
-        assert_eq!(e.message, "c: counter_width = 33 is out of range: allowed 8..=32");
+        assert_eq!(
+            e.message,
+            "c: counter_width = 33 is out of range: allowed 8..=32"
+        );
         let e = parse("axes = -1", "c").unwrap_err();
         assert!(e.message.contains("axes = -1"), "{}", e.message);
     }

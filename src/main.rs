@@ -102,7 +102,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if failed.is_empty() {
                 Ok(())
             } else {
-                Err(CliError::failure(format!("{} of {} checks failed", failed.len(), reports.len())))
+                Err(CliError::failure(format!(
+                    "{} of {} checks failed",
+                    failed.len(),
+                    reports.len()
+                )))
             }
         }
         Command::Trace { name, out, config } => {

@@ -51,7 +51,9 @@ pub fn table(reports: &[CheckReport]) -> String {
         s.trim_end().to_string() + "\n"
     };
     let mut out = line(headers);
-    out.push_str(&line(widths.map(|w| "-".repeat(w)).each_ref().map(|s| s.as_str())));
+    out.push_str(&line(
+        widths.map(|w| "-".repeat(w)).each_ref().map(|s| s.as_str()),
+    ));
     for row in &rows {
         out.push_str(&line(row.each_ref().map(|s| s.as_str())));
     }

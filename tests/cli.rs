@@ -43,7 +43,12 @@ fn generate_writes_exactly_the_artifacts() {
     want_paths.sort();
     assert_eq!(files_under(&out), want_paths);
     for a in &want {
-        assert_eq!(fs::read(out.join(&a.path)).unwrap(), a.contents, "{}", a.path.display());
+        assert_eq!(
+            fs::read(out.join(&a.path)).unwrap(),
+            a.contents,
+            "{}",
+            a.path.display()
+        );
     }
     // Nothing left beside it.
     assert_eq!(fs::read_dir(t.path()).unwrap().count(), 1);
@@ -74,7 +79,10 @@ fn committed_generated_dir_is_fresh() {
 fn generate_is_deterministic() {
     let a = motionhdl::artifacts::all(&Default::default());
     let b = motionhdl::artifacts::all(&Default::default());
-    assert!(a.iter().zip(&b).all(|(x, y)| x.path == y.path && x.contents == y.contents));
+    assert!(a
+        .iter()
+        .zip(&b)
+        .all(|(x, y)| x.path == y.path && x.contents == y.contents));
 }
 
 #[test]
@@ -84,18 +92,40 @@ fn bad_config_exits_2_names_the_value_and_writes_nothing() {
     for (text, needle) in [
         ("axes = 0\n", "axes = 0 is out of range: allowed 1..=16"),
         ("axes = 17\n", "axes = 17 is out of range: allowed 1..=16"),
-        ("counter_width = 0\n", "counter_width = 0 is out of range: allowed 8..=32"),
-        ("counter_width = 33\n", "counter_width = 33 is out of range: allowed 8..=32"),
-        ("clock_hz = 0\n", "clock_hz = 0 is out of range: allowed 1000000..=400000000"),
+        (
+            "counter_width = 0\n",
+            "counter_width = 0 is out of range: allowed 8..=32",
+        ),
+        (
+            "counter_width = 33\n",
+            "counter_width = 33 is out of range: allowed 8..=32",
+        ),
+        (
+            "clock_hz = 0\n",
+            "clock_hz = 0 is out of range: allowed 1000000..=400000000",
+        ),
         ("axis = 4\n", "axis"),
     ] {
         let cfg = t.path().join("bad.toml");
         fs::write(&cfg, text).unwrap();
-        let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+        let o = motionhdl(&[
+            "generate",
+            "--out",
+            out.to_str().unwrap(),
+            "--config",
+            cfg.to_str().unwrap(),
+        ]);
         assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
         assert!(stderr(&o).contains(needle), "{text}: {}", stderr(&o));
         assert!(!out.exists(), "{text}: output directory was created");
-        let o = motionhdl(&["trace", "pulse_mode_selector", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+        let o = motionhdl(&[
+            "trace",
+            "pulse_mode_selector",
+            "--out",
+            out.to_str().unwrap(),
+            "--config",
+            cfg.to_str().unwrap(),
+        ]);
         assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
         assert!(!out.exists(), "{text}: trace file was created");
     }
@@ -104,17 +134,37 @@ fn bad_config_exits_2_names_the_value_and_writes_nothing() {
     fs::write(out.join("keep.txt"), "old").unwrap();
     let cfg = t.path().join("bad.toml");
     fs::write(&cfg, "axes = 0").unwrap();
-    let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+    let o = motionhdl(&[
+        "generate",
+        "--out",
+        out.to_str().unwrap(),
+        "--config",
+        cfg.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(fs::read_to_string(out.join("keep.txt")).unwrap(), "old");
-    assert_eq!(fs::read_dir(t.path()).unwrap().count(), 2, "stray temporary files");
+    assert_eq!(
+        fs::read_dir(t.path()).unwrap().count(),
+        2,
+        "stray temporary files"
+    );
 }
 
 #[test]
 fn missing_config_file_exits_2() {
-    let o = motionhdl(&["generate", "--out", "/nonexistent/x", "--config", "/nonexistent/cfg.toml"]);
+    let o = motionhdl(&[
+        "generate",
+        "--out",
+        "/nonexistent/x",
+        "--config",
+        "/nonexistent/cfg.toml",
+    ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("/nonexistent/cfg.toml"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("/nonexistent/cfg.toml"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -123,7 +173,13 @@ fn config_changes_the_outputs() {
     let cfg = t.path().join("c.toml");
     fs::write(&cfg, "axes = 8\nclock_hz = 100_000_000\n").unwrap();
     let out = t.path().join("gen");
-    let o = motionhdl(&["generate", "--out", out.to_str().unwrap(), "--config", cfg.to_str().unwrap()]);
+    let o = motionhdl(&[
+        "generate",
+        "--out",
+        out.to_str().unwrap(),
+        "--config",
+        cfg.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let h = fs::read_to_string(out.join("include/motionhdl_config.h")).unwrap();
     assert!(h.contains("#define MOTIONHDL_AXES 8u"), "{h}");
@@ -179,7 +235,10 @@ fn every_subcommand_has_help() {
     ] {
         let o = motionhdl(&args);
         assert!(o.status.success());
-        assert!(String::from_utf8_lossy(&o.stdout).contains(needle), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains(needle),
+            "{args:?}"
+        );
     }
     let o = motionhdl(&["frobnicate"]);
     assert_eq!(o.status.code(), Some(2));

@@ -24,8 +24,16 @@ fn every_generated_file_starts_with_the_banner() {
     for a in artifacts::all(&Default::default()) {
         let text = String::from_utf8(a.contents).unwrap();
         let first = text.lines().next().unwrap();
-        assert!(first.contains(&want), "{}: first line `{first}`", a.path.display());
-        assert!(!text.contains("$date"), "{}: carries a date", a.path.display());
+        assert!(
+            first.contains(&want),
+            "{}: first line `{first}`",
+            a.path.display()
+        );
+        assert!(
+            !text.contains("$date"),
+            "{}: carries a date",
+            a.path.display()
+        );
     }
 }
 
@@ -34,18 +42,38 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
     let modules = catalog::all();
     assert_eq!(
         modules.iter().map(|m| m.name).collect::<Vec<_>>(),
-        ["ls153", "pulse_mode_selector", "pulse_mode_selector_registered"]
+        [
+            "ls153",
+            "pulse_mode_selector",
+            "pulse_mode_selector_registered"
+        ]
     );
     for m in &modules {
-        let decls: Vec<&str> = m.text.lines().filter(|l| l.starts_with("module ")).collect();
+        let decls: Vec<&str> = m
+            .text
+            .lines()
+            .filter(|l| l.starts_with("module "))
+            .collect();
         assert_eq!(decls.len(), 1, "{}: one module per file", m.name);
-        assert!(decls[0].starts_with(&format!("module {}(", m.name)), "{}", decls[0]);
+        assert!(
+            decls[0].starts_with(&format!("module {}(", m.name)),
+            "{}",
+            decls[0]
+        );
         let code: String = m.text.lines().filter(|l| !l.starts_with("//")).collect();
-        assert!(!code.contains("top"), "{}: rust-hdl's `top` name leaked", m.name);
+        assert!(
+            !code.contains("top"),
+            "{}: rust-hdl's `top` name leaked",
+            m.name
+        );
         // `$` only as the start of a system function.
         for (i, _) in code.match_indices('$') {
             let prev = code[..i].chars().last().unwrap_or(' ');
-            assert!(!(prev.is_alphanumeric() || prev == '_'), "{}: `$` inside a name", m.name);
+            assert!(
+                !(prev.is_alphanumeric() || prev == '_'),
+                "{}: `$` inside a name",
+                m.name
+            );
         }
         assert!(!code.contains("32'h"), "{}: unsized 32-bit literal", m.name);
     }
@@ -60,8 +88,14 @@ fn verilator_lint_wall_is_clean() {
     for m in catalog::all() {
         let f = dir.path().join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
-        let (ok, out, err) = run(Command::new("verilator").args(["--lint-only", "-Wall"]).arg(&f));
-        assert!(ok && err.trim().is_empty(), "{}: verilator -Wall:\n{out}{err}", m.name);
+        let (ok, out, err) = run(Command::new("verilator")
+            .args(["--lint-only", "-Wall"])
+            .arg(&f));
+        assert!(
+            ok && err.trim().is_empty(),
+            "{}: verilator -Wall:\n{out}{err}",
+            m.name
+        );
     }
 }
 
@@ -75,13 +109,26 @@ fn iverilog_wall_is_clean_and_all_files_load_together() {
     for m in catalog::all() {
         let f = dir.path().join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
-        let (ok, out, err) = run(Command::new("iverilog").args(["-g2005", "-Wall", "-o"]).arg(dir.path().join("x")).arg(&f));
-        assert!(ok && err.trim().is_empty() && out.trim().is_empty(), "{}: iverilog -Wall:\n{out}{err}", m.name);
+        let (ok, out, err) = run(Command::new("iverilog")
+            .args(["-g2005", "-Wall", "-o"])
+            .arg(dir.path().join("x"))
+            .arg(&f));
+        assert!(
+            ok && err.trim().is_empty() && out.trim().is_empty(),
+            "{}: iverilog -Wall:\n{out}{err}",
+            m.name
+        );
         all.push(f);
     }
     // Every generated file in one compilation: no module name clashes.
-    let (ok, out, err) = run(Command::new("iverilog").args(["-g2005", "-Wall", "-o"]).arg(dir.path().join("all")).args(&all));
-    assert!(ok && err.trim().is_empty(), "all files together:\n{out}{err}");
+    let (ok, out, err) = run(Command::new("iverilog")
+        .args(["-g2005", "-Wall", "-o"])
+        .arg(dir.path().join("all"))
+        .args(&all));
+    assert!(
+        ok && err.trim().is_empty(),
+        "all files together:\n{out}{err}"
+    );
 }
 
 /// Latch cells yosys may leave after `synth` (generic) or `synth_ice40`.
@@ -89,7 +136,8 @@ const LATCH_CELLS: &str = "t:$_DLATCH* t:$dlatch t:$adlatch t:$_SR_* t:$sr t:$dl
 
 /// True if a yosys log reports an inferred latch ("No latch inferred" is fine).
 fn latch_inferred(log: &str) -> bool {
-    log.lines().any(|l| l.trim_start().starts_with("Latch inferred"))
+    log.lines()
+        .any(|l| l.trim_start().starts_with("Latch inferred"))
 }
 
 #[test]
@@ -101,10 +149,16 @@ fn latch_detection_catches_a_latch() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("l.v");
     fs::write(&f, "module l(input wire e, input wire d, output reg q);\nalways @(*) if (e) q = d;\nendmodule\n").unwrap();
-    let script = format!("read_verilog {}; synth -top l; select -assert-none {LATCH_CELLS}", f.display());
+    let script = format!(
+        "read_verilog {}; synth -top l; select -assert-none {LATCH_CELLS}",
+        f.display()
+    );
     let (ok, out, err) = run(Command::new("yosys").args(["-p", &script]));
     assert!(!ok, "latch cell not caught");
-    assert!(latch_inferred(&format!("{out}{err}")), "latch log line not caught");
+    assert!(
+        latch_inferred(&format!("{out}{err}")),
+        "latch log line not caught"
+    );
 }
 
 #[test]
@@ -161,8 +215,16 @@ fn vcd_loads_in_gtkwave_vcd2fst() {
             fs::write(&v, &a.contents).unwrap();
             let (ok, out, err) = run(Command::new("vcd2fst").arg(&v).arg(&f));
             assert!(ok, "{}: vcd2fst:\n{out}{err}", a.path.display());
-            assert!(fs::metadata(&f).unwrap().len() > 100, "{}: empty FST", a.path.display());
-            assert!(!err.to_lowercase().contains("error"), "{}: {err}", a.path.display());
+            assert!(
+                fs::metadata(&f).unwrap().len() > 100,
+                "{}: empty FST",
+                a.path.display()
+            );
+            assert!(
+                !err.to_lowercase().contains("error"),
+                "{}: {err}",
+                a.path.display()
+            );
         }
     }
 }
@@ -174,7 +236,11 @@ fn config_header_compiles_and_matches_the_config() {
     }
     let cfg = motionhdl_model::Config::new(6, 24, 48_000_000).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    fs::write(dir.path().join("motionhdl_config.h"), artifacts::config_header(&cfg)).unwrap();
+    fs::write(
+        dir.path().join("motionhdl_config.h"),
+        artifacts::config_header(&cfg),
+    )
+    .unwrap();
     fs::write(
         dir.path().join("t.c"),
         r#"#include "motionhdl_config.h"
@@ -197,6 +263,9 @@ int main(void) {
         assert!(ok, "{std}: {out}{err}");
         let (ok, out, _) = run(&mut Command::new(&exe));
         assert!(ok);
-        assert_eq!(out.trim(), format!("6 24 48000000 0 1 {}", motionhdl_hdl::VERSION));
+        assert_eq!(
+            out.trim(),
+            format!("6 24 48000000 0 1 {}", motionhdl_hdl::VERSION)
+        );
     }
 }

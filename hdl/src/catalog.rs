@@ -60,5 +60,9 @@ pub fn pulse_mode_selector_registered() -> VerilogModule {
 
 /// Every exported module.
 pub fn all() -> Vec<VerilogModule> {
-    vec![ls153(), pulse_mode_selector(), pulse_mode_selector_registered()]
+    vec![
+        ls153(),
+        pulse_mode_selector(),
+        pulse_mode_selector_registered(),
+    ]
 }

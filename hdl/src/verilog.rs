@@ -105,8 +105,6 @@ fn as_dff(m: &RawModule) -> Option<Dff> {
     Some(Dff { init })
 }
 
-
-
 /// An instance as rust-hdl writes it: `kind name(` then `.port(sig),` lines then `);`.
 struct Instance {
     kind: String,
@@ -157,7 +155,9 @@ fn rewrite(raw: &str, top: &str) -> String {
         .values()
         .filter_map(|m| as_dff(m).map(|d| (m.name.clone(), d)))
         .collect();
-    let root = modules.get("top").expect("rust-hdl output has a top module");
+    let root = modules
+        .get("top")
+        .expect("rust-hdl output has a top module");
     let mut flat = flatten(root, &modules, &dffs);
     resolve_flop_clocks(&mut flat, &root.args);
     render(top, root, &flat)
@@ -187,27 +187,48 @@ struct Net {
     init: Option<String>,
 }
 
-fn flatten(m: &RawModule, modules: &BTreeMap<String, RawModule>, dffs: &BTreeMap<String, Dff>) -> Flat {
+fn flatten(
+    m: &RawModule,
+    modules: &BTreeMap<String, RawModule>,
+    dffs: &BTreeMap<String, Dff>,
+) -> Flat {
     static DECL: OnceLock<Regex> = OnceLock::new();
     let decl = re(
         &DECL,
         r"^(input wire|output reg|output wire|inout wire|reg|wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$",
     );
     static PARAM: OnceLock<Regex> = OnceLock::new();
-    let param = re(&PARAM, r"^localparam\s+(?:signed\s+)?([\w$]+) = (\d+'[hb][0-9a-f]+);$");
+    let param = re(
+        &PARAM,
+        r"^localparam\s+(?:signed\s+)?([\w$]+) = (\d+'[hb][0-9a-f]+);$",
+    );
     let mut flat = Flat::default();
     let insts = instances(&m.lines);
-    let in_instance = |i: usize| insts.iter().any(|n| (n.first_line..=n.last_line).contains(&i));
+    let in_instance = |i: usize| {
+        insts
+            .iter()
+            .any(|n| (n.first_line..=n.last_line).contains(&i))
+    };
     let mut i = 0;
     while i < m.lines.len() {
         let line = m.lines[i].trim();
         if line.is_empty() || line.starts_with("//") || in_instance(i) {
         } else if let Some(c) = decl.captures(line) {
-            let width = c.get(3).map_or(1, |w| w.as_str().parse::<usize>().unwrap() + 1);
+            let width = c
+                .get(3)
+                .map_or(1, |w| w.as_str().parse::<usize>().unwrap() + 1);
             let name = c[4].to_string();
             flat.widths.insert(name.clone(), width);
-            if !c[1].starts_with("input") && !c[1].starts_with("output") && !c[1].starts_with("inout") {
-                flat.nets.push(Net { width, signed: c.get(2).is_some(), name, init: None });
+            if !c[1].starts_with("input")
+                && !c[1].starts_with("output")
+                && !c[1].starts_with("inout")
+            {
+                flat.nets.push(Net {
+                    width,
+                    signed: c.get(2).is_some(),
+                    name,
+                    init: None,
+                });
             }
         } else if let Some(c) = param.captures(line) {
             let w: usize = c[2].split('\'').next().unwrap().parse().unwrap();
@@ -277,7 +298,12 @@ fn flatten(m: &RawModule, modules: &BTreeMap<String, RawModule>, dffs: &BTreeMap
             flat.params.push((name, v));
         }
         for block in sub.comb {
-            flat.comb.push(block.iter().map(|l| rename_identifiers(l, &rename)).collect());
+            flat.comb.push(
+                block
+                    .iter()
+                    .map(|l| rename_identifiers(l, &rename))
+                    .collect(),
+            );
         }
         for (c, q, d) in sub.flops {
             flat.flops.push((rename(&c), rename(&q), rename(&d)));
@@ -293,7 +319,10 @@ fn dedent(lines: &[String]) -> Vec<String> {
         .map(|l| l.len() - l.trim_start().len())
         .min()
         .unwrap_or(0);
-    lines.iter().map(|l| l.get(indent..).unwrap_or("").to_string()).collect()
+    lines
+        .iter()
+        .map(|l| l.get(indent..).unwrap_or("").to_string())
+        .collect()
 }
 
 const KEYWORDS: &[&str] = &[
@@ -305,13 +334,14 @@ const KEYWORDS: &[&str] = &[
 /// literals (`4'h0`) and system functions (`$signed`) alone.
 fn rename_identifiers(line: &str, rename: &dyn Fn(&str) -> String) -> String {
     static TOKEN: OnceLock<Regex> = OnceLock::new();
-    let token = re(&TOKEN, r"(\d+'[bhd][0-9a-fA-F_]+)|(\$[A-Za-z_]\w*)|([A-Za-z_][\w$]*)");
+    let token = re(
+        &TOKEN,
+        r"(\d+'[bhd][0-9a-fA-F_]+)|(\$[A-Za-z_]\w*)|([A-Za-z_][\w$]*)",
+    );
     token
-        .replace_all(line, |c: &regex::Captures| {
-            match c.get(3) {
-                Some(id) if !KEYWORDS.contains(&id.as_str()) => rename(id.as_str()),
-                _ => c[0].to_string(),
-            }
+        .replace_all(line, |c: &regex::Captures| match c.get(3) {
+            Some(id) if !KEYWORDS.contains(&id.as_str()) => rename(id.as_str()),
+            _ => c[0].to_string(),
         })
         .to_string()
 }
@@ -330,12 +360,17 @@ fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
                 .enumerate()
                 .find_map(|(b, block)| {
                     block.iter().position(|l| l.starts_with(&prefix)).map(|l| {
-                        (b, l, block[l][prefix.len()..].trim_end_matches(';').to_string())
+                        (
+                            b,
+                            l,
+                            block[l][prefix.len()..].trim_end_matches(';').to_string(),
+                        )
                     })
                 })
                 .unwrap_or_else(|| panic!("flop clock `{clk}` has no simple driver"));
             assert!(
-                src.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '$'),
+                src.chars()
+                    .all(|c| c.is_alphanumeric() || c == '_' || c == '$'),
                 "flop clock `{clk}` is driven by logic `{src}`"
             );
             flat.comb[b].remove(l);
@@ -349,7 +384,9 @@ fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
         for l in b {
             for n in l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '$')) {
                 assert!(
-                    !n.ends_with("$clock") || flat.nets.iter().any(|x| x.name == n) || ports.iter().any(|p| p == n),
+                    !n.ends_with("$clock")
+                        || flat.nets.iter().any(|x| x.name == n)
+                        || ports.iter().any(|p| p == n),
                     "clock stub `{n}` is still read in `{l}`"
                 );
             }
@@ -366,10 +403,19 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
         .map(|s| s.to_string())
         .chain(flat.flops.iter().map(|f| f.1.clone()))
         .collect();
-    let decl_width = |w: usize| if w == 1 { String::new() } else { format!("[{}:0] ", w - 1) };
+    let decl_width = |w: usize| {
+        if w == 1 {
+            String::new()
+        } else {
+            format!("[{}:0] ", w - 1)
+        }
+    };
     let mut t = format!("\nmodule {name}({});\n", root.args.join(", "));
     static PORT: OnceLock<Regex> = OnceLock::new();
-    let port = re(&PORT, r"^(input wire|output reg|output wire|inout wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$");
+    let port = re(
+        &PORT,
+        r"^(input wire|output reg|output wire|inout wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$",
+    );
     for arg in &root.args {
         let l = root
             .lines
@@ -385,7 +431,10 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
             _ => "output wire".to_string(),
         };
         let signed = if c.get(2).is_some() { "signed " } else { "" };
-        t.push_str(&format!("    {dir} {signed}{}{arg};\n", decl_width(flat.widths[arg])));
+        t.push_str(&format!(
+            "    {dir} {signed}{}{arg};\n",
+            decl_width(flat.widths[arg])
+        ));
     }
     if !flat.params.is_empty() {
         t.push('\n');
@@ -396,10 +445,22 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
     if !flat.nets.is_empty() {
         t.push('\n');
         for n in &flat.nets {
-            let kind = if assigned.contains(&n.name) { "reg" } else { "wire" };
+            let kind = if assigned.contains(&n.name) {
+                "reg"
+            } else {
+                "wire"
+            };
             let signed = if n.signed { "signed " } else { "" };
-            let init = n.init.as_ref().map(|i| format!(" = {i}")).unwrap_or_default();
-            t.push_str(&format!("    {kind} {signed}{}{}{init};\n", decl_width(n.width), n.name));
+            let init = n
+                .init
+                .as_ref()
+                .map(|i| format!(" = {i}"))
+                .unwrap_or_default();
+            t.push_str(&format!(
+                "    {kind} {signed}{}{}{init};\n",
+                decl_width(n.width),
+                n.name
+            ));
         }
     }
     for block in &flat.comb {
@@ -509,8 +570,14 @@ mod tests {
     fn literals_take_their_context_width() {
         let d = decls(&[("q$d", 4), ("x", 28)]);
         assert_eq!(size_literals("    q$d = 32'h0;", &d), "    q$d = 4'h0;");
-        assert_eq!(size_literals("    a = x + 32'h1;", &d), "    a = x + 28'h1;");
-        assert_eq!(size_literals("if (x == 32'h3) begin", &d), "if (x == 28'h3) begin");
+        assert_eq!(
+            size_literals("    a = x + 32'h1;", &d),
+            "    a = x + 28'h1;"
+        );
+        assert_eq!(
+            size_literals("if (x == 32'h3) begin", &d),
+            "if (x == 28'h3) begin"
+        );
         assert_eq!(size_literals("    a = x[32'h3];", &d), "    a = x[3];");
     }
 
@@ -528,7 +595,9 @@ mod tests {
 
     #[test]
     fn dollars_leave_system_functions_alone() {
-        assert_eq!(strip_dollars("a$b$c = $signed(x$y);"), "a_b_c = $signed(x_y);");
+        assert_eq!(
+            strip_dollars("a$b$c = $signed(x$y);"),
+            "a_b_c = $signed(x_y);"
+        );
     }
-
 }

@@ -91,10 +91,7 @@ impl fmt::Display for ConfigError {
                 value,
                 min,
                 max,
-            } => write!(
-                f,
-                "{name} = {value} is out of range: allowed {min}..={max}"
-            ),
+            } => write!(f, "{name} = {value} is out of range: allowed {min}..={max}"),
         }
     }
 }

@@ -1,11 +1,14 @@
 //! Stepping rust-hdl blocks directly, and reporting checks.
 
-use rust_hdl::prelude::{simulate, Block, Clock, Signal, In};
+use rust_hdl::prelude::{simulate, Block, Clock, In, Signal};
 use std::path::PathBuf;
 
 /// Propagates inputs through combinational logic until nothing changes.
 pub fn settle<B: Block>(uut: &mut B) {
-    assert!(simulate(uut, 1000), "circuit did not settle (combinational loop?)");
+    assert!(
+        simulate(uut, 1000),
+        "circuit did not settle (combinational loop?)"
+    );
 }
 
 /// One full clock cycle: rising edge, settle, falling edge, settle.
@@ -81,7 +84,12 @@ impl CheckReport {
     /// accepted only outside CI (see [`tool`]).
     pub fn assert_passed(&self) {
         if let Some(why) = &self.skipped {
-            assert!(!in_ci(), "{} / {}: skipped in CI: {why}", self.block, self.check);
+            assert!(
+                !in_ci(),
+                "{} / {}: skipped in CI: {why}",
+                self.block,
+                self.check
+            );
             eprintln!("SKIPPED {} / {}: {why}", self.block, self.check);
             return;
         }

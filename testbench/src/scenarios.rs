@@ -49,11 +49,15 @@ struct ChipIds {
 
 impl ChipIds {
     const PINS: [&'static str; 14] = [
-        "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2", "c2_3", "y1", "y2",
+        "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2", "c2_3",
+        "y1", "y2",
     ];
     fn new(trace: &mut Trace, scope: &[&str]) -> Self {
         Self {
-            pins: Self::PINS.iter().map(|p| trace.signal(scope, p, 1)).collect(),
+            pins: Self::PINS
+                .iter()
+                .map(|p| trace.signal(scope, p, 1))
+                .collect(),
         }
     }
     fn record(&self, trace: &mut Trace, t: u64, c: &Ls153) {
@@ -132,24 +136,31 @@ fn pulse_mode_selector(config: &Config) -> Trace {
 
     let half = half_period_ns(config);
     let mut t = 0;
-    let record = |trace: &mut Trace, t: u64, comb: &PulseModeSelector, reg: &PulseModeSelectorRegistered| {
-        for (id, v) in c.iter().zip([comb.k.val(), comb.s1.val(), comb.s2.val(), comb.f1.val(), comb.f2.val()]) {
-            trace.set(t, *id, v.into());
-        }
-        chip.record(trace, t, comb.chip());
-        let rv = [
-            reg.clock.val().clk,
-            reg.reset.val(),
-            reg.k.val(),
-            reg.s1.val(),
-            reg.s2.val(),
-            reg.f1.val(),
-            reg.f2.val(),
-        ];
-        for (id, v) in r.iter().zip(rv) {
-            trace.set(t, *id, v.into());
-        }
-    };
+    let record =
+        |trace: &mut Trace, t: u64, comb: &PulseModeSelector, reg: &PulseModeSelectorRegistered| {
+            for (id, v) in c.iter().zip([
+                comb.k.val(),
+                comb.s1.val(),
+                comb.s2.val(),
+                comb.f1.val(),
+                comb.f2.val(),
+            ]) {
+                trace.set(t, *id, v.into());
+            }
+            chip.record(trace, t, comb.chip());
+            let rv = [
+                reg.clock.val().clk,
+                reg.reset.val(),
+                reg.k.val(),
+                reg.s1.val(),
+                reg.s2.val(),
+                reg.f1.val(),
+                reg.f2.val(),
+            ];
+            for (id, v) in r.iter().zip(rv) {
+                trace.set(t, *id, v.into());
+            }
+        };
     for (reset, k, s2, s1) in steps {
         comb.k.next = k;
         comb.s2.next = s2;

@@ -46,20 +46,32 @@ pub fn ls153_hdl() -> CheckReport {
         settle(&mut uut);
         let want = m153::ls153(&i);
         let got = (uut.y1.val(), uut.y2.val());
-        r.case((got != (want.y1, want.y2)).then(|| format!("inputs {i:?}: HDL {got:?}, model {want:?}")));
+        r.case(
+            (got != (want.y1, want.y2))
+                .then(|| format!("inputs {i:?}: HDL {got:?}, model {want:?}")),
+        );
     }
     r
 }
 
 /// The seed's equations and the one-chip wiring against its truth table.
 pub fn selector_model_forms() -> Vec<CheckReport> {
-    let mut minterms = CheckReport::new("pulse_mode_selector", "Σm(1,3,5)/Σm(2,3,7) vs seed table", 8);
-    let mut chip = CheckReport::new("pulse_mode_selector", "74LS153 wiring model vs seed table", 8);
+    let mut minterms = CheckReport::new(
+        "pulse_mode_selector",
+        "Σm(1,3,5)/Σm(2,3,7) vs seed table",
+        8,
+    );
+    let mut chip = CheckReport::new(
+        "pulse_mode_selector",
+        "74LS153 wiring model vs seed table",
+        8,
+    );
     for (k, s2, s1) in selector_inputs() {
         let t = msel::from_truth_table(k, s2, s1);
         let m = msel::from_minterms(k, s2, s1);
         let c = msel::from_chip(k, s2, s1);
-        minterms.case((m != t).then(|| format!("{}: minterms {m:?}, table {t:?}", bits(k, s2, s1))));
+        minterms
+            .case((m != t).then(|| format!("{}: minterms {m:?}, table {t:?}", bits(k, s2, s1))));
         chip.case((c != t).then(|| format!("{}: chip {c:?}, table {t:?}", bits(k, s2, s1))));
     }
     vec![minterms, chip]
@@ -84,14 +96,25 @@ pub fn selector_hdl() -> CheckReport {
             && chip.b.val() == pins.b
             && chip.g1_n.val() == pins.g1_n
             && chip.g2_n.val() == pins.g2_n
-            && [chip.c1_0.val(), chip.c1_1.val(), chip.c1_2.val(), chip.c1_3.val()]
-                == [pins.c1[0], pins.c1[1], pins.c1[2], pins.c1[3]]
-            && [chip.c2_0.val(), chip.c2_1.val(), chip.c2_2.val(), chip.c2_3.val()]
-                == [pins.c2[0], pins.c2[1], pins.c2[2], pins.c2[3]];
+            && [
+                chip.c1_0.val(),
+                chip.c1_1.val(),
+                chip.c1_2.val(),
+                chip.c1_3.val(),
+            ] == [pins.c1[0], pins.c1[1], pins.c1[2], pins.c1[3]]
+            && [
+                chip.c2_0.val(),
+                chip.c2_1.val(),
+                chip.c2_2.val(),
+                chip.c2_3.val(),
+            ] == [pins.c2[0], pins.c2[1], pins.c2[2], pins.c2[3]];
         r.case(if got != want {
             Some(format!("{}: HDL {got:?}, table {want:?}", bits(k, s2, s1)))
         } else if !chip_ok {
-            Some(format!("{}: chip pins differ from the wiring model {pins:?}", bits(k, s2, s1)))
+            Some(format!(
+                "{}: chip pins differ from the wiring model {pins:?}",
+                bits(k, s2, s1)
+            ))
         } else {
             None
         });
@@ -112,7 +135,12 @@ pub fn registered_vectors() -> Vec<RegInputs> {
         for input in 0u8..16 {
             // K=0 passes S1 to F1 and S2 to F2: any state in one clock.
             v.push((false, false, state & 2 != 0, state & 1 != 0));
-            v.push((input & 8 != 0, input & 4 != 0, input & 2 != 0, input & 1 != 0));
+            v.push((
+                input & 8 != 0,
+                input & 4 != 0,
+                input & 2 != 0,
+                input & 1 != 0,
+            ));
         }
     }
     v.push((false, false, false, false));
@@ -122,7 +150,11 @@ pub fn registered_vectors() -> Vec<RegInputs> {
 /// Compares observed outputs (one pair per vector, read before that
 /// vector's clock edge) with the model, counting distinct (state, input)
 /// pairs whose result was observed.
-pub fn check_registered(check: &str, vectors: &[RegInputs], outputs: &[(bool, bool)]) -> CheckReport {
+pub fn check_registered(
+    check: &str,
+    vectors: &[RegInputs],
+    outputs: &[(bool, bool)],
+) -> CheckReport {
     let mut r = CheckReport::new("pulse_mode_selector_registered", check, 64);
     let mut model = RegisteredSelector::default();
     let mut pairs = BTreeSet::new();
@@ -180,23 +212,35 @@ fn pins(names: &[&str]) -> Vec<Port> {
 
 /// All 4096 chip inputs through the generated `ls153.v`.
 pub fn ls153_verilog(sim: Simulator) -> CheckReport {
-    let r = CheckReport::new("ls153", &format!("generated Verilog in {} vs model", sim.name()), 1 << INPUT_PINS);
+    let r = CheckReport::new(
+        "ls153",
+        &format!("generated Verilog in {} vs model", sim.name()),
+        1 << INPUT_PINS,
+    );
     let m = catalog::ls153();
     let design = Design {
         top: m.name,
         source: &m.text,
-        inputs: pins(&["a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2", "c2_3"]),
+        inputs: pins(&[
+            "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2",
+            "c2_3",
+        ]),
         outputs: pins(&["y1", "y2"]),
         clock: None,
     };
-    let inputs: Vec<Ls153Inputs> = (0..(1u16 << INPUT_PINS)).map(Ls153Inputs::from_word).collect();
+    let inputs: Vec<Ls153Inputs> = (0..(1u16 << INPUT_PINS))
+        .map(Ls153Inputs::from_word)
+        .collect();
     let vectors: Vec<Vec<u64>> = inputs
         .iter()
         .map(|i| {
-            [i.a, i.b, i.g1_n, i.g2_n, i.c1[0], i.c1[1], i.c1[2], i.c1[3], i.c2[0], i.c2[1], i.c2[2], i.c2[3]]
-                .iter()
-                .map(|b| u64::from(*b))
-                .collect()
+            [
+                i.a, i.b, i.g1_n, i.g2_n, i.c1[0], i.c1[1], i.c1[2], i.c1[3], i.c2[0], i.c2[1],
+                i.c2[2], i.c2[3],
+            ]
+            .iter()
+            .map(|b| u64::from(*b))
+            .collect()
         })
         .collect();
     match run_vectors(sim, &design, &vectors) {
@@ -206,7 +250,10 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
             for (i, o) in inputs.iter().zip(out) {
                 let want = m153::ls153(i);
                 let got = (o[0] != 0, o[1] != 0);
-                r.case((got != (want.y1, want.y2)).then(|| format!("inputs {i:?}: Verilog {got:?}, model {want:?}")));
+                r.case(
+                    (got != (want.y1, want.y2))
+                        .then(|| format!("inputs {i:?}: Verilog {got:?}, model {want:?}")),
+                );
             }
             r
         }
@@ -215,7 +262,11 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
 
 /// Every (K, S2, S1) through the generated `pulse_mode_selector.v`.
 pub fn selector_verilog(sim: Simulator) -> CheckReport {
-    let r = CheckReport::new("pulse_mode_selector", &format!("generated Verilog in {} vs seed table", sim.name()), 8);
+    let r = CheckReport::new(
+        "pulse_mode_selector",
+        &format!("generated Verilog in {} vs seed table", sim.name()),
+        8,
+    );
     let m = catalog::pulse_mode_selector();
     let design = Design {
         top: m.name,
@@ -236,7 +287,10 @@ pub fn selector_verilog(sim: Simulator) -> CheckReport {
             for (&(k, s2, s1), o) in inputs.iter().zip(out) {
                 let got = (o[0] != 0, o[1] != 0);
                 let want = msel::from_truth_table(k, s2, s1);
-                r.case((got != want).then(|| format!("{}: Verilog {got:?}, table {want:?}", bits(k, s2, s1))));
+                r.case(
+                    (got != want)
+                        .then(|| format!("{}: Verilog {got:?}, table {want:?}", bits(k, s2, s1))),
+                );
             }
             r
         }
@@ -245,7 +299,10 @@ pub fn selector_verilog(sim: Simulator) -> CheckReport {
 
 /// Every (state, input) pair through the generated `pulse_mode_selector_registered.v`.
 pub fn registered_verilog(sim: Simulator) -> CheckReport {
-    let check = format!("generated Verilog in {} vs model, every state × input", sim.name());
+    let check = format!(
+        "generated Verilog in {} vs model, every state × input",
+        sim.name()
+    );
     let m = catalog::pulse_mode_selector_registered();
     let design = Design {
         top: m.name,
@@ -260,7 +317,11 @@ pub fn registered_verilog(sim: Simulator) -> CheckReport {
         .map(|&(r, k, s2, s1)| vec![r.into(), k.into(), s2.into(), s1.into()])
         .collect();
     match run_vectors(sim, &design, &raw) {
-        Err(e) => sim_failure(CheckReport::new("pulse_mode_selector_registered", &check, 64), sim, e),
+        Err(e) => sim_failure(
+            CheckReport::new("pulse_mode_selector_registered", &check, 64),
+            sim,
+            e,
+        ),
         Ok(out) => {
             let outputs: Vec<(bool, bool)> = out.iter().map(|o| (o[0] != 0, o[1] != 0)).collect();
             check_registered(&check, &vectors, &outputs)

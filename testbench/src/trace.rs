@@ -36,7 +36,10 @@ impl Trace {
     /// Declares a signal `name` of `width` bits inside the scope path
     /// `scope` (outermost first).
     pub fn signal(&mut self, scope: &[&str], name: &str, width: u32) -> SignalId {
-        assert!((1..=64).contains(&width), "signal {name}: width {width} not in 1..=64");
+        assert!(
+            (1..=64).contains(&width),
+            "signal {name}: width {width} not in 1..=64"
+        );
         self.signals.push(SignalDef {
             scope: scope.iter().map(|s| s.to_string()).collect(),
             name: name.into(),
@@ -65,12 +68,21 @@ impl Trace {
         w.timescale(1, TimescaleUnit::NS)?;
         // Declare in scope order so each scope is opened once.
         let mut order: Vec<usize> = (0..self.signals.len()).collect();
-        order.sort_by(|a, b| self.signals[*a].scope.cmp(&self.signals[*b].scope).then(a.cmp(b)));
+        order.sort_by(|a, b| {
+            self.signals[*a]
+                .scope
+                .cmp(&self.signals[*b].scope)
+                .then(a.cmp(b))
+        });
         let mut ids: BTreeMap<usize, IdCode> = BTreeMap::new();
         let mut open: Vec<String> = Vec::new();
         for i in order {
             let s = &self.signals[i];
-            let common = open.iter().zip(&s.scope).take_while(|(a, b)| a == b).count();
+            let common = open
+                .iter()
+                .zip(&s.scope)
+                .take_while(|(a, b)| a == b)
+                .count();
             while open.len() > common {
                 w.upscope()?;
                 open.pop();
@@ -88,8 +100,10 @@ impl Trace {
         let mut last: BTreeMap<SignalId, u64> = BTreeMap::new();
         let mut first = true;
         for (t, changes) in &self.changes {
-            let changed: Vec<(&SignalId, &u64)> =
-                changes.iter().filter(|(id, v)| last.get(id) != Some(v)).collect();
+            let changed: Vec<(&SignalId, &u64)> = changes
+                .iter()
+                .filter(|(id, v)| last.get(id) != Some(v))
+                .collect();
             if changed.is_empty() {
                 continue;
             }
@@ -112,12 +126,21 @@ impl Trace {
         Ok(())
     }
 
-    fn emit<W: Write>(&self, w: &mut vcd::Writer<W>, code: IdCode, i: usize, v: u64) -> io::Result<()> {
+    fn emit<W: Write>(
+        &self,
+        w: &mut vcd::Writer<W>,
+        code: IdCode,
+        i: usize,
+        v: u64,
+    ) -> io::Result<()> {
         let width = self.signals[i].width;
         if width == 1 {
             w.change_scalar(code, Value::from(v != 0))
         } else {
-            w.change_vector(code, (0..width).rev().map(|b| Value::from((v >> b) & 1 != 0)))
+            w.change_vector(
+                code,
+                (0..width).rev().map(|b| Value::from((v >> b) & 1 != 0)),
+            )
         }
     }
 

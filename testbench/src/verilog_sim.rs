@@ -77,7 +77,12 @@ fn testbench(design: &Design, vectors: usize) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "`timescale 1ns / 1ps\n`default_nettype none");
     let _ = writeln!(t, "module motionhdl_tb;");
-    let _ = writeln!(t, "    reg [{}:0] vectors [0:{}];", in_width - 1, vectors - 1);
+    let _ = writeln!(
+        t,
+        "    reg [{}:0] vectors [0:{}];",
+        in_width - 1,
+        vectors - 1
+    );
     let _ = writeln!(t, "    reg [{}:0] v;", in_width - 1);
     let _ = writeln!(t, "    integer i;");
     if let Some(c) = design.clock {
@@ -103,7 +108,11 @@ fn testbench(design: &Design, vectors: usize) -> String {
     }
     let _ = writeln!(t, "{}\n    );", conns.join(",\n"));
     let fmt: Vec<&str> = design.outputs.iter().map(|_| "%h").collect();
-    let args: Vec<String> = design.outputs.iter().map(|o| format!("out_{}", o.name)).collect();
+    let args: Vec<String> = design
+        .outputs
+        .iter()
+        .map(|o| format!("out_{}", o.name))
+        .collect();
     let _ = writeln!(t, "    initial begin");
     if let Some(c) = design.clock {
         let _ = writeln!(t, "        {c} = 1'b0;");
@@ -112,9 +121,17 @@ fn testbench(design: &Design, vectors: usize) -> String {
     let _ = writeln!(t, "        for (i = 0; i < {vectors}; i = i + 1) begin");
     let _ = writeln!(t, "            v = vectors[i];");
     let _ = writeln!(t, "            #4;");
-    let _ = writeln!(t, "            $display(\"OUT {}\", {});", fmt.join(" "), args.join(", "));
+    let _ = writeln!(
+        t,
+        "            $display(\"OUT {}\", {});",
+        fmt.join(" "),
+        args.join(", ")
+    );
     if let Some(c) = design.clock {
-        let _ = writeln!(t, "            {c} = 1'b1;\n            #5;\n            {c} = 1'b0;\n            #1;");
+        let _ = writeln!(
+            t,
+            "            {c} = 1'b1;\n            #5;\n            {c} = 1'b0;\n            #1;"
+        );
     } else {
         let _ = writeln!(t, "            #6;");
     }
@@ -123,7 +140,9 @@ fn testbench(design: &Design, vectors: usize) -> String {
 }
 
 fn run(cmd: &mut Command, what: &str) -> Result<String, String> {
-    let out = cmd.output().map_err(|e| format!("{what}: cannot start: {e}"))?;
+    let out = cmd
+        .output()
+        .map_err(|e| format!("{what}: cannot start: {e}"))?;
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
     if !out.status.success() {
         return Err(format!(
@@ -138,7 +157,11 @@ fn run(cmd: &mut Command, what: &str) -> Result<String, String> {
 
 /// Runs `vectors` (one value per input, in `design.inputs` order) through
 /// the design and returns one value per output per vector.
-pub fn run_vectors(sim: Simulator, design: &Design, vectors: &[Vec<u64>]) -> Result<Vec<Vec<u64>>, String> {
+pub fn run_vectors(
+    sim: Simulator,
+    design: &Design,
+    vectors: &[Vec<u64>],
+) -> Result<Vec<Vec<u64>>, String> {
     sim.available()?;
     assert!(!vectors.is_empty());
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
@@ -150,7 +173,12 @@ pub fn run_vectors(sim: Simulator, design: &Design, vectors: &[Vec<u64>]) -> Res
         assert_eq!(v.len(), design.inputs.len(), "one value per input");
         let mut word: u128 = 0;
         for (p, x) in design.inputs.iter().zip(v) {
-            assert!(p.width == 64 || *x < (1u64 << p.width), "{} = {x} exceeds {} bits", p.name, p.width);
+            assert!(
+                p.width == 64 || *x < (1u64 << p.width),
+                "{} = {x} exceeds {} bits",
+                p.name,
+                p.width
+            );
             word = (word << p.width) | u128::from(*x);
         }
         let _ = writeln!(hex, "{word:x}");
@@ -159,12 +187,22 @@ pub fn run_vectors(sim: Simulator, design: &Design, vectors: &[Vec<u64>]) -> Res
     let stdout = match sim {
         Simulator::Icarus => {
             run(
-                Command::new("iverilog")
-                    .current_dir(d)
-                    .args(["-g2005", "-Wall", "-o", "sim.vvp", "-s", "motionhdl_tb", "tb.v", "dut.v"]),
+                Command::new("iverilog").current_dir(d).args([
+                    "-g2005",
+                    "-Wall",
+                    "-o",
+                    "sim.vvp",
+                    "-s",
+                    "motionhdl_tb",
+                    "tb.v",
+                    "dut.v",
+                ]),
                 "iverilog",
             )?;
-            run(Command::new("vvp").current_dir(d).args(["-n", "sim.vvp"]), "vvp")?
+            run(
+                Command::new("vvp").current_dir(d).args(["-n", "sim.vvp"]),
+                "vvp",
+            )?
         }
         Simulator::Verilator => {
             run(
@@ -183,7 +221,10 @@ pub fn run_vectors(sim: Simulator, design: &Design, vectors: &[Vec<u64>]) -> Res
                 ]),
                 "verilator",
             )?;
-            run(Command::new(d.join("obj").join("sim")).current_dir(d), "verilated simulation")?
+            run(
+                Command::new(d.join("obj").join("sim")).current_dir(d),
+                "verilated simulation",
+            )?
         }
     };
     parse_outputs(&stdout, design.outputs.len(), vectors.len())
@@ -195,12 +236,17 @@ fn parse_outputs(stdout: &str, n_out: usize, n_vec: usize) -> Result<Vec<Vec<u64
         .filter_map(|l| l.strip_prefix("OUT "))
         .map(|l| {
             l.split_whitespace()
-                .map(|x| u64::from_str_radix(x, 16).map_err(|_| format!("bad output value `{x}` (X or Z?)")))
+                .map(|x| {
+                    u64::from_str_radix(x, 16)
+                        .map_err(|_| format!("bad output value `{x}` (X or Z?)"))
+                })
                 .collect::<Result<Vec<u64>, String>>()
         })
         .collect::<Result<_, _>>()?;
     if rows.len() != n_vec || rows.iter().any(|r| r.len() != n_out) {
-        return Err(format!("expected {n_vec} rows of {n_out} outputs, got:\n{stdout}"));
+        return Err(format!(
+            "expected {n_vec} rows of {n_out} outputs, got:\n{stdout}"
+        ));
     }
     Ok(rows)
 }

@@ -1,9 +1,9 @@
 //! Contract properties of the pulse-mode selector, for random pulse trains
 //! with direction changes, and its glitch behaviour in a timed simulation.
 
+use motionhdl_hdl::{catalog, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::pulse_mode_selector::{rising_edges, PulseMode};
 use motionhdl_testbench::harness::{cycle, require_tool, settle};
-use motionhdl_hdl::{catalog, PulseModeSelector, PulseModeSelectorRegistered};
 use proptest::prelude::*;
 use rust_hdl::prelude::*;
 use std::process::Command;
@@ -19,7 +19,11 @@ struct Pulse {
 
 fn pulse_train() -> impl Strategy<Value = Vec<Pulse>> {
     prop::collection::vec(
-        (any::<bool>(), 1usize..5, 1usize..5).prop_map(|(reverse, high, low)| Pulse { reverse, high, low }),
+        (any::<bool>(), 1usize..5, 1usize..5).prop_map(|(reverse, high, low)| Pulse {
+            reverse,
+            high,
+            low,
+        }),
         0..40,
     )
 }
@@ -68,11 +72,18 @@ fn through_registered(mode: PulseMode, s: &[(bool, bool)]) -> Vec<(bool, bool)> 
     out
 }
 
-fn check_cw_ccw(train: &[Pulse], s: &[(bool, bool)], out: &[(bool, bool)]) -> Result<(), TestCaseError> {
+fn check_cw_ccw(
+    train: &[Pulse],
+    s: &[(bool, bool)],
+    out: &[(bool, bool)],
+) -> Result<(), TestCaseError> {
     let s1_pulses = rising_edges(s.iter().map(|x| x.1));
     let cw = rising_edges(out.iter().map(|x| x.0));
     let ccw = rising_edges(out.iter().map(|x| x.1));
-    prop_assert!(out.iter().all(|&(f1, f2)| !(f1 && f2)), "F1 and F2 high together");
+    prop_assert!(
+        out.iter().all(|&(f1, f2)| !(f1 && f2)),
+        "F1 and F2 high together"
+    );
     prop_assert_eq!(cw + ccw, s1_pulses);
     prop_assert_eq!(cw, train.iter().filter(|p| !p.reverse).count());
     prop_assert_eq!(ccw, train.iter().filter(|p| p.reverse).count());
@@ -152,7 +163,11 @@ endmodule
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = Command::new("vvp").current_dir(dir.path()).args(["-n", "g.vvp"]).output().unwrap();
+    let o = Command::new("vvp")
+        .current_dir(dir.path())
+        .args(["-n", "g.vvp"])
+        .output()
+        .unwrap();
     let out = String::from_utf8_lossy(&o.stdout).to_string();
     let events = |tag: &str| -> Vec<(u64, bool, bool)> {
         out.lines()
@@ -164,9 +179,15 @@ endmodule
             .collect()
     };
     let reg_events = events("REG ");
-    assert!(reg_events.len() > 4, "registered outputs never moved:\n{out}");
+    assert!(
+        reg_events.len() > 4,
+        "registered outputs never moved:\n{out}"
+    );
     for (t, _, _) in &reg_events {
-        assert!(*t == 0 || t % 20 == 10, "registered output changed at {t} ns, not on a rising edge:\n{out}");
+        assert!(
+            *t == 0 || t % 20 == 10,
+            "registered output changed at {t} ns, not on a rising edge:\n{out}"
+        );
     }
     // A runt: some combinational output high for less than 2 ns.
     let comb_events = events("COMB ");
@@ -177,9 +198,15 @@ endmodule
             runts += 1;
         }
     }
-    assert!(runts > 0, "expected the combinational selector to glitch with skewed inputs:\n{out}");
+    assert!(
+        runts > 0,
+        "expected the combinational selector to glitch with skewed inputs:\n{out}"
+    );
     // And none in the registered outputs: every level lasts a whole clock.
     for w in reg_events.windows(2) {
-        assert!(w[1].0 - w[0].0 >= 20 || w[0].0 == 0, "registered level shorter than a clock: {w:?}");
+        assert!(
+            w[1].0 - w[0].0 >= 20 || w[0].0 == 0,
+            "registered level shorter than a clock: {w:?}"
+        );
     }
 }
