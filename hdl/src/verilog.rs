@@ -506,41 +506,62 @@ fn strip_dollars(text: &str) -> String {
     }
 }
 
-/// Gives 32-bit integer literals the width of their context: the left-hand
-/// side of an assignment, or the other operand of a binary operator.
+/// Gives 32-bit integer literals the width of their context (the left-hand
+/// side of an assignment, or the other operand of a binary operator), turns
+/// literal bit and part selects into plain constant selects, and rewrites
+/// rust-hdl's cast `((x) & N'hff..)` of a named signal into a zero-extension
+/// or truncation.
 fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
     static LIT: OnceLock<Regex> = OnceLock::new();
-    let lit = re(&LIT, r"32'h([0-9a-f]+)");
-    if !lit.is_match(line) {
-        return line.to_string();
-    }
+    let lit = re(&LIT, r"\b(?:32|64)'h([0-9a-f]+)");
+    static CAST: OnceLock<Regex> = OnceLock::new();
+    let cast = re(&CAST, r"\(\(([\w$]+)\) & (\d+)'h([0-9a-f]+)\)");
     static ASSIGN: OnceLock<Regex> = OnceLock::new();
-    let assign = re(&ASSIGN, r"^(\s*)([\w$]+) = 32'h([0-9a-f]+);$");
+    let assign = re(&ASSIGN, r"^(\s*)([\w$]+) = (?:32|64)'h([0-9a-f]+);$");
     static INDEX: OnceLock<Regex> = OnceLock::new();
-    let index = re(&INDEX, r"\[32'h([0-9a-f]+)\]");
+    let index = re(&INDEX, r"\[(?:32|64)'h([0-9a-f]+)\]");
+    static PART: OnceLock<Regex> = OnceLock::new();
+    let part = re(&PART, r"\[\((?:32|64)'h([0-9a-f]+)\)\+:\((\d+)\)\]");
     static BINOP: OnceLock<Regex> = OnceLock::new();
-    let binop = re(
-        &BINOP,
-        r"([\w$]+) (==|!=|<=|>=|<|>|\+|-|&|\||\^) 32'h([0-9a-f]+)",
-    );
+    let binop = re(&BINOP, r"([\w$]+) (==|!=|<=|>=|<|>|\+|-|&|\||\^) (?:32|64)'h([0-9a-f]+)");
     let width_of = |name: &str| -> usize {
         decls
             .get(name)
             .copied()
             .unwrap_or_else(|| panic!("literal sized against unknown signal `{name}` in `{line}`"))
     };
+    // Sized literals are written with a marker so the final check can tell
+    // them from literals nobody sized.
     let sized = |width: usize, hex: &str| -> String {
         let v = u128::from_str_radix(hex, 16).unwrap();
         assert!(
             width >= 128 || v < (1u128 << width),
             "literal 0x{hex} does not fit {width} bits in `{line}`"
         );
-        format!("{width}'h{v:x}")
+        format!("{width}'#{v:x}")
     };
-    let mut l = index
+    let hex = |h: &str| u128::from_str_radix(h, 16).unwrap();
+    let mut l = cast
         .replace_all(line, |c: &regex::Captures| {
-            format!("[{}]", u128::from_str_radix(&c[1], 16).unwrap())
+            let (name, to) = (&c[1], c[2].parse::<usize>().unwrap());
+            assert_eq!(hex(&c[3]), (1u128 << to) - 1, "unexpected cast mask in `{line}`");
+            let from = width_of(name);
+            match from.cmp(&to) {
+                std::cmp::Ordering::Less => format!("{{{}'#0, {name}}}", to - from),
+                std::cmp::Ordering::Equal => name.to_string(),
+                std::cmp::Ordering::Greater => format!("{name}[{}:0]", to - 1),
+            }
         })
+        .to_string();
+    l = part
+        .replace_all(&l, |c: &regex::Captures| {
+            let lo = hex(&c[1]);
+            let w: u128 = c[2].parse().unwrap();
+            format!("[{}:{lo}]", lo + w - 1)
+        })
+        .to_string();
+    l = index
+        .replace_all(&l, |c: &regex::Captures| format!("[{}]", hex(&c[1])))
         .to_string();
     if let Some(c) = assign.captures(&l.clone()) {
         l = format!("{}{} = {};", &c[1], &c[2], sized(width_of(&c[2]), &c[3]));
@@ -551,11 +572,9 @@ fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
         })
         .to_string();
     if lit.is_match(&l) {
-        let w32 = lit.find_iter(&l).count();
-        // A literal left at 32 bits is right only if its context is 32 bits wide.
-        panic!("cannot size {w32} 32-bit literal(s) in `{line}`: assign or compare against a named signal, or use a Constant");
+        panic!("cannot size the literal(s) in `{line}`: assign or compare against a named signal, or use a Constant");
     }
-    l
+    l.replace("'#", "'h")
 }
 
 #[cfg(test)]
@@ -579,6 +598,16 @@ mod tests {
             "if (x == 28'h3) begin"
         );
         assert_eq!(size_literals("    a = x[32'h3];", &d), "    a = x[3];");
+        assert_eq!(size_literals("    a = x[(32'h10)+:(3)];", &d), "    a = x[18:16];");
+        assert_eq!(size_literals("    x = 32'h0;", &decls(&[("x", 32)])), "    x = 32'h0;");
+    }
+
+    #[test]
+    fn casts_of_named_signals_extend_or_truncate() {
+        let d = decls(&[("m", 3), ("w", 32)]);
+        assert_eq!(size_literals("e = ((m) & 32'hffffffff) << s;", &d), "e = {29'h0, m} << s;");
+        assert_eq!(size_literals("e = ((w) & 8'hff);", &d), "e = w[7:0];");
+        assert_eq!(size_literals("e = ((w) & 32'hffffffff);", &d), "e = w;");
     }
 
     #[test]

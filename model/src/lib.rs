@@ -7,5 +7,6 @@
 pub mod config;
 pub mod ls153;
 pub mod pulse_mode_selector;
+pub mod regmap;
 
 pub use config::{Config, ConfigError};
