@@ -15,7 +15,7 @@ pub struct Artifact {
 /// Every generated file for `config`, in a fixed order.
 pub fn all(config: &Config) -> Vec<Artifact> {
     let mut out = Vec::new();
-    for m in catalog::all() {
+    for m in catalog::all(config) {
         out.push(Artifact {
             path: PathBuf::from("verilog").join(format!("{}.v", m.name)),
             contents: m.text.into_bytes(),

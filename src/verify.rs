@@ -1,12 +1,14 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
 use motionhdl_testbench::harness::in_ci;
-use motionhdl_testbench::{selector, CheckReport};
+use motionhdl_testbench::{counter, selector, CheckReport};
 
 /// Runs every check. `external` includes the generated-Verilog runs in
 /// Icarus Verilog and Verilator.
 pub fn run(external: bool) -> Vec<CheckReport> {
-    selector::all(external)
+    let mut v = selector::all(external);
+    v.extend(counter::all(external));
+    v
 }
 
 /// A skip is a failure under CI: a check that did not run has not passed.

@@ -1,6 +1,7 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
-use crate::{banner, verilog, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use crate::{banner, verilog, CounterBank, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use motionhdl_model::Config;
 use rust_hdl::prelude::Block;
 
 /// One exported module.
@@ -58,11 +59,28 @@ pub fn pulse_mode_selector_registered() -> VerilogModule {
     )
 }
 
-/// Every exported module.
-pub fn all() -> Vec<VerilogModule> {
+/// The counter bank for `axes` channels (1..=16) of `width`-bit counters.
+pub fn counter_bank(axes: u32, width: u32) -> VerilogModule {
+    const SUMMARY: &str = "quadrature/pulse counter bank: X4/X2/X1, pulse+direction, CW/CCW; \
+                           filters, index, snapshot, register bus (docs/counter_bank.md)";
+    // The axis count sets port widths, a compile-time parameter in rust-hdl.
+    macro_rules! bank {
+        ($($n:literal)+) => {
+            match axes {
+                $($n => module(CounterBank::<$n>::new(width), "counter_bank", SUMMARY),)+
+                _ => panic!("axes = {axes} out of range 1..=16"),
+            }
+        };
+    }
+    bank!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// Every exported module for `config`.
+pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
         ls153(),
         pulse_mode_selector(),
         pulse_mode_selector_registered(),
+        counter_bank(config.axes(), config.counter_width()),
     ]
 }

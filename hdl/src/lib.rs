@@ -5,10 +5,16 @@
 //! module per file; [`catalog`] lists what `motionhdl generate` exports.
 
 pub mod catalog;
+pub mod counter_bank;
+pub mod counter_channel;
+pub mod input_filter;
 pub mod ls153;
 pub mod pulse_mode_selector;
 pub mod verilog;
 
+pub use counter_bank::CounterBank;
+pub use counter_channel::CounterChannel;
+pub use input_filter::InputFilter;
 pub use ls153::Ls153;
 pub use pulse_mode_selector::{PulseModeSelector, PulseModeSelectorRegistered};
 

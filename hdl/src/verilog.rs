@@ -350,22 +350,18 @@ fn rename_identifiers(line: &str, rename: &dyn Fn(&str) -> String) -> String {
 /// combinational block (`x$clock = clock;`). Wire the flop to the source
 /// instead and drop the stub, so no clock passes through `always @(*)`.
 fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
+    let mut stubs = BTreeSet::new();
     for f in 0..flat.flops.len() {
         let mut clk = flat.flops[f].0.clone();
         while !ports.contains(&clk) {
             let prefix = format!("{clk} = ");
-            let (b, l, src) = flat
+            let src = flat
                 .comb
                 .iter()
-                .enumerate()
-                .find_map(|(b, block)| {
-                    block.iter().position(|l| l.starts_with(&prefix)).map(|l| {
-                        (
-                            b,
-                            l,
-                            block[l][prefix.len()..].trim_end_matches(';').to_string(),
-                        )
-                    })
+                .flatten()
+                .find_map(|l| {
+                    l.strip_prefix(&prefix)
+                        .map(|r| r.trim_end_matches(';').to_string())
                 })
                 .unwrap_or_else(|| panic!("flop clock `{clk}` has no simple driver"));
             assert!(
@@ -373,23 +369,22 @@ fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
                     .all(|c| c.is_alphanumeric() || c == '_' || c == '$'),
                 "flop clock `{clk}` is driven by logic `{src}`"
             );
-            flat.comb[b].remove(l);
-            flat.nets.retain(|n| n.name != clk);
+            stubs.insert(clk);
             clk = src;
         }
         flat.flops[f].0 = clk;
     }
+    for block in &mut flat.comb {
+        block.retain(|l| !stubs.iter().any(|s| l.starts_with(&format!("{s} = "))));
+    }
+    flat.nets.retain(|n| !stubs.contains(&n.name));
     // A removed clock stub read anywhere else would now be undeclared.
-    for b in &flat.comb {
-        for l in b {
-            for n in l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '$')) {
-                assert!(
-                    !n.ends_with("$clock")
-                        || flat.nets.iter().any(|x| x.name == n)
-                        || ports.iter().any(|p| p == n),
-                    "clock stub `{n}` is still read in `{l}`"
-                );
-            }
+    for l in flat.comb.iter().flatten() {
+        for word in l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '$')) {
+            assert!(
+                !stubs.contains(word),
+                "clock stub `{word}` is still read in `{l}`"
+            );
         }
     }
 }
@@ -523,7 +518,10 @@ fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
     static PART: OnceLock<Regex> = OnceLock::new();
     let part = re(&PART, r"\[\((?:32|64)'h([0-9a-f]+)\)\+:\((\d+)\)\]");
     static BINOP: OnceLock<Regex> = OnceLock::new();
-    let binop = re(&BINOP, r"([\w$]+) (==|!=|<=|>=|<|>|\+|-|&|\||\^) (?:32|64)'h([0-9a-f]+)");
+    let binop = re(
+        &BINOP,
+        r"([\w$]+) (==|!=|<=|>=|<|>|\+|-|&|\||\^) (?:32|64)'h([0-9a-f]+)",
+    );
     let width_of = |name: &str| -> usize {
         decls
             .get(name)
@@ -544,7 +542,11 @@ fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
     let mut l = cast
         .replace_all(line, |c: &regex::Captures| {
             let (name, to) = (&c[1], c[2].parse::<usize>().unwrap());
-            assert_eq!(hex(&c[3]), (1u128 << to) - 1, "unexpected cast mask in `{line}`");
+            assert_eq!(
+                hex(&c[3]),
+                (1u128 << to) - 1,
+                "unexpected cast mask in `{line}`"
+            );
             let from = width_of(name);
             match from.cmp(&to) {
                 std::cmp::Ordering::Less => format!("{{{}'#0, {name}}}", to - from),
@@ -598,14 +600,23 @@ mod tests {
             "if (x == 28'h3) begin"
         );
         assert_eq!(size_literals("    a = x[32'h3];", &d), "    a = x[3];");
-        assert_eq!(size_literals("    a = x[(32'h10)+:(3)];", &d), "    a = x[18:16];");
-        assert_eq!(size_literals("    x = 32'h0;", &decls(&[("x", 32)])), "    x = 32'h0;");
+        assert_eq!(
+            size_literals("    a = x[(32'h10)+:(3)];", &d),
+            "    a = x[18:16];"
+        );
+        assert_eq!(
+            size_literals("    x = 32'h0;", &decls(&[("x", 32)])),
+            "    x = 32'h0;"
+        );
     }
 
     #[test]
     fn casts_of_named_signals_extend_or_truncate() {
         let d = decls(&[("m", 3), ("w", 32)]);
-        assert_eq!(size_literals("e = ((m) & 32'hffffffff) << s;", &d), "e = {29'h0, m} << s;");
+        assert_eq!(
+            size_literals("e = ((m) & 32'hffffffff) << s;", &d),
+            "e = {29'h0, m} << s;"
+        );
         assert_eq!(size_literals("e = ((w) & 8'hff);", &d), "e = w[7:0];");
         assert_eq!(size_literals("e = ((w) & 32'hffffffff);", &d), "e = w;");
     }

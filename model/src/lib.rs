@@ -5,6 +5,7 @@
 //! testbench compares the two.
 
 pub mod config;
+pub mod counter;
 pub mod ls153;
 pub mod pulse_mode_selector;
 pub mod regmap;

@@ -7,9 +7,13 @@
 //! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
 //! * [`scenarios`]: the named traces `motionhdl trace` writes.
 
+pub mod counter;
+pub mod counter_scenarios;
+pub mod counter_stimulus;
 pub mod harness;
 pub mod scenarios;
 pub mod selector;
+pub mod tour;
 pub mod trace;
 pub mod verilog_sim;
 

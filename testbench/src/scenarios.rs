@@ -2,6 +2,7 @@
 //! `motionhdl generate` into `generated/vcd/`. Every value in a trace comes
 //! from stepping the rust-hdl blocks; nothing is drawn from the model.
 
+use crate::counter_scenarios as cs;
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
 use motionhdl_hdl::{banner, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
@@ -22,12 +23,49 @@ impl Scenario {
 }
 
 /// Every scenario, in the order `motionhdl trace --help` lists them.
-pub const SCENARIOS: &[Scenario] = &[Scenario {
-    name: "pulse_mode_selector",
-    summary: "all 8 (K,S2,S1) inputs in both modes, then pulse trains with a direction change, \
-              through the combinational and the registered selector",
-    build: pulse_mode_selector,
-}];
+pub const SCENARIOS: &[Scenario] = &[
+    Scenario {
+        name: "pulse_mode_selector",
+        summary: "all 8 (K,S2,S1) inputs in both modes, then pulse trains with a direction change, \
+                  through the combinational and the registered selector",
+        build: pulse_mode_selector,
+    },
+    Scenario {
+        name: "counter_slow_reversal",
+        summary: "counter bank, X4: a slow encoder 12 steps forward and 8 back, then snapshot and read",
+        build: cs::slow_reversal,
+    },
+    Scenario {
+        name: "counter_x4_x2_x1",
+        summary: "counter bank: one encoder on three channels counting X4, X2 and X1 side by side",
+        build: cs::x4_x2_x1,
+    },
+    Scenario {
+        name: "counter_pulse_dir",
+        summary: "counter bank, pulse+direction: 5 pulses forward, 3 back",
+        build: cs::pulse_direction,
+    },
+    Scenario {
+        name: "counter_cw_ccw",
+        summary: "counter bank, CW/CCW: 5 pulses on A (up), 3 on B (down)",
+        build: cs::cw_ccw,
+    },
+    Scenario {
+        name: "counter_index",
+        summary: "counter bank: gated index latching every turn, then one-shot clear-on-index after ARM",
+        build: cs::index_latch_clear,
+    },
+    Scenario {
+        name: "counter_illegal",
+        summary: "counter bank: an illegal A+B transition latches ERR, the count holds, CLEAR_STATUS clears",
+        build: cs::illegal_transition,
+    },
+    Scenario {
+        name: "counter_filter",
+        summary: "counter bank, FILTER_AB=3: a 2-clock glitch on A is rejected, a real step accepted",
+        build: cs::filter_glitch,
+    },
+];
 
 /// Looks a scenario up by name.
 pub fn find(name: &str) -> Option<&'static Scenario> {

@@ -1,0 +1,149 @@
+//! The counter bank: N channels, the PRESET register and the register bus.
+
+use crate::counter_channel::CounterChannel;
+use motionhdl_model::regmap::{self, ERR_COUNT_BITS};
+use rust_hdl::prelude::*;
+
+/// N counter channels behind one synchronous register bus
+/// (docs/counter_bank.md). `N` is the axis count (1..=16); the counter
+/// width is a constructor parameter.
+///
+/// Bus: a write takes effect at the edge where `we` is high; on an edge
+/// where `re` is high `rdata` loads the addressed register and then holds.
+#[derive(LogicBlock)]
+pub struct CounterBank<const N: usize> {
+    /// FPGA clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset, active high; hold at least 4 clocks.
+    pub reset: Signal<In, Bit>,
+    /// Encoder A pins, one per channel, asynchronous.
+    pub a: Signal<In, Bits<N>>,
+    /// Encoder B pins.
+    pub b: Signal<In, Bits<N>>,
+    /// Index pins.
+    pub z: Signal<In, Bits<N>>,
+    /// Register bus word address.
+    pub addr: Signal<In, Bits<8>>,
+    /// Register bus write data.
+    pub wdata: Signal<In, Bits<32>>,
+    /// Write strobe.
+    pub we: Signal<In, Bit>,
+    /// Read strobe.
+    pub re: Signal<In, Bit>,
+    /// Read data, valid from the clock after `re`.
+    pub rdata: Signal<Out, Bits<32>>,
+    channels: Vec<CounterChannel>,
+    preset: DFF<Bits<32>>,
+    read_data: DFF<Bits<32>>,
+    addr_info: Constant<Bits<8>>,
+    addr_snapshot: Constant<Bits<8>>,
+    addr_preset: Constant<Bits<8>>,
+    info: Constant<Bits<32>>,
+    width_mask: Constant<Bits<32>>,
+    sign_bit: Constant<Bits<32>>,
+    sign_extension: Constant<Bits<32>>,
+    snapshot: Signal<Local, Bit>,
+    preset_read: Signal<Local, Bits<32>>,
+    read_value: Signal<Local, Bits<32>>,
+}
+
+impl<const N: usize> CounterBank<N> {
+    /// A bank of `N` channels with `width`-bit counters (2..=32; the
+    /// configuration allows 8..=32) and the gateware's 8-bit error counters.
+    pub fn new(width: u32) -> Self {
+        Self::with_err_bits(width, ERR_COUNT_BITS)
+    }
+
+    /// As [`CounterBank::new`] with `err_bits`-bit error counters (1..=8),
+    /// for exhaustive checks at narrow instances.
+    pub fn with_err_bits(width: u32, err_bits: u32) -> Self {
+        assert!((1..=16).contains(&N), "axes = {N} out of range 1..=16");
+        let map = regmap::counter_bank(N as u32, width);
+        let addr = |reg: &str| Constant::new((map.register(reg).offset as u64).into());
+        let width_mask = if width == 32 {
+            u32::MAX
+        } else {
+            (1u32 << width) - 1
+        };
+        let k32 = |v: u32| Constant::new((v as u64).into());
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            a: Default::default(),
+            b: Default::default(),
+            z: Default::default(),
+            addr: Default::default(),
+            wdata: Default::default(),
+            we: Default::default(),
+            re: Default::default(),
+            rdata: Default::default(),
+            channels: (0..N as u32)
+                .map(|i| CounterChannel::new(N as u32, i, width, err_bits))
+                .collect(),
+            preset: Default::default(),
+            read_data: Default::default(),
+            addr_info: addr("INFO"),
+            addr_snapshot: addr("SNAPSHOT"),
+            addr_preset: addr("PRESET"),
+            info: k32(map.register("INFO").reset),
+            width_mask: k32(width_mask),
+            sign_bit: k32(1 << (width - 1)),
+            sign_extension: k32(!width_mask),
+            snapshot: Default::default(),
+            preset_read: Default::default(),
+            read_value: Default::default(),
+        }
+    }
+
+    /// Channel `i`, for probing in traces.
+    pub fn channel(&self, i: usize) -> &CounterChannel {
+        &self.channels[i]
+    }
+}
+
+impl<const N: usize> Logic for CounterBank<N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, preset, read_data);
+        self.snapshot.next = self.we.val() & (self.addr.val() == self.addr_snapshot.val());
+        for i in 0..N {
+            self.channels[i].clock.next = self.clock.val();
+            self.channels[i].reset.next = self.reset.val();
+            self.channels[i].a.next = self.a.val().get_bit(i);
+            self.channels[i].b.next = self.b.val().get_bit(i);
+            self.channels[i].z.next = self.z.val().get_bit(i);
+            self.channels[i].addr.next = self.addr.val();
+            self.channels[i].wdata.next = self.wdata.val();
+            self.channels[i].we.next = self.we.val();
+            self.channels[i].snapshot.next = self.snapshot.val();
+            self.channels[i].preset.next = self.preset.q.val();
+        }
+        if (self.preset.q.val() & self.sign_bit.val()).any() {
+            self.preset_read.next =
+                (self.preset.q.val() & self.width_mask.val()) | self.sign_extension.val();
+        } else {
+            self.preset_read.next = self.preset.q.val() & self.width_mask.val();
+        }
+        self.read_value.next = 0.into();
+        if self.addr.val() == self.addr_info.val() {
+            self.read_value.next = self.info.val();
+        }
+        if self.addr.val() == self.addr_preset.val() {
+            self.read_value.next = self.preset_read.val();
+        }
+        for i in 0..N {
+            self.read_value.next = self.read_value.val() | self.channels[i].rdata.val();
+        }
+        if self.we.val() & (self.addr.val() == self.addr_preset.val()) {
+            self.preset.d.next = self.wdata.val();
+        }
+        if self.re.val() {
+            self.read_data.d.next = self.read_value.val();
+        }
+        if self.reset.val() {
+            self.preset.d.next = 0.into();
+            self.read_data.d.next = 0.into();
+        }
+        self.rdata.next = self.read_data.q.val();
+    }
+}

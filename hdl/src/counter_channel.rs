@@ -1,0 +1,521 @@
+//! One channel of the counter bank: filters, decoder, counter, index logic,
+//! error detection, snapshot registers and the channel's register decode.
+
+use crate::input_filter::InputFilter;
+use motionhdl_model::counter::ChannelState;
+use motionhdl_model::regmap::{self, Block};
+use rust_hdl::prelude::*;
+
+/// One counter channel (docs/counter_bank.md). Counts quadrature ×4/×2/×1,
+/// pulse+direction or CW/CCW input into a `width`-bit counter held in a
+/// 32-bit register whose upper bits stay 0 (synthesis removes them).
+///
+/// The channel decodes its own registers from the register map, so the bank
+/// only ORs the channels' `rdata`.
+#[derive(LogicBlock)]
+pub struct CounterChannel {
+    /// FPGA clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset, active high.
+    pub reset: Signal<In, Bit>,
+    /// Encoder A (or pulse, or CW) pin, asynchronous.
+    pub a: Signal<In, Bit>,
+    /// Encoder B (or direction, or CCW) pin, asynchronous.
+    pub b: Signal<In, Bit>,
+    /// Index pin, asynchronous.
+    pub z: Signal<In, Bit>,
+    /// Register bus word address.
+    pub addr: Signal<In, Bits<8>>,
+    /// Register bus write data.
+    pub wdata: Signal<In, Bits<32>>,
+    /// Register bus write strobe.
+    pub we: Signal<In, Bit>,
+    /// Bank-wide snapshot strobe (a write to SNAPSHOT).
+    pub snapshot: Signal<In, Bit>,
+    /// The bank's PRESET register, as stored.
+    pub preset: Signal<In, Bits<32>>,
+    /// The addressed register of this channel, or 0.
+    pub rdata: Signal<Out, Bits<32>>,
+
+    filter_a: InputFilter,
+    filter_b: InputFilter,
+    filter_z: InputFilter,
+    a_prev: DFF<Bit>,
+    b_prev: DFF<Bit>,
+    zg_prev: DFF<Bit>,
+    up_q: DFF<Bit>,
+    down_q: DFF<Bit>,
+    count: DFF<Bits<32>>,
+    index: DFF<Bits<32>>,
+    err: DFF<Bit>,
+    err_count: DFF<Bits<8>>,
+    seen: DFF<Bit>,
+    armed: DFF<Bit>,
+    ctrl: DFF<Bits<32>>,
+    snap_count: DFF<Bits<32>>,
+    snap_index: DFF<Bits<32>>,
+    snap_status: DFF<Bits<32>>,
+
+    // Addresses and field positions, from the register map.
+    addr_ctrl: Constant<Bits<8>>,
+    addr_cmd: Constant<Bits<8>>,
+    addr_count: Constant<Bits<8>>,
+    addr_index: Constant<Bits<8>>,
+    addr_status: Constant<Bits<8>>,
+    ctrl_writable: Constant<Bits<32>>,
+    mode_lsb: Constant<Bits<5>>,
+    reverse_bit: Constant<Bits<5>>,
+    err_en_bit: Constant<Bits<5>>,
+    idx_invert_bit: Constant<Bits<5>>,
+    idx_latch_bit: Constant<Bits<5>>,
+    idx_clear_bit: Constant<Bits<5>>,
+    idx_gate_bit: Constant<Bits<5>>,
+    idx_oneshot_bit: Constant<Bits<5>>,
+    filter_ab_lsb: Constant<Bits<5>>,
+    filter_z_lsb: Constant<Bits<5>>,
+    cmd_clear_bit: Constant<Bits<5>>,
+    cmd_load_bit: Constant<Bits<5>>,
+    cmd_arm_bit: Constant<Bits<5>>,
+    cmd_clear_status_bit: Constant<Bits<5>>,
+    status_err: Constant<Bits<32>>,
+    status_armed: Constant<Bits<32>>,
+    status_seen: Constant<Bits<32>>,
+    status_a: Constant<Bits<32>>,
+    status_b: Constant<Bits<32>>,
+    status_z: Constant<Bits<32>>,
+    status_err_count_lsb: Constant<Bits<5>>,
+    mode_x4: Constant<Bits<3>>,
+    mode_x2: Constant<Bits<3>>,
+    mode_x1: Constant<Bits<3>>,
+    mode_pulse_dir: Constant<Bits<3>>,
+    mode_cw_ccw: Constant<Bits<3>>,
+    // Counter width.
+    width_mask: Constant<Bits<32>>,
+    sign_bit: Constant<Bits<32>>,
+    sign_extension: Constant<Bits<32>>,
+    plus_one: Constant<Bits<32>>,
+    minus_one: Constant<Bits<32>>,
+    err_max: Constant<Bits<8>>,
+
+    // Combinational temporaries.
+    level_a: Signal<Local, Bit>,
+    level_b: Signal<Local, Bit>,
+    level_z: Signal<Local, Bit>,
+    mode: Signal<Local, Bits<3>>,
+    changed_a: Signal<Local, Bit>,
+    changed_b: Signal<Local, Bit>,
+    a_ne_b: Signal<Local, Bit>,
+    rise_a: Signal<Local, Bit>,
+    rise_b: Signal<Local, Bit>,
+    illegal: Signal<Local, Bit>,
+    up: Signal<Local, Bit>,
+    down: Signal<Local, Bit>,
+    swap: Signal<Local, Bit>,
+    step: Signal<Local, Bits<32>>,
+    stepped: Signal<Local, Bits<32>>,
+    zg: Signal<Local, Bit>,
+    index_event: Signal<Local, Bit>,
+    index_act: Signal<Local, Bit>,
+    cmd_write: Signal<Local, Bit>,
+    status: Signal<Local, Bits<32>>,
+    count_read: Signal<Local, Bits<32>>,
+    index_read: Signal<Local, Bits<32>>,
+}
+
+fn bit_of(block: &Block, reg: &str, field: &str) -> Constant<Bits<5>> {
+    let f = block.array("CH").register(reg).field(field);
+    Constant::new((f.lsb as u64).into())
+}
+
+fn mask_of(block: &Block, reg: &str, field: &str) -> Constant<Bits<32>> {
+    Constant::new((block.array("CH").register(reg).field(field).mask() as u64).into())
+}
+
+impl CounterChannel {
+    /// Channel `channel` of a bank of `axes` channels with `width`-bit
+    /// counters (2..=32) and `err_bits`-bit error counters (1..=8).
+    pub fn new(axes: u32, channel: u32, width: u32, err_bits: u32) -> Self {
+        assert!(
+            (2..=32).contains(&width),
+            "width = {width} out of range 2..=32"
+        );
+        assert!(
+            (1..=8).contains(&err_bits),
+            "err_bits = {err_bits} out of range 1..=8"
+        );
+        let map = regmap::counter_bank(axes, width);
+        let ch = map.array("CH");
+        let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
+        let width_mask = if width == 32 {
+            u32::MAX
+        } else {
+            (1u32 << width) - 1
+        };
+        let sign_bit = 1u32 << (width - 1);
+        let k3 = |v: u32| Constant::new((v as u64).into());
+        let k32 = |v: u32| Constant::new((v as u64).into());
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            a: Default::default(),
+            b: Default::default(),
+            z: Default::default(),
+            addr: Default::default(),
+            wdata: Default::default(),
+            we: Default::default(),
+            snapshot: Default::default(),
+            preset: Default::default(),
+            rdata: Default::default(),
+            filter_a: Default::default(),
+            filter_b: Default::default(),
+            filter_z: Default::default(),
+            a_prev: Default::default(),
+            b_prev: Default::default(),
+            zg_prev: Default::default(),
+            up_q: Default::default(),
+            down_q: Default::default(),
+            count: Default::default(),
+            index: Default::default(),
+            err: Default::default(),
+            err_count: Default::default(),
+            seen: Default::default(),
+            armed: Default::default(),
+            ctrl: Default::default(),
+            snap_count: Default::default(),
+            snap_index: Default::default(),
+            snap_status: Default::default(),
+            addr_ctrl: addr("CTRL"),
+            addr_cmd: addr("CMD"),
+            addr_count: addr("COUNT"),
+            addr_index: addr("INDEX"),
+            addr_status: addr("STATUS"),
+            ctrl_writable: k32(ch.register("CTRL").writable_mask()),
+            mode_lsb: bit_of(&map, "CTRL", "MODE"),
+            reverse_bit: bit_of(&map, "CTRL", "REVERSE"),
+            err_en_bit: bit_of(&map, "CTRL", "ERR_EN"),
+            idx_invert_bit: bit_of(&map, "CTRL", "IDX_INVERT"),
+            idx_latch_bit: bit_of(&map, "CTRL", "IDX_LATCH"),
+            idx_clear_bit: bit_of(&map, "CTRL", "IDX_CLEAR"),
+            idx_gate_bit: bit_of(&map, "CTRL", "IDX_GATE"),
+            idx_oneshot_bit: bit_of(&map, "CTRL", "IDX_ONESHOT"),
+            filter_ab_lsb: bit_of(&map, "CTRL", "FILTER_AB"),
+            filter_z_lsb: bit_of(&map, "CTRL", "FILTER_Z"),
+            cmd_clear_bit: bit_of(&map, "CMD", "CLEAR"),
+            cmd_load_bit: bit_of(&map, "CMD", "LOAD"),
+            cmd_arm_bit: bit_of(&map, "CMD", "ARM"),
+            cmd_clear_status_bit: bit_of(&map, "CMD", "CLEAR_STATUS"),
+            status_err: mask_of(&map, "STATUS", "ERR"),
+            status_armed: mask_of(&map, "STATUS", "ARMED"),
+            status_seen: mask_of(&map, "STATUS", "SEEN"),
+            status_a: mask_of(&map, "STATUS", "A"),
+            status_b: mask_of(&map, "STATUS", "B"),
+            status_z: mask_of(&map, "STATUS", "Z"),
+            status_err_count_lsb: bit_of(&map, "STATUS", "ERR_COUNT"),
+            mode_x4: k3(regmap::mode::X4),
+            mode_x2: k3(regmap::mode::X2),
+            mode_x1: k3(regmap::mode::X1),
+            mode_pulse_dir: k3(regmap::mode::PULSE_DIR),
+            mode_cw_ccw: k3(regmap::mode::CW_CCW),
+            width_mask: k32(width_mask),
+            sign_bit: k32(sign_bit),
+            sign_extension: k32(!width_mask),
+            plus_one: k32(1),
+            minus_one: k32(width_mask),
+            err_max: Constant::new((((1u32 << err_bits) - 1) as u64).into()),
+            level_a: Default::default(),
+            level_b: Default::default(),
+            level_z: Default::default(),
+            mode: Default::default(),
+            changed_a: Default::default(),
+            changed_b: Default::default(),
+            a_ne_b: Default::default(),
+            rise_a: Default::default(),
+            rise_b: Default::default(),
+            illegal: Default::default(),
+            up: Default::default(),
+            down: Default::default(),
+            swap: Default::default(),
+            step: Default::default(),
+            stepped: Default::default(),
+            zg: Default::default(),
+            index_event: Default::default(),
+            index_act: Default::default(),
+            cmd_write: Default::default(),
+            status: Default::default(),
+            count_read: Default::default(),
+            index_read: Default::default(),
+        }
+    }
+
+    /// Every register, for comparison with the model every clock.
+    pub fn probe(&self) -> ChannelState {
+        ChannelState {
+            fa: self.filter_a.probe(),
+            fb: self.filter_b.probe(),
+            fz: self.filter_z.probe(),
+            a_prev: self.a_prev.q.val(),
+            b_prev: self.b_prev.q.val(),
+            zg_prev: self.zg_prev.q.val(),
+            up_q: self.up_q.q.val(),
+            down_q: self.down_q.q.val(),
+            count: self.count.q.val().to_u32(),
+            index: self.index.q.val().to_u32(),
+            err: self.err.q.val(),
+            err_count: self.err_count.q.val().to_u32(),
+            seen: self.seen.q.val(),
+            armed: self.armed.q.val(),
+            ctrl: self.ctrl.q.val().to_u32(),
+            snap_count: self.snap_count.q.val().to_u32(),
+            snap_index: self.snap_index.q.val().to_u32(),
+            snap_status: self.snap_status.q.val().to_u32(),
+        }
+    }
+}
+
+impl Logic for CounterChannel {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self,
+            clock,
+            a_prev,
+            b_prev,
+            zg_prev,
+            up_q,
+            down_q,
+            count,
+            index,
+            err,
+            err_count,
+            seen,
+            armed,
+            ctrl,
+            snap_count,
+            snap_index,
+            snap_status
+        );
+        // Input conditioning.
+        self.filter_a.clock.next = self.clock.val();
+        self.filter_b.clock.next = self.clock.val();
+        self.filter_z.clock.next = self.clock.val();
+        self.filter_a.reset.next = self.reset.val();
+        self.filter_b.reset.next = self.reset.val();
+        self.filter_z.reset.next = self.reset.val();
+        self.filter_a.pin.next = self.a.val();
+        self.filter_b.pin.next = self.b.val();
+        self.filter_z.pin.next = self.z.val();
+        self.filter_a.setting.next = self
+            .ctrl
+            .q
+            .val()
+            .get_bits::<4>(self.filter_ab_lsb.val().index());
+        self.filter_b.setting.next = self
+            .ctrl
+            .q
+            .val()
+            .get_bits::<4>(self.filter_ab_lsb.val().index());
+        self.filter_z.setting.next = self
+            .ctrl
+            .q
+            .val()
+            .get_bits::<4>(self.filter_z_lsb.val().index());
+        self.level_a.next = self.filter_a.level.val();
+        self.level_b.next = self.filter_b.level.val();
+        self.level_z.next = self.filter_z.level.val();
+
+        // Decoder: up/down from (a_prev, b_prev) -> (a, b).
+        self.mode.next = self.ctrl.q.val().get_bits::<3>(self.mode_lsb.val().index());
+        self.changed_a.next = self.level_a.val() ^ self.a_prev.q.val();
+        self.changed_b.next = self.level_b.val() ^ self.b_prev.q.val();
+        self.a_ne_b.next = self.level_a.val() ^ self.level_b.val();
+        self.rise_a.next = self.level_a.val() & !self.a_prev.q.val();
+        self.rise_b.next = self.level_b.val() & !self.b_prev.q.val();
+        self.illegal.next = false;
+        self.up.next = false;
+        self.down.next = false;
+        if self.mode.val() == self.mode_x4.val() {
+            self.illegal.next = self.changed_a.val() & self.changed_b.val();
+            self.up.next = (self.changed_a.val() & !self.changed_b.val() & self.a_ne_b.val())
+                | (self.changed_b.val() & !self.changed_a.val() & !self.a_ne_b.val());
+            self.down.next = (self.changed_a.val() & !self.changed_b.val() & !self.a_ne_b.val())
+                | (self.changed_b.val() & !self.changed_a.val() & self.a_ne_b.val());
+        }
+        if self.mode.val() == self.mode_x2.val() {
+            self.illegal.next = self.changed_a.val() & self.changed_b.val();
+            self.up.next = self.changed_a.val() & !self.changed_b.val() & self.a_ne_b.val();
+            self.down.next = self.changed_a.val() & !self.changed_b.val() & !self.a_ne_b.val();
+        }
+        if self.mode.val() == self.mode_x1.val() {
+            self.illegal.next = self.changed_a.val() & self.changed_b.val();
+            self.up.next = !self.a_prev.q.val()
+                & !self.b_prev.q.val()
+                & self.level_a.val()
+                & !self.level_b.val();
+            self.down.next = self.a_prev.q.val()
+                & !self.b_prev.q.val()
+                & !self.level_a.val()
+                & !self.level_b.val();
+        }
+        if self.mode.val() == self.mode_pulse_dir.val() {
+            self.up.next = self.rise_a.val() & !self.level_b.val();
+            self.down.next = self.rise_a.val() & self.level_b.val();
+        }
+        if self.mode.val() == self.mode_cw_ccw.val() {
+            self.up.next = self.rise_a.val() & !self.rise_b.val();
+            self.down.next = self.rise_b.val() & !self.rise_a.val();
+        }
+        if self.ctrl.q.val().get_bit(self.reverse_bit.val().index()) {
+            self.swap.next = self.up.val();
+            self.up.next = self.down.val();
+            self.down.next = self.swap.val();
+        } else {
+            self.swap.next = false;
+        }
+        // The decision is registered, then one adder: count + {0, +1, -1}.
+        self.up_q.d.next = self.up.val();
+        self.down_q.d.next = self.down.val();
+        self.step.next = 0.into();
+        if self.up_q.q.val() {
+            self.step.next = self.plus_one.val();
+        }
+        if self.down_q.q.val() {
+            self.step.next = self.minus_one.val();
+        }
+        self.stepped.next = (self.count.q.val() + self.step.val()) & self.width_mask.val();
+
+        // Index.
+        self.zg.next = (self.level_z.val()
+            ^ self.ctrl.q.val().get_bit(self.idx_invert_bit.val().index()))
+            & (!self.ctrl.q.val().get_bit(self.idx_gate_bit.val().index())
+                | (self.level_a.val() & self.level_b.val()));
+        self.index_event.next = self.zg.val() & !self.zg_prev.q.val();
+        self.index_act.next = self.index_event.val()
+            & (!self
+                .ctrl
+                .q
+                .val()
+                .get_bit(self.idx_oneshot_bit.val().index())
+                | self.armed.q.val());
+
+        // Next state. Later assignments take priority.
+        self.cmd_write.next = self.we.val() & (self.addr.val() == self.addr_cmd.val());
+        self.a_prev.d.next = self.level_a.val();
+        self.b_prev.d.next = self.level_b.val();
+        self.zg_prev.d.next = self.zg.val();
+        self.count.d.next = self.stepped.val();
+        if self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_clear_bit.val().index()) {
+            self.count.d.next = 0.into();
+        }
+        if self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_latch_bit.val().index()) {
+            self.index.d.next = self.stepped.val();
+        }
+        if self.illegal.val() & self.ctrl.q.val().get_bit(self.err_en_bit.val().index()) {
+            self.err.d.next = true;
+            if self.err_count.q.val() != self.err_max.val() {
+                self.err_count.d.next = self.err_count.q.val() + 1;
+            }
+        }
+        if self.index_event.val() {
+            self.seen.d.next = true;
+        }
+        if self.index_act.val()
+            & self
+                .ctrl
+                .q
+                .val()
+                .get_bit(self.idx_oneshot_bit.val().index())
+        {
+            self.armed.d.next = false;
+        }
+        if self.cmd_write.val() {
+            if self.wdata.val().get_bit(self.cmd_load_bit.val().index()) {
+                self.count.d.next = self.preset.val() & self.width_mask.val();
+            }
+            if self.wdata.val().get_bit(self.cmd_clear_bit.val().index()) {
+                self.count.d.next = 0.into();
+            }
+            if self.wdata.val().get_bit(self.cmd_arm_bit.val().index()) {
+                self.armed.d.next = true;
+            }
+            if self
+                .wdata
+                .val()
+                .get_bit(self.cmd_clear_status_bit.val().index())
+            {
+                self.err.d.next = false;
+                self.err_count.d.next = 0.into();
+                self.seen.d.next = false;
+            }
+        }
+        if self.we.val() & (self.addr.val() == self.addr_ctrl.val()) {
+            self.ctrl.d.next = self.wdata.val() & self.ctrl_writable.val();
+        }
+
+        // Status word and snapshot.
+        self.status.next =
+            bit_cast::<32, 8>(self.err_count.q.val()) << self.status_err_count_lsb.val();
+        if self.err.q.val() {
+            self.status.next = self.status.val() | self.status_err.val();
+        }
+        if self.armed.q.val() {
+            self.status.next = self.status.val() | self.status_armed.val();
+        }
+        if self.seen.q.val() {
+            self.status.next = self.status.val() | self.status_seen.val();
+        }
+        if self.level_a.val() {
+            self.status.next = self.status.val() | self.status_a.val();
+        }
+        if self.level_b.val() {
+            self.status.next = self.status.val() | self.status_b.val();
+        }
+        if self.level_z.val() {
+            self.status.next = self.status.val() | self.status_z.val();
+        }
+        if self.snapshot.val() {
+            self.snap_count.d.next = self.count.q.val();
+            self.snap_index.d.next = self.index.q.val();
+            self.snap_status.d.next = self.status.val();
+        }
+
+        if self.reset.val() {
+            self.count.d.next = 0.into();
+            self.index.d.next = 0.into();
+            self.err.d.next = false;
+            self.err_count.d.next = 0.into();
+            self.seen.d.next = false;
+            self.armed.d.next = false;
+            self.up_q.d.next = false;
+            self.down_q.d.next = false;
+            self.ctrl.d.next = 0.into();
+            self.snap_count.d.next = 0.into();
+            self.snap_index.d.next = 0.into();
+            self.snap_status.d.next = 0.into();
+        }
+
+        // Reads: W-bit values sign-extended to 32 bits.
+        if (self.snap_count.q.val() & self.sign_bit.val()).any() {
+            self.count_read.next = self.snap_count.q.val() | self.sign_extension.val();
+        } else {
+            self.count_read.next = self.snap_count.q.val();
+        }
+        if (self.snap_index.q.val() & self.sign_bit.val()).any() {
+            self.index_read.next = self.snap_index.q.val() | self.sign_extension.val();
+        } else {
+            self.index_read.next = self.snap_index.q.val();
+        }
+        self.rdata.next = 0.into();
+        if self.addr.val() == self.addr_ctrl.val() {
+            self.rdata.next = self.ctrl.q.val();
+        }
+        if self.addr.val() == self.addr_count.val() {
+            self.rdata.next = self.count_read.val();
+        }
+        if self.addr.val() == self.addr_index.val() {
+            self.rdata.next = self.index_read.val();
+        }
+        if self.addr.val() == self.addr_status.val() {
+            self.rdata.next = self.snap_status.q.val();
+        }
+    }
+}
