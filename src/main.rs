@@ -48,6 +48,16 @@ enum Command {
         #[arg(long)]
         no_external: bool,
     },
+    /// Measure simulation throughput of the default 4×28 counter bank.
+    ///
+    /// Prints clock cycles per second for the model, the rust-hdl block
+    /// stepped directly, and the generated Verilog in Icarus Verilog and
+    /// Verilator (when on PATH). A measurement, not a check.
+    Bench {
+        /// Clock cycles per engine (Icarus runs a tenth of this).
+        #[arg(long, default_value_t = 1_000_000)]
+        cycles: u64,
+    },
     /// Write one named scenario trace as a VCD file for GTKWave.
     #[command(after_help = scenario_help())]
     Trace {
@@ -108,6 +118,44 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     reports.len()
                 )))
             }
+        }
+        Command::Bench { cycles } => {
+            use motionhdl_testbench::bench;
+            use motionhdl_testbench::verilog_sim::Simulator;
+            if cycles == 0 {
+                return Err(CliError::input(
+                    "--cycles = 0 is out of range: allowed 1..=18446744073709551615",
+                ));
+            }
+            let mut rows = vec![bench::model(cycles * 10), bench::rust_hdl(cycles / 10 + 1)];
+            for (sim, n) in [
+                (Simulator::Icarus, cycles / 10 + 1),
+                (Simulator::Verilator, cycles * 10),
+            ] {
+                match bench::verilog(sim, n) {
+                    Ok(t) => rows.push(t),
+                    Err(e) => println!(
+                        "{}: not measured: {}",
+                        sim.name(),
+                        e.lines().next().unwrap_or("")
+                    ),
+                }
+            }
+            println!("counter_bank 4 axes × 28 bits, random encoder and bus stimulus");
+            println!(
+                "{:<48} {:>12} {:>10} {:>14}",
+                "engine", "cycles", "seconds", "cycles/s"
+            );
+            for r in rows {
+                println!(
+                    "{:<48} {:>12} {:>10.3} {:>14.0}",
+                    r.engine,
+                    r.cycles,
+                    r.seconds,
+                    r.per_second()
+                );
+            }
+            Ok(())
         }
         Command::Trace { name, out, config } => {
             let config = config_file::load(config.as_deref())?;

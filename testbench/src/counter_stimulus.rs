@@ -285,6 +285,19 @@ pub fn verilog_sums(
     seed: u32,
     cycles: u64,
 ) -> Result<Sums, String> {
+    verilog_sums_timed(sim, source, axes, width, seed, cycles).map(|(s, _)| s)
+}
+
+/// As [`verilog_sums`], also returning how long the simulation itself ran
+/// (compilation excluded).
+pub fn verilog_sums_timed(
+    sim: Simulator,
+    source: &str,
+    axes: u32,
+    width: u32,
+    seed: u32,
+    cycles: u64,
+) -> Result<(Sums, std::time::Duration), String> {
     sim.available()?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
@@ -305,6 +318,7 @@ pub fn verilog_sums(
         }
         Ok(String::from_utf8_lossy(&o.stdout).to_string())
     };
+    let started;
     let out = match sim {
         Simulator::Icarus => {
             tool("iverilog")?;
@@ -320,6 +334,7 @@ pub fn verilog_sums(
                 ]),
                 "iverilog",
             )?;
+            started = std::time::Instant::now();
             run(Command::new("vvp").args(["-n", "sim.vvp"]), "vvp")?
         }
         Simulator::Verilator => {
@@ -340,12 +355,14 @@ pub fn verilog_sums(
                 ]),
                 "verilator",
             )?;
+            started = std::time::Instant::now();
             run(
                 &mut Command::new(d.join("obj").join("sim")),
                 "verilated simulation",
             )?
         }
     };
+    let elapsed = started.elapsed();
     let line = out
         .lines()
         .find_map(|l| l.strip_prefix("SUMS "))
@@ -354,8 +371,11 @@ pub fn verilog_sums(
         .split_whitespace()
         .map(|x| x.parse().map_err(|e| format!("{x}: {e}")))
         .collect::<Result<_, _>>()?;
-    Ok(Sums {
-        stimulus: v[0],
-        rdata: v[1],
-    })
+    Ok((
+        Sums {
+            stimulus: v[0],
+            rdata: v[1],
+        },
+        elapsed,
+    ))
 }

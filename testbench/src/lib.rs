@@ -7,6 +7,7 @@
 //! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
 //! * [`scenarios`]: the named traces `motionhdl trace` writes.
 
+pub mod bench;
 pub mod counter;
 pub mod counter_scenarios;
 pub mod counter_stimulus;

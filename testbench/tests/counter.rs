@@ -19,7 +19,11 @@ fn input_filter_every_reachable_state_and_input_for_every_setting() {
 #[test]
 fn channel_core_every_reachable_state_and_input_in_each_mode() {
     let reports = counter::core_checks();
-    assert_eq!(reports.len(), 7, "five modes, X4 reversed, every index feature");
+    assert_eq!(
+        reports.len(),
+        7,
+        "five modes, X4 reversed, every index feature"
+    );
     for r in reports {
         assert!(
             r.expected > 1000,
