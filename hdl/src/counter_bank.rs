@@ -1,6 +1,7 @@
 //! The counter bank: N channels, the PRESET register and the register bus.
 
 use crate::counter_channel::CounterChannel;
+use motionhdl_model::counter::CounterParams;
 use motionhdl_model::regmap::{self, ERR_COUNT_BITS};
 use rust_hdl::prelude::*;
 
@@ -60,11 +61,7 @@ impl<const N: usize> CounterBank<N> {
         assert!((1..=16).contains(&N), "axes = {N} out of range 1..=16");
         let map = regmap::counter_bank(N as u32, width);
         let addr = |reg: &str| Constant::new((map.register(reg).offset as u64).into());
-        let width_mask = if width == 32 {
-            u32::MAX
-        } else {
-            (1u32 << width) - 1
-        };
+        let width_mask = CounterParams::new(width, 1).count_mask();
         let k32 = |v: u32| Constant::new((v as u64).into());
         Self {
             clock: Default::default(),

@@ -3,6 +3,7 @@
 
 use crate::input_filter::InputFilter;
 use motionhdl_model::counter::ChannelState;
+use motionhdl_model::counter::CounterParams;
 use motionhdl_model::regmap::{self, Block};
 use rust_hdl::prelude::*;
 
@@ -146,11 +147,7 @@ impl CounterChannel {
         let map = regmap::counter_bank(axes, width);
         let ch = map.array("CH");
         let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
-        let width_mask = if width == 32 {
-            u32::MAX
-        } else {
-            (1u32 << width) - 1
-        };
+        let width_mask = CounterParams::new(width, 1).count_mask();
         let sign_bit = 1u32 << (width - 1);
         let k3 = |v: u32| Constant::new((v as u64).into());
         let k32 = |v: u32| Constant::new((v as u64).into());

@@ -510,6 +510,27 @@ pub struct BusCycle {
     pub re: bool,
 }
 
+impl BusCycle {
+    /// A write of `data` to `addr`.
+    pub fn write(addr: u32, data: u32) -> Self {
+        Self {
+            addr,
+            wdata: data,
+            we: true,
+            re: false,
+        }
+    }
+    /// A read of `addr`.
+    pub fn read(addr: u32) -> Self {
+        Self {
+            addr,
+            wdata: 0,
+            we: false,
+            re: true,
+        }
+    }
+}
+
 /// A channel register, decoded once from the map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum ChReg {
@@ -1426,26 +1447,10 @@ mod tests {
             }
         }
         fn write(&mut self, addr: u32, wdata: u32) {
-            self.clock(
-                false,
-                BusCycle {
-                    addr,
-                    wdata,
-                    we: true,
-                    re: false,
-                },
-            );
+            self.clock(false, BusCycle::write(addr, wdata));
         }
         fn read(&mut self, addr: u32) -> u32 {
-            self.clock(
-                false,
-                BusCycle {
-                    addr,
-                    wdata: 0,
-                    we: false,
-                    re: true,
-                },
-            );
+            self.clock(false, BusCycle::read(addr));
             self.bank.rdata()
         }
         fn ch(&self, i: u32, reg: &str) -> u32 {

@@ -95,30 +95,12 @@ impl<const N: usize> BankPair<N> {
         addr: u32,
         data: u32,
     ) -> Result<(), String> {
-        self.step(
-            pins,
-            false,
-            &BusCycle {
-                addr,
-                wdata: data,
-                we: true,
-                re: false,
-            },
-        )
+        self.step(pins, false, &BusCycle::write(addr, data))
     }
 
     /// A bus read of `addr`: returns the data, checked against the model.
     pub fn read(&mut self, pins: &[(bool, bool, bool)], addr: u32) -> Result<u32, String> {
-        self.step(
-            pins,
-            false,
-            &BusCycle {
-                addr,
-                wdata: 0,
-                we: false,
-                re: true,
-            },
-        )?;
+        self.step(pins, false, &BusCycle::read(addr))?;
         Ok(self.hdl.rdata.val().to_u32())
     }
 
@@ -327,12 +309,7 @@ pub fn core_exhaustive(
                 covered.insert((Core::of(s), input_index(&observed)));
             }
             let bus = if cmd != 0 {
-                BusCycle {
-                    addr: cmd_addr,
-                    wdata: cmd,
-                    we: true,
-                    re: false,
-                }
+                BusCycle::write(cmd_addr, cmd)
             } else {
                 BusCycle::default()
             };

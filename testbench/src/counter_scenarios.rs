@@ -166,27 +166,11 @@ impl Script {
     }
 
     pub fn write(&mut self, addr: u32, data: u32) {
-        self.step(
-            false,
-            BusCycle {
-                addr,
-                wdata: data,
-                we: true,
-                re: false,
-            },
-        );
+        self.step(false, BusCycle::write(addr, data));
     }
 
     pub fn read(&mut self, addr: u32) -> u32 {
-        self.step(
-            false,
-            BusCycle {
-                addr,
-                wdata: 0,
-                we: false,
-                re: true,
-            },
-        );
+        self.step(false, BusCycle::read(addr));
         self.pair.hdl.rdata.val().to_u32()
     }
 

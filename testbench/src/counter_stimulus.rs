@@ -90,36 +90,11 @@ impl Stimulus {
         let c = (r2 >> 16) % n;
         let ch = self.ch_base + self.ch_stride * c;
         let bus = match r2 & 15 {
-            0 => BusCycle {
-                addr: self.snapshot,
-                wdata: r3,
-                we: true,
-                re: false,
-            },
-            1 | 2 | 6 => BusCycle {
-                addr: (r2 >> 8) % self.span,
-                wdata: 0,
-                we: false,
-                re: true,
-            },
-            3 => BusCycle {
-                addr: ch + self.ctrl,
-                wdata: r3,
-                we: true,
-                re: false,
-            },
-            4 => BusCycle {
-                addr: ch + self.cmd,
-                wdata: r3 & 15,
-                we: true,
-                re: false,
-            },
-            5 => BusCycle {
-                addr: self.preset,
-                wdata: r3,
-                we: true,
-                re: false,
-            },
+            0 => BusCycle::write(self.snapshot, r3),
+            1 | 2 | 6 => BusCycle::read((r2 >> 8) % self.span),
+            3 => BusCycle::write(ch + self.ctrl, r3),
+            4 => BusCycle::write(ch + self.cmd, r3 & 15),
+            5 => BusCycle::write(self.preset, r3),
             _ => BusCycle::default(),
         };
         self.cycle += 1;
