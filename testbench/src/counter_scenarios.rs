@@ -4,7 +4,7 @@
 
 use crate::counter::{ctrl_value, BankPair};
 use crate::trace::{SignalId, Trace};
-use motionhdl_hdl::banner;
+use motionhdl_hdl::banner_ascii;
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap::{self, Block as RegisterBlock};
 use motionhdl_model::Config;
@@ -47,7 +47,7 @@ impl Script {
         let width = config.counter_width();
         let mut trace = Trace::new(format!(
             "{} | scenario {name} | clock {} Hz",
-            banner(),
+            banner_ascii(),
             config.clock_hz()
         ));
         let top = ["counter_bank"];

@@ -5,7 +5,7 @@
 use crate::counter_scenarios as cs;
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
-use motionhdl_hdl::{banner, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use motionhdl_hdl::{banner_ascii, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::Config;
 use rust_hdl::prelude::*;
 
@@ -126,7 +126,7 @@ impl ChipIds {
 fn pulse_mode_selector(config: &Config) -> Trace {
     let mut trace = Trace::new(format!(
         "{} | scenario pulse_mode_selector | clock {} Hz",
-        banner(),
+        banner_ascii(),
         config.clock_hz()
     ));
     let comb_scope = ["pulse_mode_selector"];

@@ -62,7 +62,13 @@ impl Trace {
     /// Writes the VCD file.
     pub fn write(&self, out: &mut impl Write) -> io::Result<()> {
         // The banner on the first line, as every generated file has it.
+        // VCD is ASCII: GTKWave rejects the whole file over one other byte.
         assert!(!self.banner.contains("$end") && !self.banner.contains('\n'));
+        assert!(
+            self.banner.is_ascii(),
+            "VCD text must be ASCII: {}",
+            self.banner
+        );
         writeln!(out, "$comment {} $end", self.banner)?;
         let mut w = vcd::Writer::new(out);
         w.timescale(1, TimescaleUnit::NS)?;
