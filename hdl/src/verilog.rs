@@ -6,8 +6,10 @@
 //! (a delta-cycle race that simulators may resolve differently). This module
 //! rewrites that output so that:
 //!
-//! * the top module is named after the block and each submodule
-//!   `<block>__<path>`, so every generated file can be read into one project;
+//! * each block becomes one self-contained module named after it, its
+//!   children inlined with hierarchical signal names (`chip_y1`), so every
+//!   generated file can be read into one project and Verilator's
+//!   DECLFILENAME lint holds;
 //! * flip-flops are inlined as `always @(posedge clock)` in their parent, the
 //!   clock wired straight to them;
 //! * no identifier contains `$`;
@@ -171,6 +173,9 @@ struct Flat {
     nets: Vec<Net>,
     /// Width of every port and net, by name.
     widths: BTreeMap<String, usize>,
+    /// This module's ports: declared kind (`input wire`, `output reg`, …)
+    /// and signedness, by name.
+    ports: BTreeMap<String, (String, bool)>,
     /// Local parameters: (name, value).
     params: Vec<(String, String)>,
     /// Combinational blocks, each a list of statement lines (unindented).
@@ -219,13 +224,14 @@ fn flatten(
                 .map_or(1, |w| w.as_str().parse::<usize>().unwrap() + 1);
             let name = c[4].to_string();
             flat.widths.insert(name.clone(), width);
-            if !c[1].starts_with("input")
-                && !c[1].starts_with("output")
-                && !c[1].starts_with("inout")
+            let signed = c.get(2).is_some();
+            if c[1].starts_with("input") || c[1].starts_with("output") || c[1].starts_with("inout")
             {
+                flat.ports.insert(name, (c[1].to_string(), signed));
+            } else {
                 flat.nets.push(Net {
                     width,
-                    signed: c.get(2).is_some(),
+                    signed,
                     name,
                     init: None,
                 });
@@ -406,26 +412,18 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
         }
     };
     let mut t = format!("\nmodule {name}({});\n", root.args.join(", "));
-    static PORT: OnceLock<Regex> = OnceLock::new();
-    let port = re(
-        &PORT,
-        r"^(input wire|output reg|output wire|inout wire)\s+(signed\s+)?(?:\[(\d+):0\]\s+)?([\w$]+);$",
-    );
     for arg in &root.args {
-        let l = root
-            .lines
-            .iter()
-            .map(|l| l.trim())
-            .find(|l| port.captures(l).is_some_and(|c| &c[4] == arg))
+        let (kind, signed) = flat
+            .ports
+            .get(arg)
             .unwrap_or_else(|| panic!("no declaration for port {arg}"));
-        let c = port.captures(l).unwrap();
-        let dir = match &c[1] {
+        let dir = match kind.as_str() {
             "input wire" => "input wire".to_string(),
             "inout wire" => "inout wire".to_string(),
             _ if assigned.contains(arg) => "output reg".to_string(),
             _ => "output wire".to_string(),
         };
-        let signed = if c.get(2).is_some() { "signed " } else { "" };
+        let signed = if *signed { "signed " } else { "" };
         t.push_str(&format!(
             "    {dir} {signed}{}{arg};\n",
             decl_width(flat.widths[arg])
