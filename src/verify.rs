@@ -1,12 +1,13 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
-use motionhdl_testbench::{counter, selector, CheckReport};
+use motionhdl_testbench::{counter, quadrature_core, selector, CheckReport};
 
 /// Runs every check. `external` includes the generated-Verilog runs in
 /// Icarus Verilog and Verilator.
 pub fn run(external: bool) -> Vec<CheckReport> {
     let mut v = selector::all(external);
     v.extend(counter::all(external));
+    v.extend(quadrature_core::all());
     v
 }
 

@@ -52,7 +52,8 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
             "ls153",
             "pulse_mode_selector",
             "pulse_mode_selector_registered",
-            "counter_bank"
+            "counter_bank",
+            "quadrature_core"
         ]
     );
     for m in &modules {

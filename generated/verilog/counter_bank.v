@@ -21,6 +21,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam addr_preset = 8'h2;
     localparam info = 32'h81c04;
     localparam width_mask = 32'hfffffff;
+    localparam low_mask = 32'h3fff;
     localparam sign_bit = 32'h8000000;
     localparam sign_extension = 32'hf0000000;
     localparam channels_0_addr_ctrl = 8'h8;
@@ -50,17 +51,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_0_status_b = 32'h20;
     localparam channels_0_status_z = 32'h40;
     localparam channels_0_status_err_count_lsb = 5'b1000;
-    localparam channels_0_mode_x4 = 3'b0;
-    localparam channels_0_mode_x2 = 3'b1;
-    localparam channels_0_mode_x1 = 3'b10;
-    localparam channels_0_mode_pulse_dir = 3'b11;
-    localparam channels_0_mode_cw_ccw = 3'b100;
-    localparam channels_0_width_mask = 32'hfffffff;
+    localparam channels_0_quadrature_modes = 3'b11;
     localparam channels_0_sign_bit = 32'h8000000;
     localparam channels_0_sign_extension = 32'hf0000000;
-    localparam channels_0_plus_one = 32'h1;
-    localparam channels_0_minus_one = 32'hfffffff;
     localparam channels_0_err_max = 8'hff;
+    localparam channels_0_decoder_mode_x4 = 3'b0;
+    localparam channels_0_decoder_mode_x2 = 3'b1;
+    localparam channels_0_decoder_mode_x1 = 3'b10;
+    localparam channels_0_decoder_mode_pulse_dir = 3'b11;
+    localparam channels_0_decoder_mode_cw_ccw = 3'b100;
+    localparam channels_0_counter_lo_mask = 32'h3fff;
+    localparam channels_0_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_0_counter_hi_mask = 32'h3fff;
+    localparam channels_0_counter_lo_bits = 5'b1110;
+    localparam channels_0_counter_one = 32'h1;
     localparam channels_1_addr_ctrl = 8'h10;
     localparam channels_1_addr_cmd = 8'h11;
     localparam channels_1_addr_count = 8'h12;
@@ -88,17 +92,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_1_status_b = 32'h20;
     localparam channels_1_status_z = 32'h40;
     localparam channels_1_status_err_count_lsb = 5'b1000;
-    localparam channels_1_mode_x4 = 3'b0;
-    localparam channels_1_mode_x2 = 3'b1;
-    localparam channels_1_mode_x1 = 3'b10;
-    localparam channels_1_mode_pulse_dir = 3'b11;
-    localparam channels_1_mode_cw_ccw = 3'b100;
-    localparam channels_1_width_mask = 32'hfffffff;
+    localparam channels_1_quadrature_modes = 3'b11;
     localparam channels_1_sign_bit = 32'h8000000;
     localparam channels_1_sign_extension = 32'hf0000000;
-    localparam channels_1_plus_one = 32'h1;
-    localparam channels_1_minus_one = 32'hfffffff;
     localparam channels_1_err_max = 8'hff;
+    localparam channels_1_decoder_mode_x4 = 3'b0;
+    localparam channels_1_decoder_mode_x2 = 3'b1;
+    localparam channels_1_decoder_mode_x1 = 3'b10;
+    localparam channels_1_decoder_mode_pulse_dir = 3'b11;
+    localparam channels_1_decoder_mode_cw_ccw = 3'b100;
+    localparam channels_1_counter_lo_mask = 32'h3fff;
+    localparam channels_1_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_1_counter_hi_mask = 32'h3fff;
+    localparam channels_1_counter_lo_bits = 5'b1110;
+    localparam channels_1_counter_one = 32'h1;
     localparam channels_2_addr_ctrl = 8'h18;
     localparam channels_2_addr_cmd = 8'h19;
     localparam channels_2_addr_count = 8'h1a;
@@ -126,17 +133,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_2_status_b = 32'h20;
     localparam channels_2_status_z = 32'h40;
     localparam channels_2_status_err_count_lsb = 5'b1000;
-    localparam channels_2_mode_x4 = 3'b0;
-    localparam channels_2_mode_x2 = 3'b1;
-    localparam channels_2_mode_x1 = 3'b10;
-    localparam channels_2_mode_pulse_dir = 3'b11;
-    localparam channels_2_mode_cw_ccw = 3'b100;
-    localparam channels_2_width_mask = 32'hfffffff;
+    localparam channels_2_quadrature_modes = 3'b11;
     localparam channels_2_sign_bit = 32'h8000000;
     localparam channels_2_sign_extension = 32'hf0000000;
-    localparam channels_2_plus_one = 32'h1;
-    localparam channels_2_minus_one = 32'hfffffff;
     localparam channels_2_err_max = 8'hff;
+    localparam channels_2_decoder_mode_x4 = 3'b0;
+    localparam channels_2_decoder_mode_x2 = 3'b1;
+    localparam channels_2_decoder_mode_x1 = 3'b10;
+    localparam channels_2_decoder_mode_pulse_dir = 3'b11;
+    localparam channels_2_decoder_mode_cw_ccw = 3'b100;
+    localparam channels_2_counter_lo_mask = 32'h3fff;
+    localparam channels_2_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_2_counter_hi_mask = 32'h3fff;
+    localparam channels_2_counter_lo_bits = 5'b1110;
+    localparam channels_2_counter_one = 32'h1;
     localparam channels_3_addr_ctrl = 8'h20;
     localparam channels_3_addr_cmd = 8'h21;
     localparam channels_3_addr_count = 8'h22;
@@ -164,17 +174,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_3_status_b = 32'h20;
     localparam channels_3_status_z = 32'h40;
     localparam channels_3_status_err_count_lsb = 5'b1000;
-    localparam channels_3_mode_x4 = 3'b0;
-    localparam channels_3_mode_x2 = 3'b1;
-    localparam channels_3_mode_x1 = 3'b10;
-    localparam channels_3_mode_pulse_dir = 3'b11;
-    localparam channels_3_mode_cw_ccw = 3'b100;
-    localparam channels_3_width_mask = 32'hfffffff;
+    localparam channels_3_quadrature_modes = 3'b11;
     localparam channels_3_sign_bit = 32'h8000000;
     localparam channels_3_sign_extension = 32'hf0000000;
-    localparam channels_3_plus_one = 32'h1;
-    localparam channels_3_minus_one = 32'hfffffff;
     localparam channels_3_err_max = 8'hff;
+    localparam channels_3_decoder_mode_x4 = 3'b0;
+    localparam channels_3_decoder_mode_x2 = 3'b1;
+    localparam channels_3_decoder_mode_x1 = 3'b10;
+    localparam channels_3_decoder_mode_pulse_dir = 3'b11;
+    localparam channels_3_decoder_mode_cw_ccw = 3'b100;
+    localparam channels_3_counter_lo_mask = 32'h3fff;
+    localparam channels_3_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_3_counter_hi_mask = 32'h3fff;
+    localparam channels_3_counter_lo_bits = 5'b1110;
+    localparam channels_3_counter_one = 32'h1;
 
     reg channels_0_reset;
     reg channels_0_a;
@@ -183,8 +196,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [7:0] channels_0_addr;
     reg [31:0] channels_0_wdata;
     reg channels_0_we;
+    reg channels_0_re;
     reg channels_0_snapshot;
     reg [31:0] channels_0_preset;
+    reg channels_0_preset_low_is_max;
+    reg channels_0_preset_low_is_nonzero;
     reg [31:0] channels_0_rdata;
     reg channels_1_reset;
     reg channels_1_a;
@@ -193,8 +209,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [7:0] channels_1_addr;
     reg [31:0] channels_1_wdata;
     reg channels_1_we;
+    reg channels_1_re;
     reg channels_1_snapshot;
     reg [31:0] channels_1_preset;
+    reg channels_1_preset_low_is_max;
+    reg channels_1_preset_low_is_nonzero;
     reg [31:0] channels_1_rdata;
     reg channels_2_reset;
     reg channels_2_a;
@@ -203,8 +222,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [7:0] channels_2_addr;
     reg [31:0] channels_2_wdata;
     reg channels_2_we;
+    reg channels_2_re;
     reg channels_2_snapshot;
     reg [31:0] channels_2_preset;
+    reg channels_2_preset_low_is_max;
+    reg channels_2_preset_low_is_nonzero;
     reg [31:0] channels_2_rdata;
     reg channels_3_reset;
     reg channels_3_a;
@@ -213,13 +235,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [7:0] channels_3_addr;
     reg [31:0] channels_3_wdata;
     reg channels_3_we;
+    reg channels_3_re;
     reg channels_3_snapshot;
     reg [31:0] channels_3_preset;
+    reg channels_3_preset_low_is_max;
+    reg channels_3_preset_low_is_nonzero;
     reg [31:0] channels_3_rdata;
     reg [31:0] preset_d;
     reg [31:0] preset_q = 32'h0;
     reg [31:0] read_data_d;
     reg [31:0] read_data_q = 32'h0;
+    reg preset_low_is_max_d;
+    reg preset_low_is_max_q = 1'h0;
+    reg preset_low_is_nonzero_d;
+    reg preset_low_is_nonzero_q = 1'h0;
+    reg read_pending_d;
+    reg read_pending_q = 1'h0;
+    reg read_info_d;
+    reg read_info_q = 1'h0;
+    reg read_preset_d;
+    reg read_preset_q = 1'h0;
     reg snapshot;
     reg [31:0] preset_read;
     reg [31:0] read_value;
@@ -241,12 +276,29 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_b_prev_q = 1'h0;
     reg channels_0_zg_prev_d;
     reg channels_0_zg_prev_q = 1'h0;
-    reg channels_0_up_q_d;
-    reg channels_0_up_q_q = 1'h0;
-    reg channels_0_down_q_d;
-    reg channels_0_down_q_q = 1'h0;
-    reg [31:0] channels_0_count_d;
-    reg [31:0] channels_0_count_q = 32'h0;
+    reg channels_0_decoder_hold;
+    reg channels_0_decoder_a;
+    reg channels_0_decoder_b;
+    reg channels_0_decoder_a_prev;
+    reg channels_0_decoder_b_prev;
+    reg [2:0] channels_0_decoder_mode;
+    reg channels_0_decoder_reverse;
+    reg channels_0_decoder_up_q;
+    reg channels_0_decoder_down_q;
+    reg channels_0_counter_up;
+    reg channels_0_counter_down;
+    reg channels_0_counter_clear;
+    reg channels_0_counter_load;
+    reg [31:0] channels_0_counter_load_value;
+    reg channels_0_counter_load_low_is_max;
+    reg channels_0_counter_load_low_is_nonzero;
+    reg [31:0] channels_0_counter_count;
+    reg channels_0_load_q_d;
+    reg channels_0_load_q_q = 1'h0;
+    reg channels_0_index_latch_q_d;
+    reg channels_0_index_latch_q_q = 1'h0;
+    reg channels_0_index_clear_q_d;
+    reg channels_0_index_clear_q_q = 1'h0;
     reg [31:0] channels_0_index_d;
     reg [31:0] channels_0_index_q = 32'h0;
     reg channels_0_err_d;
@@ -265,21 +317,21 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_0_snap_index_q = 32'h0;
     reg [31:0] channels_0_snap_status_d;
     reg [31:0] channels_0_snap_status_q = 32'h0;
+    reg channels_0_read_ctrl_d;
+    reg channels_0_read_ctrl_q = 1'h0;
+    reg channels_0_read_count_d;
+    reg channels_0_read_count_q = 1'h0;
+    reg channels_0_read_index_d;
+    reg channels_0_read_index_q = 1'h0;
+    reg channels_0_read_status_d;
+    reg channels_0_read_status_q = 1'h0;
     reg channels_0_level_a;
     reg channels_0_level_b;
     reg channels_0_level_z;
-    reg [2:0] channels_0_mode;
-    reg channels_0_changed_a;
-    reg channels_0_changed_b;
-    reg channels_0_a_ne_b;
-    reg channels_0_rise_a;
-    reg channels_0_rise_b;
     reg channels_0_illegal;
-    reg channels_0_up;
-    reg channels_0_down;
-    reg channels_0_swap;
-    reg [31:0] channels_0_step;
-    reg [31:0] channels_0_stepped;
+    reg [31:0] channels_0_count_now;
+    reg channels_0_cmd_clear;
+    reg channels_0_cmd_load;
     reg channels_0_zg;
     reg channels_0_index_event;
     reg channels_0_index_act;
@@ -311,6 +363,33 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_0_filter_z_count_d;
     reg [3:0] channels_0_filter_z_count_q = 4'h0;
+    reg channels_0_decoder_up_reg_d;
+    reg channels_0_decoder_up_reg_q = 1'h0;
+    reg channels_0_decoder_down_reg_d;
+    reg channels_0_decoder_down_reg_q = 1'h0;
+    reg channels_0_decoder_changed_a;
+    reg channels_0_decoder_changed_b;
+    reg channels_0_decoder_a_ne_b;
+    reg channels_0_decoder_rise_a;
+    reg channels_0_decoder_rise_b;
+    reg channels_0_decoder_forward;
+    reg channels_0_decoder_backward;
+    reg [31:0] channels_0_counter_lo_d;
+    reg [31:0] channels_0_counter_lo_q = 32'h0;
+    reg [31:0] channels_0_counter_hi_d;
+    reg [31:0] channels_0_counter_hi_q = 32'h0;
+    reg channels_0_counter_lo_max_d;
+    reg channels_0_counter_lo_max_q = 1'h0;
+    reg channels_0_counter_lo_nonzero_d;
+    reg channels_0_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] channels_0_counter_load_hi;
+    reg channels_0_counter_lo_ones_above;
+    reg channels_0_counter_lo_zeros_above;
+    reg [31:0] channels_0_counter_lo_step;
+    reg [31:0] channels_0_counter_hi_step;
+    reg [31:0] channels_0_counter_lo_carry_in;
+    reg [31:0] channels_0_counter_hi_carry_in;
+    reg [31:0] channels_0_counter_load_lo;
     reg channels_1_filter_a_reset;
     reg channels_1_filter_a_pin;
     reg [3:0] channels_1_filter_a_setting;
@@ -329,12 +408,29 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_b_prev_q = 1'h0;
     reg channels_1_zg_prev_d;
     reg channels_1_zg_prev_q = 1'h0;
-    reg channels_1_up_q_d;
-    reg channels_1_up_q_q = 1'h0;
-    reg channels_1_down_q_d;
-    reg channels_1_down_q_q = 1'h0;
-    reg [31:0] channels_1_count_d;
-    reg [31:0] channels_1_count_q = 32'h0;
+    reg channels_1_decoder_hold;
+    reg channels_1_decoder_a;
+    reg channels_1_decoder_b;
+    reg channels_1_decoder_a_prev;
+    reg channels_1_decoder_b_prev;
+    reg [2:0] channels_1_decoder_mode;
+    reg channels_1_decoder_reverse;
+    reg channels_1_decoder_up_q;
+    reg channels_1_decoder_down_q;
+    reg channels_1_counter_up;
+    reg channels_1_counter_down;
+    reg channels_1_counter_clear;
+    reg channels_1_counter_load;
+    reg [31:0] channels_1_counter_load_value;
+    reg channels_1_counter_load_low_is_max;
+    reg channels_1_counter_load_low_is_nonzero;
+    reg [31:0] channels_1_counter_count;
+    reg channels_1_load_q_d;
+    reg channels_1_load_q_q = 1'h0;
+    reg channels_1_index_latch_q_d;
+    reg channels_1_index_latch_q_q = 1'h0;
+    reg channels_1_index_clear_q_d;
+    reg channels_1_index_clear_q_q = 1'h0;
     reg [31:0] channels_1_index_d;
     reg [31:0] channels_1_index_q = 32'h0;
     reg channels_1_err_d;
@@ -353,21 +449,21 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_1_snap_index_q = 32'h0;
     reg [31:0] channels_1_snap_status_d;
     reg [31:0] channels_1_snap_status_q = 32'h0;
+    reg channels_1_read_ctrl_d;
+    reg channels_1_read_ctrl_q = 1'h0;
+    reg channels_1_read_count_d;
+    reg channels_1_read_count_q = 1'h0;
+    reg channels_1_read_index_d;
+    reg channels_1_read_index_q = 1'h0;
+    reg channels_1_read_status_d;
+    reg channels_1_read_status_q = 1'h0;
     reg channels_1_level_a;
     reg channels_1_level_b;
     reg channels_1_level_z;
-    reg [2:0] channels_1_mode;
-    reg channels_1_changed_a;
-    reg channels_1_changed_b;
-    reg channels_1_a_ne_b;
-    reg channels_1_rise_a;
-    reg channels_1_rise_b;
     reg channels_1_illegal;
-    reg channels_1_up;
-    reg channels_1_down;
-    reg channels_1_swap;
-    reg [31:0] channels_1_step;
-    reg [31:0] channels_1_stepped;
+    reg [31:0] channels_1_count_now;
+    reg channels_1_cmd_clear;
+    reg channels_1_cmd_load;
     reg channels_1_zg;
     reg channels_1_index_event;
     reg channels_1_index_act;
@@ -399,6 +495,33 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_1_filter_z_count_d;
     reg [3:0] channels_1_filter_z_count_q = 4'h0;
+    reg channels_1_decoder_up_reg_d;
+    reg channels_1_decoder_up_reg_q = 1'h0;
+    reg channels_1_decoder_down_reg_d;
+    reg channels_1_decoder_down_reg_q = 1'h0;
+    reg channels_1_decoder_changed_a;
+    reg channels_1_decoder_changed_b;
+    reg channels_1_decoder_a_ne_b;
+    reg channels_1_decoder_rise_a;
+    reg channels_1_decoder_rise_b;
+    reg channels_1_decoder_forward;
+    reg channels_1_decoder_backward;
+    reg [31:0] channels_1_counter_lo_d;
+    reg [31:0] channels_1_counter_lo_q = 32'h0;
+    reg [31:0] channels_1_counter_hi_d;
+    reg [31:0] channels_1_counter_hi_q = 32'h0;
+    reg channels_1_counter_lo_max_d;
+    reg channels_1_counter_lo_max_q = 1'h0;
+    reg channels_1_counter_lo_nonzero_d;
+    reg channels_1_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] channels_1_counter_load_hi;
+    reg channels_1_counter_lo_ones_above;
+    reg channels_1_counter_lo_zeros_above;
+    reg [31:0] channels_1_counter_lo_step;
+    reg [31:0] channels_1_counter_hi_step;
+    reg [31:0] channels_1_counter_lo_carry_in;
+    reg [31:0] channels_1_counter_hi_carry_in;
+    reg [31:0] channels_1_counter_load_lo;
     reg channels_2_filter_a_reset;
     reg channels_2_filter_a_pin;
     reg [3:0] channels_2_filter_a_setting;
@@ -417,12 +540,29 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_b_prev_q = 1'h0;
     reg channels_2_zg_prev_d;
     reg channels_2_zg_prev_q = 1'h0;
-    reg channels_2_up_q_d;
-    reg channels_2_up_q_q = 1'h0;
-    reg channels_2_down_q_d;
-    reg channels_2_down_q_q = 1'h0;
-    reg [31:0] channels_2_count_d;
-    reg [31:0] channels_2_count_q = 32'h0;
+    reg channels_2_decoder_hold;
+    reg channels_2_decoder_a;
+    reg channels_2_decoder_b;
+    reg channels_2_decoder_a_prev;
+    reg channels_2_decoder_b_prev;
+    reg [2:0] channels_2_decoder_mode;
+    reg channels_2_decoder_reverse;
+    reg channels_2_decoder_up_q;
+    reg channels_2_decoder_down_q;
+    reg channels_2_counter_up;
+    reg channels_2_counter_down;
+    reg channels_2_counter_clear;
+    reg channels_2_counter_load;
+    reg [31:0] channels_2_counter_load_value;
+    reg channels_2_counter_load_low_is_max;
+    reg channels_2_counter_load_low_is_nonzero;
+    reg [31:0] channels_2_counter_count;
+    reg channels_2_load_q_d;
+    reg channels_2_load_q_q = 1'h0;
+    reg channels_2_index_latch_q_d;
+    reg channels_2_index_latch_q_q = 1'h0;
+    reg channels_2_index_clear_q_d;
+    reg channels_2_index_clear_q_q = 1'h0;
     reg [31:0] channels_2_index_d;
     reg [31:0] channels_2_index_q = 32'h0;
     reg channels_2_err_d;
@@ -441,21 +581,21 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_2_snap_index_q = 32'h0;
     reg [31:0] channels_2_snap_status_d;
     reg [31:0] channels_2_snap_status_q = 32'h0;
+    reg channels_2_read_ctrl_d;
+    reg channels_2_read_ctrl_q = 1'h0;
+    reg channels_2_read_count_d;
+    reg channels_2_read_count_q = 1'h0;
+    reg channels_2_read_index_d;
+    reg channels_2_read_index_q = 1'h0;
+    reg channels_2_read_status_d;
+    reg channels_2_read_status_q = 1'h0;
     reg channels_2_level_a;
     reg channels_2_level_b;
     reg channels_2_level_z;
-    reg [2:0] channels_2_mode;
-    reg channels_2_changed_a;
-    reg channels_2_changed_b;
-    reg channels_2_a_ne_b;
-    reg channels_2_rise_a;
-    reg channels_2_rise_b;
     reg channels_2_illegal;
-    reg channels_2_up;
-    reg channels_2_down;
-    reg channels_2_swap;
-    reg [31:0] channels_2_step;
-    reg [31:0] channels_2_stepped;
+    reg [31:0] channels_2_count_now;
+    reg channels_2_cmd_clear;
+    reg channels_2_cmd_load;
     reg channels_2_zg;
     reg channels_2_index_event;
     reg channels_2_index_act;
@@ -487,6 +627,33 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_2_filter_z_count_d;
     reg [3:0] channels_2_filter_z_count_q = 4'h0;
+    reg channels_2_decoder_up_reg_d;
+    reg channels_2_decoder_up_reg_q = 1'h0;
+    reg channels_2_decoder_down_reg_d;
+    reg channels_2_decoder_down_reg_q = 1'h0;
+    reg channels_2_decoder_changed_a;
+    reg channels_2_decoder_changed_b;
+    reg channels_2_decoder_a_ne_b;
+    reg channels_2_decoder_rise_a;
+    reg channels_2_decoder_rise_b;
+    reg channels_2_decoder_forward;
+    reg channels_2_decoder_backward;
+    reg [31:0] channels_2_counter_lo_d;
+    reg [31:0] channels_2_counter_lo_q = 32'h0;
+    reg [31:0] channels_2_counter_hi_d;
+    reg [31:0] channels_2_counter_hi_q = 32'h0;
+    reg channels_2_counter_lo_max_d;
+    reg channels_2_counter_lo_max_q = 1'h0;
+    reg channels_2_counter_lo_nonzero_d;
+    reg channels_2_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] channels_2_counter_load_hi;
+    reg channels_2_counter_lo_ones_above;
+    reg channels_2_counter_lo_zeros_above;
+    reg [31:0] channels_2_counter_lo_step;
+    reg [31:0] channels_2_counter_hi_step;
+    reg [31:0] channels_2_counter_lo_carry_in;
+    reg [31:0] channels_2_counter_hi_carry_in;
+    reg [31:0] channels_2_counter_load_lo;
     reg channels_3_filter_a_reset;
     reg channels_3_filter_a_pin;
     reg [3:0] channels_3_filter_a_setting;
@@ -505,12 +672,29 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_b_prev_q = 1'h0;
     reg channels_3_zg_prev_d;
     reg channels_3_zg_prev_q = 1'h0;
-    reg channels_3_up_q_d;
-    reg channels_3_up_q_q = 1'h0;
-    reg channels_3_down_q_d;
-    reg channels_3_down_q_q = 1'h0;
-    reg [31:0] channels_3_count_d;
-    reg [31:0] channels_3_count_q = 32'h0;
+    reg channels_3_decoder_hold;
+    reg channels_3_decoder_a;
+    reg channels_3_decoder_b;
+    reg channels_3_decoder_a_prev;
+    reg channels_3_decoder_b_prev;
+    reg [2:0] channels_3_decoder_mode;
+    reg channels_3_decoder_reverse;
+    reg channels_3_decoder_up_q;
+    reg channels_3_decoder_down_q;
+    reg channels_3_counter_up;
+    reg channels_3_counter_down;
+    reg channels_3_counter_clear;
+    reg channels_3_counter_load;
+    reg [31:0] channels_3_counter_load_value;
+    reg channels_3_counter_load_low_is_max;
+    reg channels_3_counter_load_low_is_nonzero;
+    reg [31:0] channels_3_counter_count;
+    reg channels_3_load_q_d;
+    reg channels_3_load_q_q = 1'h0;
+    reg channels_3_index_latch_q_d;
+    reg channels_3_index_latch_q_q = 1'h0;
+    reg channels_3_index_clear_q_d;
+    reg channels_3_index_clear_q_q = 1'h0;
     reg [31:0] channels_3_index_d;
     reg [31:0] channels_3_index_q = 32'h0;
     reg channels_3_err_d;
@@ -529,21 +713,21 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_3_snap_index_q = 32'h0;
     reg [31:0] channels_3_snap_status_d;
     reg [31:0] channels_3_snap_status_q = 32'h0;
+    reg channels_3_read_ctrl_d;
+    reg channels_3_read_ctrl_q = 1'h0;
+    reg channels_3_read_count_d;
+    reg channels_3_read_count_q = 1'h0;
+    reg channels_3_read_index_d;
+    reg channels_3_read_index_q = 1'h0;
+    reg channels_3_read_status_d;
+    reg channels_3_read_status_q = 1'h0;
     reg channels_3_level_a;
     reg channels_3_level_b;
     reg channels_3_level_z;
-    reg [2:0] channels_3_mode;
-    reg channels_3_changed_a;
-    reg channels_3_changed_b;
-    reg channels_3_a_ne_b;
-    reg channels_3_rise_a;
-    reg channels_3_rise_b;
     reg channels_3_illegal;
-    reg channels_3_up;
-    reg channels_3_down;
-    reg channels_3_swap;
-    reg [31:0] channels_3_step;
-    reg [31:0] channels_3_stepped;
+    reg [31:0] channels_3_count_now;
+    reg channels_3_cmd_clear;
+    reg channels_3_cmd_load;
     reg channels_3_zg;
     reg channels_3_index_event;
     reg channels_3_index_act;
@@ -575,10 +759,42 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_3_filter_z_count_d;
     reg [3:0] channels_3_filter_z_count_q = 4'h0;
+    reg channels_3_decoder_up_reg_d;
+    reg channels_3_decoder_up_reg_q = 1'h0;
+    reg channels_3_decoder_down_reg_d;
+    reg channels_3_decoder_down_reg_q = 1'h0;
+    reg channels_3_decoder_changed_a;
+    reg channels_3_decoder_changed_b;
+    reg channels_3_decoder_a_ne_b;
+    reg channels_3_decoder_rise_a;
+    reg channels_3_decoder_rise_b;
+    reg channels_3_decoder_forward;
+    reg channels_3_decoder_backward;
+    reg [31:0] channels_3_counter_lo_d;
+    reg [31:0] channels_3_counter_lo_q = 32'h0;
+    reg [31:0] channels_3_counter_hi_d;
+    reg [31:0] channels_3_counter_hi_q = 32'h0;
+    reg channels_3_counter_lo_max_d;
+    reg channels_3_counter_lo_max_q = 1'h0;
+    reg channels_3_counter_lo_nonzero_d;
+    reg channels_3_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] channels_3_counter_load_hi;
+    reg channels_3_counter_lo_ones_above;
+    reg channels_3_counter_lo_zeros_above;
+    reg [31:0] channels_3_counter_lo_step;
+    reg [31:0] channels_3_counter_hi_step;
+    reg [31:0] channels_3_counter_lo_carry_in;
+    reg [31:0] channels_3_counter_hi_carry_in;
+    reg [31:0] channels_3_counter_load_lo;
 
     always @(*) begin
         preset_d = preset_q;
         read_data_d = read_data_q;
+        preset_low_is_max_d = preset_low_is_max_q;
+        preset_low_is_nonzero_d = preset_low_is_nonzero_q;
+        read_pending_d = read_pending_q;
+        read_info_d = read_info_q;
+        read_preset_d = read_preset_q;
         snapshot = we & (addr == addr_snapshot);
         channels_0_reset = reset;
         channels_0_a = a[0];
@@ -587,8 +803,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_addr = addr;
         channels_0_wdata = wdata;
         channels_0_we = we;
+        channels_0_re = re;
         channels_0_snapshot = snapshot;
         channels_0_preset = preset_q;
+        channels_0_preset_low_is_max = preset_low_is_max_q;
+        channels_0_preset_low_is_nonzero = preset_low_is_nonzero_q;
         channels_1_reset = reset;
         channels_1_a = a[1];
         channels_1_b = b[1];
@@ -596,8 +815,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_addr = addr;
         channels_1_wdata = wdata;
         channels_1_we = we;
+        channels_1_re = re;
         channels_1_snapshot = snapshot;
         channels_1_preset = preset_q;
+        channels_1_preset_low_is_max = preset_low_is_max_q;
+        channels_1_preset_low_is_nonzero = preset_low_is_nonzero_q;
         channels_2_reset = reset;
         channels_2_a = a[2];
         channels_2_b = b[2];
@@ -605,8 +827,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_addr = addr;
         channels_2_wdata = wdata;
         channels_2_we = we;
+        channels_2_re = re;
         channels_2_snapshot = snapshot;
         channels_2_preset = preset_q;
+        channels_2_preset_low_is_max = preset_low_is_max_q;
+        channels_2_preset_low_is_nonzero = preset_low_is_nonzero_q;
         channels_3_reset = reset;
         channels_3_a = a[3];
         channels_3_b = b[3];
@@ -614,20 +839,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_addr = addr;
         channels_3_wdata = wdata;
         channels_3_we = we;
+        channels_3_re = re;
         channels_3_snapshot = snapshot;
         channels_3_preset = preset_q;
+        channels_3_preset_low_is_max = preset_low_is_max_q;
+        channels_3_preset_low_is_nonzero = preset_low_is_nonzero_q;
         if (|(preset_q & sign_bit)) begin
             preset_read = (preset_q & width_mask) | sign_extension;
         end
         else begin
             preset_read = preset_q & width_mask;
         end
+        read_pending_d = re;
+        read_info_d = re & (addr == addr_info);
+        read_preset_d = re & (addr == addr_preset);
         read_value = 32'h0;
-        if (addr == addr_info) begin
+        if (read_info_q) begin
             read_value = info;
         end
-        if (addr == addr_preset) begin
-            read_value = preset_read;
+        if (read_preset_q) begin
+            read_value = read_value | preset_read;
         end
         read_value = read_value | channels_0_rdata;
         read_value = read_value | channels_1_rdata;
@@ -635,13 +866,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         read_value = read_value | channels_3_rdata;
         if (we & (addr == addr_preset)) begin
             preset_d = wdata;
+            preset_low_is_max_d = (wdata & low_mask) == low_mask;
+            preset_low_is_nonzero_d = |(wdata & low_mask);
         end
-        if (re) begin
+        if (read_pending_q) begin
             read_data_d = read_value;
         end
         if (reset) begin
             preset_d = 32'h0;
+            preset_low_is_max_d = 1'b0;
+            preset_low_is_nonzero_d = 1'b0;
             read_data_d = 32'h0;
+            read_pending_d = 1'b0;
+            read_info_d = 1'b0;
+            read_preset_d = 1'b0;
         end
         rdata = read_data_q;
     end
@@ -650,9 +888,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_a_prev_d = channels_0_a_prev_q;
         channels_0_b_prev_d = channels_0_b_prev_q;
         channels_0_zg_prev_d = channels_0_zg_prev_q;
-        channels_0_up_q_d = channels_0_up_q_q;
-        channels_0_down_q_d = channels_0_down_q_q;
-        channels_0_count_d = channels_0_count_q;
+        channels_0_load_q_d = channels_0_load_q_q;
+        channels_0_index_latch_q_d = channels_0_index_latch_q_q;
+        channels_0_index_clear_q_d = channels_0_index_clear_q_q;
         channels_0_index_d = channels_0_index_q;
         channels_0_err_d = channels_0_err_q;
         channels_0_err_count_d = channels_0_err_count_q;
@@ -662,6 +900,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_snap_count_d = channels_0_snap_count_q;
         channels_0_snap_index_d = channels_0_snap_index_q;
         channels_0_snap_status_d = channels_0_snap_status_q;
+        channels_0_read_ctrl_d = channels_0_read_ctrl_q;
+        channels_0_read_count_d = channels_0_read_count_q;
+        channels_0_read_index_d = channels_0_read_index_q;
+        channels_0_read_status_d = channels_0_read_status_q;
         channels_0_filter_a_reset = channels_0_reset;
         channels_0_filter_b_reset = channels_0_reset;
         channels_0_filter_z_reset = channels_0_reset;
@@ -674,69 +916,36 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_level_a = channels_0_filter_a_level;
         channels_0_level_b = channels_0_filter_b_level;
         channels_0_level_z = channels_0_filter_z_level;
-        channels_0_mode = channels_0_ctrl_q[(channels_0_mode_lsb)+:(3)];
-        channels_0_changed_a = channels_0_level_a ^ channels_0_a_prev_q;
-        channels_0_changed_b = channels_0_level_b ^ channels_0_b_prev_q;
-        channels_0_a_ne_b = channels_0_level_a ^ channels_0_level_b;
-        channels_0_rise_a = channels_0_level_a & ~channels_0_a_prev_q;
-        channels_0_rise_b = channels_0_level_b & ~channels_0_b_prev_q;
-        channels_0_illegal = 1'b0;
-        channels_0_up = 1'b0;
-        channels_0_down = 1'b0;
-        if (channels_0_mode == channels_0_mode_x4) begin
-            channels_0_illegal = channels_0_changed_a & channels_0_changed_b;
-            channels_0_up = (channels_0_changed_a & ~channels_0_changed_b & channels_0_a_ne_b) | (channels_0_changed_b & ~channels_0_changed_a & ~channels_0_a_ne_b);
-            channels_0_down = (channels_0_changed_a & ~channels_0_changed_b & ~channels_0_a_ne_b) | (channels_0_changed_b & ~channels_0_changed_a & channels_0_a_ne_b);
-        end
-        if (channels_0_mode == channels_0_mode_x2) begin
-            channels_0_illegal = channels_0_changed_a & channels_0_changed_b;
-            channels_0_up = channels_0_changed_a & ~channels_0_changed_b & channels_0_a_ne_b;
-            channels_0_down = channels_0_changed_a & ~channels_0_changed_b & ~channels_0_a_ne_b;
-        end
-        if (channels_0_mode == channels_0_mode_x1) begin
-            channels_0_illegal = channels_0_changed_a & channels_0_changed_b;
-            channels_0_up = ~channels_0_a_prev_q & ~channels_0_b_prev_q & channels_0_level_a & ~channels_0_level_b;
-            channels_0_down = channels_0_a_prev_q & ~channels_0_b_prev_q & ~channels_0_level_a & ~channels_0_level_b;
-        end
-        if (channels_0_mode == channels_0_mode_pulse_dir) begin
-            channels_0_up = channels_0_rise_a & ~channels_0_level_b;
-            channels_0_down = channels_0_rise_a & channels_0_level_b;
-        end
-        if (channels_0_mode == channels_0_mode_cw_ccw) begin
-            channels_0_up = channels_0_rise_a & ~channels_0_rise_b;
-            channels_0_down = channels_0_rise_b & ~channels_0_rise_a;
-        end
-        if (channels_0_ctrl_q[channels_0_reverse_bit]) begin
-            channels_0_swap = channels_0_up;
-            channels_0_up = channels_0_down;
-            channels_0_down = channels_0_swap;
-        end
-        else begin
-            channels_0_swap = 1'b0;
-        end
-        channels_0_up_q_d = channels_0_up;
-        channels_0_down_q_d = channels_0_down;
-        channels_0_step = 32'h0;
-        if (channels_0_up_q_q) begin
-            channels_0_step = channels_0_plus_one;
-        end
-        if (channels_0_down_q_q) begin
-            channels_0_step = channels_0_minus_one;
-        end
-        channels_0_stepped = (channels_0_count_q + channels_0_step) & channels_0_width_mask;
+        channels_0_cmd_write = channels_0_we & (channels_0_addr == channels_0_addr_cmd);
+        channels_0_cmd_clear = channels_0_cmd_write & channels_0_wdata[channels_0_cmd_clear_bit];
+        channels_0_cmd_load = channels_0_cmd_write & channels_0_wdata[channels_0_cmd_load_bit];
+        channels_0_decoder_hold = channels_0_reset | channels_0_cmd_load;
+        channels_0_decoder_a = channels_0_level_a;
+        channels_0_decoder_b = channels_0_level_b;
+        channels_0_decoder_a_prev = channels_0_a_prev_q;
+        channels_0_decoder_b_prev = channels_0_b_prev_q;
+        channels_0_decoder_mode = channels_0_ctrl_q[(channels_0_mode_lsb)+:(3)];
+        channels_0_decoder_reverse = channels_0_ctrl_q[channels_0_reverse_bit];
+        channels_0_illegal = (channels_0_level_a ^ channels_0_a_prev_q) & (channels_0_level_b ^ channels_0_b_prev_q) & (channels_0_ctrl_q[(channels_0_mode_lsb)+:(3)] < channels_0_quadrature_modes);
         channels_0_zg = (channels_0_level_z ^ channels_0_ctrl_q[channels_0_idx_invert_bit]) & (~channels_0_ctrl_q[channels_0_idx_gate_bit] | (channels_0_level_a & channels_0_level_b));
         channels_0_index_event = channels_0_zg & ~channels_0_zg_prev_q;
         channels_0_index_act = channels_0_index_event & (~channels_0_ctrl_q[channels_0_idx_oneshot_bit] | channels_0_armed_q);
-        channels_0_cmd_write = channels_0_we & (channels_0_addr == channels_0_addr_cmd);
+        channels_0_counter_up = channels_0_decoder_up_q;
+        channels_0_counter_down = channels_0_decoder_down_q;
+        channels_0_counter_load_value = channels_0_preset;
+        channels_0_counter_load_low_is_max = channels_0_preset_low_is_max;
+        channels_0_counter_load_low_is_nonzero = channels_0_preset_low_is_nonzero;
+        channels_0_counter_load = channels_0_load_q_q;
+        channels_0_counter_clear = channels_0_reset | channels_0_cmd_clear | channels_0_cmd_load | channels_0_index_clear_q_q;
+        channels_0_count_now = channels_0_counter_count;
+        channels_0_load_q_d = channels_0_cmd_load & ~channels_0_cmd_clear;
+        channels_0_index_latch_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_latch_bit];
+        channels_0_index_clear_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_clear_bit];
         channels_0_a_prev_d = channels_0_level_a;
         channels_0_b_prev_d = channels_0_level_b;
         channels_0_zg_prev_d = channels_0_zg;
-        channels_0_count_d = channels_0_stepped;
-        if (channels_0_index_act & channels_0_ctrl_q[channels_0_idx_clear_bit]) begin
-            channels_0_count_d = 32'h0;
-        end
-        if (channels_0_index_act & channels_0_ctrl_q[channels_0_idx_latch_bit]) begin
-            channels_0_index_d = channels_0_stepped;
+        if (channels_0_index_latch_q_q) begin
+            channels_0_index_d = channels_0_count_now;
         end
         if (channels_0_illegal & channels_0_ctrl_q[channels_0_err_en_bit]) begin
             channels_0_err_d = 1'b1;
@@ -751,12 +960,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_armed_d = 1'b0;
         end
         if (channels_0_cmd_write) begin
-            if (channels_0_wdata[channels_0_cmd_load_bit]) begin
-                channels_0_count_d = channels_0_preset & channels_0_width_mask;
-            end
-            if (channels_0_wdata[channels_0_cmd_clear_bit]) begin
-                channels_0_count_d = 32'h0;
-            end
             if (channels_0_wdata[channels_0_cmd_arm_bit]) begin
                 channels_0_armed_d = 1'b1;
             end
@@ -789,23 +992,31 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_status = channels_0_status | channels_0_status_z;
         end
         if (channels_0_snapshot) begin
-            channels_0_snap_count_d = channels_0_count_q;
+            channels_0_snap_count_d = channels_0_count_now;
             channels_0_snap_index_d = channels_0_index_q;
             channels_0_snap_status_d = channels_0_status;
         end
+        channels_0_read_ctrl_d = channels_0_re & (channels_0_addr == channels_0_addr_ctrl);
+        channels_0_read_count_d = channels_0_re & (channels_0_addr == channels_0_addr_count);
+        channels_0_read_index_d = channels_0_re & (channels_0_addr == channels_0_addr_index);
+        channels_0_read_status_d = channels_0_re & (channels_0_addr == channels_0_addr_status);
         if (channels_0_reset) begin
-            channels_0_count_d = 32'h0;
             channels_0_index_d = 32'h0;
             channels_0_err_d = 1'b0;
             channels_0_err_count_d = 8'h0;
             channels_0_seen_d = 1'b0;
             channels_0_armed_d = 1'b0;
-            channels_0_up_q_d = 1'b0;
-            channels_0_down_q_d = 1'b0;
+            channels_0_load_q_d = 1'b0;
+            channels_0_index_latch_q_d = 1'b0;
+            channels_0_index_clear_q_d = 1'b0;
             channels_0_ctrl_d = 32'h0;
             channels_0_snap_count_d = 32'h0;
             channels_0_snap_index_d = 32'h0;
             channels_0_snap_status_d = 32'h0;
+            channels_0_read_ctrl_d = 1'b0;
+            channels_0_read_count_d = 1'b0;
+            channels_0_read_index_d = 1'b0;
+            channels_0_read_status_d = 1'b0;
         end
         if (|(channels_0_snap_count_q & channels_0_sign_bit)) begin
             channels_0_count_read = channels_0_snap_count_q | channels_0_sign_extension;
@@ -820,17 +1031,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_index_read = channels_0_snap_index_q;
         end
         channels_0_rdata = 32'h0;
-        if (channels_0_addr == channels_0_addr_ctrl) begin
-            channels_0_rdata = channels_0_ctrl_q;
+        if (channels_0_read_ctrl_q) begin
+            channels_0_rdata = channels_0_rdata | channels_0_ctrl_q;
         end
-        if (channels_0_addr == channels_0_addr_count) begin
-            channels_0_rdata = channels_0_count_read;
+        if (channels_0_read_count_q) begin
+            channels_0_rdata = channels_0_rdata | channels_0_count_read;
         end
-        if (channels_0_addr == channels_0_addr_index) begin
-            channels_0_rdata = channels_0_index_read;
+        if (channels_0_read_index_q) begin
+            channels_0_rdata = channels_0_rdata | channels_0_index_read;
         end
-        if (channels_0_addr == channels_0_addr_status) begin
-            channels_0_rdata = channels_0_snap_status_q;
+        if (channels_0_read_status_q) begin
+            channels_0_rdata = channels_0_rdata | channels_0_snap_status_q;
         end
     end
 
@@ -907,12 +1118,114 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     end
 
     always @(*) begin
+        channels_0_decoder_up_reg_d = channels_0_decoder_up_reg_q;
+        channels_0_decoder_down_reg_d = channels_0_decoder_down_reg_q;
+        channels_0_decoder_changed_a = channels_0_decoder_a ^ channels_0_decoder_a_prev;
+        channels_0_decoder_changed_b = channels_0_decoder_b ^ channels_0_decoder_b_prev;
+        channels_0_decoder_a_ne_b = channels_0_decoder_a ^ channels_0_decoder_b;
+        channels_0_decoder_rise_a = channels_0_decoder_a & ~channels_0_decoder_a_prev;
+        channels_0_decoder_rise_b = channels_0_decoder_b & ~channels_0_decoder_b_prev;
+        channels_0_decoder_forward = 1'b0;
+        channels_0_decoder_backward = 1'b0;
+        if (channels_0_decoder_mode == channels_0_decoder_mode_x4) begin
+            channels_0_decoder_forward = (channels_0_decoder_changed_a & ~channels_0_decoder_changed_b & channels_0_decoder_a_ne_b) | (channels_0_decoder_changed_b & ~channels_0_decoder_changed_a & ~channels_0_decoder_a_ne_b);
+            channels_0_decoder_backward = (channels_0_decoder_changed_a & ~channels_0_decoder_changed_b & ~channels_0_decoder_a_ne_b) | (channels_0_decoder_changed_b & ~channels_0_decoder_changed_a & channels_0_decoder_a_ne_b);
+        end
+        if (channels_0_decoder_mode == channels_0_decoder_mode_x2) begin
+            channels_0_decoder_forward = channels_0_decoder_changed_a & ~channels_0_decoder_changed_b & channels_0_decoder_a_ne_b;
+            channels_0_decoder_backward = channels_0_decoder_changed_a & ~channels_0_decoder_changed_b & ~channels_0_decoder_a_ne_b;
+        end
+        if (channels_0_decoder_mode == channels_0_decoder_mode_x1) begin
+            channels_0_decoder_forward = ~channels_0_decoder_a_prev & ~channels_0_decoder_b_prev & channels_0_decoder_a & ~channels_0_decoder_b;
+            channels_0_decoder_backward = channels_0_decoder_a_prev & ~channels_0_decoder_b_prev & ~channels_0_decoder_a & ~channels_0_decoder_b;
+        end
+        if (channels_0_decoder_mode == channels_0_decoder_mode_pulse_dir) begin
+            channels_0_decoder_forward = channels_0_decoder_rise_a & ~channels_0_decoder_b;
+            channels_0_decoder_backward = channels_0_decoder_rise_a & channels_0_decoder_b;
+        end
+        if (channels_0_decoder_mode == channels_0_decoder_mode_cw_ccw) begin
+            channels_0_decoder_forward = channels_0_decoder_rise_a & ~channels_0_decoder_rise_b;
+            channels_0_decoder_backward = channels_0_decoder_rise_b & ~channels_0_decoder_rise_a;
+        end
+        if (channels_0_decoder_reverse) begin
+            channels_0_decoder_up_reg_d = channels_0_decoder_backward;
+            channels_0_decoder_down_reg_d = channels_0_decoder_forward;
+        end
+        else begin
+            channels_0_decoder_up_reg_d = channels_0_decoder_forward;
+            channels_0_decoder_down_reg_d = channels_0_decoder_backward;
+        end
+        if (channels_0_decoder_hold) begin
+            channels_0_decoder_up_reg_d = 1'b0;
+            channels_0_decoder_down_reg_d = 1'b0;
+        end
+        channels_0_decoder_up_q = channels_0_decoder_up_reg_q;
+        channels_0_decoder_down_q = channels_0_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        channels_0_counter_lo_d = channels_0_counter_lo_q;
+        channels_0_counter_hi_d = channels_0_counter_hi_q;
+        channels_0_counter_lo_max_d = channels_0_counter_lo_max_q;
+        channels_0_counter_lo_nonzero_d = channels_0_counter_lo_nonzero_q;
+        channels_0_counter_lo_ones_above = (channels_0_counter_lo_q & channels_0_counter_lo_upper_mask) == channels_0_counter_lo_upper_mask;
+        channels_0_counter_lo_zeros_above = ~|(channels_0_counter_lo_q & channels_0_counter_lo_upper_mask);
+        channels_0_counter_load_lo = channels_0_counter_load_value & channels_0_counter_lo_mask;
+        channels_0_counter_load_hi = (channels_0_counter_load_value >> channels_0_counter_lo_bits) & channels_0_counter_hi_mask;
+        channels_0_counter_lo_step = 32'h0;
+        channels_0_counter_hi_step = 32'h0;
+        channels_0_counter_lo_carry_in = 32'h0;
+        channels_0_counter_hi_carry_in = 32'h0;
+        if (channels_0_counter_up) begin
+            channels_0_counter_lo_carry_in = channels_0_counter_one;
+            if (channels_0_counter_lo_max_q) begin
+                channels_0_counter_hi_carry_in = channels_0_counter_one;
+            end
+        end
+        if (channels_0_counter_down) begin
+            channels_0_counter_lo_step = channels_0_counter_lo_mask;
+            if (~channels_0_counter_lo_nonzero_q) begin
+                channels_0_counter_hi_step = channels_0_counter_hi_mask;
+            end
+        end
+        if (channels_0_counter_load) begin
+            channels_0_counter_lo_step = channels_0_counter_load_lo;
+            channels_0_counter_hi_step = channels_0_counter_load_hi;
+        end
+        channels_0_counter_lo_d = (channels_0_counter_lo_q + channels_0_counter_lo_step + channels_0_counter_lo_carry_in) & channels_0_counter_lo_mask;
+        channels_0_counter_hi_d = (channels_0_counter_hi_q + channels_0_counter_hi_step + channels_0_counter_hi_carry_in) & channels_0_counter_hi_mask;
+        if (channels_0_counter_load) begin
+            channels_0_counter_lo_max_d = channels_0_counter_load_low_is_max;
+            channels_0_counter_lo_nonzero_d = channels_0_counter_load_low_is_nonzero;
+        end
+        else if (channels_0_counter_up) begin
+            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & ~channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0]);
+        end
+        else if (channels_0_counter_down) begin
+            channels_0_counter_lo_max_d = channels_0_counter_lo_zeros_above & ~channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_zeros_above & channels_0_counter_lo_q[0]);
+        end
+        else begin
+            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~channels_0_counter_lo_zeros_above | channels_0_counter_lo_q[0];
+        end
+        if (channels_0_counter_clear) begin
+            channels_0_counter_lo_d = 32'h0;
+            channels_0_counter_hi_d = 32'h0;
+            channels_0_counter_lo_max_d = 1'b0;
+            channels_0_counter_lo_nonzero_d = 1'b0;
+        end
+        channels_0_counter_count = channels_0_counter_lo_q | (channels_0_counter_hi_q << channels_0_counter_lo_bits);
+    end
+
+    always @(*) begin
         channels_1_a_prev_d = channels_1_a_prev_q;
         channels_1_b_prev_d = channels_1_b_prev_q;
         channels_1_zg_prev_d = channels_1_zg_prev_q;
-        channels_1_up_q_d = channels_1_up_q_q;
-        channels_1_down_q_d = channels_1_down_q_q;
-        channels_1_count_d = channels_1_count_q;
+        channels_1_load_q_d = channels_1_load_q_q;
+        channels_1_index_latch_q_d = channels_1_index_latch_q_q;
+        channels_1_index_clear_q_d = channels_1_index_clear_q_q;
         channels_1_index_d = channels_1_index_q;
         channels_1_err_d = channels_1_err_q;
         channels_1_err_count_d = channels_1_err_count_q;
@@ -922,6 +1235,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_snap_count_d = channels_1_snap_count_q;
         channels_1_snap_index_d = channels_1_snap_index_q;
         channels_1_snap_status_d = channels_1_snap_status_q;
+        channels_1_read_ctrl_d = channels_1_read_ctrl_q;
+        channels_1_read_count_d = channels_1_read_count_q;
+        channels_1_read_index_d = channels_1_read_index_q;
+        channels_1_read_status_d = channels_1_read_status_q;
         channels_1_filter_a_reset = channels_1_reset;
         channels_1_filter_b_reset = channels_1_reset;
         channels_1_filter_z_reset = channels_1_reset;
@@ -934,69 +1251,36 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_level_a = channels_1_filter_a_level;
         channels_1_level_b = channels_1_filter_b_level;
         channels_1_level_z = channels_1_filter_z_level;
-        channels_1_mode = channels_1_ctrl_q[(channels_1_mode_lsb)+:(3)];
-        channels_1_changed_a = channels_1_level_a ^ channels_1_a_prev_q;
-        channels_1_changed_b = channels_1_level_b ^ channels_1_b_prev_q;
-        channels_1_a_ne_b = channels_1_level_a ^ channels_1_level_b;
-        channels_1_rise_a = channels_1_level_a & ~channels_1_a_prev_q;
-        channels_1_rise_b = channels_1_level_b & ~channels_1_b_prev_q;
-        channels_1_illegal = 1'b0;
-        channels_1_up = 1'b0;
-        channels_1_down = 1'b0;
-        if (channels_1_mode == channels_1_mode_x4) begin
-            channels_1_illegal = channels_1_changed_a & channels_1_changed_b;
-            channels_1_up = (channels_1_changed_a & ~channels_1_changed_b & channels_1_a_ne_b) | (channels_1_changed_b & ~channels_1_changed_a & ~channels_1_a_ne_b);
-            channels_1_down = (channels_1_changed_a & ~channels_1_changed_b & ~channels_1_a_ne_b) | (channels_1_changed_b & ~channels_1_changed_a & channels_1_a_ne_b);
-        end
-        if (channels_1_mode == channels_1_mode_x2) begin
-            channels_1_illegal = channels_1_changed_a & channels_1_changed_b;
-            channels_1_up = channels_1_changed_a & ~channels_1_changed_b & channels_1_a_ne_b;
-            channels_1_down = channels_1_changed_a & ~channels_1_changed_b & ~channels_1_a_ne_b;
-        end
-        if (channels_1_mode == channels_1_mode_x1) begin
-            channels_1_illegal = channels_1_changed_a & channels_1_changed_b;
-            channels_1_up = ~channels_1_a_prev_q & ~channels_1_b_prev_q & channels_1_level_a & ~channels_1_level_b;
-            channels_1_down = channels_1_a_prev_q & ~channels_1_b_prev_q & ~channels_1_level_a & ~channels_1_level_b;
-        end
-        if (channels_1_mode == channels_1_mode_pulse_dir) begin
-            channels_1_up = channels_1_rise_a & ~channels_1_level_b;
-            channels_1_down = channels_1_rise_a & channels_1_level_b;
-        end
-        if (channels_1_mode == channels_1_mode_cw_ccw) begin
-            channels_1_up = channels_1_rise_a & ~channels_1_rise_b;
-            channels_1_down = channels_1_rise_b & ~channels_1_rise_a;
-        end
-        if (channels_1_ctrl_q[channels_1_reverse_bit]) begin
-            channels_1_swap = channels_1_up;
-            channels_1_up = channels_1_down;
-            channels_1_down = channels_1_swap;
-        end
-        else begin
-            channels_1_swap = 1'b0;
-        end
-        channels_1_up_q_d = channels_1_up;
-        channels_1_down_q_d = channels_1_down;
-        channels_1_step = 32'h0;
-        if (channels_1_up_q_q) begin
-            channels_1_step = channels_1_plus_one;
-        end
-        if (channels_1_down_q_q) begin
-            channels_1_step = channels_1_minus_one;
-        end
-        channels_1_stepped = (channels_1_count_q + channels_1_step) & channels_1_width_mask;
+        channels_1_cmd_write = channels_1_we & (channels_1_addr == channels_1_addr_cmd);
+        channels_1_cmd_clear = channels_1_cmd_write & channels_1_wdata[channels_1_cmd_clear_bit];
+        channels_1_cmd_load = channels_1_cmd_write & channels_1_wdata[channels_1_cmd_load_bit];
+        channels_1_decoder_hold = channels_1_reset | channels_1_cmd_load;
+        channels_1_decoder_a = channels_1_level_a;
+        channels_1_decoder_b = channels_1_level_b;
+        channels_1_decoder_a_prev = channels_1_a_prev_q;
+        channels_1_decoder_b_prev = channels_1_b_prev_q;
+        channels_1_decoder_mode = channels_1_ctrl_q[(channels_1_mode_lsb)+:(3)];
+        channels_1_decoder_reverse = channels_1_ctrl_q[channels_1_reverse_bit];
+        channels_1_illegal = (channels_1_level_a ^ channels_1_a_prev_q) & (channels_1_level_b ^ channels_1_b_prev_q) & (channels_1_ctrl_q[(channels_1_mode_lsb)+:(3)] < channels_1_quadrature_modes);
         channels_1_zg = (channels_1_level_z ^ channels_1_ctrl_q[channels_1_idx_invert_bit]) & (~channels_1_ctrl_q[channels_1_idx_gate_bit] | (channels_1_level_a & channels_1_level_b));
         channels_1_index_event = channels_1_zg & ~channels_1_zg_prev_q;
         channels_1_index_act = channels_1_index_event & (~channels_1_ctrl_q[channels_1_idx_oneshot_bit] | channels_1_armed_q);
-        channels_1_cmd_write = channels_1_we & (channels_1_addr == channels_1_addr_cmd);
+        channels_1_counter_up = channels_1_decoder_up_q;
+        channels_1_counter_down = channels_1_decoder_down_q;
+        channels_1_counter_load_value = channels_1_preset;
+        channels_1_counter_load_low_is_max = channels_1_preset_low_is_max;
+        channels_1_counter_load_low_is_nonzero = channels_1_preset_low_is_nonzero;
+        channels_1_counter_load = channels_1_load_q_q;
+        channels_1_counter_clear = channels_1_reset | channels_1_cmd_clear | channels_1_cmd_load | channels_1_index_clear_q_q;
+        channels_1_count_now = channels_1_counter_count;
+        channels_1_load_q_d = channels_1_cmd_load & ~channels_1_cmd_clear;
+        channels_1_index_latch_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_latch_bit];
+        channels_1_index_clear_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_clear_bit];
         channels_1_a_prev_d = channels_1_level_a;
         channels_1_b_prev_d = channels_1_level_b;
         channels_1_zg_prev_d = channels_1_zg;
-        channels_1_count_d = channels_1_stepped;
-        if (channels_1_index_act & channels_1_ctrl_q[channels_1_idx_clear_bit]) begin
-            channels_1_count_d = 32'h0;
-        end
-        if (channels_1_index_act & channels_1_ctrl_q[channels_1_idx_latch_bit]) begin
-            channels_1_index_d = channels_1_stepped;
+        if (channels_1_index_latch_q_q) begin
+            channels_1_index_d = channels_1_count_now;
         end
         if (channels_1_illegal & channels_1_ctrl_q[channels_1_err_en_bit]) begin
             channels_1_err_d = 1'b1;
@@ -1011,12 +1295,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_armed_d = 1'b0;
         end
         if (channels_1_cmd_write) begin
-            if (channels_1_wdata[channels_1_cmd_load_bit]) begin
-                channels_1_count_d = channels_1_preset & channels_1_width_mask;
-            end
-            if (channels_1_wdata[channels_1_cmd_clear_bit]) begin
-                channels_1_count_d = 32'h0;
-            end
             if (channels_1_wdata[channels_1_cmd_arm_bit]) begin
                 channels_1_armed_d = 1'b1;
             end
@@ -1049,23 +1327,31 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_status = channels_1_status | channels_1_status_z;
         end
         if (channels_1_snapshot) begin
-            channels_1_snap_count_d = channels_1_count_q;
+            channels_1_snap_count_d = channels_1_count_now;
             channels_1_snap_index_d = channels_1_index_q;
             channels_1_snap_status_d = channels_1_status;
         end
+        channels_1_read_ctrl_d = channels_1_re & (channels_1_addr == channels_1_addr_ctrl);
+        channels_1_read_count_d = channels_1_re & (channels_1_addr == channels_1_addr_count);
+        channels_1_read_index_d = channels_1_re & (channels_1_addr == channels_1_addr_index);
+        channels_1_read_status_d = channels_1_re & (channels_1_addr == channels_1_addr_status);
         if (channels_1_reset) begin
-            channels_1_count_d = 32'h0;
             channels_1_index_d = 32'h0;
             channels_1_err_d = 1'b0;
             channels_1_err_count_d = 8'h0;
             channels_1_seen_d = 1'b0;
             channels_1_armed_d = 1'b0;
-            channels_1_up_q_d = 1'b0;
-            channels_1_down_q_d = 1'b0;
+            channels_1_load_q_d = 1'b0;
+            channels_1_index_latch_q_d = 1'b0;
+            channels_1_index_clear_q_d = 1'b0;
             channels_1_ctrl_d = 32'h0;
             channels_1_snap_count_d = 32'h0;
             channels_1_snap_index_d = 32'h0;
             channels_1_snap_status_d = 32'h0;
+            channels_1_read_ctrl_d = 1'b0;
+            channels_1_read_count_d = 1'b0;
+            channels_1_read_index_d = 1'b0;
+            channels_1_read_status_d = 1'b0;
         end
         if (|(channels_1_snap_count_q & channels_1_sign_bit)) begin
             channels_1_count_read = channels_1_snap_count_q | channels_1_sign_extension;
@@ -1080,17 +1366,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_index_read = channels_1_snap_index_q;
         end
         channels_1_rdata = 32'h0;
-        if (channels_1_addr == channels_1_addr_ctrl) begin
-            channels_1_rdata = channels_1_ctrl_q;
+        if (channels_1_read_ctrl_q) begin
+            channels_1_rdata = channels_1_rdata | channels_1_ctrl_q;
         end
-        if (channels_1_addr == channels_1_addr_count) begin
-            channels_1_rdata = channels_1_count_read;
+        if (channels_1_read_count_q) begin
+            channels_1_rdata = channels_1_rdata | channels_1_count_read;
         end
-        if (channels_1_addr == channels_1_addr_index) begin
-            channels_1_rdata = channels_1_index_read;
+        if (channels_1_read_index_q) begin
+            channels_1_rdata = channels_1_rdata | channels_1_index_read;
         end
-        if (channels_1_addr == channels_1_addr_status) begin
-            channels_1_rdata = channels_1_snap_status_q;
+        if (channels_1_read_status_q) begin
+            channels_1_rdata = channels_1_rdata | channels_1_snap_status_q;
         end
     end
 
@@ -1167,12 +1453,114 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     end
 
     always @(*) begin
+        channels_1_decoder_up_reg_d = channels_1_decoder_up_reg_q;
+        channels_1_decoder_down_reg_d = channels_1_decoder_down_reg_q;
+        channels_1_decoder_changed_a = channels_1_decoder_a ^ channels_1_decoder_a_prev;
+        channels_1_decoder_changed_b = channels_1_decoder_b ^ channels_1_decoder_b_prev;
+        channels_1_decoder_a_ne_b = channels_1_decoder_a ^ channels_1_decoder_b;
+        channels_1_decoder_rise_a = channels_1_decoder_a & ~channels_1_decoder_a_prev;
+        channels_1_decoder_rise_b = channels_1_decoder_b & ~channels_1_decoder_b_prev;
+        channels_1_decoder_forward = 1'b0;
+        channels_1_decoder_backward = 1'b0;
+        if (channels_1_decoder_mode == channels_1_decoder_mode_x4) begin
+            channels_1_decoder_forward = (channels_1_decoder_changed_a & ~channels_1_decoder_changed_b & channels_1_decoder_a_ne_b) | (channels_1_decoder_changed_b & ~channels_1_decoder_changed_a & ~channels_1_decoder_a_ne_b);
+            channels_1_decoder_backward = (channels_1_decoder_changed_a & ~channels_1_decoder_changed_b & ~channels_1_decoder_a_ne_b) | (channels_1_decoder_changed_b & ~channels_1_decoder_changed_a & channels_1_decoder_a_ne_b);
+        end
+        if (channels_1_decoder_mode == channels_1_decoder_mode_x2) begin
+            channels_1_decoder_forward = channels_1_decoder_changed_a & ~channels_1_decoder_changed_b & channels_1_decoder_a_ne_b;
+            channels_1_decoder_backward = channels_1_decoder_changed_a & ~channels_1_decoder_changed_b & ~channels_1_decoder_a_ne_b;
+        end
+        if (channels_1_decoder_mode == channels_1_decoder_mode_x1) begin
+            channels_1_decoder_forward = ~channels_1_decoder_a_prev & ~channels_1_decoder_b_prev & channels_1_decoder_a & ~channels_1_decoder_b;
+            channels_1_decoder_backward = channels_1_decoder_a_prev & ~channels_1_decoder_b_prev & ~channels_1_decoder_a & ~channels_1_decoder_b;
+        end
+        if (channels_1_decoder_mode == channels_1_decoder_mode_pulse_dir) begin
+            channels_1_decoder_forward = channels_1_decoder_rise_a & ~channels_1_decoder_b;
+            channels_1_decoder_backward = channels_1_decoder_rise_a & channels_1_decoder_b;
+        end
+        if (channels_1_decoder_mode == channels_1_decoder_mode_cw_ccw) begin
+            channels_1_decoder_forward = channels_1_decoder_rise_a & ~channels_1_decoder_rise_b;
+            channels_1_decoder_backward = channels_1_decoder_rise_b & ~channels_1_decoder_rise_a;
+        end
+        if (channels_1_decoder_reverse) begin
+            channels_1_decoder_up_reg_d = channels_1_decoder_backward;
+            channels_1_decoder_down_reg_d = channels_1_decoder_forward;
+        end
+        else begin
+            channels_1_decoder_up_reg_d = channels_1_decoder_forward;
+            channels_1_decoder_down_reg_d = channels_1_decoder_backward;
+        end
+        if (channels_1_decoder_hold) begin
+            channels_1_decoder_up_reg_d = 1'b0;
+            channels_1_decoder_down_reg_d = 1'b0;
+        end
+        channels_1_decoder_up_q = channels_1_decoder_up_reg_q;
+        channels_1_decoder_down_q = channels_1_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        channels_1_counter_lo_d = channels_1_counter_lo_q;
+        channels_1_counter_hi_d = channels_1_counter_hi_q;
+        channels_1_counter_lo_max_d = channels_1_counter_lo_max_q;
+        channels_1_counter_lo_nonzero_d = channels_1_counter_lo_nonzero_q;
+        channels_1_counter_lo_ones_above = (channels_1_counter_lo_q & channels_1_counter_lo_upper_mask) == channels_1_counter_lo_upper_mask;
+        channels_1_counter_lo_zeros_above = ~|(channels_1_counter_lo_q & channels_1_counter_lo_upper_mask);
+        channels_1_counter_load_lo = channels_1_counter_load_value & channels_1_counter_lo_mask;
+        channels_1_counter_load_hi = (channels_1_counter_load_value >> channels_1_counter_lo_bits) & channels_1_counter_hi_mask;
+        channels_1_counter_lo_step = 32'h0;
+        channels_1_counter_hi_step = 32'h0;
+        channels_1_counter_lo_carry_in = 32'h0;
+        channels_1_counter_hi_carry_in = 32'h0;
+        if (channels_1_counter_up) begin
+            channels_1_counter_lo_carry_in = channels_1_counter_one;
+            if (channels_1_counter_lo_max_q) begin
+                channels_1_counter_hi_carry_in = channels_1_counter_one;
+            end
+        end
+        if (channels_1_counter_down) begin
+            channels_1_counter_lo_step = channels_1_counter_lo_mask;
+            if (~channels_1_counter_lo_nonzero_q) begin
+                channels_1_counter_hi_step = channels_1_counter_hi_mask;
+            end
+        end
+        if (channels_1_counter_load) begin
+            channels_1_counter_lo_step = channels_1_counter_load_lo;
+            channels_1_counter_hi_step = channels_1_counter_load_hi;
+        end
+        channels_1_counter_lo_d = (channels_1_counter_lo_q + channels_1_counter_lo_step + channels_1_counter_lo_carry_in) & channels_1_counter_lo_mask;
+        channels_1_counter_hi_d = (channels_1_counter_hi_q + channels_1_counter_hi_step + channels_1_counter_hi_carry_in) & channels_1_counter_hi_mask;
+        if (channels_1_counter_load) begin
+            channels_1_counter_lo_max_d = channels_1_counter_load_low_is_max;
+            channels_1_counter_lo_nonzero_d = channels_1_counter_load_low_is_nonzero;
+        end
+        else if (channels_1_counter_up) begin
+            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & ~channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0]);
+        end
+        else if (channels_1_counter_down) begin
+            channels_1_counter_lo_max_d = channels_1_counter_lo_zeros_above & ~channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_zeros_above & channels_1_counter_lo_q[0]);
+        end
+        else begin
+            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~channels_1_counter_lo_zeros_above | channels_1_counter_lo_q[0];
+        end
+        if (channels_1_counter_clear) begin
+            channels_1_counter_lo_d = 32'h0;
+            channels_1_counter_hi_d = 32'h0;
+            channels_1_counter_lo_max_d = 1'b0;
+            channels_1_counter_lo_nonzero_d = 1'b0;
+        end
+        channels_1_counter_count = channels_1_counter_lo_q | (channels_1_counter_hi_q << channels_1_counter_lo_bits);
+    end
+
+    always @(*) begin
         channels_2_a_prev_d = channels_2_a_prev_q;
         channels_2_b_prev_d = channels_2_b_prev_q;
         channels_2_zg_prev_d = channels_2_zg_prev_q;
-        channels_2_up_q_d = channels_2_up_q_q;
-        channels_2_down_q_d = channels_2_down_q_q;
-        channels_2_count_d = channels_2_count_q;
+        channels_2_load_q_d = channels_2_load_q_q;
+        channels_2_index_latch_q_d = channels_2_index_latch_q_q;
+        channels_2_index_clear_q_d = channels_2_index_clear_q_q;
         channels_2_index_d = channels_2_index_q;
         channels_2_err_d = channels_2_err_q;
         channels_2_err_count_d = channels_2_err_count_q;
@@ -1182,6 +1570,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_snap_count_d = channels_2_snap_count_q;
         channels_2_snap_index_d = channels_2_snap_index_q;
         channels_2_snap_status_d = channels_2_snap_status_q;
+        channels_2_read_ctrl_d = channels_2_read_ctrl_q;
+        channels_2_read_count_d = channels_2_read_count_q;
+        channels_2_read_index_d = channels_2_read_index_q;
+        channels_2_read_status_d = channels_2_read_status_q;
         channels_2_filter_a_reset = channels_2_reset;
         channels_2_filter_b_reset = channels_2_reset;
         channels_2_filter_z_reset = channels_2_reset;
@@ -1194,69 +1586,36 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_level_a = channels_2_filter_a_level;
         channels_2_level_b = channels_2_filter_b_level;
         channels_2_level_z = channels_2_filter_z_level;
-        channels_2_mode = channels_2_ctrl_q[(channels_2_mode_lsb)+:(3)];
-        channels_2_changed_a = channels_2_level_a ^ channels_2_a_prev_q;
-        channels_2_changed_b = channels_2_level_b ^ channels_2_b_prev_q;
-        channels_2_a_ne_b = channels_2_level_a ^ channels_2_level_b;
-        channels_2_rise_a = channels_2_level_a & ~channels_2_a_prev_q;
-        channels_2_rise_b = channels_2_level_b & ~channels_2_b_prev_q;
-        channels_2_illegal = 1'b0;
-        channels_2_up = 1'b0;
-        channels_2_down = 1'b0;
-        if (channels_2_mode == channels_2_mode_x4) begin
-            channels_2_illegal = channels_2_changed_a & channels_2_changed_b;
-            channels_2_up = (channels_2_changed_a & ~channels_2_changed_b & channels_2_a_ne_b) | (channels_2_changed_b & ~channels_2_changed_a & ~channels_2_a_ne_b);
-            channels_2_down = (channels_2_changed_a & ~channels_2_changed_b & ~channels_2_a_ne_b) | (channels_2_changed_b & ~channels_2_changed_a & channels_2_a_ne_b);
-        end
-        if (channels_2_mode == channels_2_mode_x2) begin
-            channels_2_illegal = channels_2_changed_a & channels_2_changed_b;
-            channels_2_up = channels_2_changed_a & ~channels_2_changed_b & channels_2_a_ne_b;
-            channels_2_down = channels_2_changed_a & ~channels_2_changed_b & ~channels_2_a_ne_b;
-        end
-        if (channels_2_mode == channels_2_mode_x1) begin
-            channels_2_illegal = channels_2_changed_a & channels_2_changed_b;
-            channels_2_up = ~channels_2_a_prev_q & ~channels_2_b_prev_q & channels_2_level_a & ~channels_2_level_b;
-            channels_2_down = channels_2_a_prev_q & ~channels_2_b_prev_q & ~channels_2_level_a & ~channels_2_level_b;
-        end
-        if (channels_2_mode == channels_2_mode_pulse_dir) begin
-            channels_2_up = channels_2_rise_a & ~channels_2_level_b;
-            channels_2_down = channels_2_rise_a & channels_2_level_b;
-        end
-        if (channels_2_mode == channels_2_mode_cw_ccw) begin
-            channels_2_up = channels_2_rise_a & ~channels_2_rise_b;
-            channels_2_down = channels_2_rise_b & ~channels_2_rise_a;
-        end
-        if (channels_2_ctrl_q[channels_2_reverse_bit]) begin
-            channels_2_swap = channels_2_up;
-            channels_2_up = channels_2_down;
-            channels_2_down = channels_2_swap;
-        end
-        else begin
-            channels_2_swap = 1'b0;
-        end
-        channels_2_up_q_d = channels_2_up;
-        channels_2_down_q_d = channels_2_down;
-        channels_2_step = 32'h0;
-        if (channels_2_up_q_q) begin
-            channels_2_step = channels_2_plus_one;
-        end
-        if (channels_2_down_q_q) begin
-            channels_2_step = channels_2_minus_one;
-        end
-        channels_2_stepped = (channels_2_count_q + channels_2_step) & channels_2_width_mask;
+        channels_2_cmd_write = channels_2_we & (channels_2_addr == channels_2_addr_cmd);
+        channels_2_cmd_clear = channels_2_cmd_write & channels_2_wdata[channels_2_cmd_clear_bit];
+        channels_2_cmd_load = channels_2_cmd_write & channels_2_wdata[channels_2_cmd_load_bit];
+        channels_2_decoder_hold = channels_2_reset | channels_2_cmd_load;
+        channels_2_decoder_a = channels_2_level_a;
+        channels_2_decoder_b = channels_2_level_b;
+        channels_2_decoder_a_prev = channels_2_a_prev_q;
+        channels_2_decoder_b_prev = channels_2_b_prev_q;
+        channels_2_decoder_mode = channels_2_ctrl_q[(channels_2_mode_lsb)+:(3)];
+        channels_2_decoder_reverse = channels_2_ctrl_q[channels_2_reverse_bit];
+        channels_2_illegal = (channels_2_level_a ^ channels_2_a_prev_q) & (channels_2_level_b ^ channels_2_b_prev_q) & (channels_2_ctrl_q[(channels_2_mode_lsb)+:(3)] < channels_2_quadrature_modes);
         channels_2_zg = (channels_2_level_z ^ channels_2_ctrl_q[channels_2_idx_invert_bit]) & (~channels_2_ctrl_q[channels_2_idx_gate_bit] | (channels_2_level_a & channels_2_level_b));
         channels_2_index_event = channels_2_zg & ~channels_2_zg_prev_q;
         channels_2_index_act = channels_2_index_event & (~channels_2_ctrl_q[channels_2_idx_oneshot_bit] | channels_2_armed_q);
-        channels_2_cmd_write = channels_2_we & (channels_2_addr == channels_2_addr_cmd);
+        channels_2_counter_up = channels_2_decoder_up_q;
+        channels_2_counter_down = channels_2_decoder_down_q;
+        channels_2_counter_load_value = channels_2_preset;
+        channels_2_counter_load_low_is_max = channels_2_preset_low_is_max;
+        channels_2_counter_load_low_is_nonzero = channels_2_preset_low_is_nonzero;
+        channels_2_counter_load = channels_2_load_q_q;
+        channels_2_counter_clear = channels_2_reset | channels_2_cmd_clear | channels_2_cmd_load | channels_2_index_clear_q_q;
+        channels_2_count_now = channels_2_counter_count;
+        channels_2_load_q_d = channels_2_cmd_load & ~channels_2_cmd_clear;
+        channels_2_index_latch_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_latch_bit];
+        channels_2_index_clear_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_clear_bit];
         channels_2_a_prev_d = channels_2_level_a;
         channels_2_b_prev_d = channels_2_level_b;
         channels_2_zg_prev_d = channels_2_zg;
-        channels_2_count_d = channels_2_stepped;
-        if (channels_2_index_act & channels_2_ctrl_q[channels_2_idx_clear_bit]) begin
-            channels_2_count_d = 32'h0;
-        end
-        if (channels_2_index_act & channels_2_ctrl_q[channels_2_idx_latch_bit]) begin
-            channels_2_index_d = channels_2_stepped;
+        if (channels_2_index_latch_q_q) begin
+            channels_2_index_d = channels_2_count_now;
         end
         if (channels_2_illegal & channels_2_ctrl_q[channels_2_err_en_bit]) begin
             channels_2_err_d = 1'b1;
@@ -1271,12 +1630,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_armed_d = 1'b0;
         end
         if (channels_2_cmd_write) begin
-            if (channels_2_wdata[channels_2_cmd_load_bit]) begin
-                channels_2_count_d = channels_2_preset & channels_2_width_mask;
-            end
-            if (channels_2_wdata[channels_2_cmd_clear_bit]) begin
-                channels_2_count_d = 32'h0;
-            end
             if (channels_2_wdata[channels_2_cmd_arm_bit]) begin
                 channels_2_armed_d = 1'b1;
             end
@@ -1309,23 +1662,31 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_status = channels_2_status | channels_2_status_z;
         end
         if (channels_2_snapshot) begin
-            channels_2_snap_count_d = channels_2_count_q;
+            channels_2_snap_count_d = channels_2_count_now;
             channels_2_snap_index_d = channels_2_index_q;
             channels_2_snap_status_d = channels_2_status;
         end
+        channels_2_read_ctrl_d = channels_2_re & (channels_2_addr == channels_2_addr_ctrl);
+        channels_2_read_count_d = channels_2_re & (channels_2_addr == channels_2_addr_count);
+        channels_2_read_index_d = channels_2_re & (channels_2_addr == channels_2_addr_index);
+        channels_2_read_status_d = channels_2_re & (channels_2_addr == channels_2_addr_status);
         if (channels_2_reset) begin
-            channels_2_count_d = 32'h0;
             channels_2_index_d = 32'h0;
             channels_2_err_d = 1'b0;
             channels_2_err_count_d = 8'h0;
             channels_2_seen_d = 1'b0;
             channels_2_armed_d = 1'b0;
-            channels_2_up_q_d = 1'b0;
-            channels_2_down_q_d = 1'b0;
+            channels_2_load_q_d = 1'b0;
+            channels_2_index_latch_q_d = 1'b0;
+            channels_2_index_clear_q_d = 1'b0;
             channels_2_ctrl_d = 32'h0;
             channels_2_snap_count_d = 32'h0;
             channels_2_snap_index_d = 32'h0;
             channels_2_snap_status_d = 32'h0;
+            channels_2_read_ctrl_d = 1'b0;
+            channels_2_read_count_d = 1'b0;
+            channels_2_read_index_d = 1'b0;
+            channels_2_read_status_d = 1'b0;
         end
         if (|(channels_2_snap_count_q & channels_2_sign_bit)) begin
             channels_2_count_read = channels_2_snap_count_q | channels_2_sign_extension;
@@ -1340,17 +1701,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_index_read = channels_2_snap_index_q;
         end
         channels_2_rdata = 32'h0;
-        if (channels_2_addr == channels_2_addr_ctrl) begin
-            channels_2_rdata = channels_2_ctrl_q;
+        if (channels_2_read_ctrl_q) begin
+            channels_2_rdata = channels_2_rdata | channels_2_ctrl_q;
         end
-        if (channels_2_addr == channels_2_addr_count) begin
-            channels_2_rdata = channels_2_count_read;
+        if (channels_2_read_count_q) begin
+            channels_2_rdata = channels_2_rdata | channels_2_count_read;
         end
-        if (channels_2_addr == channels_2_addr_index) begin
-            channels_2_rdata = channels_2_index_read;
+        if (channels_2_read_index_q) begin
+            channels_2_rdata = channels_2_rdata | channels_2_index_read;
         end
-        if (channels_2_addr == channels_2_addr_status) begin
-            channels_2_rdata = channels_2_snap_status_q;
+        if (channels_2_read_status_q) begin
+            channels_2_rdata = channels_2_rdata | channels_2_snap_status_q;
         end
     end
 
@@ -1427,12 +1788,114 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     end
 
     always @(*) begin
+        channels_2_decoder_up_reg_d = channels_2_decoder_up_reg_q;
+        channels_2_decoder_down_reg_d = channels_2_decoder_down_reg_q;
+        channels_2_decoder_changed_a = channels_2_decoder_a ^ channels_2_decoder_a_prev;
+        channels_2_decoder_changed_b = channels_2_decoder_b ^ channels_2_decoder_b_prev;
+        channels_2_decoder_a_ne_b = channels_2_decoder_a ^ channels_2_decoder_b;
+        channels_2_decoder_rise_a = channels_2_decoder_a & ~channels_2_decoder_a_prev;
+        channels_2_decoder_rise_b = channels_2_decoder_b & ~channels_2_decoder_b_prev;
+        channels_2_decoder_forward = 1'b0;
+        channels_2_decoder_backward = 1'b0;
+        if (channels_2_decoder_mode == channels_2_decoder_mode_x4) begin
+            channels_2_decoder_forward = (channels_2_decoder_changed_a & ~channels_2_decoder_changed_b & channels_2_decoder_a_ne_b) | (channels_2_decoder_changed_b & ~channels_2_decoder_changed_a & ~channels_2_decoder_a_ne_b);
+            channels_2_decoder_backward = (channels_2_decoder_changed_a & ~channels_2_decoder_changed_b & ~channels_2_decoder_a_ne_b) | (channels_2_decoder_changed_b & ~channels_2_decoder_changed_a & channels_2_decoder_a_ne_b);
+        end
+        if (channels_2_decoder_mode == channels_2_decoder_mode_x2) begin
+            channels_2_decoder_forward = channels_2_decoder_changed_a & ~channels_2_decoder_changed_b & channels_2_decoder_a_ne_b;
+            channels_2_decoder_backward = channels_2_decoder_changed_a & ~channels_2_decoder_changed_b & ~channels_2_decoder_a_ne_b;
+        end
+        if (channels_2_decoder_mode == channels_2_decoder_mode_x1) begin
+            channels_2_decoder_forward = ~channels_2_decoder_a_prev & ~channels_2_decoder_b_prev & channels_2_decoder_a & ~channels_2_decoder_b;
+            channels_2_decoder_backward = channels_2_decoder_a_prev & ~channels_2_decoder_b_prev & ~channels_2_decoder_a & ~channels_2_decoder_b;
+        end
+        if (channels_2_decoder_mode == channels_2_decoder_mode_pulse_dir) begin
+            channels_2_decoder_forward = channels_2_decoder_rise_a & ~channels_2_decoder_b;
+            channels_2_decoder_backward = channels_2_decoder_rise_a & channels_2_decoder_b;
+        end
+        if (channels_2_decoder_mode == channels_2_decoder_mode_cw_ccw) begin
+            channels_2_decoder_forward = channels_2_decoder_rise_a & ~channels_2_decoder_rise_b;
+            channels_2_decoder_backward = channels_2_decoder_rise_b & ~channels_2_decoder_rise_a;
+        end
+        if (channels_2_decoder_reverse) begin
+            channels_2_decoder_up_reg_d = channels_2_decoder_backward;
+            channels_2_decoder_down_reg_d = channels_2_decoder_forward;
+        end
+        else begin
+            channels_2_decoder_up_reg_d = channels_2_decoder_forward;
+            channels_2_decoder_down_reg_d = channels_2_decoder_backward;
+        end
+        if (channels_2_decoder_hold) begin
+            channels_2_decoder_up_reg_d = 1'b0;
+            channels_2_decoder_down_reg_d = 1'b0;
+        end
+        channels_2_decoder_up_q = channels_2_decoder_up_reg_q;
+        channels_2_decoder_down_q = channels_2_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        channels_2_counter_lo_d = channels_2_counter_lo_q;
+        channels_2_counter_hi_d = channels_2_counter_hi_q;
+        channels_2_counter_lo_max_d = channels_2_counter_lo_max_q;
+        channels_2_counter_lo_nonzero_d = channels_2_counter_lo_nonzero_q;
+        channels_2_counter_lo_ones_above = (channels_2_counter_lo_q & channels_2_counter_lo_upper_mask) == channels_2_counter_lo_upper_mask;
+        channels_2_counter_lo_zeros_above = ~|(channels_2_counter_lo_q & channels_2_counter_lo_upper_mask);
+        channels_2_counter_load_lo = channels_2_counter_load_value & channels_2_counter_lo_mask;
+        channels_2_counter_load_hi = (channels_2_counter_load_value >> channels_2_counter_lo_bits) & channels_2_counter_hi_mask;
+        channels_2_counter_lo_step = 32'h0;
+        channels_2_counter_hi_step = 32'h0;
+        channels_2_counter_lo_carry_in = 32'h0;
+        channels_2_counter_hi_carry_in = 32'h0;
+        if (channels_2_counter_up) begin
+            channels_2_counter_lo_carry_in = channels_2_counter_one;
+            if (channels_2_counter_lo_max_q) begin
+                channels_2_counter_hi_carry_in = channels_2_counter_one;
+            end
+        end
+        if (channels_2_counter_down) begin
+            channels_2_counter_lo_step = channels_2_counter_lo_mask;
+            if (~channels_2_counter_lo_nonzero_q) begin
+                channels_2_counter_hi_step = channels_2_counter_hi_mask;
+            end
+        end
+        if (channels_2_counter_load) begin
+            channels_2_counter_lo_step = channels_2_counter_load_lo;
+            channels_2_counter_hi_step = channels_2_counter_load_hi;
+        end
+        channels_2_counter_lo_d = (channels_2_counter_lo_q + channels_2_counter_lo_step + channels_2_counter_lo_carry_in) & channels_2_counter_lo_mask;
+        channels_2_counter_hi_d = (channels_2_counter_hi_q + channels_2_counter_hi_step + channels_2_counter_hi_carry_in) & channels_2_counter_hi_mask;
+        if (channels_2_counter_load) begin
+            channels_2_counter_lo_max_d = channels_2_counter_load_low_is_max;
+            channels_2_counter_lo_nonzero_d = channels_2_counter_load_low_is_nonzero;
+        end
+        else if (channels_2_counter_up) begin
+            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & ~channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0]);
+        end
+        else if (channels_2_counter_down) begin
+            channels_2_counter_lo_max_d = channels_2_counter_lo_zeros_above & ~channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_zeros_above & channels_2_counter_lo_q[0]);
+        end
+        else begin
+            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~channels_2_counter_lo_zeros_above | channels_2_counter_lo_q[0];
+        end
+        if (channels_2_counter_clear) begin
+            channels_2_counter_lo_d = 32'h0;
+            channels_2_counter_hi_d = 32'h0;
+            channels_2_counter_lo_max_d = 1'b0;
+            channels_2_counter_lo_nonzero_d = 1'b0;
+        end
+        channels_2_counter_count = channels_2_counter_lo_q | (channels_2_counter_hi_q << channels_2_counter_lo_bits);
+    end
+
+    always @(*) begin
         channels_3_a_prev_d = channels_3_a_prev_q;
         channels_3_b_prev_d = channels_3_b_prev_q;
         channels_3_zg_prev_d = channels_3_zg_prev_q;
-        channels_3_up_q_d = channels_3_up_q_q;
-        channels_3_down_q_d = channels_3_down_q_q;
-        channels_3_count_d = channels_3_count_q;
+        channels_3_load_q_d = channels_3_load_q_q;
+        channels_3_index_latch_q_d = channels_3_index_latch_q_q;
+        channels_3_index_clear_q_d = channels_3_index_clear_q_q;
         channels_3_index_d = channels_3_index_q;
         channels_3_err_d = channels_3_err_q;
         channels_3_err_count_d = channels_3_err_count_q;
@@ -1442,6 +1905,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_snap_count_d = channels_3_snap_count_q;
         channels_3_snap_index_d = channels_3_snap_index_q;
         channels_3_snap_status_d = channels_3_snap_status_q;
+        channels_3_read_ctrl_d = channels_3_read_ctrl_q;
+        channels_3_read_count_d = channels_3_read_count_q;
+        channels_3_read_index_d = channels_3_read_index_q;
+        channels_3_read_status_d = channels_3_read_status_q;
         channels_3_filter_a_reset = channels_3_reset;
         channels_3_filter_b_reset = channels_3_reset;
         channels_3_filter_z_reset = channels_3_reset;
@@ -1454,69 +1921,36 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_level_a = channels_3_filter_a_level;
         channels_3_level_b = channels_3_filter_b_level;
         channels_3_level_z = channels_3_filter_z_level;
-        channels_3_mode = channels_3_ctrl_q[(channels_3_mode_lsb)+:(3)];
-        channels_3_changed_a = channels_3_level_a ^ channels_3_a_prev_q;
-        channels_3_changed_b = channels_3_level_b ^ channels_3_b_prev_q;
-        channels_3_a_ne_b = channels_3_level_a ^ channels_3_level_b;
-        channels_3_rise_a = channels_3_level_a & ~channels_3_a_prev_q;
-        channels_3_rise_b = channels_3_level_b & ~channels_3_b_prev_q;
-        channels_3_illegal = 1'b0;
-        channels_3_up = 1'b0;
-        channels_3_down = 1'b0;
-        if (channels_3_mode == channels_3_mode_x4) begin
-            channels_3_illegal = channels_3_changed_a & channels_3_changed_b;
-            channels_3_up = (channels_3_changed_a & ~channels_3_changed_b & channels_3_a_ne_b) | (channels_3_changed_b & ~channels_3_changed_a & ~channels_3_a_ne_b);
-            channels_3_down = (channels_3_changed_a & ~channels_3_changed_b & ~channels_3_a_ne_b) | (channels_3_changed_b & ~channels_3_changed_a & channels_3_a_ne_b);
-        end
-        if (channels_3_mode == channels_3_mode_x2) begin
-            channels_3_illegal = channels_3_changed_a & channels_3_changed_b;
-            channels_3_up = channels_3_changed_a & ~channels_3_changed_b & channels_3_a_ne_b;
-            channels_3_down = channels_3_changed_a & ~channels_3_changed_b & ~channels_3_a_ne_b;
-        end
-        if (channels_3_mode == channels_3_mode_x1) begin
-            channels_3_illegal = channels_3_changed_a & channels_3_changed_b;
-            channels_3_up = ~channels_3_a_prev_q & ~channels_3_b_prev_q & channels_3_level_a & ~channels_3_level_b;
-            channels_3_down = channels_3_a_prev_q & ~channels_3_b_prev_q & ~channels_3_level_a & ~channels_3_level_b;
-        end
-        if (channels_3_mode == channels_3_mode_pulse_dir) begin
-            channels_3_up = channels_3_rise_a & ~channels_3_level_b;
-            channels_3_down = channels_3_rise_a & channels_3_level_b;
-        end
-        if (channels_3_mode == channels_3_mode_cw_ccw) begin
-            channels_3_up = channels_3_rise_a & ~channels_3_rise_b;
-            channels_3_down = channels_3_rise_b & ~channels_3_rise_a;
-        end
-        if (channels_3_ctrl_q[channels_3_reverse_bit]) begin
-            channels_3_swap = channels_3_up;
-            channels_3_up = channels_3_down;
-            channels_3_down = channels_3_swap;
-        end
-        else begin
-            channels_3_swap = 1'b0;
-        end
-        channels_3_up_q_d = channels_3_up;
-        channels_3_down_q_d = channels_3_down;
-        channels_3_step = 32'h0;
-        if (channels_3_up_q_q) begin
-            channels_3_step = channels_3_plus_one;
-        end
-        if (channels_3_down_q_q) begin
-            channels_3_step = channels_3_minus_one;
-        end
-        channels_3_stepped = (channels_3_count_q + channels_3_step) & channels_3_width_mask;
+        channels_3_cmd_write = channels_3_we & (channels_3_addr == channels_3_addr_cmd);
+        channels_3_cmd_clear = channels_3_cmd_write & channels_3_wdata[channels_3_cmd_clear_bit];
+        channels_3_cmd_load = channels_3_cmd_write & channels_3_wdata[channels_3_cmd_load_bit];
+        channels_3_decoder_hold = channels_3_reset | channels_3_cmd_load;
+        channels_3_decoder_a = channels_3_level_a;
+        channels_3_decoder_b = channels_3_level_b;
+        channels_3_decoder_a_prev = channels_3_a_prev_q;
+        channels_3_decoder_b_prev = channels_3_b_prev_q;
+        channels_3_decoder_mode = channels_3_ctrl_q[(channels_3_mode_lsb)+:(3)];
+        channels_3_decoder_reverse = channels_3_ctrl_q[channels_3_reverse_bit];
+        channels_3_illegal = (channels_3_level_a ^ channels_3_a_prev_q) & (channels_3_level_b ^ channels_3_b_prev_q) & (channels_3_ctrl_q[(channels_3_mode_lsb)+:(3)] < channels_3_quadrature_modes);
         channels_3_zg = (channels_3_level_z ^ channels_3_ctrl_q[channels_3_idx_invert_bit]) & (~channels_3_ctrl_q[channels_3_idx_gate_bit] | (channels_3_level_a & channels_3_level_b));
         channels_3_index_event = channels_3_zg & ~channels_3_zg_prev_q;
         channels_3_index_act = channels_3_index_event & (~channels_3_ctrl_q[channels_3_idx_oneshot_bit] | channels_3_armed_q);
-        channels_3_cmd_write = channels_3_we & (channels_3_addr == channels_3_addr_cmd);
+        channels_3_counter_up = channels_3_decoder_up_q;
+        channels_3_counter_down = channels_3_decoder_down_q;
+        channels_3_counter_load_value = channels_3_preset;
+        channels_3_counter_load_low_is_max = channels_3_preset_low_is_max;
+        channels_3_counter_load_low_is_nonzero = channels_3_preset_low_is_nonzero;
+        channels_3_counter_load = channels_3_load_q_q;
+        channels_3_counter_clear = channels_3_reset | channels_3_cmd_clear | channels_3_cmd_load | channels_3_index_clear_q_q;
+        channels_3_count_now = channels_3_counter_count;
+        channels_3_load_q_d = channels_3_cmd_load & ~channels_3_cmd_clear;
+        channels_3_index_latch_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_latch_bit];
+        channels_3_index_clear_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_clear_bit];
         channels_3_a_prev_d = channels_3_level_a;
         channels_3_b_prev_d = channels_3_level_b;
         channels_3_zg_prev_d = channels_3_zg;
-        channels_3_count_d = channels_3_stepped;
-        if (channels_3_index_act & channels_3_ctrl_q[channels_3_idx_clear_bit]) begin
-            channels_3_count_d = 32'h0;
-        end
-        if (channels_3_index_act & channels_3_ctrl_q[channels_3_idx_latch_bit]) begin
-            channels_3_index_d = channels_3_stepped;
+        if (channels_3_index_latch_q_q) begin
+            channels_3_index_d = channels_3_count_now;
         end
         if (channels_3_illegal & channels_3_ctrl_q[channels_3_err_en_bit]) begin
             channels_3_err_d = 1'b1;
@@ -1531,12 +1965,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_armed_d = 1'b0;
         end
         if (channels_3_cmd_write) begin
-            if (channels_3_wdata[channels_3_cmd_load_bit]) begin
-                channels_3_count_d = channels_3_preset & channels_3_width_mask;
-            end
-            if (channels_3_wdata[channels_3_cmd_clear_bit]) begin
-                channels_3_count_d = 32'h0;
-            end
             if (channels_3_wdata[channels_3_cmd_arm_bit]) begin
                 channels_3_armed_d = 1'b1;
             end
@@ -1569,23 +1997,31 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_status = channels_3_status | channels_3_status_z;
         end
         if (channels_3_snapshot) begin
-            channels_3_snap_count_d = channels_3_count_q;
+            channels_3_snap_count_d = channels_3_count_now;
             channels_3_snap_index_d = channels_3_index_q;
             channels_3_snap_status_d = channels_3_status;
         end
+        channels_3_read_ctrl_d = channels_3_re & (channels_3_addr == channels_3_addr_ctrl);
+        channels_3_read_count_d = channels_3_re & (channels_3_addr == channels_3_addr_count);
+        channels_3_read_index_d = channels_3_re & (channels_3_addr == channels_3_addr_index);
+        channels_3_read_status_d = channels_3_re & (channels_3_addr == channels_3_addr_status);
         if (channels_3_reset) begin
-            channels_3_count_d = 32'h0;
             channels_3_index_d = 32'h0;
             channels_3_err_d = 1'b0;
             channels_3_err_count_d = 8'h0;
             channels_3_seen_d = 1'b0;
             channels_3_armed_d = 1'b0;
-            channels_3_up_q_d = 1'b0;
-            channels_3_down_q_d = 1'b0;
+            channels_3_load_q_d = 1'b0;
+            channels_3_index_latch_q_d = 1'b0;
+            channels_3_index_clear_q_d = 1'b0;
             channels_3_ctrl_d = 32'h0;
             channels_3_snap_count_d = 32'h0;
             channels_3_snap_index_d = 32'h0;
             channels_3_snap_status_d = 32'h0;
+            channels_3_read_ctrl_d = 1'b0;
+            channels_3_read_count_d = 1'b0;
+            channels_3_read_index_d = 1'b0;
+            channels_3_read_status_d = 1'b0;
         end
         if (|(channels_3_snap_count_q & channels_3_sign_bit)) begin
             channels_3_count_read = channels_3_snap_count_q | channels_3_sign_extension;
@@ -1600,17 +2036,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_index_read = channels_3_snap_index_q;
         end
         channels_3_rdata = 32'h0;
-        if (channels_3_addr == channels_3_addr_ctrl) begin
-            channels_3_rdata = channels_3_ctrl_q;
+        if (channels_3_read_ctrl_q) begin
+            channels_3_rdata = channels_3_rdata | channels_3_ctrl_q;
         end
-        if (channels_3_addr == channels_3_addr_count) begin
-            channels_3_rdata = channels_3_count_read;
+        if (channels_3_read_count_q) begin
+            channels_3_rdata = channels_3_rdata | channels_3_count_read;
         end
-        if (channels_3_addr == channels_3_addr_index) begin
-            channels_3_rdata = channels_3_index_read;
+        if (channels_3_read_index_q) begin
+            channels_3_rdata = channels_3_rdata | channels_3_index_read;
         end
-        if (channels_3_addr == channels_3_addr_status) begin
-            channels_3_rdata = channels_3_snap_status_q;
+        if (channels_3_read_status_q) begin
+            channels_3_rdata = channels_3_rdata | channels_3_snap_status_q;
         end
     end
 
@@ -1686,6 +2122,108 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_filter_z_level = channels_3_filter_z_accepted_q;
     end
 
+    always @(*) begin
+        channels_3_decoder_up_reg_d = channels_3_decoder_up_reg_q;
+        channels_3_decoder_down_reg_d = channels_3_decoder_down_reg_q;
+        channels_3_decoder_changed_a = channels_3_decoder_a ^ channels_3_decoder_a_prev;
+        channels_3_decoder_changed_b = channels_3_decoder_b ^ channels_3_decoder_b_prev;
+        channels_3_decoder_a_ne_b = channels_3_decoder_a ^ channels_3_decoder_b;
+        channels_3_decoder_rise_a = channels_3_decoder_a & ~channels_3_decoder_a_prev;
+        channels_3_decoder_rise_b = channels_3_decoder_b & ~channels_3_decoder_b_prev;
+        channels_3_decoder_forward = 1'b0;
+        channels_3_decoder_backward = 1'b0;
+        if (channels_3_decoder_mode == channels_3_decoder_mode_x4) begin
+            channels_3_decoder_forward = (channels_3_decoder_changed_a & ~channels_3_decoder_changed_b & channels_3_decoder_a_ne_b) | (channels_3_decoder_changed_b & ~channels_3_decoder_changed_a & ~channels_3_decoder_a_ne_b);
+            channels_3_decoder_backward = (channels_3_decoder_changed_a & ~channels_3_decoder_changed_b & ~channels_3_decoder_a_ne_b) | (channels_3_decoder_changed_b & ~channels_3_decoder_changed_a & channels_3_decoder_a_ne_b);
+        end
+        if (channels_3_decoder_mode == channels_3_decoder_mode_x2) begin
+            channels_3_decoder_forward = channels_3_decoder_changed_a & ~channels_3_decoder_changed_b & channels_3_decoder_a_ne_b;
+            channels_3_decoder_backward = channels_3_decoder_changed_a & ~channels_3_decoder_changed_b & ~channels_3_decoder_a_ne_b;
+        end
+        if (channels_3_decoder_mode == channels_3_decoder_mode_x1) begin
+            channels_3_decoder_forward = ~channels_3_decoder_a_prev & ~channels_3_decoder_b_prev & channels_3_decoder_a & ~channels_3_decoder_b;
+            channels_3_decoder_backward = channels_3_decoder_a_prev & ~channels_3_decoder_b_prev & ~channels_3_decoder_a & ~channels_3_decoder_b;
+        end
+        if (channels_3_decoder_mode == channels_3_decoder_mode_pulse_dir) begin
+            channels_3_decoder_forward = channels_3_decoder_rise_a & ~channels_3_decoder_b;
+            channels_3_decoder_backward = channels_3_decoder_rise_a & channels_3_decoder_b;
+        end
+        if (channels_3_decoder_mode == channels_3_decoder_mode_cw_ccw) begin
+            channels_3_decoder_forward = channels_3_decoder_rise_a & ~channels_3_decoder_rise_b;
+            channels_3_decoder_backward = channels_3_decoder_rise_b & ~channels_3_decoder_rise_a;
+        end
+        if (channels_3_decoder_reverse) begin
+            channels_3_decoder_up_reg_d = channels_3_decoder_backward;
+            channels_3_decoder_down_reg_d = channels_3_decoder_forward;
+        end
+        else begin
+            channels_3_decoder_up_reg_d = channels_3_decoder_forward;
+            channels_3_decoder_down_reg_d = channels_3_decoder_backward;
+        end
+        if (channels_3_decoder_hold) begin
+            channels_3_decoder_up_reg_d = 1'b0;
+            channels_3_decoder_down_reg_d = 1'b0;
+        end
+        channels_3_decoder_up_q = channels_3_decoder_up_reg_q;
+        channels_3_decoder_down_q = channels_3_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        channels_3_counter_lo_d = channels_3_counter_lo_q;
+        channels_3_counter_hi_d = channels_3_counter_hi_q;
+        channels_3_counter_lo_max_d = channels_3_counter_lo_max_q;
+        channels_3_counter_lo_nonzero_d = channels_3_counter_lo_nonzero_q;
+        channels_3_counter_lo_ones_above = (channels_3_counter_lo_q & channels_3_counter_lo_upper_mask) == channels_3_counter_lo_upper_mask;
+        channels_3_counter_lo_zeros_above = ~|(channels_3_counter_lo_q & channels_3_counter_lo_upper_mask);
+        channels_3_counter_load_lo = channels_3_counter_load_value & channels_3_counter_lo_mask;
+        channels_3_counter_load_hi = (channels_3_counter_load_value >> channels_3_counter_lo_bits) & channels_3_counter_hi_mask;
+        channels_3_counter_lo_step = 32'h0;
+        channels_3_counter_hi_step = 32'h0;
+        channels_3_counter_lo_carry_in = 32'h0;
+        channels_3_counter_hi_carry_in = 32'h0;
+        if (channels_3_counter_up) begin
+            channels_3_counter_lo_carry_in = channels_3_counter_one;
+            if (channels_3_counter_lo_max_q) begin
+                channels_3_counter_hi_carry_in = channels_3_counter_one;
+            end
+        end
+        if (channels_3_counter_down) begin
+            channels_3_counter_lo_step = channels_3_counter_lo_mask;
+            if (~channels_3_counter_lo_nonzero_q) begin
+                channels_3_counter_hi_step = channels_3_counter_hi_mask;
+            end
+        end
+        if (channels_3_counter_load) begin
+            channels_3_counter_lo_step = channels_3_counter_load_lo;
+            channels_3_counter_hi_step = channels_3_counter_load_hi;
+        end
+        channels_3_counter_lo_d = (channels_3_counter_lo_q + channels_3_counter_lo_step + channels_3_counter_lo_carry_in) & channels_3_counter_lo_mask;
+        channels_3_counter_hi_d = (channels_3_counter_hi_q + channels_3_counter_hi_step + channels_3_counter_hi_carry_in) & channels_3_counter_hi_mask;
+        if (channels_3_counter_load) begin
+            channels_3_counter_lo_max_d = channels_3_counter_load_low_is_max;
+            channels_3_counter_lo_nonzero_d = channels_3_counter_load_low_is_nonzero;
+        end
+        else if (channels_3_counter_up) begin
+            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & ~channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0]);
+        end
+        else if (channels_3_counter_down) begin
+            channels_3_counter_lo_max_d = channels_3_counter_lo_zeros_above & ~channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_zeros_above & channels_3_counter_lo_q[0]);
+        end
+        else begin
+            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~channels_3_counter_lo_zeros_above | channels_3_counter_lo_q[0];
+        end
+        if (channels_3_counter_clear) begin
+            channels_3_counter_lo_d = 32'h0;
+            channels_3_counter_hi_d = 32'h0;
+            channels_3_counter_lo_max_d = 1'b0;
+            channels_3_counter_lo_nonzero_d = 1'b0;
+        end
+        channels_3_counter_count = channels_3_counter_lo_q | (channels_3_counter_hi_q << channels_3_counter_lo_bits);
+    end
+
     always @(posedge clock) channels_0_filter_a_sync1_q <= channels_0_filter_a_sync1_d;
     always @(posedge clock) channels_0_filter_a_sync2_q <= channels_0_filter_a_sync2_d;
     always @(posedge clock) channels_0_filter_a_accepted_q <= channels_0_filter_a_accepted_d;
@@ -1701,9 +2239,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_0_a_prev_q <= channels_0_a_prev_d;
     always @(posedge clock) channels_0_b_prev_q <= channels_0_b_prev_d;
     always @(posedge clock) channels_0_zg_prev_q <= channels_0_zg_prev_d;
-    always @(posedge clock) channels_0_up_q_q <= channels_0_up_q_d;
-    always @(posedge clock) channels_0_down_q_q <= channels_0_down_q_d;
-    always @(posedge clock) channels_0_count_q <= channels_0_count_d;
+    always @(posedge clock) channels_0_decoder_up_reg_q <= channels_0_decoder_up_reg_d;
+    always @(posedge clock) channels_0_decoder_down_reg_q <= channels_0_decoder_down_reg_d;
+    always @(posedge clock) channels_0_counter_lo_q <= channels_0_counter_lo_d;
+    always @(posedge clock) channels_0_counter_hi_q <= channels_0_counter_hi_d;
+    always @(posedge clock) channels_0_counter_lo_max_q <= channels_0_counter_lo_max_d;
+    always @(posedge clock) channels_0_counter_lo_nonzero_q <= channels_0_counter_lo_nonzero_d;
+    always @(posedge clock) channels_0_load_q_q <= channels_0_load_q_d;
+    always @(posedge clock) channels_0_index_latch_q_q <= channels_0_index_latch_q_d;
+    always @(posedge clock) channels_0_index_clear_q_q <= channels_0_index_clear_q_d;
     always @(posedge clock) channels_0_index_q <= channels_0_index_d;
     always @(posedge clock) channels_0_err_q <= channels_0_err_d;
     always @(posedge clock) channels_0_err_count_q <= channels_0_err_count_d;
@@ -1713,6 +2257,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_0_snap_count_q <= channels_0_snap_count_d;
     always @(posedge clock) channels_0_snap_index_q <= channels_0_snap_index_d;
     always @(posedge clock) channels_0_snap_status_q <= channels_0_snap_status_d;
+    always @(posedge clock) channels_0_read_ctrl_q <= channels_0_read_ctrl_d;
+    always @(posedge clock) channels_0_read_count_q <= channels_0_read_count_d;
+    always @(posedge clock) channels_0_read_index_q <= channels_0_read_index_d;
+    always @(posedge clock) channels_0_read_status_q <= channels_0_read_status_d;
     always @(posedge clock) channels_1_filter_a_sync1_q <= channels_1_filter_a_sync1_d;
     always @(posedge clock) channels_1_filter_a_sync2_q <= channels_1_filter_a_sync2_d;
     always @(posedge clock) channels_1_filter_a_accepted_q <= channels_1_filter_a_accepted_d;
@@ -1728,9 +2276,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_1_a_prev_q <= channels_1_a_prev_d;
     always @(posedge clock) channels_1_b_prev_q <= channels_1_b_prev_d;
     always @(posedge clock) channels_1_zg_prev_q <= channels_1_zg_prev_d;
-    always @(posedge clock) channels_1_up_q_q <= channels_1_up_q_d;
-    always @(posedge clock) channels_1_down_q_q <= channels_1_down_q_d;
-    always @(posedge clock) channels_1_count_q <= channels_1_count_d;
+    always @(posedge clock) channels_1_decoder_up_reg_q <= channels_1_decoder_up_reg_d;
+    always @(posedge clock) channels_1_decoder_down_reg_q <= channels_1_decoder_down_reg_d;
+    always @(posedge clock) channels_1_counter_lo_q <= channels_1_counter_lo_d;
+    always @(posedge clock) channels_1_counter_hi_q <= channels_1_counter_hi_d;
+    always @(posedge clock) channels_1_counter_lo_max_q <= channels_1_counter_lo_max_d;
+    always @(posedge clock) channels_1_counter_lo_nonzero_q <= channels_1_counter_lo_nonzero_d;
+    always @(posedge clock) channels_1_load_q_q <= channels_1_load_q_d;
+    always @(posedge clock) channels_1_index_latch_q_q <= channels_1_index_latch_q_d;
+    always @(posedge clock) channels_1_index_clear_q_q <= channels_1_index_clear_q_d;
     always @(posedge clock) channels_1_index_q <= channels_1_index_d;
     always @(posedge clock) channels_1_err_q <= channels_1_err_d;
     always @(posedge clock) channels_1_err_count_q <= channels_1_err_count_d;
@@ -1740,6 +2294,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_1_snap_count_q <= channels_1_snap_count_d;
     always @(posedge clock) channels_1_snap_index_q <= channels_1_snap_index_d;
     always @(posedge clock) channels_1_snap_status_q <= channels_1_snap_status_d;
+    always @(posedge clock) channels_1_read_ctrl_q <= channels_1_read_ctrl_d;
+    always @(posedge clock) channels_1_read_count_q <= channels_1_read_count_d;
+    always @(posedge clock) channels_1_read_index_q <= channels_1_read_index_d;
+    always @(posedge clock) channels_1_read_status_q <= channels_1_read_status_d;
     always @(posedge clock) channels_2_filter_a_sync1_q <= channels_2_filter_a_sync1_d;
     always @(posedge clock) channels_2_filter_a_sync2_q <= channels_2_filter_a_sync2_d;
     always @(posedge clock) channels_2_filter_a_accepted_q <= channels_2_filter_a_accepted_d;
@@ -1755,9 +2313,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_2_a_prev_q <= channels_2_a_prev_d;
     always @(posedge clock) channels_2_b_prev_q <= channels_2_b_prev_d;
     always @(posedge clock) channels_2_zg_prev_q <= channels_2_zg_prev_d;
-    always @(posedge clock) channels_2_up_q_q <= channels_2_up_q_d;
-    always @(posedge clock) channels_2_down_q_q <= channels_2_down_q_d;
-    always @(posedge clock) channels_2_count_q <= channels_2_count_d;
+    always @(posedge clock) channels_2_decoder_up_reg_q <= channels_2_decoder_up_reg_d;
+    always @(posedge clock) channels_2_decoder_down_reg_q <= channels_2_decoder_down_reg_d;
+    always @(posedge clock) channels_2_counter_lo_q <= channels_2_counter_lo_d;
+    always @(posedge clock) channels_2_counter_hi_q <= channels_2_counter_hi_d;
+    always @(posedge clock) channels_2_counter_lo_max_q <= channels_2_counter_lo_max_d;
+    always @(posedge clock) channels_2_counter_lo_nonzero_q <= channels_2_counter_lo_nonzero_d;
+    always @(posedge clock) channels_2_load_q_q <= channels_2_load_q_d;
+    always @(posedge clock) channels_2_index_latch_q_q <= channels_2_index_latch_q_d;
+    always @(posedge clock) channels_2_index_clear_q_q <= channels_2_index_clear_q_d;
     always @(posedge clock) channels_2_index_q <= channels_2_index_d;
     always @(posedge clock) channels_2_err_q <= channels_2_err_d;
     always @(posedge clock) channels_2_err_count_q <= channels_2_err_count_d;
@@ -1767,6 +2331,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_2_snap_count_q <= channels_2_snap_count_d;
     always @(posedge clock) channels_2_snap_index_q <= channels_2_snap_index_d;
     always @(posedge clock) channels_2_snap_status_q <= channels_2_snap_status_d;
+    always @(posedge clock) channels_2_read_ctrl_q <= channels_2_read_ctrl_d;
+    always @(posedge clock) channels_2_read_count_q <= channels_2_read_count_d;
+    always @(posedge clock) channels_2_read_index_q <= channels_2_read_index_d;
+    always @(posedge clock) channels_2_read_status_q <= channels_2_read_status_d;
     always @(posedge clock) channels_3_filter_a_sync1_q <= channels_3_filter_a_sync1_d;
     always @(posedge clock) channels_3_filter_a_sync2_q <= channels_3_filter_a_sync2_d;
     always @(posedge clock) channels_3_filter_a_accepted_q <= channels_3_filter_a_accepted_d;
@@ -1782,9 +2350,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_3_a_prev_q <= channels_3_a_prev_d;
     always @(posedge clock) channels_3_b_prev_q <= channels_3_b_prev_d;
     always @(posedge clock) channels_3_zg_prev_q <= channels_3_zg_prev_d;
-    always @(posedge clock) channels_3_up_q_q <= channels_3_up_q_d;
-    always @(posedge clock) channels_3_down_q_q <= channels_3_down_q_d;
-    always @(posedge clock) channels_3_count_q <= channels_3_count_d;
+    always @(posedge clock) channels_3_decoder_up_reg_q <= channels_3_decoder_up_reg_d;
+    always @(posedge clock) channels_3_decoder_down_reg_q <= channels_3_decoder_down_reg_d;
+    always @(posedge clock) channels_3_counter_lo_q <= channels_3_counter_lo_d;
+    always @(posedge clock) channels_3_counter_hi_q <= channels_3_counter_hi_d;
+    always @(posedge clock) channels_3_counter_lo_max_q <= channels_3_counter_lo_max_d;
+    always @(posedge clock) channels_3_counter_lo_nonzero_q <= channels_3_counter_lo_nonzero_d;
+    always @(posedge clock) channels_3_load_q_q <= channels_3_load_q_d;
+    always @(posedge clock) channels_3_index_latch_q_q <= channels_3_index_latch_q_d;
+    always @(posedge clock) channels_3_index_clear_q_q <= channels_3_index_clear_q_d;
     always @(posedge clock) channels_3_index_q <= channels_3_index_d;
     always @(posedge clock) channels_3_err_q <= channels_3_err_d;
     always @(posedge clock) channels_3_err_count_q <= channels_3_err_count_d;
@@ -1794,8 +2368,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_3_snap_count_q <= channels_3_snap_count_d;
     always @(posedge clock) channels_3_snap_index_q <= channels_3_snap_index_d;
     always @(posedge clock) channels_3_snap_status_q <= channels_3_snap_status_d;
+    always @(posedge clock) channels_3_read_ctrl_q <= channels_3_read_ctrl_d;
+    always @(posedge clock) channels_3_read_count_q <= channels_3_read_count_d;
+    always @(posedge clock) channels_3_read_index_q <= channels_3_read_index_d;
+    always @(posedge clock) channels_3_read_status_q <= channels_3_read_status_d;
     always @(posedge clock) preset_q <= preset_d;
     always @(posedge clock) read_data_q <= read_data_d;
+    always @(posedge clock) preset_low_is_max_q <= preset_low_is_max_d;
+    always @(posedge clock) preset_low_is_nonzero_q <= preset_low_is_nonzero_d;
+    always @(posedge clock) read_pending_q <= read_pending_d;
+    always @(posedge clock) read_info_q <= read_info_d;
+    always @(posedge clock) read_preset_q <= read_preset_d;
 endmodule // counter_bank
 
 `default_nettype wire

@@ -1,6 +1,9 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
-use crate::{banner, verilog, CounterBank, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
+use crate::{
+    banner, verilog, CounterBank, Ls153, PulseModeSelector, PulseModeSelectorRegistered,
+    QuadratureCore,
+};
 use motionhdl_model::Config;
 use rust_hdl::prelude::Block;
 
@@ -75,6 +78,15 @@ pub fn counter_bank(axes: u32, width: u32) -> VerilogModule {
     bank!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
 }
 
+/// The ×4 decoder and counter alone, `width` bits (2..=32).
+pub fn quadrature_core(width: u32) -> VerilogModule {
+    module(
+        QuadratureCore::new(width),
+        "quadrature_core",
+        "X4 quadrature decoder and up/down counter alone: synchronisers, no filter, index or bus",
+    )
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -82,5 +94,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         pulse_mode_selector(),
         pulse_mode_selector_registered(),
         counter_bank(config.axes(), config.counter_width()),
+        quadrature_core(config.counter_width()),
     ]
 }

@@ -1,6 +1,7 @@
 //! The counter bank: N channels, the PRESET register and the register bus.
 
 use crate::counter_channel::CounterChannel;
+use crate::up_down_counter::UpDownCounter;
 use motionhdl_model::counter::CounterParams;
 use motionhdl_model::regmap::{self, ERR_COUNT_BITS};
 use rust_hdl::prelude::*;
@@ -9,8 +10,9 @@ use rust_hdl::prelude::*;
 /// (docs/counter_bank.md). `N` is the axis count (1..=16); the counter
 /// width is a constructor parameter.
 ///
-/// Bus: a write takes effect at the edge where `we` is high; on an edge
-/// where `re` is high `rdata` loads the addressed register and then holds.
+/// Bus: a write takes effect at the edge where `we` is high. A read is
+/// pipelined: the edge where `re` is high registers which register is
+/// addressed, the next edge loads it into `rdata`, which then holds.
 #[derive(LogicBlock)]
 pub struct CounterBank<const N: usize> {
     /// FPGA clock.
@@ -31,16 +33,24 @@ pub struct CounterBank<const N: usize> {
     pub we: Signal<In, Bit>,
     /// Read strobe.
     pub re: Signal<In, Bit>,
-    /// Read data, valid from the clock after `re`.
+    /// Read data, valid from the second clock edge after `re`.
     pub rdata: Signal<Out, Bits<32>>,
     channels: Vec<CounterChannel>,
     preset: DFF<Bits<32>>,
     read_data: DFF<Bits<32>>,
+    // Flags of PRESET's low-half bits for the counters' look-ahead, kept
+    // with PRESET so that no channel compares 32 bits on its load path.
+    preset_low_is_max: DFF<Bit>,
+    preset_low_is_nonzero: DFF<Bit>,
+    read_pending: DFF<Bit>,
+    read_info: DFF<Bit>,
+    read_preset: DFF<Bit>,
     addr_info: Constant<Bits<8>>,
     addr_snapshot: Constant<Bits<8>>,
     addr_preset: Constant<Bits<8>>,
     info: Constant<Bits<32>>,
     width_mask: Constant<Bits<32>>,
+    low_mask: Constant<Bits<32>>,
     sign_bit: Constant<Bits<32>>,
     sign_extension: Constant<Bits<32>>,
     snapshot: Signal<Local, Bit>,
@@ -79,11 +89,17 @@ impl<const N: usize> CounterBank<N> {
                 .collect(),
             preset: Default::default(),
             read_data: Default::default(),
+            preset_low_is_max: Default::default(),
+            preset_low_is_nonzero: Default::default(),
+            read_pending: Default::default(),
+            read_info: Default::default(),
+            read_preset: Default::default(),
             addr_info: addr("INFO"),
             addr_snapshot: addr("SNAPSHOT"),
             addr_preset: addr("PRESET"),
             info: k32(map.register("INFO").reset),
             width_mask: k32(width_mask),
+            low_mask: k32(UpDownCounter::low_mask(width)),
             sign_bit: k32(1 << (width - 1)),
             sign_extension: k32(!width_mask),
             snapshot: Default::default(),
@@ -101,7 +117,17 @@ impl<const N: usize> CounterBank<N> {
 impl<const N: usize> Logic for CounterBank<N> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, preset, read_data);
+        dff_setup!(
+            self,
+            clock,
+            preset,
+            read_data,
+            preset_low_is_max,
+            preset_low_is_nonzero,
+            read_pending,
+            read_info,
+            read_preset
+        );
         self.snapshot.next = self.we.val() & (self.addr.val() == self.addr_snapshot.val());
         for i in 0..N {
             self.channels[i].clock.next = self.clock.val();
@@ -112,8 +138,11 @@ impl<const N: usize> Logic for CounterBank<N> {
             self.channels[i].addr.next = self.addr.val();
             self.channels[i].wdata.next = self.wdata.val();
             self.channels[i].we.next = self.we.val();
+            self.channels[i].re.next = self.re.val();
             self.channels[i].snapshot.next = self.snapshot.val();
             self.channels[i].preset.next = self.preset.q.val();
+            self.channels[i].preset_low_is_max.next = self.preset_low_is_max.q.val();
+            self.channels[i].preset_low_is_nonzero.next = self.preset_low_is_nonzero.q.val();
         }
         if (self.preset.q.val() & self.sign_bit.val()).any() {
             self.preset_read.next =
@@ -121,25 +150,38 @@ impl<const N: usize> Logic for CounterBank<N> {
         } else {
             self.preset_read.next = self.preset.q.val() & self.width_mask.val();
         }
+        // Reads, stage 1: registered selects (each channel has its own).
+        self.read_pending.d.next = self.re.val();
+        self.read_info.d.next = self.re.val() & (self.addr.val() == self.addr_info.val());
+        self.read_preset.d.next = self.re.val() & (self.addr.val() == self.addr_preset.val());
+        // Stage 2: AND-OR of the selected registers into `rdata`.
         self.read_value.next = 0.into();
-        if self.addr.val() == self.addr_info.val() {
+        if self.read_info.q.val() {
             self.read_value.next = self.info.val();
         }
-        if self.addr.val() == self.addr_preset.val() {
-            self.read_value.next = self.preset_read.val();
+        if self.read_preset.q.val() {
+            self.read_value.next = self.read_value.val() | self.preset_read.val();
         }
         for i in 0..N {
             self.read_value.next = self.read_value.val() | self.channels[i].rdata.val();
         }
         if self.we.val() & (self.addr.val() == self.addr_preset.val()) {
             self.preset.d.next = self.wdata.val();
+            self.preset_low_is_max.d.next =
+                (self.wdata.val() & self.low_mask.val()) == self.low_mask.val();
+            self.preset_low_is_nonzero.d.next = (self.wdata.val() & self.low_mask.val()).any();
         }
-        if self.re.val() {
+        if self.read_pending.q.val() {
             self.read_data.d.next = self.read_value.val();
         }
         if self.reset.val() {
             self.preset.d.next = 0.into();
+            self.preset_low_is_max.d.next = false;
+            self.preset_low_is_nonzero.d.next = false;
             self.read_data.d.next = 0.into();
+            self.read_pending.d.next = false;
+            self.read_info.d.next = false;
+            self.read_preset.d.next = false;
         }
         self.rdata.next = self.read_data.q.val();
     }

@@ -2,6 +2,8 @@
 //! error detection, snapshot registers and the channel's register decode.
 
 use crate::input_filter::InputFilter;
+use crate::step_decoder::StepDecoder;
+use crate::up_down_counter::UpDownCounter;
 use motionhdl_model::counter::ChannelState;
 use motionhdl_model::counter::CounterParams;
 use motionhdl_model::regmap::{self, Block};
@@ -31,11 +33,18 @@ pub struct CounterChannel {
     pub wdata: Signal<In, Bits<32>>,
     /// Register bus write strobe.
     pub we: Signal<In, Bit>,
+    /// Register bus read strobe.
+    pub re: Signal<In, Bit>,
     /// Bank-wide snapshot strobe (a write to SNAPSHOT).
     pub snapshot: Signal<In, Bit>,
     /// The bank's PRESET register, as stored.
     pub preset: Signal<In, Bits<32>>,
-    /// The addressed register of this channel, or 0.
+    /// PRESET's bits in the counter's low half are all ones (kept by the bank).
+    pub preset_low_is_max: Signal<In, Bit>,
+    /// PRESET's bits in the counter's low half are not all 0.
+    pub preset_low_is_nonzero: Signal<In, Bit>,
+    /// The register of this channel addressed by the read one clock
+    /// earlier, or 0 (the bank ORs the channels and registers the result).
     pub rdata: Signal<Out, Bits<32>>,
 
     filter_a: InputFilter,
@@ -44,9 +53,11 @@ pub struct CounterChannel {
     a_prev: DFF<Bit>,
     b_prev: DFF<Bit>,
     zg_prev: DFF<Bit>,
-    up_q: DFF<Bit>,
-    down_q: DFF<Bit>,
-    count: DFF<Bits<32>>,
+    decoder: StepDecoder,
+    counter: UpDownCounter,
+    load_q: DFF<Bit>,
+    index_latch_q: DFF<Bit>,
+    index_clear_q: DFF<Bit>,
     index: DFF<Bits<32>>,
     err: DFF<Bit>,
     err_count: DFF<Bits<8>>,
@@ -56,6 +67,12 @@ pub struct CounterChannel {
     snap_count: DFF<Bits<32>>,
     snap_index: DFF<Bits<32>>,
     snap_status: DFF<Bits<32>>,
+    // One-hot read selects, registered from the address so that the read
+    // path is only an AND-OR of registers.
+    read_ctrl: DFF<Bit>,
+    read_count: DFF<Bit>,
+    read_index: DFF<Bit>,
+    read_status: DFF<Bit>,
 
     // Addresses and field positions, from the register map.
     addr_ctrl: Constant<Bits<8>>,
@@ -85,35 +102,20 @@ pub struct CounterChannel {
     status_b: Constant<Bits<32>>,
     status_z: Constant<Bits<32>>,
     status_err_count_lsb: Constant<Bits<5>>,
-    mode_x4: Constant<Bits<3>>,
-    mode_x2: Constant<Bits<3>>,
-    mode_x1: Constant<Bits<3>>,
-    mode_pulse_dir: Constant<Bits<3>>,
-    mode_cw_ccw: Constant<Bits<3>>,
     // Counter width.
-    width_mask: Constant<Bits<32>>,
+    quadrature_modes: Constant<Bits<3>>,
     sign_bit: Constant<Bits<32>>,
     sign_extension: Constant<Bits<32>>,
-    plus_one: Constant<Bits<32>>,
-    minus_one: Constant<Bits<32>>,
     err_max: Constant<Bits<8>>,
 
     // Combinational temporaries.
     level_a: Signal<Local, Bit>,
     level_b: Signal<Local, Bit>,
     level_z: Signal<Local, Bit>,
-    mode: Signal<Local, Bits<3>>,
-    changed_a: Signal<Local, Bit>,
-    changed_b: Signal<Local, Bit>,
-    a_ne_b: Signal<Local, Bit>,
-    rise_a: Signal<Local, Bit>,
-    rise_b: Signal<Local, Bit>,
     illegal: Signal<Local, Bit>,
-    up: Signal<Local, Bit>,
-    down: Signal<Local, Bit>,
-    swap: Signal<Local, Bit>,
-    step: Signal<Local, Bits<32>>,
-    stepped: Signal<Local, Bits<32>>,
+    count_now: Signal<Local, Bits<32>>,
+    cmd_clear: Signal<Local, Bit>,
+    cmd_load: Signal<Local, Bit>,
     zg: Signal<Local, Bit>,
     index_event: Signal<Local, Bit>,
     index_act: Signal<Local, Bit>,
@@ -147,9 +149,15 @@ impl CounterChannel {
         let map = regmap::counter_bank(axes, width);
         let ch = map.array("CH");
         let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
+        // `illegal` tests MODE < PULSE_DIR for "a quadrature mode".
+        assert!(
+            [regmap::mode::X4, regmap::mode::X2, regmap::mode::X1]
+                .iter()
+                .all(|&m| m < regmap::mode::PULSE_DIR)
+                && regmap::mode::CW_CCW > regmap::mode::PULSE_DIR
+        );
         let width_mask = CounterParams::new(width, 1).count_mask();
         let sign_bit = 1u32 << (width - 1);
-        let k3 = |v: u32| Constant::new((v as u64).into());
         let k32 = |v: u32| Constant::new((v as u64).into());
         Self {
             clock: Default::default(),
@@ -160,8 +168,11 @@ impl CounterChannel {
             addr: Default::default(),
             wdata: Default::default(),
             we: Default::default(),
+            re: Default::default(),
             snapshot: Default::default(),
             preset: Default::default(),
+            preset_low_is_max: Default::default(),
+            preset_low_is_nonzero: Default::default(),
             rdata: Default::default(),
             filter_a: Default::default(),
             filter_b: Default::default(),
@@ -169,9 +180,11 @@ impl CounterChannel {
             a_prev: Default::default(),
             b_prev: Default::default(),
             zg_prev: Default::default(),
-            up_q: Default::default(),
-            down_q: Default::default(),
-            count: Default::default(),
+            decoder: Default::default(),
+            counter: UpDownCounter::new(width),
+            load_q: Default::default(),
+            index_latch_q: Default::default(),
+            index_clear_q: Default::default(),
             index: Default::default(),
             err: Default::default(),
             err_count: Default::default(),
@@ -181,6 +194,10 @@ impl CounterChannel {
             snap_count: Default::default(),
             snap_index: Default::default(),
             snap_status: Default::default(),
+            read_ctrl: Default::default(),
+            read_count: Default::default(),
+            read_index: Default::default(),
+            read_status: Default::default(),
             addr_ctrl: addr("CTRL"),
             addr_cmd: addr("CMD"),
             addr_count: addr("COUNT"),
@@ -208,32 +225,17 @@ impl CounterChannel {
             status_b: mask_of(&map, "STATUS", "B"),
             status_z: mask_of(&map, "STATUS", "Z"),
             status_err_count_lsb: bit_of(&map, "STATUS", "ERR_COUNT"),
-            mode_x4: k3(regmap::mode::X4),
-            mode_x2: k3(regmap::mode::X2),
-            mode_x1: k3(regmap::mode::X1),
-            mode_pulse_dir: k3(regmap::mode::PULSE_DIR),
-            mode_cw_ccw: k3(regmap::mode::CW_CCW),
-            width_mask: k32(width_mask),
+            quadrature_modes: Constant::new((regmap::mode::PULSE_DIR as u64).into()),
             sign_bit: k32(sign_bit),
             sign_extension: k32(!width_mask),
-            plus_one: k32(1),
-            minus_one: k32(width_mask),
             err_max: Constant::new((((1u32 << err_bits) - 1) as u64).into()),
             level_a: Default::default(),
             level_b: Default::default(),
             level_z: Default::default(),
-            mode: Default::default(),
-            changed_a: Default::default(),
-            changed_b: Default::default(),
-            a_ne_b: Default::default(),
-            rise_a: Default::default(),
-            rise_b: Default::default(),
             illegal: Default::default(),
-            up: Default::default(),
-            down: Default::default(),
-            swap: Default::default(),
-            step: Default::default(),
-            stepped: Default::default(),
+            count_now: Default::default(),
+            cmd_clear: Default::default(),
+            cmd_load: Default::default(),
             zg: Default::default(),
             index_event: Default::default(),
             index_act: Default::default(),
@@ -253,9 +255,12 @@ impl CounterChannel {
             a_prev: self.a_prev.q.val(),
             b_prev: self.b_prev.q.val(),
             zg_prev: self.zg_prev.q.val(),
-            up_q: self.up_q.q.val(),
-            down_q: self.down_q.q.val(),
-            count: self.count.q.val().to_u32(),
+            up_q: self.decoder.up_q.val(),
+            down_q: self.decoder.down_q.val(),
+            count: self.counter.value(),
+            load_q: self.load_q.q.val(),
+            index_latch_q: self.index_latch_q.q.val(),
+            index_clear_q: self.index_clear_q.q.val(),
             index: self.index.q.val().to_u32(),
             err: self.err.q.val(),
             err_count: self.err_count.q.val().to_u32(),
@@ -266,6 +271,12 @@ impl CounterChannel {
             snap_index: self.snap_index.q.val().to_u32(),
             snap_status: self.snap_status.q.val().to_u32(),
         }
+    }
+
+    /// The counter's look-ahead flags describe its low half (a contract
+    /// property the model does not see).
+    pub fn lookahead_consistent(&self) -> bool {
+        self.counter.lookahead_consistent()
     }
 }
 
@@ -278,9 +289,9 @@ impl Logic for CounterChannel {
             a_prev,
             b_prev,
             zg_prev,
-            up_q,
-            down_q,
-            count,
+            load_q,
+            index_latch_q,
+            index_clear_q,
             index,
             err,
             err_count,
@@ -289,7 +300,11 @@ impl Logic for CounterChannel {
             ctrl,
             snap_count,
             snap_index,
-            snap_status
+            snap_status,
+            read_ctrl,
+            read_count,
+            read_index,
+            read_status
         );
         // Input conditioning.
         self.filter_a.clock.next = self.clock.val();
@@ -320,65 +335,30 @@ impl Logic for CounterChannel {
         self.level_b.next = self.filter_b.level.val();
         self.level_z.next = self.filter_z.level.val();
 
-        // Decoder: up/down from (a_prev, b_prev) -> (a, b).
-        self.mode.next = self.ctrl.q.val().get_bits::<3>(self.mode_lsb.val().index());
-        self.changed_a.next = self.level_a.val() ^ self.a_prev.q.val();
-        self.changed_b.next = self.level_b.val() ^ self.b_prev.q.val();
-        self.a_ne_b.next = self.level_a.val() ^ self.level_b.val();
-        self.rise_a.next = self.level_a.val() & !self.a_prev.q.val();
-        self.rise_b.next = self.level_b.val() & !self.b_prev.q.val();
-        self.illegal.next = false;
-        self.up.next = false;
-        self.down.next = false;
-        if self.mode.val() == self.mode_x4.val() {
-            self.illegal.next = self.changed_a.val() & self.changed_b.val();
-            self.up.next = (self.changed_a.val() & !self.changed_b.val() & self.a_ne_b.val())
-                | (self.changed_b.val() & !self.changed_a.val() & !self.a_ne_b.val());
-            self.down.next = (self.changed_a.val() & !self.changed_b.val() & !self.a_ne_b.val())
-                | (self.changed_b.val() & !self.changed_a.val() & self.a_ne_b.val());
-        }
-        if self.mode.val() == self.mode_x2.val() {
-            self.illegal.next = self.changed_a.val() & self.changed_b.val();
-            self.up.next = self.changed_a.val() & !self.changed_b.val() & self.a_ne_b.val();
-            self.down.next = self.changed_a.val() & !self.changed_b.val() & !self.a_ne_b.val();
-        }
-        if self.mode.val() == self.mode_x1.val() {
-            self.illegal.next = self.changed_a.val() & self.changed_b.val();
-            self.up.next = !self.a_prev.q.val()
-                & !self.b_prev.q.val()
-                & self.level_a.val()
-                & !self.level_b.val();
-            self.down.next = self.a_prev.q.val()
-                & !self.b_prev.q.val()
-                & !self.level_a.val()
-                & !self.level_b.val();
-        }
-        if self.mode.val() == self.mode_pulse_dir.val() {
-            self.up.next = self.rise_a.val() & !self.level_b.val();
-            self.down.next = self.rise_a.val() & self.level_b.val();
-        }
-        if self.mode.val() == self.mode_cw_ccw.val() {
-            self.up.next = self.rise_a.val() & !self.rise_b.val();
-            self.down.next = self.rise_b.val() & !self.rise_a.val();
-        }
-        if self.ctrl.q.val().get_bit(self.reverse_bit.val().index()) {
-            self.swap.next = self.up.val();
-            self.up.next = self.down.val();
-            self.down.next = self.swap.val();
-        } else {
-            self.swap.next = false;
-        }
-        // The decision is registered, then one adder: count + {0, +1, -1}.
-        self.up_q.d.next = self.up.val();
-        self.down_q.d.next = self.down.val();
-        self.step.next = 0.into();
-        if self.up_q.q.val() {
-            self.step.next = self.plus_one.val();
-        }
-        if self.down_q.q.val() {
-            self.step.next = self.minus_one.val();
-        }
-        self.stepped.next = (self.count.q.val() + self.step.val()) & self.width_mask.val();
+        // Commands.
+        self.cmd_write.next = self.we.val() & (self.addr.val() == self.addr_cmd.val());
+        self.cmd_clear.next =
+            self.cmd_write.val() & self.wdata.val().get_bit(self.cmd_clear_bit.val().index());
+        self.cmd_load.next =
+            self.cmd_write.val() & self.wdata.val().get_bit(self.cmd_load_bit.val().index());
+
+        // Step decision, registered before it reaches the counter.
+        self.decoder.clock.next = self.clock.val();
+        // LOAD's second edge adds PRESET, not a step: the step decided now
+        // is dropped here, which keeps the counter's carry-in a plain flop.
+        self.decoder.hold.next = self.reset.val() | self.cmd_load.val();
+        self.decoder.a.next = self.level_a.val();
+        self.decoder.b.next = self.level_b.val();
+        self.decoder.a_prev.next = self.a_prev.q.val();
+        self.decoder.b_prev.next = self.b_prev.q.val();
+        self.decoder.mode.next = self.ctrl.q.val().get_bits::<3>(self.mode_lsb.val().index());
+        self.decoder.reverse.next = self.ctrl.q.val().get_bit(self.reverse_bit.val().index());
+        // Illegal: a quadrature mode (X4, X2, X1 are 0..=2) and A and B
+        // both changed.
+        self.illegal.next = (self.level_a.val() ^ self.a_prev.q.val())
+            & (self.level_b.val() ^ self.b_prev.q.val())
+            & (self.ctrl.q.val().get_bits::<3>(self.mode_lsb.val().index())
+                < self.quadrature_modes.val());
 
         // Index.
         self.zg.next = (self.level_z.val()
@@ -394,17 +374,35 @@ impl Logic for CounterChannel {
                 .get_bit(self.idx_oneshot_bit.val().index())
                 | self.armed.q.val());
 
+        // Counter. CLEAR, the first edge of LOAD and a registered
+        // clear-on-index are its synchronous reset; the second edge of LOAD
+        // adds PRESET to the cleared count in place of the step.
+        self.counter.clock.next = self.clock.val();
+        self.counter.up.next = self.decoder.up_q.val();
+        self.counter.down.next = self.decoder.down_q.val();
+        self.counter.load_value.next = self.preset.val();
+        self.counter.load_low_is_max.next = self.preset_low_is_max.val();
+        self.counter.load_low_is_nonzero.next = self.preset_low_is_nonzero.val();
+        self.counter.load.next = self.load_q.q.val();
+        self.counter.clear.next = self.reset.val()
+            | self.cmd_clear.val()
+            | self.cmd_load.val()
+            | self.index_clear_q.q.val();
+        self.count_now.next = self.counter.count.val();
+        self.load_q.d.next = self.cmd_load.val() & !self.cmd_clear.val();
+        // Index actions are registered and act at the next edge, on the
+        // count after the event's edge (a register, not the adder output).
+        self.index_latch_q.d.next =
+            self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_latch_bit.val().index());
+        self.index_clear_q.d.next =
+            self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_clear_bit.val().index());
+
         // Next state. Later assignments take priority.
-        self.cmd_write.next = self.we.val() & (self.addr.val() == self.addr_cmd.val());
         self.a_prev.d.next = self.level_a.val();
         self.b_prev.d.next = self.level_b.val();
         self.zg_prev.d.next = self.zg.val();
-        self.count.d.next = self.stepped.val();
-        if self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_clear_bit.val().index()) {
-            self.count.d.next = 0.into();
-        }
-        if self.index_act.val() & self.ctrl.q.val().get_bit(self.idx_latch_bit.val().index()) {
-            self.index.d.next = self.stepped.val();
+        if self.index_latch_q.q.val() {
+            self.index.d.next = self.count_now.val();
         }
         if self.illegal.val() & self.ctrl.q.val().get_bit(self.err_en_bit.val().index()) {
             self.err.d.next = true;
@@ -425,12 +423,6 @@ impl Logic for CounterChannel {
             self.armed.d.next = false;
         }
         if self.cmd_write.val() {
-            if self.wdata.val().get_bit(self.cmd_load_bit.val().index()) {
-                self.count.d.next = self.preset.val() & self.width_mask.val();
-            }
-            if self.wdata.val().get_bit(self.cmd_clear_bit.val().index()) {
-                self.count.d.next = 0.into();
-            }
             if self.wdata.val().get_bit(self.cmd_arm_bit.val().index()) {
                 self.armed.d.next = true;
             }
@@ -470,27 +462,38 @@ impl Logic for CounterChannel {
             self.status.next = self.status.val() | self.status_z.val();
         }
         if self.snapshot.val() {
-            self.snap_count.d.next = self.count.q.val();
+            self.snap_count.d.next = self.count_now.val();
             self.snap_index.d.next = self.index.q.val();
             self.snap_status.d.next = self.status.val();
         }
 
+        // Reads, stage 1: which register the bus addressed.
+        self.read_ctrl.d.next = self.re.val() & (self.addr.val() == self.addr_ctrl.val());
+        self.read_count.d.next = self.re.val() & (self.addr.val() == self.addr_count.val());
+        self.read_index.d.next = self.re.val() & (self.addr.val() == self.addr_index.val());
+        self.read_status.d.next = self.re.val() & (self.addr.val() == self.addr_status.val());
+
         if self.reset.val() {
-            self.count.d.next = 0.into();
             self.index.d.next = 0.into();
             self.err.d.next = false;
             self.err_count.d.next = 0.into();
             self.seen.d.next = false;
             self.armed.d.next = false;
-            self.up_q.d.next = false;
-            self.down_q.d.next = false;
+            self.load_q.d.next = false;
+            self.index_latch_q.d.next = false;
+            self.index_clear_q.d.next = false;
             self.ctrl.d.next = 0.into();
             self.snap_count.d.next = 0.into();
             self.snap_index.d.next = 0.into();
             self.snap_status.d.next = 0.into();
+            self.read_ctrl.d.next = false;
+            self.read_count.d.next = false;
+            self.read_index.d.next = false;
+            self.read_status.d.next = false;
         }
 
-        // Reads: W-bit values sign-extended to 32 bits.
+        // Reads, stage 2: AND-OR of the selected register; W-bit values
+        // sign-extended to 32 bits.
         if (self.snap_count.q.val() & self.sign_bit.val()).any() {
             self.count_read.next = self.snap_count.q.val() | self.sign_extension.val();
         } else {
@@ -502,17 +505,17 @@ impl Logic for CounterChannel {
             self.index_read.next = self.snap_index.q.val();
         }
         self.rdata.next = 0.into();
-        if self.addr.val() == self.addr_ctrl.val() {
-            self.rdata.next = self.ctrl.q.val();
+        if self.read_ctrl.q.val() {
+            self.rdata.next = self.rdata.val() | self.ctrl.q.val();
         }
-        if self.addr.val() == self.addr_count.val() {
-            self.rdata.next = self.count_read.val();
+        if self.read_count.q.val() {
+            self.rdata.next = self.rdata.val() | self.count_read.val();
         }
-        if self.addr.val() == self.addr_index.val() {
-            self.rdata.next = self.index_read.val();
+        if self.read_index.q.val() {
+            self.rdata.next = self.rdata.val() | self.index_read.val();
         }
-        if self.addr.val() == self.addr_status.val() {
-            self.rdata.next = self.snap_status.q.val();
+        if self.read_status.q.val() {
+            self.rdata.next = self.rdata.val() | self.snap_status.q.val();
         }
     }
 }

@@ -10,6 +10,9 @@ pub mod counter_channel;
 pub mod input_filter;
 pub mod ls153;
 pub mod pulse_mode_selector;
+pub mod quadrature_core;
+pub mod step_decoder;
+pub mod up_down_counter;
 pub mod verilog;
 
 pub use counter_bank::CounterBank;
@@ -17,6 +20,9 @@ pub use counter_channel::CounterChannel;
 pub use input_filter::InputFilter;
 pub use ls153::Ls153;
 pub use pulse_mode_selector::{PulseModeSelector, PulseModeSelectorRegistered};
+pub use quadrature_core::QuadratureCore;
+pub use step_decoder::StepDecoder;
+pub use up_down_counter::UpDownCounter;
 
 /// The version stamped into every generated file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -149,6 +149,12 @@ pub struct ChannelState {
     pub up_q: bool,
     /// Registered down decision.
     pub down_q: bool,
+    /// Second edge of a LOAD pending: the adder adds PRESET instead of the step.
+    pub load_q: bool,
+    /// Registered index action: latch the count at the next edge.
+    pub index_latch_q: bool,
+    /// Registered index action: clear the count at the next edge.
+    pub index_clear_q: bool,
     pub count: u32,
     pub index: u32,
     pub err: bool,
@@ -408,6 +414,9 @@ impl Channel {
         if inp.reset {
             n.up_q = false;
             n.down_q = false;
+            n.load_q = false;
+            n.index_latch_q = false;
+            n.index_clear_q = false;
             n.count = 0;
             n.index = 0;
             n.err = false;
@@ -422,17 +431,22 @@ impl Channel {
             return;
         }
 
-        n.up_q = d.up;
-        n.down_q = d.down;
-
         let cmd = inp.cmd_write.unwrap_or(0);
         let clear = l.clear.flag(cmd);
         let load = l.load.flag(cmd);
+
+        // LOAD's second edge adds PRESET in place of a step: the step decided
+        // in the LOAD clock is dropped.
+        n.up_q = d.up && !load;
+        n.down_q = d.down && !load;
         let arm = l.arm.flag(cmd);
         let clear_status = l.clear_status.flag(cmd);
 
-        // "+1 if up_q, −1 if down_q": up_q is tested first.
-        let stepped = if s.up_q {
+        // The adder: + PRESET on LOAD's second edge (the count is 0 then,
+        // cleared by the first), else +1 if up_q, −1 if down_q.
+        let stepped = if s.load_q {
+            wrap(s.count.wrapping_add(inp.preset), w)
+        } else if s.up_q {
             wrap(s.count.wrapping_add(1), w)
         } else if s.down_q {
             wrap(s.count.wrapping_sub(1), w)
@@ -440,17 +454,16 @@ impl Channel {
             wrap(s.count, w)
         };
 
-        n.count = if clear {
-            0
-        } else if load {
-            wrap(inp.preset, w)
-        } else if d.act && l.idx_clear.flag(s.ctrl) {
+        n.count = if clear || load || s.index_clear_q {
             0
         } else {
             stepped
         };
-        if d.act && l.idx_latch.flag(s.ctrl) {
-            n.index = stepped;
+        n.load_q = load && !clear;
+        n.index_latch_q = d.act && l.idx_latch.flag(s.ctrl);
+        n.index_clear_q = d.act && l.idx_clear.flag(s.ctrl);
+        if s.index_latch_q {
+            n.index = s.count;
         }
 
         let latch_err = d.illegal && l.err_en.flag(s.ctrl);
@@ -572,6 +585,9 @@ pub struct Bank {
     decode: Vec<Slot>,
     channels: Vec<Channel>,
     preset: u32,
+    /// The address of a read registered at the last edge (stage 1 of the
+    /// two-edge read).
+    read_pending: Option<u32>,
     rdata: u32,
 }
 
@@ -611,6 +627,7 @@ impl Bank {
             decode,
             channels,
             preset: 0,
+            read_pending: None,
             rdata: 0,
         }
     }
@@ -647,8 +664,8 @@ impl Bank {
         self.decode[wrap(addr, self.map.address_bits) as usize]
     }
 
-    /// What a read of `addr` would load into `rdata` now (0 for unmapped and
-    /// write-only addresses).
+    /// What `rdata` would load for a read of `addr` whose second edge is
+    /// the next one (0 for unmapped and write-only addresses).
     pub fn read_value(&self, addr: u32) -> u32 {
         match self.slot(addr) {
             Slot::Unmapped | Slot::Snapshot => 0,
@@ -678,13 +695,14 @@ impl Bank {
         } else {
             Slot::Unmapped
         };
-        let rdata = if reset {
-            0
-        } else if bus.re {
-            self.read_value(bus.addr)
-        } else {
-            self.rdata
+        // Reads take two edges: the edge with `re` registers the address,
+        // the next one loads that register's value at that time.
+        let rdata = match (reset, self.read_pending) {
+            (true, _) => 0,
+            (false, Some(addr)) => self.read_value(addr),
+            (false, None) => self.rdata,
         };
+        self.read_pending = (!reset && bus.re).then_some(bus.addr);
         let preset = self.preset;
         for (i, (ch, &(a, b, z))) in self.channels.iter_mut().zip(pins).enumerate() {
             ch.clock(&ChannelInputs {
@@ -808,11 +826,13 @@ mod tests {
             self.cmd_word(cmd_bit(name));
         }
 
+        /// A CMD write, then one idle clock so that a LOAD completes.
         fn cmd_word(&mut self, word: u32) {
             self.clock(ChannelInputs {
                 cmd_write: Some(word),
                 ..Default::default()
             });
+            self.idle(1);
         }
 
         fn count(&self) -> i64 {
@@ -1138,7 +1158,7 @@ mod tests {
     }
 
     #[test]
-    fn index_latch_records_count_including_this_clocks_step() {
+    fn index_latch_records_the_count_one_clock_after_the_event() {
         let ctrl = ctrl_field("IDX_LATCH", 1);
         let mut ch = Channel::new(CounterParams::new(28, 8));
         ch.set_state(ChannelState {
@@ -1153,22 +1173,24 @@ mod tests {
             },
             ..Default::default()
         });
-        ch.clock(&ChannelInputs {
+        let z_high = ChannelInputs {
             z: true,
             ..Default::default()
-        });
+        };
+        ch.clock(&z_high);
         assert_eq!(ch.state().count, 6);
-        assert_eq!(ch.state().index, 6);
         assert!(ch.state().seen);
+        assert!(ch.state().index_latch_q, "the action is registered");
+        assert_eq!(ch.state().index, 0, "and lands one edge later");
+        ch.clock(&z_high);
+        assert_eq!(ch.state().index, 6);
         // Level, not edge: no second event while Z stays high.
         ch.set_state(ChannelState {
             count: 9,
             ..*ch.state()
         });
-        ch.clock(&ChannelInputs {
-            z: true,
-            ..Default::default()
-        });
+        ch.clock(&z_high);
+        ch.clock(&z_high);
         assert_eq!(ch.state().index, 6);
 
         // Through the pins: index pulse at count 4.
@@ -1182,7 +1204,7 @@ mod tests {
     }
 
     #[test]
-    fn index_clear_zeroes_count_and_latch_sees_stepped() {
+    fn index_clear_zeroes_count_after_the_latch_took_it() {
         let ctrl = ctrl_field("IDX_LATCH", 1) | ctrl_field("IDX_CLEAR", 1);
         let mut ch = Channel::new(CounterParams::new(28, 8));
         ch.set_state(ChannelState {
@@ -1195,6 +1217,8 @@ mod tests {
             },
             ..Default::default()
         });
+        ch.clock(&ChannelInputs::default());
+        assert_eq!(ch.state().count, 4, "the event edge still steps");
         ch.clock(&ChannelInputs::default());
         assert_eq!(ch.state().count, 0);
         assert_eq!(ch.state().index, 4);
@@ -1251,8 +1275,9 @@ mod tests {
             cmd_write: Some(cmd_bit("ARM")),
             ..Default::default()
         });
-        assert_eq!(ch.state().index, 3);
         assert!(ch.state().armed);
+        ch.clock(&ChannelInputs::default());
+        assert_eq!(ch.state().index, 3);
     }
 
     #[test]
@@ -1299,48 +1324,63 @@ mod tests {
     }
 
     #[test]
-    fn clear_beats_load_beats_index_clear_beats_counting() {
-        let ctrl = ctrl_field("IDX_CLEAR", 1);
+    fn command_and_index_priorities() {
         let base = ChannelState {
-            ctrl,
             count: 5,
             up_q: true,
-            fz: InputFilter {
-                level: true,
-                ..Default::default()
-            },
             ..Default::default()
         };
-        let run = |cmd: u32| {
+        let run = |state: ChannelState, cmds: &[u32]| {
             let mut ch = Channel::new(CounterParams::new(28, 8));
-            ch.set_state(base);
-            ch.clock(&ChannelInputs {
-                cmd_write: Some(cmd),
-                preset: 0x1234,
-                ..Default::default()
-            });
-            ch.state().count
+            ch.set_state(state);
+            let mut counts = Vec::new();
+            for &cmd in cmds {
+                ch.clock(&ChannelInputs {
+                    cmd_write: Some(cmd),
+                    preset: 0x1234,
+                    ..Default::default()
+                });
+                counts.push(ch.state().count);
+            }
+            counts
         };
-        assert_eq!(run(cmd_bit("CLEAR") | cmd_bit("LOAD")), 0);
-        assert_eq!(run(cmd_bit("LOAD")), 0x1234);
-        assert_eq!(run(0), 0, "index clear wins over the step");
-        let no_index = |cmd: u32| {
-            let mut ch = Channel::new(CounterParams::new(28, 8));
-            ch.set_state(ChannelState { ctrl: 0, ..base });
-            ch.clock(&ChannelInputs {
-                cmd_write: Some(cmd),
-                preset: 0x1234,
-                ..Default::default()
-            });
-            ch.state().count
-        };
-        assert_eq!(no_index(0), 6);
+        let (clear, load) = (cmd_bit("CLEAR"), cmd_bit("LOAD"));
+        assert_eq!(run(base, &[0]), [6]);
+        assert_eq!(run(base, &[cmd_bit("ARM")]), [6], "other CMD bits count on");
+        assert_eq!(run(base, &[clear]), [0]);
         assert_eq!(
-            no_index(cmd_bit("ARM")),
-            6,
-            "other CMD bits do not stop counting"
+            run(base, &[load, 0, 0]),
+            [0, 0x1234, 0x1234],
+            "LOAD clears, then adds PRESET in place of the step"
         );
-        assert_eq!(no_index(cmd_bit("LOAD")), 0x1234);
+        assert_eq!(run(base, &[clear | load, 0]), [0, 0], "CLEAR beats LOAD");
+        assert_eq!(
+            run(base, &[load, clear]),
+            [0, 0],
+            "CLEAR beats a pending LOAD"
+        );
+        assert_eq!(
+            run(base, &[load, load, 0]),
+            [0, 0, 0x1234],
+            "LOAD again restarts"
+        );
+        let index_clear = ChannelState {
+            index_clear_q: true,
+            ..base
+        };
+        assert_eq!(run(index_clear, &[0]), [0], "index clear beats the step");
+        assert_eq!(
+            run(
+                ChannelState {
+                    load_q: true,
+                    count: 0,
+                    ..index_clear
+                },
+                &[0]
+            ),
+            [0],
+            "index clear beats the load's second edge"
+        );
     }
 
     #[test]
@@ -1451,6 +1491,7 @@ mod tests {
         }
         fn read(&mut self, addr: u32) -> u32 {
             self.clock(false, BusCycle::read(addr));
+            self.clock(false, BusCycle::default());
             self.bank.rdata()
         }
         fn ch(&self, i: u32, reg: &str) -> u32 {
@@ -1490,12 +1531,13 @@ mod tests {
     }
 
     #[test]
-    fn bank_rdata_has_one_clock_latency_and_holds() {
+    fn bank_rdata_has_two_edge_latency_pipelines_and_holds() {
         let mut r = BankRig::new(1, 28);
-        let preset = r.reg("PRESET");
+        let (preset, info) = (r.reg("PRESET"), r.reg("INFO"));
         r.write(preset, 42);
         assert_eq!(r.bank.rdata(), 0);
-        // Read and write in the same clock: the read sees the old value.
+        // Read and write in the same clock: the write lands at the first
+        // edge, the value is taken at the second, so the read sees it.
         r.clock(
             false,
             BusCycle {
@@ -1505,12 +1547,24 @@ mod tests {
                 re: true,
             },
         );
-        assert_eq!(r.bank.rdata(), 42);
+        assert_eq!(r.bank.rdata(), 0, "not yet after one edge");
+        // Back-to-back reads come out in order, one per clock.
+        r.clock(false, BusCycle::read(info));
+        assert_eq!(r.bank.rdata(), 7);
+        r.idle(1);
+        assert_eq!(r.bank.rdata(), r.map().register("INFO").reset);
         r.idle(3);
-        assert_eq!(r.bank.rdata(), 42, "rdata holds without re");
-        assert_eq!(r.read(preset), 7);
+        assert_eq!(
+            r.bank.rdata(),
+            r.map().register("INFO").reset,
+            "rdata holds without re"
+        );
+        // Reset drops a read in flight.
+        r.clock(false, BusCycle::read(preset));
         r.clock(true, BusCycle::default());
         assert_eq!(r.bank.rdata(), 0);
+        r.idle(1);
+        assert_eq!(r.bank.rdata(), 0, "the read before reset never lands");
         assert_eq!(r.bank.preset(), 0);
     }
 
@@ -1520,6 +1574,7 @@ mod tests {
         let (preset, snapshot) = (r.reg("PRESET"), r.reg("SNAPSHOT"));
         r.write(preset, 0xf800_0000); // -2^27: the most negative 28-bit count
         r.write(r.ch(1, "CMD"), cmd_bit("LOAD"));
+        r.idle(1); // LOAD's second edge
         assert_eq!(r.bank.channel(1).state().count, 0x0800_0000);
         assert_eq!(r.bank.channel(0).state().count, 0, "CMD is per channel");
         r.write(snapshot, 0);

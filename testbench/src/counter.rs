@@ -84,6 +84,12 @@ impl<const N: usize> BankPair<N> {
                     self.cycles
                 ));
             }
+            if !self.hdl.channel(i).lookahead_consistent() {
+                return Err(format!(
+                    "cycle {}: channel {i}: counter look-ahead flags do not match its low half",
+                    self.cycles
+                ));
+            }
         }
         Ok(())
     }
@@ -101,6 +107,7 @@ impl<const N: usize> BankPair<N> {
     /// A bus read of `addr`: returns the data, checked against the model.
     pub fn read(&mut self, pins: &[(bool, bool, bool)], addr: u32) -> Result<u32, String> {
         self.step(pins, false, &BusCycle::read(addr))?;
+        self.step(pins, false, &BusCycle::default())?;
         Ok(self.hdl.rdata.val().to_u32())
     }
 
@@ -171,6 +178,9 @@ pub struct Core {
     pub zg_prev: bool,
     pub up_q: bool,
     pub down_q: bool,
+    pub load_q: bool,
+    pub index_latch_q: bool,
+    pub index_clear_q: bool,
     pub count: u32,
     pub index: u32,
     pub err: bool,
@@ -187,6 +197,9 @@ impl Core {
             zg_prev: s.zg_prev,
             up_q: s.up_q,
             down_q: s.down_q,
+            load_q: s.load_q,
+            index_latch_q: s.index_latch_q,
+            index_clear_q: s.index_clear_q,
             count: s.count,
             index: s.index,
             err: s.err,
@@ -252,6 +265,9 @@ pub fn core_exhaustive(
         s.zg_prev = c.zg_prev;
         s.up_q = c.up_q;
         s.down_q = c.down_q;
+        s.load_q = c.load_q;
+        s.index_latch_q = c.index_latch_q;
+        s.index_clear_q = c.index_clear_q;
         s.count = c.count;
         s.index = c.index;
         s.err = c.err;

@@ -171,6 +171,7 @@ impl Script {
 
     pub fn read(&mut self, addr: u32) -> u32 {
         self.step(false, BusCycle::read(addr));
+        self.step(false, BusCycle::default());
         self.pair.hdl.rdata.val().to_u32()
     }
 

@@ -58,6 +58,7 @@ fn wrap_around<const N: usize>(width: u32) {
         .unwrap(); // -2
     let load = ch.register("CMD").field("LOAD").mask();
     p.write(&idle, ch.address(0, "CMD"), load).unwrap();
+    p.step(&idle, false, &BusCycle::default()).unwrap(); // LOAD's second edge
     let snapshot = map.register("SNAPSHOT").offset;
     let read_count = |p: &mut BankPair<N>| -> i32 {
         p.write(&idle, snapshot, 0).unwrap();
