@@ -50,6 +50,7 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
         modules.iter().map(|m| m.name).collect::<Vec<_>>(),
         [
             "ls153",
+            "ls688",
             "pulse_mode_selector",
             "pulse_mode_selector_registered",
             "counter_bank",

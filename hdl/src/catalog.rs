@@ -1,7 +1,7 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
 use crate::{
-    banner, verilog, CounterBank, Ls153, PulseModeSelector, PulseModeSelectorRegistered,
+    banner, verilog, CounterBank, Ls153, Ls688, PulseModeSelector, PulseModeSelectorRegistered,
     QuadratureCore,
 };
 use motionhdl_model::Config;
@@ -41,6 +41,15 @@ pub fn ls153() -> VerilogModule {
         Ls153::default(),
         "ls153",
         "74LS153 dual 4-to-1 data selector, one port per chip pin (combinational)",
+    )
+}
+
+/// The 74LS688 8-bit identity comparator.
+pub fn ls688() -> VerilogModule {
+    module(
+        Ls688::default(),
+        "ls688",
+        "74LS688 8-bit identity comparator: P=Q output active low, G enable active low (combinational)",
     )
 }
 
@@ -91,6 +100,7 @@ pub fn quadrature_core(width: u32) -> VerilogModule {
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
         ls153(),
+        ls688(),
         pulse_mode_selector(),
         pulse_mode_selector_registered(),
         counter_bank(config.axes(), config.counter_width()),

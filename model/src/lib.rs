@@ -7,6 +7,7 @@
 pub mod config;
 pub mod counter;
 pub mod ls153;
+pub mod ls688;
 pub mod pulse_mode_selector;
 pub mod regmap;
 

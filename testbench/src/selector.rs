@@ -195,7 +195,7 @@ pub fn registered_hdl() -> CheckReport {
     check_registered("rust-hdl vs model, every state × input", &vectors, &outputs)
 }
 
-fn sim_failure(r: CheckReport, sim: Simulator, err: String) -> CheckReport {
+pub(crate) fn sim_failure(r: CheckReport, sim: Simulator, err: String) -> CheckReport {
     match sim.available() {
         Err(why) => r.skip(why),
         Ok(()) => {
