@@ -3,8 +3,8 @@
 //! against the model.
 
 use crate::harness::{settle, CheckReport};
-use crate::selector::sim_failure;
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator};
+use crate::selector::compare_vectors;
+use crate::verilog_sim::{Design, Port, Simulator};
 use motionhdl_hdl::{catalog, Ls688};
 use motionhdl_model::ls688::{self as m688, Ls688Inputs, INPUT_PINS};
 use rust_hdl::prelude::*;
@@ -45,23 +45,17 @@ pub fn ls688_verilog(sim: Simulator) -> CheckReport {
         clock: None,
     };
     let inputs: Vec<Ls688Inputs> = every_input().collect();
-    let vectors: Vec<Vec<u64>> = inputs
-        .iter()
-        .map(|i| vec![u64::from(i.p), u64::from(i.q), u64::from(i.g_n)])
-        .collect();
-    match run_vectors(sim, &design, &vectors) {
-        Err(e) => sim_failure(r, sim, e),
-        Ok(out) => {
-            let mut r = r;
-            for (i, o) in inputs.iter().zip(out) {
-                let (got, want) = (o[0] != 0, m688::ls688(i));
-                r.case(
-                    (got != want).then(|| format!("inputs {i:?}: Verilog P=Q̅ {got}, model {want}")),
-                );
-            }
-            r
-        }
-    }
+    compare_vectors(
+        r,
+        sim,
+        &design,
+        &inputs,
+        |i| vec![u64::from(i.p), u64::from(i.q), u64::from(i.g_n)],
+        |i, o| {
+            let (got, want) = (o[0] != 0, m688::ls688(i));
+            (got != want).then(|| format!("inputs {i:?}: Verilog P=Q̅ {got}, model {want}"))
+        },
+    )
 }
 
 /// The 74LS688 checks; external simulators only when `external` is set.

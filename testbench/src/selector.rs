@@ -195,7 +195,7 @@ pub fn registered_hdl() -> CheckReport {
     check_registered("rust-hdl vs model, every state × input", &vectors, &outputs)
 }
 
-pub(crate) fn sim_failure(r: CheckReport, sim: Simulator, err: String) -> CheckReport {
+fn sim_failure(r: CheckReport, sim: Simulator, err: String) -> CheckReport {
     match sim.available() {
         Err(why) => r.skip(why),
         Ok(()) => {
@@ -231,9 +231,12 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
     let inputs: Vec<Ls153Inputs> = (0..(1u16 << INPUT_PINS))
         .map(Ls153Inputs::from_word)
         .collect();
-    let vectors: Vec<Vec<u64>> = inputs
-        .iter()
-        .map(|i| {
+    compare_vectors(
+        r,
+        sim,
+        &design,
+        &inputs,
+        |i| {
             [
                 i.a, i.b, i.g1_n, i.g2_n, i.c1[0], i.c1[1], i.c1[2], i.c1[3], i.c2[0], i.c2[1],
                 i.c2[2], i.c2[3],
@@ -241,19 +244,34 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
             .iter()
             .map(|b| u64::from(*b))
             .collect()
-        })
-        .collect();
-    match run_vectors(sim, &design, &vectors) {
+        },
+        |i, o| {
+            let want = m153::ls153(i);
+            let got = (o[0] != 0, o[1] != 0);
+            (got != (want.y1, want.y2))
+                .then(|| format!("inputs {i:?}: Verilog {got:?}, model {want:?}"))
+        },
+    )
+}
+
+/// Runs one vector per input through `design` in `sim` and records one case
+/// per input: `mismatch` gets the input and its outputs and describes any
+/// difference from the model.
+pub(crate) fn compare_vectors<I>(
+    r: CheckReport,
+    sim: Simulator,
+    design: &Design,
+    inputs: &[I],
+    encode: impl Fn(&I) -> Vec<u64>,
+    mismatch: impl Fn(&I, &[u64]) -> Option<String>,
+) -> CheckReport {
+    let vectors: Vec<Vec<u64>> = inputs.iter().map(encode).collect();
+    match run_vectors(sim, design, &vectors) {
         Err(e) => sim_failure(r, sim, e),
         Ok(out) => {
             let mut r = r;
             for (i, o) in inputs.iter().zip(out) {
-                let want = m153::ls153(i);
-                let got = (o[0] != 0, o[1] != 0);
-                r.case(
-                    (got != (want.y1, want.y2))
-                        .then(|| format!("inputs {i:?}: Verilog {got:?}, model {want:?}")),
-                );
+                r.case(mismatch(i, &o));
             }
             r
         }
