@@ -31,6 +31,10 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         path: PathBuf::from("include").join("motionhdl_config.h"),
         contents: config_header(config).into_bytes(),
     });
+    out.push(Artifact {
+        path: PathBuf::from("include").join(crate::isa_header::FILE_NAME),
+        contents: crate::isa_header::isa_header().into_bytes(),
+    });
     out
 }
 

@@ -6,10 +6,11 @@
 //! axes = 4              # 1..=16
 //! counter_width = 28    # 8..=32 bits
 //! clock_hz = 50_000_000 # 1 MHz..=400 MHz
+//! isa_ram = "internal"  # or "external": where the ISA bridge's RAM lives
 //! ```
 
 use crate::CliError;
-use motionhdl_model::Config;
+use motionhdl_model::{Config, IsaRam};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -19,6 +20,7 @@ struct RawConfig {
     axes: Option<i64>,
     counter_width: Option<i64>,
     clock_hz: Option<i64>,
+    isa_ram: Option<String>,
 }
 
 /// Parses and range-checks a configuration file's text. `origin` names the
@@ -39,7 +41,18 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
     let axes = value("axes", raw.axes, d.axes().into())?;
     let width = value("counter_width", raw.counter_width, d.counter_width().into())?;
     let clock = value("clock_hz", raw.clock_hz, d.clock_hz())?;
-    Config::new(axes, width, clock).map_err(|e| CliError::input(format!("{origin}: {e}")))
+    let isa_ram = match raw.isa_ram.as_deref() {
+        None => d.isa_ram(),
+        Some(name) => IsaRam::from_name(name).ok_or_else(|| {
+            CliError::input(format!(
+                "{origin}: isa_ram = \"{name}\" is not allowed: use one of {}",
+                IsaRam::NAMES.map(|n| format!("\"{n}\"")).join(", ")
+            ))
+        })?,
+    };
+    Config::new(axes, width, clock)
+        .map(|c| c.with_isa_ram(isa_ram))
+        .map_err(|e| CliError::input(format!("{origin}: {e}")))
 }
 
 /// Loads the configuration: the file if given, else the built-in default.
@@ -58,6 +71,15 @@ pub fn load(path: Option<&Path>) -> Result<Config, CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn isa_ram_is_read_and_checked() {
+        let c = parse("isa_ram = \"external\"\n", "t").unwrap();
+        assert_eq!(c.isa_ram(), IsaRam::External);
+        let e = parse("isa_ram = \"sram\"\n", "t").unwrap_err().to_string();
+        assert!(e.contains("isa_ram = \"sram\""), "{e}");
+        assert!(e.contains("\"internal\", \"external\""), "{e}");
+    }
 
     #[test]
     fn empty_file_is_the_default() {

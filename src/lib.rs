@@ -3,6 +3,7 @@
 
 pub mod artifacts;
 pub mod config_file;
+pub mod isa_header;
 pub mod output;
 pub mod verify;
 

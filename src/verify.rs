@@ -1,6 +1,6 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
-use motionhdl_testbench::{counter, ls688, quadrature_core, selector, CheckReport};
+use motionhdl_testbench::{counter, isa_bridge, ls688, quadrature_core, selector, CheckReport};
 
 /// Runs every check. `external` includes the generated-Verilog runs in
 /// Icarus Verilog and Verilator.
@@ -9,6 +9,7 @@ pub fn run(external: bool) -> Vec<CheckReport> {
     v.extend(counter::all(external));
     v.extend(quadrature_core::all());
     v.extend(ls688::all(external));
+    v.extend(isa_bridge::all(external));
     v
 }
 

@@ -54,7 +54,8 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
             "pulse_mode_selector",
             "pulse_mode_selector_registered",
             "counter_bank",
-            "quadrature_core"
+            "quadrature_core",
+            "isa_bridge"
         ]
     );
     for m in &modules {
@@ -91,13 +92,22 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
     }
 }
 
+/// Every exported module of the default build, plus the ISA bridge's
+/// external-SRAM build (also module `isa_bridge`, so never loaded with the
+/// default one).
+fn every_build() -> Vec<catalog::VerilogModule> {
+    let mut v = catalog::all(&Default::default());
+    v.push(catalog::isa_bridge(motionhdl_model::IsaRam::External));
+    v
+}
+
 #[test]
 fn verilator_lint_wall_is_clean() {
     if require_tool("verilator").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    for m in catalog::all(&Default::default()) {
+    for m in every_build() {
         let f = dir.path().join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
         let (ok, out, err) = run(Command::new("verilator")
@@ -179,7 +189,7 @@ fn yosys_synthesises_without_latches_or_multiple_drivers() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    for m in catalog::all(&Default::default()) {
+    for m in every_build() {
         let f = dir.path().join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
         for synth in ["synth", "synth_ice40"] {
@@ -193,6 +203,29 @@ fn yosys_synthesises_without_latches_or_multiple_drivers() {
             assert!(ok, "{}: yosys {synth}:\n{log}", m.name);
             assert!(!latch_inferred(&log), "{}: latch inferred:\n{log}", m.name);
         }
+    }
+}
+
+#[test]
+fn isa_bridge_ram_is_block_ram_on_ice40() {
+    if require_tool("yosys").is_none() {
+        return;
+    }
+    // 1 K x 16 twice (one copy per read port) = 8 SB_RAM40_4K (256 x 16
+    // each); the external build has none.
+    let dir = tempfile::tempdir().unwrap();
+    for (ram, brams) in [
+        (motionhdl_model::IsaRam::Internal, 8),
+        (motionhdl_model::IsaRam::External, 0),
+    ] {
+        let f = dir.path().join("isa_bridge.v");
+        fs::write(&f, catalog::isa_bridge(ram).text).unwrap();
+        let script = format!(
+            "read_verilog {}; synth_ice40 -top isa_bridge; select -assert-count {brams} t:SB_RAM40_4K",
+            f.display()
+        );
+        let (ok, out, err) = run(Command::new("yosys").args(["-p", &script]));
+        assert!(ok, "{ram:?}: expected {brams} SB_RAM40_4K:\n{out}{err}");
     }
 }
 

@@ -1,10 +1,10 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
 use crate::{
-    banner, verilog, CounterBank, Ls153, Ls688, PulseModeSelector, PulseModeSelectorRegistered,
-    QuadratureCore,
+    banner, verilog, CounterBank, IsaBridge, IsaBridgeExternal, Ls153, Ls688, PulseModeSelector,
+    PulseModeSelectorRegistered, QuadratureCore,
 };
-use motionhdl_model::Config;
+use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::Block;
 
 /// One exported module.
@@ -96,6 +96,25 @@ pub fn quadrature_core(width: u32) -> VerilogModule {
     )
 }
 
+/// The ISA address-counter interface, module `isa_bridge`, with its shared
+/// RAM inside the FPGA or as an external dual-port SRAM (the ports differ).
+pub fn isa_bridge(ram: IsaRam) -> VerilogModule {
+    match ram {
+        IsaRam::Internal => module(
+            IsaBridge::new(),
+            "isa_bridge",
+            "ISA address-counter interface: 74LS688 decode, DATA/ADDR_CLEAR/ADDR_INC/STATUS, \
+             1 K x 16 shared RAM in block RAM with a DSP port (docs/isa_bridge.md)",
+        ),
+        IsaRam::External => module(
+            IsaBridgeExternal::new(),
+            "isa_bridge",
+            "ISA address-counter interface: 74LS688 decode, DATA/ADDR_CLEAR/ADDR_INC/STATUS, \
+             PC-side port of an external 1 K x 16 dual-port SRAM (docs/isa_bridge.md)",
+        ),
+    }
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -105,5 +124,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         pulse_mode_selector_registered(),
         counter_bank(config.axes(), config.counter_width()),
         quadrature_core(config.counter_width()),
+        isa_bridge(config.isa_ram()),
     ]
 }

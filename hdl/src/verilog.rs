@@ -107,6 +107,69 @@ fn as_dff(m: &RawModule) -> Option<Dff> {
     Some(Dff { init })
 }
 
+/// rust-hdl's `RAM` widget: one synchronous read port, one write port.
+#[derive(Clone, Copy)]
+struct RamShape {
+    width: usize,
+    depth: usize,
+}
+
+/// Recognises rust-hdl's `RAM` module (without initial contents).
+fn as_ram(m: &RawModule) -> Option<RamShape> {
+    static MEM: OnceLock<Regex> = OnceLock::new();
+    let mem = re(&MEM, r"^reg\[(\d+):0\] mem\[(\d+):0\];$");
+    let ports = [
+        "read_address",
+        "read_clock",
+        "read_data",
+        "write_address",
+        "write_clock",
+        "write_data",
+        "write_enable",
+    ];
+    if m.args != ports {
+        return None;
+    }
+    let code: Vec<&str> = m
+        .lines
+        .iter()
+        .map(|l| l.trim())
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert!(
+        !code.iter().any(|l| l.starts_with("initial")),
+        "RAM {} has initial contents; the exporter does not carry them",
+        m.name
+    );
+    let shape_ok = code.contains(&"always @(posedge read_clock) begin")
+        && code.contains(&"read_data <= mem[read_address];")
+        && code.contains(&"always @(posedge write_clock) begin")
+        && code.contains(&"if (write_enable) begin")
+        && code.contains(&"mem[write_address] <= write_data;");
+    if !shape_ok {
+        return None;
+    }
+    let c = code.iter().find_map(|l| mem.captures(l))?;
+    Some(RamShape {
+        width: c[1].parse::<usize>().ok()? + 1,
+        depth: c[2].parse::<usize>().ok()? + 1,
+    })
+}
+
+/// An inlined RAM: its memory array name and its port nets.
+#[derive(Clone)]
+struct Mem {
+    name: String,
+    shape: RamShape,
+    read_clock: String,
+    read_address: String,
+    read_data: String,
+    write_clock: String,
+    write_address: String,
+    write_data: String,
+    write_enable: String,
+}
+
 /// An instance as rust-hdl writes it: `kind name(` then `.port(sig),` lines then `);`.
 struct Instance {
     kind: String,
@@ -157,10 +220,14 @@ fn rewrite(raw: &str, top: &str) -> String {
         .values()
         .filter_map(|m| as_dff(m).map(|d| (m.name.clone(), d)))
         .collect();
+    let rams: BTreeMap<String, RamShape> = modules
+        .values()
+        .filter_map(|m| as_ram(m).map(|r| (m.name.clone(), r)))
+        .collect();
     let root = modules
         .get("top")
         .expect("rust-hdl output has a top module");
-    let mut flat = flatten(root, &modules, &dffs);
+    let mut flat = flatten(root, &modules, &dffs, &rams);
     resolve_flop_clocks(&mut flat, &root.args);
     render(top, root, &flat)
 }
@@ -182,6 +249,8 @@ struct Flat {
     comb: Vec<Vec<String>>,
     /// Flip-flops: (clock, q, d).
     flops: Vec<(String, String, String)>,
+    /// Inlined RAMs.
+    mems: Vec<Mem>,
 }
 
 #[derive(Clone)]
@@ -196,6 +265,7 @@ fn flatten(
     m: &RawModule,
     modules: &BTreeMap<String, RawModule>,
     dffs: &BTreeMap<String, Dff>,
+    rams: &BTreeMap<String, RamShape>,
 ) -> Flat {
     static DECL: OnceLock<Regex> = OnceLock::new();
     let decl = re(
@@ -282,10 +352,36 @@ fn flatten(
             flat.flops.push((conn("clock"), q, conn("d")));
             continue;
         }
+        if let Some(shape) = rams.get(&inst.kind) {
+            let read_data = conn("read_data");
+            let net = flat
+                .nets
+                .iter_mut()
+                .find(|n| n.name == read_data)
+                .unwrap_or_else(|| {
+                    panic!("RAM output {read_data} is not a local net of {}", m.name)
+                });
+            // rust-hdl's RAM reads 0 before its first clock.
+            net.init = Some(format!("{}'h0", shape.width));
+            let name = format!("{}$mem", inst.name);
+            flat.widths.insert(name.clone(), shape.width);
+            flat.mems.push(Mem {
+                name,
+                shape: *shape,
+                read_clock: conn("read_clock"),
+                read_address: conn("read_address"),
+                read_data: conn("read_data"),
+                write_clock: conn("write_clock"),
+                write_address: conn("write_address"),
+                write_data: conn("write_data"),
+                write_enable: conn("write_enable"),
+            });
+            continue;
+        }
         let child = modules
             .get(&inst.kind)
             .unwrap_or_else(|| panic!("no module {}", inst.kind));
-        let sub = flatten(child, modules, dffs);
+        let sub = flatten(child, modules, dffs, rams);
         let rename = |id: &str| -> String {
             if child.args.iter().any(|a| a == id) {
                 conn(id)
@@ -313,6 +409,20 @@ fn flatten(
         }
         for (c, q, d) in sub.flops {
             flat.flops.push((rename(&c), rename(&q), rename(&d)));
+        }
+        for mem in sub.mems {
+            flat.widths.insert(rename(&mem.name), mem.shape.width);
+            flat.mems.push(Mem {
+                name: rename(&mem.name),
+                shape: mem.shape,
+                read_clock: rename(&mem.read_clock),
+                read_address: rename(&mem.read_address),
+                read_data: rename(&mem.read_data),
+                write_clock: rename(&mem.write_clock),
+                write_address: rename(&mem.write_address),
+                write_data: rename(&mem.write_data),
+                write_enable: rename(&mem.write_enable),
+            });
         }
     }
     flat
@@ -357,8 +467,13 @@ fn rename_identifiers(line: &str, rename: &dyn Fn(&str) -> String) -> String {
 /// instead and drop the stub, so no clock passes through `always @(*)`.
 fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
     let mut stubs = BTreeSet::new();
-    for f in 0..flat.flops.len() {
-        let mut clk = flat.flops[f].0.clone();
+    let mut clocks: Vec<String> = flat.flops.iter().map(|f| f.0.clone()).collect();
+    for m in &flat.mems {
+        clocks.push(m.read_clock.clone());
+        clocks.push(m.write_clock.clone());
+    }
+    let mut resolved = Vec::new();
+    for mut clk in clocks {
         while !ports.contains(&clk) {
             let prefix = format!("{clk} = ");
             let src = flat
@@ -378,7 +493,15 @@ fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
             stubs.insert(clk);
             clk = src;
         }
-        flat.flops[f].0 = clk;
+        resolved.push(clk);
+    }
+    let mut resolved = resolved.into_iter();
+    for f in &mut flat.flops {
+        f.0 = resolved.next().expect("one clock per flop");
+    }
+    for m in &mut flat.mems {
+        m.read_clock = resolved.next().expect("read clock");
+        m.write_clock = resolved.next().expect("write clock");
     }
     for block in &mut flat.comb {
         block.retain(|l| !stubs.iter().any(|s| l.starts_with(&format!("{s} = "))));
@@ -403,6 +526,7 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
         .filter_map(|l| l.trim().split(" = ").next().filter(|_| l.contains(" = ")))
         .map(|s| s.to_string())
         .chain(flat.flops.iter().map(|f| f.1.clone()))
+        .chain(flat.mems.iter().map(|m| m.read_data.clone()))
         .collect();
     let decl_width = |w: usize| {
         if w == 1 {
@@ -471,6 +595,31 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
         for (c, q, d) in &flat.flops {
             t.push_str(&format!("    always @(posedge {c}) {q} <= {d};\n"));
         }
+    }
+    for m in &flat.mems {
+        // Synchronous read, read-before-write: block RAM on iCE40 and ECP5.
+        t.push_str(&format!(
+            "\n    reg [{}:0] {} [0:{}];\n",
+            m.shape.width - 1,
+            m.name,
+            m.shape.depth - 1
+        ));
+        // Zero at power-up, as rust-hdl simulates it and as iCE40 and ECP5
+        // block RAM load from the bitstream.
+        t.push_str(&format!(
+            "    integer {n}_i;\n    initial for ({n}_i = 0; {n}_i < {d}; {n}_i = {n}_i + 1) {n}[{n}_i] = {w}'h0;\n",
+            n = m.name,
+            d = m.shape.depth,
+            w = m.shape.width
+        ));
+        t.push_str(&format!(
+            "    always @(posedge {}) {} <= {}[{}];\n",
+            m.read_clock, m.read_data, m.name, m.read_address
+        ));
+        t.push_str(&format!(
+            "    always @(posedge {}) if ({}) {}[{}] <= {};\n",
+            m.write_clock, m.write_enable, m.name, m.write_address, m.write_data
+        ));
     }
     t.push_str(&format!("endmodule // {name}\n"));
     // Every name must stay distinct once `$` becomes `_`.

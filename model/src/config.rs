@@ -11,6 +11,38 @@ pub struct Config {
     axes: u32,
     counter_width: u32,
     clock_hz: u64,
+    isa_ram: IsaRam,
+}
+
+/// Where the ISA bridge's shared 1 K × 16 RAM lives (a build option).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IsaRam {
+    /// Block RAM inside the FPGA, with a synchronous DSP port.
+    #[default]
+    Internal,
+    /// An external dual-port SRAM; the FPGA drives its PC-side port.
+    External,
+}
+
+impl IsaRam {
+    /// The configuration-file spellings.
+    pub const NAMES: [&'static str; 2] = ["internal", "external"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IsaRam::Internal => "internal",
+            IsaRam::External => "external",
+        }
+    }
+
+    /// Parses a configuration-file value.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "internal" => Some(IsaRam::Internal),
+            "external" => Some(IsaRam::External),
+            _ => None,
+        }
+    }
 }
 
 impl Config {
@@ -31,7 +63,17 @@ impl Config {
             axes: axes as u32,
             counter_width: counter_width as u32,
             clock_hz,
+            isa_ram: IsaRam::default(),
         })
+    }
+
+    /// The same configuration with the ISA bridge's RAM at `isa_ram`.
+    pub fn with_isa_ram(self, isa_ram: IsaRam) -> Self {
+        Self { isa_ram, ..self }
+    }
+
+    pub fn isa_ram(&self) -> IsaRam {
+        self.isa_ram
     }
 
     pub fn axes(&self) -> u32 {
@@ -55,6 +97,7 @@ impl Default for Config {
             axes: 4,
             counter_width: 28,
             clock_hz: 50_000_000,
+            isa_ram: IsaRam::Internal,
         }
     }
 }

@@ -6,9 +6,10 @@
 
 pub mod config;
 pub mod counter;
+pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;
 pub mod pulse_mode_selector;
 pub mod regmap;
 
-pub use config::{Config, ConfigError};
+pub use config::{Config, ConfigError, IsaRam};

@@ -12,6 +12,7 @@ pub mod counter;
 pub mod counter_scenarios;
 pub mod counter_stimulus;
 pub mod harness;
+pub mod isa_bridge;
 pub mod ls688;
 pub mod quadrature_core;
 pub mod scenarios;

@@ -65,6 +65,16 @@ pub const SCENARIOS: &[Scenario] = &[
         summary: "counter bank, FILTER_AB=3: a 2-clock glitch on A is rejected, a real step accepted",
         build: cs::filter_glitch,
     },
+    Scenario {
+        name: "isa_block_write",
+        summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
+        build: |_| crate::isa_bridge::block_write_trace(),
+    },
+    Scenario {
+        name: "isa_block_read",
+        summary: "ISA bridge: the DSP writes 8 words, the PC reads 4 the seed's way (DATA, ADDR_INC) and 4 with AUTO_INC",
+        build: |_| crate::isa_bridge::block_read_trace(),
+    },
 ];
 
 /// Looks a scenario up by name.

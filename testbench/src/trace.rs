@@ -20,8 +20,11 @@ struct SignalDef {
 pub struct Trace {
     banner: String,
     signals: Vec<SignalDef>,
-    /// time (ns) -> signal -> value; later writes at the same time win.
+    /// time -> signal -> value; later writes at the same time win.
     changes: BTreeMap<u64, BTreeMap<SignalId, u64>>,
+    /// Time unit: nanoseconds, or picoseconds for traces with events
+    /// between whole nanoseconds.
+    unit: TimescaleUnit,
 }
 
 impl Trace {
@@ -30,6 +33,15 @@ impl Trace {
             banner: banner.into(),
             signals: Vec::new(),
             changes: BTreeMap::new(),
+            unit: TimescaleUnit::NS,
+        }
+    }
+
+    /// A trace whose times are in picoseconds.
+    pub fn new_ps(banner: impl Into<String>) -> Self {
+        Self {
+            unit: TimescaleUnit::PS,
+            ..Self::new(banner)
         }
     }
 
@@ -48,7 +60,8 @@ impl Trace {
         SignalId(self.signals.len() - 1)
     }
 
-    /// Records `value` on `id` at `time_ns`.
+    /// Records `value` on `id` at `time_ns` (picoseconds for a trace made
+    /// with [`Trace::new_ps`]).
     pub fn set(&mut self, time_ns: u64, id: SignalId, value: u64) {
         let w = self.signals[id.0].width;
         assert!(
@@ -71,7 +84,7 @@ impl Trace {
         );
         writeln!(out, "$comment {} $end", self.banner)?;
         let mut w = vcd::Writer::new(out);
-        w.timescale(1, TimescaleUnit::NS)?;
+        w.timescale(1, self.unit)?;
         // Declare in scope order so each scope is opened once.
         let mut order: Vec<usize> = (0..self.signals.len()).collect();
         order.sort_by(|a, b| {
