@@ -9,12 +9,10 @@
 //! (an illegal transition); Z pulses at phase 0 on some clocks. The bus
 //! snapshots, reads, writes CTRL/CMD/PRESET at random.
 
-use crate::harness::tool;
-use crate::verilog_sim::Simulator;
+use crate::verilog_sim::{build_and_run, Simulator};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::regmap;
 use std::fmt::Write as _;
-use std::process::Command;
 
 /// Clocks of reset at the start of every run.
 pub const RESET_CLOCKS: u64 = 4;
@@ -279,65 +277,13 @@ pub fn verilog_sums_timed(
     std::fs::write(d.join("counter_bank.v"), source).map_err(|e| e.to_string())?;
     std::fs::write(d.join("tb.v"), verilog_testbench(axes, width, seed, cycles))
         .map_err(|e| e.to_string())?;
-    let run = |cmd: &mut Command, what: &str| -> Result<String, String> {
-        let o = cmd
-            .current_dir(d)
-            .output()
-            .map_err(|e| format!("{what}: {e}"))?;
-        if !o.status.success() {
-            return Err(format!(
-                "{what} failed:\n{}{}",
-                String::from_utf8_lossy(&o.stdout),
-                String::from_utf8_lossy(&o.stderr)
-            ));
-        }
-        Ok(String::from_utf8_lossy(&o.stdout).to_string())
-    };
-    let started;
-    let out = match sim {
-        Simulator::Icarus => {
-            tool("iverilog")?;
-            run(
-                Command::new("iverilog").args([
-                    "-g2012",
-                    "-o",
-                    "sim.vvp",
-                    "-s",
-                    "counter_bank_tb",
-                    "tb.v",
-                    "counter_bank.v",
-                ]),
-                "iverilog",
-            )?;
-            started = std::time::Instant::now();
-            run(Command::new("vvp").args(["-n", "sim.vvp"]), "vvp")?
-        }
-        Simulator::Verilator => {
-            run(
-                Command::new("verilator").args([
-                    "--binary",
-                    "-j",
-                    "2",
-                    "-Wno-fatal",
-                    "--top-module",
-                    "counter_bank_tb",
-                    "-Mdir",
-                    "obj",
-                    "-o",
-                    "sim",
-                    "tb.v",
-                    "counter_bank.v",
-                ]),
-                "verilator",
-            )?;
-            started = std::time::Instant::now();
-            run(
-                &mut Command::new(d.join("obj").join("sim")),
-                "verilated simulation",
-            )?
-        }
-    };
-    let elapsed = started.elapsed();
+    let (out, elapsed) = build_and_run(
+        sim,
+        d,
+        "counter_bank_tb",
+        &["tb.v", "counter_bank.v"],
+        false,
+    )?;
     let line = out
         .lines()
         .find_map(|l| l.strip_prefix("SUMS "))

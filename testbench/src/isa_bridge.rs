@@ -13,7 +13,7 @@
 //! transaction-level model ([`expected`]).
 
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::Simulator;
+use crate::verilog_sim::{build_and_run, Simulator};
 use motionhdl_hdl::{catalog, IsaBridge, IsaBridgeExternal};
 use motionhdl_model::isa_bridge::{
     self as m, reg, status, IsaBridgeExternalModel, IsaBridgeModel, IsaCard, IsaPins, SramPins,
@@ -23,7 +23,6 @@ use motionhdl_model::IsaRam;
 use rust_hdl::prelude::*;
 use std::fmt::Write as _;
 use std::fs;
-use std::process::Command;
 
 /// FPGA clock period (50 MHz).
 pub const CLOCK_PS: u64 = 20_000;
@@ -981,60 +980,7 @@ pub fn run_verilog(
     fs::write(d.join("tb.v"), tb).map_err(|e| e.to_string())?;
     fs::write(d.join("isa_bridge.v"), catalog::isa_bridge(ram).text).map_err(|e| e.to_string())?;
     fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
-    let run = |cmd: &mut Command, what: &str| -> Result<String, String> {
-        let out = cmd
-            .current_dir(d)
-            .output()
-            .map_err(|e| format!("{what}: {e}"))?;
-        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-        if !out.status.success() {
-            return Err(format!(
-                "{what} failed: {stdout}{}",
-                String::from_utf8_lossy(&out.stderr)
-            ));
-        }
-        Ok(stdout)
-    };
-    let stdout = match sim {
-        Simulator::Icarus => {
-            run(
-                Command::new("iverilog").args([
-                    "-g2005",
-                    "-Wall",
-                    "-o",
-                    "sim.vvp",
-                    "-s",
-                    "isa_bfm_tb",
-                    "tb.v",
-                    "isa_bridge.v",
-                ]),
-                "iverilog",
-            )?;
-            run(Command::new("vvp").args(["-n", "sim.vvp"]), "vvp")?
-        }
-        Simulator::Verilator => {
-            run(
-                Command::new("verilator").args([
-                    "--binary",
-                    "-j",
-                    "2",
-                    "--top-module",
-                    "isa_bfm_tb",
-                    "-Mdir",
-                    "obj",
-                    "-o",
-                    "sim",
-                    "tb.v",
-                    "isa_bridge.v",
-                ]),
-                "verilator",
-            )?;
-            run(
-                &mut Command::new(d.join("obj").join("sim")),
-                "verilated run",
-            )?
-        }
-    };
+    let (stdout, _) = build_and_run(sim, d, "isa_bfm_tb", &["tb.v", "isa_bridge.v"], true)?;
     if !stdout.lines().any(|l| l == "DONE") {
         return Err(format!("testbench did not finish:\n{stdout}"));
     }

@@ -11,6 +11,7 @@ use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
 use std::process::Command;
+use std::time::{Duration, Instant};
 
 /// A simulator for generated Verilog.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -139,6 +140,54 @@ fn testbench(design: &Design, vectors: usize) -> String {
     t
 }
 
+/// Compiles `files` (already in `dir`) with top module `top` in `sim` and
+/// runs the result there. `strict`: Icarus with `-Wall`, and Verilator
+/// warnings fatal (its default). Returns stdout and how long the run took,
+/// compilation excluded.
+pub fn build_and_run(
+    sim: Simulator,
+    dir: &Path,
+    top: &str,
+    files: &[&str],
+    strict: bool,
+) -> Result<(String, Duration), String> {
+    sim.available()?;
+    match sim {
+        Simulator::Icarus => {
+            let mut c = Command::new("iverilog");
+            c.current_dir(dir).arg("-g2012");
+            if strict {
+                c.arg("-Wall");
+            }
+            run(c.args(["-o", "sim.vvp", "-s", top]).args(files), "iverilog")?;
+            let started = Instant::now();
+            let out = run(
+                Command::new("vvp").current_dir(dir).args(["-n", "sim.vvp"]),
+                "vvp",
+            )?;
+            Ok((out, started.elapsed()))
+        }
+        Simulator::Verilator => {
+            let mut c = Command::new("verilator");
+            c.current_dir(dir).args(["--binary", "-j", "2"]);
+            if !strict {
+                c.arg("-Wno-fatal");
+            }
+            run(
+                c.args(["--top-module", top, "-Mdir", "obj", "-o", "sim"])
+                    .args(files),
+                "verilator",
+            )?;
+            let started = Instant::now();
+            let out = run(
+                Command::new(dir.join("obj").join("sim")).current_dir(dir),
+                "verilated simulation",
+            )?;
+            Ok((out, started.elapsed()))
+        }
+    }
+}
+
 fn run(cmd: &mut Command, what: &str) -> Result<String, String> {
     let out = cmd
         .output()
@@ -184,49 +233,7 @@ pub fn run_vectors(
         let _ = writeln!(hex, "{word:x}");
     }
     fs::write(d.join("vectors.hex"), hex).map_err(|e| e.to_string())?;
-    let stdout = match sim {
-        Simulator::Icarus => {
-            run(
-                Command::new("iverilog").current_dir(d).args([
-                    "-g2005",
-                    "-Wall",
-                    "-o",
-                    "sim.vvp",
-                    "-s",
-                    "motionhdl_tb",
-                    "tb.v",
-                    "dut.v",
-                ]),
-                "iverilog",
-            )?;
-            run(
-                Command::new("vvp").current_dir(d).args(["-n", "sim.vvp"]),
-                "vvp",
-            )?
-        }
-        Simulator::Verilator => {
-            run(
-                Command::new("verilator").current_dir(d).args([
-                    "--binary",
-                    "-j",
-                    "2",
-                    "--top-module",
-                    "motionhdl_tb",
-                    "-Mdir",
-                    "obj",
-                    "-o",
-                    "sim",
-                    "tb.v",
-                    "dut.v",
-                ]),
-                "verilator",
-            )?;
-            run(
-                Command::new(d.join("obj").join("sim")).current_dir(d),
-                "verilated simulation",
-            )?
-        }
-    };
+    let (stdout, _) = build_and_run(sim, d, "motionhdl_tb", &["tb.v", "dut.v"], true)?;
     parse_outputs(&stdout, design.outputs.len(), vectors.len())
 }
 
