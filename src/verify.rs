@@ -7,7 +7,7 @@ use motionhdl_testbench::{counter, isa_bridge, ls688, quadrature_core, selector,
 pub fn run(external: bool) -> Vec<CheckReport> {
     let mut v = selector::all(external);
     v.extend(counter::all(external));
-    v.extend(quadrature_core::all());
+    v.extend(quadrature_core::all(external));
     v.extend(ls688::all(external));
     v.extend(isa_bridge::all(external));
     v
