@@ -35,7 +35,36 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         path: PathBuf::from("include").join(crate::isa_header::FILE_NAME),
         contents: crate::isa_header::isa_header().into_bytes(),
     });
+    out.extend(regmap_exports(config));
     out
+}
+
+/// The MCU register map's exports, all from `regmap::mcu_map(config)`: the
+/// C header and its self-test, CMSIS-SVD, JSON, Markdown and a Rust module.
+pub fn regmap_exports(config: &Config) -> Vec<Artifact> {
+    use crate::regmap_export::{c_header, json, markdown, rust_module, selftest, svd};
+    let map = motionhdl_model::regmap::mcu_map(config);
+    let file = |path: PathBuf, text: String| Artifact {
+        path,
+        contents: text.into_bytes(),
+    };
+    vec![
+        file(
+            PathBuf::from("include").join(c_header::FILE_NAME),
+            c_header::header(&map),
+        ),
+        file(
+            PathBuf::from("test").join(selftest::FILE_NAME),
+            selftest::program(&map),
+        ),
+        file(PathBuf::from(svd::FILE_NAME), svd::svd(&map)),
+        file(PathBuf::from(json::FILE_NAME), json::json(&map)),
+        file(PathBuf::from(markdown::FILE_NAME), markdown::markdown(&map)),
+        file(
+            PathBuf::from("rust").join(rust_module::FILE_NAME),
+            rust_module::module(&map),
+        ),
+    ]
 }
 
 /// The build configuration as a C header, so firmware can check at compile

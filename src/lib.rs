@@ -5,6 +5,7 @@ pub mod artifacts;
 pub mod config_file;
 pub mod isa_header;
 pub mod output;
+pub mod regmap_export;
 pub mod verify;
 
 /// An error the CLI reports; `exit_code` 2 means bad input (nothing written).
