@@ -1,8 +1,8 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
 use crate::{
-    banner, verilog, CounterBank, IsaBridge, IsaBridgeExternal, Ls153, Ls688, PulseModeSelector,
-    PulseModeSelectorRegistered, QuadratureCore,
+    banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
+    PulseModeSelector, PulseModeSelectorRegistered, QuadratureCore,
 };
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::Block;
@@ -115,6 +115,16 @@ pub fn isa_bridge(ram: IsaRam) -> VerilogModule {
     }
 }
 
+/// The STM32F4 FSMC bridge: MCU bus to the register and RAM ports.
+pub fn fsmc_bridge() -> VerilogModule {
+    module(
+        FsmcBridge::new(),
+        "fsmc_bridge",
+        "STM32F4 FSMC (NE1, mode 1, 16-bit) to a 32-bit register port (tear-free halves) \
+         and a 16-bit RAM port; synchronised strobes (docs/fsmc_bridge.md)",
+    )
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -125,5 +135,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         counter_bank(config.axes(), config.counter_width()),
         quadrature_core(config.counter_width()),
         isa_bridge(config.isa_ram()),
+        fsmc_bridge(),
     ]
 }

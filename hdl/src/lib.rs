@@ -7,6 +7,7 @@
 pub mod catalog;
 pub mod counter_bank;
 pub mod counter_channel;
+pub mod fsmc_bridge;
 pub mod input_filter;
 pub mod isa_bridge;
 pub mod isa_bridge_external;
@@ -21,6 +22,7 @@ pub mod verilog;
 
 pub use counter_bank::CounterBank;
 pub use counter_channel::CounterChannel;
+pub use fsmc_bridge::FsmcBridge;
 pub use input_filter::InputFilter;
 pub use isa_bridge::IsaBridge;
 pub use isa_bridge_external::IsaBridgeExternal;

@@ -6,6 +6,7 @@
 
 pub mod config;
 pub mod counter;
+pub mod fsmc_bridge;
 pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;

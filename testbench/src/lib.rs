@@ -11,6 +11,7 @@ pub mod bench;
 pub mod counter;
 pub mod counter_scenarios;
 pub mod counter_stimulus;
+pub mod fsmc_bridge;
 pub mod harness;
 pub mod isa_bridge;
 pub mod ls688;
