@@ -55,7 +55,9 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
             "pulse_mode_selector_registered",
             "counter_bank",
             "quadrature_core",
-            "isa_bridge"
+            "isa_bridge",
+            "fsmc_bridge",
+            "motion_controller"
         ]
     );
     for m in &modules {

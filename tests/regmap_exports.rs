@@ -9,6 +9,7 @@ use motionhdl::regmap_export::{
     c_header, json, markdown, rust_module, selftest, svd, FSMC_NE1_BASE,
 };
 use motionhdl_hdl::banner;
+use motionhdl_model::fsmc_bridge;
 use motionhdl_model::regmap::{mcu_map, Access, Block, BusMap, Register, RegisterArray};
 use motionhdl_model::{Config, IsaRam};
 use motionhdl_testbench::harness::require_tool;
@@ -341,6 +342,17 @@ fn expected_macros(map: &BusMap) -> BTreeMap<String, u64> {
             u64::from(id.register("MAGIC").reset),
         ),
     ];
+    // The FSMC settings for the gateware's clock, from the bridge's budget.
+    let clock_hz = u64::from(id.register("CLOCK_HZ").reset);
+    let hclk_hz = fsmc_bridge::STM32F4_HCLK_HZ;
+    if let Ok(b) = fsmc_bridge::stm32f4_budget_checked(clock_hz, hclk_hz) {
+        let t = b.timing;
+        v.push((format!("{P}_FSMC_HCLK_HZ"), hclk_hz));
+        v.push((format!("{P}_FSMC_ADDSET"), u64::from(t.addset)));
+        v.push((format!("{P}_FSMC_DATAST"), u64::from(t.datast)));
+        v.push((format!("{P}_FSMC_BUSTURN"), u64::from(t.busturn)));
+        v.push((format!("{P}_FSMC_BTR1"), u64::from(t.btr())));
+    }
     for b in &map.blocks {
         v.push((format!("{P}_{}_BASE_OFFSET", b.name), u64::from(b.base * 4)));
         v.push((
@@ -429,14 +441,14 @@ fn check_header_numbers(map: &BusMap) -> usize {
 fn header_defines_every_number_of_the_table() {
     let map = default_map();
     let n = check_header_numbers(&map);
-    // 4 globals; ID: 2 + 8 registers x 2 + 12 fields x 4 + 2 enum values;
+    // 4 globals and 5 FSMC settings; ID: 2 + 8 registers x 2 + 12 fields x 4 + 2 enum values;
     // COUNTER: 2 + 3 x 2 + 4 fields x 4, CH: 2 + 5 x 2 + 23 fields x 4 +
     // 5 enum values; SHARED_RAM: 4.
     assert_eq!(
         n,
-        4 + (2 + 16 + 48 + 2) + (2 + 6 + 16) + (2 + 10 + 92 + 5) + 4
+        4 + 5 + (2 + 16 + 48 + 2) + (2 + 6 + 16) + (2 + 10 + 92 + 5) + 4
     );
-    assert_eq!(n, 209);
+    assert_eq!(n, 214);
     for c in other_configs() {
         check_header_numbers(&mcu_map(&c));
     }
@@ -536,9 +548,9 @@ fn selftest_passes_in_c99_and_c11() {
         let want = expected_checks(&map);
         assert_eq!(selftest::checks(&map).len(), want, "config {k}: checks");
         if k == 0 {
-            // 209 macros, 4 OFFSET(n), 25 struct offsets and sizes,
+            // 214 macros, 4 OFFSET(n), 25 struct offsets and sizes,
             // 2 x 31 register addresses and 2 RAM word addresses.
-            assert_eq!(want, 209 + 4 + 25 + 62 + 2);
+            assert_eq!(want, 214 + 4 + 25 + 62 + 2);
         }
         let dir = tempfile::tempdir().unwrap();
         write_pair(dir.path(), &map, &c_header::header(&map));

@@ -51,6 +51,16 @@ extern "C" {
  * address of the bank your board wires the FPGA's chip select to.
  */
 #define MOTIONHDL_FSMC_NE1_BASE 0x60000000u
+/*
+ * FSMC_BTR1 for this gateware (50000000 Hz) with HCLK 168000000 Hz: SRAM mode 1, 16-bit, not
+ * multiplexed (docs/fsmc_bridge.md). FSMC_BCR1: MBKEN, MWID = 01, WREN, EXTMOD = 0. Recompute with
+ * a slower HCLK; the read setup time assumed is THCLK + 4 ns.
+ */
+#define MOTIONHDL_FSMC_HCLK_HZ 168000000u
+#define MOTIONHDL_FSMC_ADDSET 4u
+#define MOTIONHDL_FSMC_DATAST 21u
+#define MOTIONHDL_FSMC_BUSTURN 0u
+#define MOTIONHDL_FSMC_BTR1 0x00001504u
 /* Bytes the window decodes from its base. */
 #define MOTIONHDL_WINDOW_SIZE 0x2000u
 /*

@@ -2,7 +2,7 @@
 
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
-    PulseModeSelector, PulseModeSelectorRegistered, QuadratureCore,
+    MotionController, PulseModeSelector, PulseModeSelectorRegistered, QuadratureCore,
 };
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::Block;
@@ -125,6 +125,27 @@ pub fn fsmc_bridge() -> VerilogModule {
     )
 }
 
+/// The top level for `config`: FSMC and ISA bridges, identity block and
+/// counter bank (docs/motion_controller.md). Only with the RAM inside the
+/// FPGA: with an external RAM the MCU reaches the RAM directly and this top
+/// is not built yet (`None`).
+pub fn motion_controller(config: &Config) -> Option<VerilogModule> {
+    const SUMMARY: &str = "motion-controller top level: FSMC (MCU) and ISA (PC) bridges, \
+                           identity block, counter bank, shared RAM (docs/motion_controller.md)";
+    if config.isa_ram() != IsaRam::Internal {
+        return None;
+    }
+    macro_rules! top {
+        ($($n:literal)+) => {
+            match config.axes() {
+                $($n => module(MotionController::<$n>::new(config), "motion_controller", SUMMARY),)+
+                n => panic!("axes = {n} out of range 1..=16"),
+            }
+        };
+    }
+    Some(top!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16))
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -137,4 +158,7 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         isa_bridge(config.isa_ram()),
         fsmc_bridge(),
     ]
+    .into_iter()
+    .chain(motion_controller(config))
+    .collect()
 }

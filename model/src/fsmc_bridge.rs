@@ -122,8 +122,20 @@ fn ceil_div(ns: f64, hclk_ns: f64) -> u32 {
     ((ns / hclk_ns) - 1e-9).ceil().max(0.0) as u32
 }
 
-/// The timing budget behind [`stm32f4_timing`].
+/// HCLK of an STM32F4 at its full 168 MHz: the MCU clock the generated
+/// header's FSMC settings assume.
+pub const STM32F4_HCLK_HZ: u64 = 168_000_000;
+
+/// The timing budget behind [`stm32f4_timing`]; panics where no FSMC
+/// setting fits (see [`stm32f4_budget_checked`]).
 pub fn stm32f4_budget(fpga_clock_hz: u64, hclk_hz: u64) -> TimingBudget {
+    stm32f4_budget_checked(fpga_clock_hz, hclk_hz).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The timing budget, or why the FSMC cannot reach the bridge at these
+/// clocks (DATAST or ADDSET beyond their register fields, or the write data
+/// too late for the FPGA clock).
+pub fn stm32f4_budget_checked(fpga_clock_hz: u64, hclk_hz: u64) -> Result<TimingBudget, String> {
     let t = 1e9 / fpga_clock_hz as f64;
     let h = 1e9 / hclk_hz as f64;
     // Read: NOE# is low for DATAST HCLKs and the MCU samples D at its end.
@@ -141,7 +153,12 @@ pub fn stm32f4_budget(fpga_clock_hz: u64, hclk_hz: u64) -> TimingBudget {
     //   DATAST * THCLK >= T + FPGA_INPUT (and the data delay < T).
     // Mode 1 uses one DATAST for both, so the read's governs.
     let write_low_min = t + FPGA_INPUT_NS;
-    assert!(STM32F4_WRITE_DATA_DELAY_NS < t - FPGA_INPUT_NS);
+    if STM32F4_WRITE_DATA_DELAY_NS >= t - FPGA_INPUT_NS {
+        return Err(format!(
+            "FSMC write data arrives {STM32F4_WRITE_DATA_DELAY_NS} ns after NWE# falls, \
+             too late for a {t:.2} ns FPGA clock"
+        ));
+    }
     let datast = datast_read.max(ceil_div(write_low_min, h)).max(1);
     // Address phase. Between the two halves of a 32-bit access NE1 stays
     // low and NOE# (NWE#) is high for only ADDSET (ADDSET + 1) HCLKs; the
@@ -152,15 +169,21 @@ pub fn stm32f4_budget(fpga_clock_hz: u64, hclk_hz: u64) -> TimingBudget {
     // before the first edge that sees a strobe low.
     let strobe_high_min = t + FPGA_INPUT_NS;
     let addset = ceil_div(strobe_high_min, h).max(1);
-    assert!(
-        addset <= ADDSET_MAX && datast <= DATAST_MAX,
-        "FSMC timing out of range: ADDSET {addset}, DATAST {datast}"
-    );
+    if addset > ADDSET_MAX || datast > DATAST_MAX {
+        return Err(format!(
+            "FSMC timing out of range at FPGA {fpga_clock_hz} Hz, HCLK {hclk_hz} Hz: \
+             ADDSET {addset} (max {ADDSET_MAX}), DATAST {datast} (max {DATAST_MAX})"
+        ));
+    }
     // Bus turnaround: d_oe is NE1# low AND NOE# low straight from the pins,
     // so the FPGA lets go of D one output delay after NOE# rises; the FSMC
     // drives D again only in a write's data phase, >= ADDSET HCLKs later.
-    assert!(f64::from(addset) * h > FPGA_OUTPUT_NS);
-    TimingBudget {
+    if f64::from(addset) * h <= FPGA_OUTPUT_NS {
+        return Err(format!(
+            "ADDSET {addset} leaves no bus turnaround at HCLK {hclk_hz} Hz"
+        ));
+    }
+    Ok(TimingBudget {
         fpga_period_ns: t,
         hclk_ns: h,
         read_latency_ns: read_latency,
@@ -172,7 +195,7 @@ pub fn stm32f4_budget(fpga_clock_hz: u64, hclk_hz: u64) -> TimingBudget {
             datast,
             busturn: 0,
         },
-    }
+    })
 }
 
 /// FSMC_BTR1 settings for this bridge with the FPGA at `fpga_clock_hz` and

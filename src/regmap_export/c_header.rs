@@ -7,6 +7,7 @@ use super::{
     REGISTER_BYTES,
 };
 use motionhdl_hdl::banner;
+use motionhdl_model::fsmc_bridge;
 use motionhdl_model::regmap::{Access, Block, BusMap, Field, Register, RegisterArray};
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -271,6 +272,7 @@ pub fn header(map: &BusMap) -> String {
         &format!("{p}_FSMC_NE1_BASE"),
         &format!("0x{FSMC_NE1_BASE:08x}u"),
     );
+    fsmc_timing(&mut o, map);
     o.comment("", "Bytes the window decodes from its base.");
     o.define(&format!("{p}_WINDOW_SIZE"), &hex(map.window_bytes()));
     o.comment(
@@ -418,4 +420,35 @@ pub fn header(map: &BusMap) -> String {
         "\n#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {p}_REGS_H */\n"
     );
     o.text
+}
+
+/// FSMC_BTR1 for the bridge at the gateware's clock (ID.CLOCK_HZ) with an
+/// STM32F4 at full speed, or a note saying why there is none.
+fn fsmc_timing(o: &mut Out, map: &BusMap) {
+    let p = PREFIX;
+    let clock_hz = u64::from(map.block("ID").register("CLOCK_HZ").reset);
+    let hclk_hz = fsmc_bridge::STM32F4_HCLK_HZ;
+    match fsmc_bridge::stm32f4_budget_checked(clock_hz, hclk_hz) {
+        Ok(b) => {
+            let t = b.timing;
+            o.comment(
+                "",
+                &format!(
+                    "FSMC_BTR1 for this gateware ({clock_hz} Hz) with HCLK {hclk_hz} Hz: SRAM mode 1, \
+                     16-bit, not multiplexed (docs/fsmc_bridge.md). FSMC_BCR1: MBKEN, MWID = 01, \
+                     WREN, EXTMOD = 0. Recompute with a slower HCLK; the read setup time assumed \
+                     is THCLK + 4 ns."
+                ),
+            );
+            o.define(&format!("{p}_FSMC_HCLK_HZ"), &format!("{hclk_hz}u"));
+            o.define(&format!("{p}_FSMC_ADDSET"), &format!("{}u", t.addset));
+            o.define(&format!("{p}_FSMC_DATAST"), &format!("{}u", t.datast));
+            o.define(&format!("{p}_FSMC_BUSTURN"), &format!("{}u", t.busturn));
+            o.define(&format!("{p}_FSMC_BTR1"), &format!("0x{:08x}u", t.btr()));
+        }
+        Err(why) => o.comment(
+            "",
+            &format!("No FSMC setting reaches this gateware: {why}."),
+        ),
+    }
 }

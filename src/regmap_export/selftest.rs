@@ -59,6 +59,16 @@ pub fn checks(map: &BusMap) -> Vec<Check> {
     push(&mut out, format!("{p}_WINDOW_SIZE"), map.window_bytes());
     push(&mut out, format!("{p}_MAP_HASH"), map_hash(map));
     push(&mut out, format!("{p}_ID_MAGIC"), id_magic(map));
+    let clock_hz = u64::from(map.block("ID").register("CLOCK_HZ").reset);
+    let hclk_hz = motionhdl_model::fsmc_bridge::STM32F4_HCLK_HZ;
+    if let Ok(b) = motionhdl_model::fsmc_bridge::stm32f4_budget_checked(clock_hz, hclk_hz) {
+        let t = b.timing;
+        push(&mut out, format!("{p}_FSMC_HCLK_HZ"), hclk_hz as u32);
+        push(&mut out, format!("{p}_FSMC_ADDSET"), t.addset);
+        push(&mut out, format!("{p}_FSMC_DATAST"), t.datast);
+        push(&mut out, format!("{p}_FSMC_BUSTURN"), t.busturn);
+        push(&mut out, format!("{p}_FSMC_BTR1"), t.btr());
+    }
     for b in &map.blocks {
         let bp = block_prefix(b);
         push(&mut out, format!("{bp}_BASE_OFFSET"), block_byte_offset(b));

@@ -234,9 +234,12 @@ fn satisfies(got: &Observation, want: &Expect, last_live: &mut Option<u16>) -> b
 
 /// A pin change at a time, or an observation point.
 #[derive(Clone, Copy, Debug)]
-enum Event {
+pub enum Event {
+    /// The pins and the reset input from now on.
     Pins(FsmcPins, bool),
+    /// Sample `d_oe`/`d_out` the read lead before NOE# rises.
     ObserveSetup,
+    /// Sample them again just before NOE# rises.
     ObserveEnd,
 }
 
@@ -254,7 +257,7 @@ fn next_falling(t: u64) -> u64 {
 
 /// The STM32F4 bus-functional model: every op as timed pin changes
 /// (ticks). Returns the events and the end time.
-fn timeline(ops: &[Op], timing: &FsmcTiming) -> (Vec<(u64, Event)>, u64) {
+pub fn timeline(ops: &[Op], timing: &FsmcTiming) -> (Vec<(u64, Event)>, u64) {
     let h = HCLK_TICKS;
     let lead = read_lead_ticks();
     let mut pins = FsmcPins::idle();
@@ -848,7 +851,8 @@ pub const LONG_RANDOM: (u64, usize) = (0xf53c_b1d6, 1500);
 // Verilog
 // ---------------------------------------------------------------------------
 
-fn encode(op: &Op) -> u64 {
+/// One op as a 64-bit word of `ops.hex` for the Verilog BFM.
+pub fn encode(op: &Op) -> u64 {
     let f = |kind: u64, a: u16, data: u32, param: u16| {
         (kind << 60) | (u64::from(a & 0xfff) << 48) | (u64::from(data) << 16) | u64::from(param)
     };
@@ -868,42 +872,22 @@ fn encode(op: &Op) -> u64 {
 /// the ops from `ops.hex`, prints one `RD` line per read and the slave's
 /// counts. Same waveform and time grid as [`timeline`].
 pub fn verilog_testbench(timing: &FsmcTiming, ops: usize) -> String {
-    let FsmcTiming {
-        addset,
-        datast,
-        busturn,
-    } = *timing;
-    let lead = read_lead_ticks();
+    fsmc_bfm_verilog(
+        timing,
+        ops,
+        "fsmc_bfm_tb",
+        "fsmc_bridge and its test slave",
+        &test_slave_verilog(),
+        "        $display(\"COUNTS %0d %0d %0d\", reg_reads, reg_writes, ram_writes);\n",
+    )
+}
+
+/// The test slave and the `fsmc_bridge` instance, for [`verilog_testbench`].
+fn test_slave_verilog() -> String {
     let live_lo = *LIVE_WORDS.start();
     let live_hi = *LIVE_WORDS.end();
     format!(
-        r#"// STM32F4 FSMC (mode 1) bus-functional model and test slave for fsmc_bridge (motionhdl).
-`timescale 1ns / 1ps
-`default_nettype none
-module fsmc_bfm_tb;
-    // Time in ticks of 1/{TICKS_PER_NS} ns: HCLK (168 MHz) = {HCLK_TICKS}, FPGA clock = {CLOCK_TICKS}.
-    localparam [63:0] TICKS_PER_NS = 64'd{TICKS_PER_NS};
-    localparam [63:0] HCLK = 64'd{HCLK_TICKS};
-    localparam [63:0] CLOCK_TICKS = 64'd{CLOCK_TICKS};
-    localparam [63:0] FIRST_EDGE = 64'd{FIRST_EDGE_TICKS};
-    localparam [63:0] GRID = 64'd{GRID};
-    localparam [63:0] CLEAR_CLOCKS = 64'd1100;
-    localparam [63:0] ADDSET = 64'd{addset};
-    localparam [63:0] DATAST = 64'd{datast};
-    localparam [63:0] BUSTURN = 64'd{busturn};
-    localparam [63:0] LEAD = 64'd{lead};
-    localparam [63:0] END_OBS = 64'd{END_OBSERVATION_TICKS};
-    localparam [63:0] DATA_DELAY = 64'd{WRITE_DATA_DELAY_TICKS};
-    localparam [15:0] FLOATING_BUS = 16'h{FLOATING_BUS:04x};
-    localparam [31:0] POISON = 32'h{RDATA_POISON:08x};
-
-    reg clock = 1'b0;
-    reg reset = 1'b0;
-    reg ne_n = 1'b1;
-    reg noe_n = 1'b1;
-    reg nwe_n = 1'b1;
-    reg [11:0] a = 12'h0;
-    reg [15:0] d_in = FLOATING_BUS;
+        r#"    localparam [31:0] POISON = 32'h{RDATA_POISON:08x};
     wire [15:0] d_out;
     wire d_oe;
     wire [9:0] reg_addr;
@@ -973,7 +957,61 @@ module fsmc_bfm_tb;
         k <= k + 1;
     end
 
-    // The MCU's time, in ticks.
+"#
+    )
+}
+
+/// The STM32F4 FSMC bus-functional model as a Verilog testbench module
+/// `tb_module`: `dut` declares the FSMC-side nets (`d_out`, `d_oe`) and
+/// instantiates the design (the testbench drives `clock`, `reset`, `ne_n`,
+/// `noe_n`, `nwe_n`, `a`, `d_in`); the BFM reads the ops from `ops.hex`,
+/// prints one `RD` line per read, then `final_display`, then `DONE`. Same
+/// waveform and time grid as [`timeline`].
+pub fn fsmc_bfm_verilog(
+    timing: &FsmcTiming,
+    ops: usize,
+    tb_module: &str,
+    dut_name: &str,
+    dut: &str,
+    final_display: &str,
+) -> String {
+    let FsmcTiming {
+        addset,
+        datast,
+        busturn,
+    } = *timing;
+    let lead = read_lead_ticks();
+    let header = format!(
+        r#"// STM32F4 FSMC (mode 1) bus-functional model for {dut_name} (motionhdl).
+`timescale 1ns / 1ps
+`default_nettype none
+module {tb_module};
+    // Time in ticks of 1/{TICKS_PER_NS} ns: HCLK (168 MHz) = {HCLK_TICKS}, FPGA clock = {CLOCK_TICKS}.
+    localparam [63:0] TICKS_PER_NS = 64'd{TICKS_PER_NS};
+    localparam [63:0] HCLK = 64'd{HCLK_TICKS};
+    localparam [63:0] CLOCK_TICKS = 64'd{CLOCK_TICKS};
+    localparam [63:0] FIRST_EDGE = 64'd{FIRST_EDGE_TICKS};
+    localparam [63:0] GRID = 64'd{GRID};
+    localparam [63:0] CLEAR_CLOCKS = 64'd1100;
+    localparam [63:0] ADDSET = 64'd{addset};
+    localparam [63:0] DATAST = 64'd{datast};
+    localparam [63:0] BUSTURN = 64'd{busturn};
+    localparam [63:0] LEAD = 64'd{lead};
+    localparam [63:0] END_OBS = 64'd{END_OBSERVATION_TICKS};
+    localparam [63:0] DATA_DELAY = 64'd{WRITE_DATA_DELAY_TICKS};
+    localparam [15:0] FLOATING_BUS = 16'h{FLOATING_BUS:04x};
+
+    reg clock = 1'b0;
+    reg reset = 1'b0;
+    reg ne_n = 1'b1;
+    reg noe_n = 1'b1;
+    reg nwe_n = 1'b1;
+    reg [11:0] a = 12'h0;
+    reg [15:0] d_in = FLOATING_BUS;
+"#
+    );
+    let bfm = format!(
+        r#"    // The MCU's time, in ticks.
     reg [63:0] t = GRID + CLEAR_CLOCKS * CLOCK_TICKS;
     reg [63:0] fall;
     reg [63:0] rise;
@@ -1076,15 +1114,15 @@ module fsmc_bfm_tb;
             endcase
         end
         wait_until(t + 64'd8 * CLOCK_TICKS);
-        $display("COUNTS %0d %0d %0d", reg_reads, reg_writes, ram_writes);
-        $display("DONE");
+{final_display}        $display("DONE");
         $finish;
     end
 endmodule
 `default_nettype wire
 "#,
         depth = ops,
-    )
+    );
+    header + dut + &bfm
 }
 
 /// Runs `ops` with `timing` through the generated `fsmc_bridge.v` under the
@@ -1109,38 +1147,48 @@ pub fn run_verilog(
     if !stdout.lines().any(|l| l == "DONE") {
         return Err(format!("testbench did not finish:\n{stdout}"));
     }
+    let obs = parse_reads(&stdout)?;
     let mut counts = None;
-    let mut obs = Vec::new();
     for l in stdout.lines() {
         let w: Vec<&str> = l.split_whitespace().collect();
-        let bad = || format!("bad line `{l}`");
-        match w.first() {
-            Some(&"RD") if w.len() == 5 => {
-                let bit = |s: &str| match s {
-                    "1" => Ok(true),
-                    "0" => Ok(false),
-                    _ => Err(bad()),
-                };
-                let hex16 = |s: &str| u16::from_str_radix(s, 16).map_err(|_| bad());
-                obs.push(Observation {
-                    oe_setup: bit(w[1])?,
-                    oe_end: bit(w[2])?,
-                    data_setup: hex16(w[3])?,
-                    data_end: hex16(w[4])?,
-                });
-            }
-            Some(&"COUNTS") if w.len() == 4 => {
-                let n = |s: &str| s.parse::<u64>().map_err(|_| bad());
-                counts = Some(Counts {
-                    reg_reads: n(w[1])?,
-                    reg_writes: n(w[2])?,
-                    ram_writes: n(w[3])?,
-                });
-            }
-            _ => {}
+        if w.first() == Some(&"COUNTS") && w.len() == 4 {
+            let n = |s: &str| s.parse::<u64>().map_err(|_| format!("bad line `{l}`"));
+            counts = Some(Counts {
+                reg_reads: n(w[1])?,
+                reg_writes: n(w[2])?,
+                ram_writes: n(w[3])?,
+            });
         }
     }
     Ok((obs, counts.ok_or("no COUNTS line")?))
+}
+
+/// The `RD` lines the Verilog BFM printed, one per read access.
+pub fn parse_reads(stdout: &str) -> Result<Vec<Observation>, String> {
+    let mut obs = Vec::new();
+    for l in stdout.lines() {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.first() != Some(&"RD") {
+            continue;
+        }
+        let bad = || format!("bad line `{l}`");
+        if w.len() != 5 {
+            return Err(bad());
+        }
+        let bit = |s: &str| match s {
+            "1" => Ok(true),
+            "0" => Ok(false),
+            _ => Err(bad()),
+        };
+        let hex16 = |s: &str| u16::from_str_radix(s, 16).map_err(|_| bad());
+        obs.push(Observation {
+            oe_setup: bit(w[1])?,
+            oe_end: bit(w[2])?,
+            data_setup: hex16(w[3])?,
+            data_end: hex16(w[4])?,
+        });
+    }
+    Ok(obs)
 }
 
 /// Runs `ops` in the generated Verilog against the transaction model.

@@ -15,6 +15,7 @@ pub mod fsmc_bridge;
 pub mod harness;
 pub mod isa_bridge;
 pub mod ls688;
+pub mod motion_controller;
 pub mod quadrature_core;
 pub mod scenarios;
 pub mod selector;

@@ -1,0 +1,409 @@
+//! The top level through the MCU's pins: every register of the map and the
+//! shared RAM window read and written by the STM32F4 FSMC bus-functional
+//! model (`fsmc_bridge`'s, with the documented timing), in rust-hdl and in
+//! the generated `motion_controller.v`, against an oracle built from the
+//! register-map table, the counter bank model and a RAM array.
+
+use crate::fsmc_bridge::{
+    documented_timing, fsmc_bfm_verilog, timeline, Event, Observation, Op, CLOCK_TICKS,
+    FIRST_EDGE_TICKS,
+};
+use crate::harness::{settle, CheckReport};
+use crate::verilog_sim::{build_and_run, Simulator};
+use motionhdl_hdl::{catalog, MotionController};
+use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
+use motionhdl_model::fsmc_bridge::FsmcPins;
+use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
+use motionhdl_model::Config;
+use rust_hdl::prelude::*;
+use std::fmt::Write as _;
+use std::fs;
+
+/// Register word addresses the MCU bus decodes into (A[10:1]).
+pub const REGISTER_WORDS: u32 = 1 << (regmap::MCU_HALFWORD_ADDRESS_BITS - 2);
+/// Halfword address of the RAM window's word 0 (pin A11).
+pub const RAM_HALFWORD: u16 = (regmap::MCU_RAM_BYTE_OFFSET / 2) as u16;
+/// Clocks the oracle's counter bank runs after each write, so that the
+/// write's consequences (an index event after a CTRL write, a two-edge
+/// LOAD) have settled before anything reads them.
+const SETTLE_CLOCKS: u32 = 40;
+
+/// What the MCU must read, from the table and the models.
+pub struct McuOracle {
+    map: BusMap,
+    bank: Bank,
+    axes: usize,
+    ram: Vec<u16>,
+}
+
+impl McuOracle {
+    pub fn new(config: &Config) -> Self {
+        let map = regmap::mcu_map(config);
+        let bank = Bank::new(
+            config.axes(),
+            CounterParams::new(config.counter_width(), ERR_COUNT_BITS),
+        );
+        let words = map.memories.first().map_or(0, |m| m.words) as usize;
+        Self {
+            map,
+            bank,
+            axes: config.axes() as usize,
+            ram: vec![0; words],
+        }
+    }
+
+    pub fn map(&self) -> &BusMap {
+        &self.map
+    }
+
+    fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {
+        let pins = vec![(false, false, false); self.axes];
+        self.bank.clock(&pins, reset, bus);
+    }
+
+    /// The synchronous reset: registers to their reset values, RAM kept.
+    pub fn reset(&mut self) {
+        for _ in 0..5 {
+            self.clock_bank(true, &BusCycle::default());
+        }
+        for _ in 0..SETTLE_CLOCKS {
+            self.clock_bank(false, &BusCycle::default());
+        }
+    }
+
+    /// The block decoding register word `word`, and the word's offset in it.
+    pub fn decode(&self, word: u32) -> Option<(&'static str, u32)> {
+        self.map
+            .blocks
+            .iter()
+            .find(|b| word >> b.address_bits == b.base >> b.address_bits)
+            .map(|b| (b.name, word - b.base))
+    }
+
+    /// Whether a write to `word` may change what any read returns.
+    pub fn writable(&self, word: u32) -> bool {
+        match self.decode(word) {
+            Some(("COUNTER", offset)) => self
+                .map
+                .block("COUNTER")
+                .decoded()
+                .iter()
+                .any(|(o, r, _)| *o == offset && r.access != Access::ReadOnly),
+            _ => false,
+        }
+    }
+
+    /// A 32-bit write to register word `word`.
+    pub fn write32(&mut self, word: u32, data: u32) {
+        if let Some(("COUNTER", offset)) = self.decode(word) {
+            self.clock_bank(false, &BusCycle::write(offset, data));
+            for _ in 0..SETTLE_CLOCKS {
+                self.clock_bank(false, &BusCycle::default());
+            }
+        }
+    }
+
+    /// A 32-bit read of register word `word`.
+    pub fn read32(&self, word: u32) -> u32 {
+        match self.decode(word) {
+            Some(("ID", offset)) => self
+                .map
+                .block("ID")
+                .registers
+                .iter()
+                .find(|r| r.offset == offset)
+                .map_or(0, |r| r.reset),
+            Some(("COUNTER", offset)) => self.bank.read_value(offset),
+            Some((other, _)) => panic!("oracle has no model of block {other}"),
+            None => 0,
+        }
+    }
+
+    pub fn ram_write(&mut self, word: usize, data: u16) {
+        self.ram[word] = data;
+    }
+
+    pub fn ram_read(&self, word: usize) -> u16 {
+        self.ram[word]
+    }
+}
+
+/// The op list and, per read access (halfword), the value it must return.
+pub struct Plan {
+    pub ops: Vec<Op>,
+    pub expected: Vec<u16>,
+    /// Register words written that the map decodes to nothing writable.
+    pub ignored_writes: u64,
+}
+
+/// A deterministic pattern with every bit exercised over the words.
+fn pattern(word: u32, salt: u32) -> u32 {
+    let x = word.wrapping_mul(0x9E37_79B9) ^ salt;
+    x ^ (x >> 15) ^ (x << 7)
+}
+
+/// Every register word read after reset; a pattern written to every word
+/// that decodes to nothing writable (reserved, ID, read-only) and every word
+/// read again; PRESET, LOAD, CTRL and SNAPSHOT written for every channel and
+/// every word read again; every RAM word written and read back, as 16-bit
+/// and as 32-bit accesses.
+pub fn plan(config: &Config) -> Plan {
+    let mut o = McuOracle::new(config);
+    let mut ops = vec![Op::Reset];
+    let mut expected = Vec::new();
+    o.reset();
+    let read_all = |o: &McuOracle, ops: &mut Vec<Op>, expected: &mut Vec<u16>| {
+        for w in 0..REGISTER_WORDS {
+            ops.push(Op::Read32 { a: (w * 2) as u16 });
+            let v = o.read32(w);
+            expected.extend([v as u16, (v >> 16) as u16]);
+        }
+    };
+    read_all(&o, &mut ops, &mut expected);
+    let mut ignored_writes = 0;
+    for w in 0..REGISTER_WORDS {
+        if !o.writable(w) {
+            let data = pattern(w, 0x5A5A_A5A5);
+            ops.push(Op::Write32 {
+                a: (w * 2) as u16,
+                data,
+            });
+            o.write32(w, data);
+            ignored_writes += 1;
+        }
+    }
+    read_all(&o, &mut ops, &mut expected);
+    let counter = o.map().block("COUNTER").clone();
+    let ch = counter.array("CH");
+    let word = |offset: u32| counter.base + offset;
+    let load = ch.register("CMD").field("LOAD").mask();
+    for i in 0..ch.count {
+        let writes = [
+            (
+                word(counter.register("PRESET").offset),
+                pattern(i, 0x0123_4567),
+            ),
+            (word(ch.address(i, "CMD")), load),
+            (word(ch.address(i, "CTRL")), pattern(i, 0x7654_3210)),
+        ];
+        for (w, data) in writes {
+            ops.push(Op::Write32 {
+                a: (w * 2) as u16,
+                data,
+            });
+            o.write32(w, data);
+        }
+    }
+    let snapshot = word(counter.register("SNAPSHOT").offset);
+    ops.push(Op::Write32 {
+        a: (snapshot * 2) as u16,
+        data: 0,
+    });
+    o.write32(snapshot, 0);
+    read_all(&o, &mut ops, &mut expected);
+    let ram_words = o.ram.len();
+    for k in 0..ram_words {
+        let data = pattern(k as u32, 0xC0DE_0000) as u16;
+        ops.push(Op::Write16 {
+            a: RAM_HALFWORD + k as u16,
+            data,
+        });
+        o.ram_write(k, data);
+    }
+    for k in 0..ram_words {
+        ops.push(Op::Read16 {
+            a: RAM_HALFWORD + k as u16,
+        });
+        expected.push(o.ram_read(k));
+    }
+    // 32-bit accesses to the RAM window: two words, the low one first.
+    for k in (0..ram_words.min(64)).step_by(2) {
+        let data = pattern(k as u32, 0xBEEF_0000);
+        ops.push(Op::Write32 {
+            a: RAM_HALFWORD + k as u16,
+            data,
+        });
+        o.ram_write(k, data as u16);
+        o.ram_write(k + 1, (data >> 16) as u16);
+    }
+    for k in (0..ram_words.min(64)).step_by(2) {
+        ops.push(Op::Read32 {
+            a: RAM_HALFWORD + k as u16,
+        });
+        expected.extend([o.ram_read(k), o.ram_read(k + 1)]);
+    }
+    Plan {
+        ops,
+        expected,
+        ignored_writes,
+    }
+}
+
+fn set_pins<const N: usize>(uut: &mut MotionController<N>, p: &FsmcPins, reset: bool) {
+    uut.reset.next = reset;
+    uut.fsmc_ne_n.next = p.ne_n;
+    uut.fsmc_noe_n.next = p.noe_n;
+    uut.fsmc_nwe_n.next = p.nwe_n;
+    uut.fsmc_a.next = u64::from(p.a).into();
+    uut.fsmc_d_in.next = u64::from(p.d_in).into();
+    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
+    uut.isa_ior_n.next = true;
+    uut.isa_iow_n.next = true;
+    uut.isa_aen.next = true;
+}
+
+/// Steps the rust-hdl top through `ops` under the FSMC BFM: what each read
+/// observed at the MCU's pins, and the clocks simulated.
+pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation>, u64) {
+    let (events, end) = timeline(ops, &documented_timing());
+    let mut uut = MotionController::<N>::new(config);
+    uut.connect_all();
+    let mut pins = FsmcPins::idle();
+    let mut reset = false;
+    let mut observations = Vec::new();
+    let mut pending = None;
+    let mut clocks = 0;
+    let mut edge = FIRST_EDGE_TICKS;
+    let mut i = 0;
+    while edge <= end || i < events.len() {
+        while i < events.len() && events[i].0 < edge {
+            match events[i].1 {
+                Event::Pins(p, r) => {
+                    pins = p;
+                    reset = r;
+                }
+                Event::ObserveSetup | Event::ObserveEnd => {
+                    set_pins(&mut uut, &pins, reset);
+                    settle(&mut uut);
+                    let now = (uut.fsmc_d_oe.val(), uut.fsmc_d_out.val().index() as u16);
+                    if matches!(events[i].1, Event::ObserveSetup) {
+                        pending = Some(now);
+                    } else {
+                        let (oe_setup, data_setup) = pending.take().expect("setup first");
+                        observations.push(Observation {
+                            oe_setup,
+                            oe_end: now.0,
+                            data_setup,
+                            data_end: now.1,
+                        });
+                    }
+                }
+            }
+            i += 1;
+        }
+        if edge > end {
+            break;
+        }
+        set_pins(&mut uut, &pins, reset);
+        settle(&mut uut);
+        uut.clock.next = Clock::from(true);
+        settle(&mut uut);
+        uut.clock.next = Clock::from(false);
+        settle(&mut uut);
+        clocks += 1;
+        edge += CLOCK_TICKS;
+    }
+    (observations, clocks)
+}
+
+/// The top and an idle PC side under the Verilog FSMC BFM.
+pub fn verilog_testbench(config: &Config, ops: usize) -> String {
+    let n = config.axes();
+    let dut = format!(
+        r#"    wire [15:0] d_out;
+    wire d_oe;
+    wire [15:0] isa_sd_out;
+    wire isa_sd_oe;
+    wire isa_iocs16_n;
+    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
+    motion_controller dut (
+        .clock(clock), .reset(reset),
+        .fsmc_ne_n(ne_n), .fsmc_noe_n(noe_n), .fsmc_nwe_n(nwe_n), .fsmc_a(a),
+        .fsmc_d_in(d_in), .fsmc_d_out(d_out), .fsmc_d_oe(d_oe),
+        .isa_sa(10'h0), .isa_sd_in(16'h0), .isa_sd_out(isa_sd_out), .isa_sd_oe(isa_sd_oe),
+        .isa_ior_n(1'b1), .isa_iow_n(1'b1), .isa_aen(1'b1), .isa_bale(1'b0),
+        .isa_base(8'h0), .isa_iocs16_n(isa_iocs16_n),
+        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0)
+    );
+
+    // 50 MHz: rising edges at 10 ns + k * 20 ns.
+    always #10 clock = ~clock;
+
+"#
+    );
+    fsmc_bfm_verilog(
+        &documented_timing(),
+        ops,
+        "motion_controller_tb",
+        "motion_controller",
+        &dut,
+        "",
+    )
+}
+
+/// Runs `ops` through the generated `motion_controller.v` in `sim`.
+pub fn run_verilog(
+    sim: Simulator,
+    config: &Config,
+    ops: &[Op],
+) -> Result<Vec<Observation>, String> {
+    sim.available()?;
+    let top = catalog::motion_controller(config).ok_or("no top for this configuration")?;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let d = dir.path();
+    let mut hex = String::new();
+    for op in ops {
+        let _ = writeln!(hex, "{:016x}", crate::fsmc_bridge::encode(op));
+    }
+    let _ = writeln!(hex, "{:016x}", 0);
+    fs::write(d.join("tb.v"), verilog_testbench(config, ops.len())).map_err(|e| e.to_string())?;
+    fs::write(d.join("motion_controller.v"), top.text).map_err(|e| e.to_string())?;
+    fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
+    let (stdout, _) = build_and_run(
+        sim,
+        d,
+        "motion_controller_tb",
+        &["tb.v", "motion_controller.v"],
+        true,
+    )?;
+    if !stdout.lines().any(|l| l == "DONE") {
+        return Err(format!("testbench did not finish:\n{stdout}"));
+    }
+    crate::fsmc_bridge::parse_reads(&stdout)
+}
+
+/// One case per read halfword: driven from the setup point to the end, with
+/// the value the oracle expects.
+pub fn compare(name: &str, plan: &Plan, got: &[Observation]) -> CheckReport {
+    let mut r = CheckReport::new("motion_controller", name, plan.expected.len() as u64);
+    if got.len() != plan.expected.len() {
+        r.failures.push(format!(
+            "{} reads observed, {} expected",
+            got.len(),
+            plan.expected.len()
+        ));
+        return r;
+    }
+    // Name each read for the failure message.
+    let mut names = Vec::new();
+    for op in &plan.ops {
+        match *op {
+            Op::Read16 { a } => names.push(format!("Read16 A={a:#05x}")),
+            Op::Read32 { a } => {
+                names.push(format!("Read32 A={a:#05x} low"));
+                names.push(format!("Read32 A={a:#05x} high"));
+            }
+            _ => {}
+        }
+    }
+    for (k, (g, want)) in got.iter().zip(&plan.expected).enumerate() {
+        let ok = g.oe_setup && g.oe_end && g.data_setup == *want && g.data_end == *want;
+        r.case((!ok).then(|| {
+            format!(
+                "read #{k} ({}): observed {g:?}, expected {want:#06x}",
+                names[k]
+            )
+        }));
+    }
+    r
+}

@@ -1,0 +1,136 @@
+//! The top level through the MCU's pins: every register word of the map read
+//! after reset, reserved and read-only words written (nothing changes),
+//! every channel configured, the whole RAM window written and read back,
+//! by the STM32F4 FSMC bus-functional model with the documented timing, in
+//! rust-hdl and in the generated Verilog (Icarus, Verilator), against the
+//! table, the counter bank model and a RAM array.
+
+use motionhdl_hdl::catalog;
+use motionhdl_model::regmap;
+use motionhdl_model::{Config, IsaRam};
+use motionhdl_testbench::motion_controller::{self as top, McuOracle, Plan};
+use motionhdl_testbench::verilog_sim::Simulator;
+use motionhdl_testbench::CheckReport;
+use std::sync::OnceLock;
+
+fn config() -> Config {
+    Config::default()
+}
+
+fn plan() -> &'static Plan {
+    static PLAN: OnceLock<Plan> = OnceLock::new();
+    PLAN.get_or_init(|| top::plan(&config()))
+}
+
+/// Halfword reads the plan makes: three passes over every register word
+/// (two halves each), every RAM word as 16-bit, 32 RAM pairs as 32-bit.
+const EXPECTED_READS: u64 = 3 * 1024 * 2 + 1024 + 32 * 2;
+
+#[test]
+fn the_plan_covers_the_map() {
+    let p = plan();
+    assert_eq!(p.expected.len() as u64, EXPECTED_READS);
+    let o = McuOracle::new(&config());
+    // Every register word is either writable or among the ignored writes.
+    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
+    assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
+    // PRESET, SNAPSHOT and CTRL/CMD of 4 channels.
+    assert_eq!(writable, 2 + 4 * 2);
+    // The ID block reads its table values after reset.
+    let id = o.map().block("ID");
+    assert_eq!(o.read32(id.base), regmap::ID_MAGIC);
+    let reads = &p.expected[..2 * top::REGISTER_WORDS as usize];
+    let word =
+        |w: u32| u32::from(reads[2 * w as usize]) | u32::from(reads[2 * w as usize + 1]) << 16;
+    for r in &id.registers {
+        assert_eq!(word(id.base + r.offset), r.reset, "ID.{}", r.name);
+    }
+    let counter = o.map().block("COUNTER");
+    assert_eq!(
+        word(counter.base + counter.register("INFO").offset),
+        counter.register("INFO").reset
+    );
+    // The oracle sees writes to reserved words as nothing.
+    assert!((0..top::REGISTER_WORDS).any(|w| o.decode(w).is_none()));
+}
+
+fn check(
+    name: &str,
+    got: Result<Vec<motionhdl_testbench::fsmc_bridge::Observation>, String>,
+    sim: Option<Simulator>,
+) -> CheckReport {
+    match got {
+        Ok(obs) => top::compare(name, plan(), &obs),
+        Err(e) => {
+            let mut r = CheckReport::new("motion_controller", name, EXPECTED_READS);
+            if sim.is_some_and(|s| s.available().is_err()) {
+                return r.skip(e);
+            }
+            r.failures.push(e);
+            r
+        }
+    }
+}
+
+#[test]
+fn every_register_and_ram_word_through_fsmc_rust_hdl() {
+    let (obs, clocks) = top::run_rust::<4>(&config(), &plan().ops);
+    let r = check("every register and RAM word, rust-hdl", Ok(obs), None);
+    assert!(clocks > 50_000, "{clocks} clocks");
+    assert_eq!(r.expected, EXPECTED_READS);
+    r.assert_passed();
+    assert_eq!(r.covered, EXPECTED_READS);
+}
+
+#[test]
+fn every_register_and_ram_word_through_fsmc_icarus() {
+    let sim = Simulator::Icarus;
+    let r = check(
+        "every register and RAM word, Icarus",
+        top::run_verilog(sim, &config(), &plan().ops),
+        Some(sim),
+    );
+    r.assert_passed();
+    if r.skipped.is_none() {
+        assert_eq!(r.covered, EXPECTED_READS);
+    }
+}
+
+#[test]
+fn every_register_and_ram_word_through_fsmc_verilator() {
+    let sim = Simulator::Verilator;
+    let r = check(
+        "every register and RAM word, Verilator",
+        top::run_verilog(sim, &config(), &plan().ops),
+        Some(sim),
+    );
+    r.assert_passed();
+    if r.skipped.is_none() {
+        assert_eq!(r.covered, EXPECTED_READS);
+    }
+}
+
+#[test]
+fn a_wrong_register_value_is_caught() {
+    // The comparison must fail when the oracle is wrong: flip one bit of
+    // ID.MAGIC's expected low half.
+    let mut wrong = top::plan(&config());
+    wrong.expected[0] ^= 1;
+    let (obs, _) = top::run_rust::<4>(&config(), &plan().ops[..1 + 4]);
+    let mut truncated = Plan {
+        ops: plan().ops[..5].to_vec(),
+        expected: wrong.expected[..8].to_vec(),
+        ignored_writes: 0,
+    };
+    let r = top::compare("mutated oracle", &truncated, &obs);
+    assert_eq!(r.failures.len(), 1, "{:?}", r.failures);
+    truncated.expected[0] ^= 1;
+    assert!(top::compare("oracle", &truncated, &obs).failures.is_empty());
+}
+
+#[test]
+fn the_external_ram_build_has_no_top_yet() {
+    let c = config().with_isa_ram(IsaRam::External);
+    assert!(catalog::motion_controller(&c).is_none());
+    assert!(catalog::motion_controller(&config()).is_some());
+}
