@@ -28,14 +28,218 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     input wire [3:0] enc_b;
     input wire [3:0] enc_z;
 
-    localparam id_page = 6'b0;
-    localparam counter_page = 2'b1;
-    localparam mcu_bus_src_ram = 2'b0;
-    localparam mcu_bus_src_reg_low = 2'b1;
-    localparam mcu_bus_src_reg_high = 2'b10;
-    localparam mcu_bus_src_hold = 2'b11;
-    localparam mcu_bus_ram_bit = 4'hb;
-    localparam mcu_bus_half_shift = 5'b10000;
+    localparam mcu_id_page = 6'b0;
+    localparam mcu_counter_page = 2'b1;
+    localparam mcu_mcu_bus_src_ram = 2'b0;
+    localparam mcu_mcu_bus_src_reg_low = 2'b1;
+    localparam mcu_mcu_bus_src_reg_high = 2'b10;
+    localparam mcu_mcu_bus_src_hold = 2'b11;
+    localparam mcu_mcu_bus_ram_bit = 4'hb;
+    localparam mcu_mcu_bus_half_shift = 5'b10000;
+    localparam mcu_identity_addresses_0 = 4'h0;
+    localparam mcu_identity_addresses_1 = 4'h1;
+    localparam mcu_identity_addresses_2 = 4'h2;
+    localparam mcu_identity_addresses_3 = 4'h3;
+    localparam mcu_identity_addresses_4 = 4'h4;
+    localparam mcu_identity_addresses_5 = 4'h5;
+    localparam mcu_identity_addresses_6 = 4'h6;
+    localparam mcu_identity_addresses_7 = 4'h7;
+    localparam mcu_identity_addresses_8 = 4'h8;
+    localparam mcu_identity_addresses_9 = 4'h9;
+    localparam mcu_identity_addresses_10 = 4'ha;
+    localparam mcu_identity_addresses_11 = 4'hb;
+    localparam mcu_identity_addresses_12 = 4'hc;
+    localparam mcu_identity_addresses_13 = 4'hd;
+    localparam mcu_identity_addresses_14 = 4'he;
+    localparam mcu_identity_addresses_15 = 4'hf;
+    localparam mcu_identity_values_0 = 32'h4d48444c;
+    localparam mcu_identity_values_1 = 32'h100;
+    localparam mcu_identity_values_2 = 32'h2faf080;
+    localparam mcu_identity_values_3 = 32'h1c04;
+    localparam mcu_identity_values_4 = 32'h400;
+    localparam mcu_identity_values_5 = 32'h1000;
+    localparam mcu_identity_values_6 = 32'h400;
+    localparam mcu_identity_values_7 = 32'hb73363b0;
+    localparam mcu_identity_values_8 = 32'h0;
+    localparam mcu_identity_values_9 = 32'h0;
+    localparam mcu_identity_values_10 = 32'h0;
+    localparam mcu_identity_values_11 = 32'h0;
+    localparam mcu_identity_values_12 = 32'h0;
+    localparam mcu_identity_values_13 = 32'h0;
+    localparam mcu_identity_values_14 = 32'h0;
+    localparam mcu_identity_values_15 = 32'h0;
+    localparam mcu_counters_addr_info = 8'h0;
+    localparam mcu_counters_addr_snapshot = 8'h1;
+    localparam mcu_counters_addr_preset = 8'h2;
+    localparam mcu_counters_info = 32'h81c04;
+    localparam mcu_counters_width_mask = 32'hfffffff;
+    localparam mcu_counters_low_mask = 32'h3fff;
+    localparam mcu_counters_sign_bit = 32'h8000000;
+    localparam mcu_counters_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channels_0_addr_ctrl = 8'h8;
+    localparam mcu_counters_channels_0_addr_cmd = 8'h9;
+    localparam mcu_counters_channels_0_addr_count = 8'ha;
+    localparam mcu_counters_channels_0_addr_index = 8'hb;
+    localparam mcu_counters_channels_0_addr_status = 8'hc;
+    localparam mcu_counters_channels_0_ctrl_writable = 32'hff03ff;
+    localparam mcu_counters_channels_0_mode_lsb = 5'b0;
+    localparam mcu_counters_channels_0_reverse_bit = 5'b11;
+    localparam mcu_counters_channels_0_err_en_bit = 5'b100;
+    localparam mcu_counters_channels_0_idx_invert_bit = 5'b101;
+    localparam mcu_counters_channels_0_idx_latch_bit = 5'b110;
+    localparam mcu_counters_channels_0_idx_clear_bit = 5'b111;
+    localparam mcu_counters_channels_0_idx_gate_bit = 5'b1000;
+    localparam mcu_counters_channels_0_idx_oneshot_bit = 5'b1001;
+    localparam mcu_counters_channels_0_filter_ab_lsb = 5'b10000;
+    localparam mcu_counters_channels_0_filter_z_lsb = 5'b10100;
+    localparam mcu_counters_channels_0_cmd_clear_bit = 5'b0;
+    localparam mcu_counters_channels_0_cmd_load_bit = 5'b1;
+    localparam mcu_counters_channels_0_cmd_arm_bit = 5'b10;
+    localparam mcu_counters_channels_0_cmd_clear_status_bit = 5'b11;
+    localparam mcu_counters_channels_0_status_err = 32'h1;
+    localparam mcu_counters_channels_0_status_armed = 32'h2;
+    localparam mcu_counters_channels_0_status_seen = 32'h4;
+    localparam mcu_counters_channels_0_status_a = 32'h10;
+    localparam mcu_counters_channels_0_status_b = 32'h20;
+    localparam mcu_counters_channels_0_status_z = 32'h40;
+    localparam mcu_counters_channels_0_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_0_quadrature_modes = 3'b11;
+    localparam mcu_counters_channels_0_sign_bit = 32'h8000000;
+    localparam mcu_counters_channels_0_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channels_0_err_max = 8'hff;
+    localparam mcu_counters_channels_0_decoder_mode_x4 = 3'b0;
+    localparam mcu_counters_channels_0_decoder_mode_x2 = 3'b1;
+    localparam mcu_counters_channels_0_decoder_mode_x1 = 3'b10;
+    localparam mcu_counters_channels_0_decoder_mode_pulse_dir = 3'b11;
+    localparam mcu_counters_channels_0_decoder_mode_cw_ccw = 3'b100;
+    localparam mcu_counters_channels_0_counter_lo_mask = 32'h3fff;
+    localparam mcu_counters_channels_0_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_0_counter_hi_mask = 32'h3fff;
+    localparam mcu_counters_channels_0_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_0_counter_one = 32'h1;
+    localparam mcu_counters_channels_1_addr_ctrl = 8'h10;
+    localparam mcu_counters_channels_1_addr_cmd = 8'h11;
+    localparam mcu_counters_channels_1_addr_count = 8'h12;
+    localparam mcu_counters_channels_1_addr_index = 8'h13;
+    localparam mcu_counters_channels_1_addr_status = 8'h14;
+    localparam mcu_counters_channels_1_ctrl_writable = 32'hff03ff;
+    localparam mcu_counters_channels_1_mode_lsb = 5'b0;
+    localparam mcu_counters_channels_1_reverse_bit = 5'b11;
+    localparam mcu_counters_channels_1_err_en_bit = 5'b100;
+    localparam mcu_counters_channels_1_idx_invert_bit = 5'b101;
+    localparam mcu_counters_channels_1_idx_latch_bit = 5'b110;
+    localparam mcu_counters_channels_1_idx_clear_bit = 5'b111;
+    localparam mcu_counters_channels_1_idx_gate_bit = 5'b1000;
+    localparam mcu_counters_channels_1_idx_oneshot_bit = 5'b1001;
+    localparam mcu_counters_channels_1_filter_ab_lsb = 5'b10000;
+    localparam mcu_counters_channels_1_filter_z_lsb = 5'b10100;
+    localparam mcu_counters_channels_1_cmd_clear_bit = 5'b0;
+    localparam mcu_counters_channels_1_cmd_load_bit = 5'b1;
+    localparam mcu_counters_channels_1_cmd_arm_bit = 5'b10;
+    localparam mcu_counters_channels_1_cmd_clear_status_bit = 5'b11;
+    localparam mcu_counters_channels_1_status_err = 32'h1;
+    localparam mcu_counters_channels_1_status_armed = 32'h2;
+    localparam mcu_counters_channels_1_status_seen = 32'h4;
+    localparam mcu_counters_channels_1_status_a = 32'h10;
+    localparam mcu_counters_channels_1_status_b = 32'h20;
+    localparam mcu_counters_channels_1_status_z = 32'h40;
+    localparam mcu_counters_channels_1_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_1_quadrature_modes = 3'b11;
+    localparam mcu_counters_channels_1_sign_bit = 32'h8000000;
+    localparam mcu_counters_channels_1_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channels_1_err_max = 8'hff;
+    localparam mcu_counters_channels_1_decoder_mode_x4 = 3'b0;
+    localparam mcu_counters_channels_1_decoder_mode_x2 = 3'b1;
+    localparam mcu_counters_channels_1_decoder_mode_x1 = 3'b10;
+    localparam mcu_counters_channels_1_decoder_mode_pulse_dir = 3'b11;
+    localparam mcu_counters_channels_1_decoder_mode_cw_ccw = 3'b100;
+    localparam mcu_counters_channels_1_counter_lo_mask = 32'h3fff;
+    localparam mcu_counters_channels_1_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_1_counter_hi_mask = 32'h3fff;
+    localparam mcu_counters_channels_1_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_1_counter_one = 32'h1;
+    localparam mcu_counters_channels_2_addr_ctrl = 8'h18;
+    localparam mcu_counters_channels_2_addr_cmd = 8'h19;
+    localparam mcu_counters_channels_2_addr_count = 8'h1a;
+    localparam mcu_counters_channels_2_addr_index = 8'h1b;
+    localparam mcu_counters_channels_2_addr_status = 8'h1c;
+    localparam mcu_counters_channels_2_ctrl_writable = 32'hff03ff;
+    localparam mcu_counters_channels_2_mode_lsb = 5'b0;
+    localparam mcu_counters_channels_2_reverse_bit = 5'b11;
+    localparam mcu_counters_channels_2_err_en_bit = 5'b100;
+    localparam mcu_counters_channels_2_idx_invert_bit = 5'b101;
+    localparam mcu_counters_channels_2_idx_latch_bit = 5'b110;
+    localparam mcu_counters_channels_2_idx_clear_bit = 5'b111;
+    localparam mcu_counters_channels_2_idx_gate_bit = 5'b1000;
+    localparam mcu_counters_channels_2_idx_oneshot_bit = 5'b1001;
+    localparam mcu_counters_channels_2_filter_ab_lsb = 5'b10000;
+    localparam mcu_counters_channels_2_filter_z_lsb = 5'b10100;
+    localparam mcu_counters_channels_2_cmd_clear_bit = 5'b0;
+    localparam mcu_counters_channels_2_cmd_load_bit = 5'b1;
+    localparam mcu_counters_channels_2_cmd_arm_bit = 5'b10;
+    localparam mcu_counters_channels_2_cmd_clear_status_bit = 5'b11;
+    localparam mcu_counters_channels_2_status_err = 32'h1;
+    localparam mcu_counters_channels_2_status_armed = 32'h2;
+    localparam mcu_counters_channels_2_status_seen = 32'h4;
+    localparam mcu_counters_channels_2_status_a = 32'h10;
+    localparam mcu_counters_channels_2_status_b = 32'h20;
+    localparam mcu_counters_channels_2_status_z = 32'h40;
+    localparam mcu_counters_channels_2_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_2_quadrature_modes = 3'b11;
+    localparam mcu_counters_channels_2_sign_bit = 32'h8000000;
+    localparam mcu_counters_channels_2_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channels_2_err_max = 8'hff;
+    localparam mcu_counters_channels_2_decoder_mode_x4 = 3'b0;
+    localparam mcu_counters_channels_2_decoder_mode_x2 = 3'b1;
+    localparam mcu_counters_channels_2_decoder_mode_x1 = 3'b10;
+    localparam mcu_counters_channels_2_decoder_mode_pulse_dir = 3'b11;
+    localparam mcu_counters_channels_2_decoder_mode_cw_ccw = 3'b100;
+    localparam mcu_counters_channels_2_counter_lo_mask = 32'h3fff;
+    localparam mcu_counters_channels_2_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_2_counter_hi_mask = 32'h3fff;
+    localparam mcu_counters_channels_2_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_2_counter_one = 32'h1;
+    localparam mcu_counters_channels_3_addr_ctrl = 8'h20;
+    localparam mcu_counters_channels_3_addr_cmd = 8'h21;
+    localparam mcu_counters_channels_3_addr_count = 8'h22;
+    localparam mcu_counters_channels_3_addr_index = 8'h23;
+    localparam mcu_counters_channels_3_addr_status = 8'h24;
+    localparam mcu_counters_channels_3_ctrl_writable = 32'hff03ff;
+    localparam mcu_counters_channels_3_mode_lsb = 5'b0;
+    localparam mcu_counters_channels_3_reverse_bit = 5'b11;
+    localparam mcu_counters_channels_3_err_en_bit = 5'b100;
+    localparam mcu_counters_channels_3_idx_invert_bit = 5'b101;
+    localparam mcu_counters_channels_3_idx_latch_bit = 5'b110;
+    localparam mcu_counters_channels_3_idx_clear_bit = 5'b111;
+    localparam mcu_counters_channels_3_idx_gate_bit = 5'b1000;
+    localparam mcu_counters_channels_3_idx_oneshot_bit = 5'b1001;
+    localparam mcu_counters_channels_3_filter_ab_lsb = 5'b10000;
+    localparam mcu_counters_channels_3_filter_z_lsb = 5'b10100;
+    localparam mcu_counters_channels_3_cmd_clear_bit = 5'b0;
+    localparam mcu_counters_channels_3_cmd_load_bit = 5'b1;
+    localparam mcu_counters_channels_3_cmd_arm_bit = 5'b10;
+    localparam mcu_counters_channels_3_cmd_clear_status_bit = 5'b11;
+    localparam mcu_counters_channels_3_status_err = 32'h1;
+    localparam mcu_counters_channels_3_status_armed = 32'h2;
+    localparam mcu_counters_channels_3_status_seen = 32'h4;
+    localparam mcu_counters_channels_3_status_a = 32'h10;
+    localparam mcu_counters_channels_3_status_b = 32'h20;
+    localparam mcu_counters_channels_3_status_z = 32'h40;
+    localparam mcu_counters_channels_3_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_3_quadrature_modes = 3'b11;
+    localparam mcu_counters_channels_3_sign_bit = 32'h8000000;
+    localparam mcu_counters_channels_3_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channels_3_err_max = 8'hff;
+    localparam mcu_counters_channels_3_decoder_mode_x4 = 3'b0;
+    localparam mcu_counters_channels_3_decoder_mode_x2 = 3'b1;
+    localparam mcu_counters_channels_3_decoder_mode_x1 = 3'b10;
+    localparam mcu_counters_channels_3_decoder_mode_pulse_dir = 3'b11;
+    localparam mcu_counters_channels_3_decoder_mode_cw_ccw = 3'b100;
+    localparam mcu_counters_channels_3_counter_lo_mask = 32'h3fff;
+    localparam mcu_counters_channels_3_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_3_counter_hi_mask = 32'h3fff;
+    localparam mcu_counters_channels_3_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_3_counter_one = 32'h1;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -47,228 +251,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam pc_bus_core_auto_inc_mask = 16'h1000;
     localparam pc_bus_core_wrapped_mask = 16'h2000;
     localparam pc_bus_core_collision_mask = 16'h4000;
-    localparam identity_addresses_0 = 4'h0;
-    localparam identity_addresses_1 = 4'h1;
-    localparam identity_addresses_2 = 4'h2;
-    localparam identity_addresses_3 = 4'h3;
-    localparam identity_addresses_4 = 4'h4;
-    localparam identity_addresses_5 = 4'h5;
-    localparam identity_addresses_6 = 4'h6;
-    localparam identity_addresses_7 = 4'h7;
-    localparam identity_addresses_8 = 4'h8;
-    localparam identity_addresses_9 = 4'h9;
-    localparam identity_addresses_10 = 4'ha;
-    localparam identity_addresses_11 = 4'hb;
-    localparam identity_addresses_12 = 4'hc;
-    localparam identity_addresses_13 = 4'hd;
-    localparam identity_addresses_14 = 4'he;
-    localparam identity_addresses_15 = 4'hf;
-    localparam identity_values_0 = 32'h4d48444c;
-    localparam identity_values_1 = 32'h100;
-    localparam identity_values_2 = 32'h2faf080;
-    localparam identity_values_3 = 32'h1c04;
-    localparam identity_values_4 = 32'h400;
-    localparam identity_values_5 = 32'h1000;
-    localparam identity_values_6 = 32'h400;
-    localparam identity_values_7 = 32'hb73363b0;
-    localparam identity_values_8 = 32'h0;
-    localparam identity_values_9 = 32'h0;
-    localparam identity_values_10 = 32'h0;
-    localparam identity_values_11 = 32'h0;
-    localparam identity_values_12 = 32'h0;
-    localparam identity_values_13 = 32'h0;
-    localparam identity_values_14 = 32'h0;
-    localparam identity_values_15 = 32'h0;
-    localparam counters_addr_info = 8'h0;
-    localparam counters_addr_snapshot = 8'h1;
-    localparam counters_addr_preset = 8'h2;
-    localparam counters_info = 32'h81c04;
-    localparam counters_width_mask = 32'hfffffff;
-    localparam counters_low_mask = 32'h3fff;
-    localparam counters_sign_bit = 32'h8000000;
-    localparam counters_sign_extension = 32'hf0000000;
-    localparam counters_channels_0_addr_ctrl = 8'h8;
-    localparam counters_channels_0_addr_cmd = 8'h9;
-    localparam counters_channels_0_addr_count = 8'ha;
-    localparam counters_channels_0_addr_index = 8'hb;
-    localparam counters_channels_0_addr_status = 8'hc;
-    localparam counters_channels_0_ctrl_writable = 32'hff03ff;
-    localparam counters_channels_0_mode_lsb = 5'b0;
-    localparam counters_channels_0_reverse_bit = 5'b11;
-    localparam counters_channels_0_err_en_bit = 5'b100;
-    localparam counters_channels_0_idx_invert_bit = 5'b101;
-    localparam counters_channels_0_idx_latch_bit = 5'b110;
-    localparam counters_channels_0_idx_clear_bit = 5'b111;
-    localparam counters_channels_0_idx_gate_bit = 5'b1000;
-    localparam counters_channels_0_idx_oneshot_bit = 5'b1001;
-    localparam counters_channels_0_filter_ab_lsb = 5'b10000;
-    localparam counters_channels_0_filter_z_lsb = 5'b10100;
-    localparam counters_channels_0_cmd_clear_bit = 5'b0;
-    localparam counters_channels_0_cmd_load_bit = 5'b1;
-    localparam counters_channels_0_cmd_arm_bit = 5'b10;
-    localparam counters_channels_0_cmd_clear_status_bit = 5'b11;
-    localparam counters_channels_0_status_err = 32'h1;
-    localparam counters_channels_0_status_armed = 32'h2;
-    localparam counters_channels_0_status_seen = 32'h4;
-    localparam counters_channels_0_status_a = 32'h10;
-    localparam counters_channels_0_status_b = 32'h20;
-    localparam counters_channels_0_status_z = 32'h40;
-    localparam counters_channels_0_status_err_count_lsb = 5'b1000;
-    localparam counters_channels_0_quadrature_modes = 3'b11;
-    localparam counters_channels_0_sign_bit = 32'h8000000;
-    localparam counters_channels_0_sign_extension = 32'hf0000000;
-    localparam counters_channels_0_err_max = 8'hff;
-    localparam counters_channels_0_decoder_mode_x4 = 3'b0;
-    localparam counters_channels_0_decoder_mode_x2 = 3'b1;
-    localparam counters_channels_0_decoder_mode_x1 = 3'b10;
-    localparam counters_channels_0_decoder_mode_pulse_dir = 3'b11;
-    localparam counters_channels_0_decoder_mode_cw_ccw = 3'b100;
-    localparam counters_channels_0_counter_lo_mask = 32'h3fff;
-    localparam counters_channels_0_counter_lo_upper_mask = 32'h3ffe;
-    localparam counters_channels_0_counter_hi_mask = 32'h3fff;
-    localparam counters_channels_0_counter_lo_bits = 5'b1110;
-    localparam counters_channels_0_counter_one = 32'h1;
-    localparam counters_channels_1_addr_ctrl = 8'h10;
-    localparam counters_channels_1_addr_cmd = 8'h11;
-    localparam counters_channels_1_addr_count = 8'h12;
-    localparam counters_channels_1_addr_index = 8'h13;
-    localparam counters_channels_1_addr_status = 8'h14;
-    localparam counters_channels_1_ctrl_writable = 32'hff03ff;
-    localparam counters_channels_1_mode_lsb = 5'b0;
-    localparam counters_channels_1_reverse_bit = 5'b11;
-    localparam counters_channels_1_err_en_bit = 5'b100;
-    localparam counters_channels_1_idx_invert_bit = 5'b101;
-    localparam counters_channels_1_idx_latch_bit = 5'b110;
-    localparam counters_channels_1_idx_clear_bit = 5'b111;
-    localparam counters_channels_1_idx_gate_bit = 5'b1000;
-    localparam counters_channels_1_idx_oneshot_bit = 5'b1001;
-    localparam counters_channels_1_filter_ab_lsb = 5'b10000;
-    localparam counters_channels_1_filter_z_lsb = 5'b10100;
-    localparam counters_channels_1_cmd_clear_bit = 5'b0;
-    localparam counters_channels_1_cmd_load_bit = 5'b1;
-    localparam counters_channels_1_cmd_arm_bit = 5'b10;
-    localparam counters_channels_1_cmd_clear_status_bit = 5'b11;
-    localparam counters_channels_1_status_err = 32'h1;
-    localparam counters_channels_1_status_armed = 32'h2;
-    localparam counters_channels_1_status_seen = 32'h4;
-    localparam counters_channels_1_status_a = 32'h10;
-    localparam counters_channels_1_status_b = 32'h20;
-    localparam counters_channels_1_status_z = 32'h40;
-    localparam counters_channels_1_status_err_count_lsb = 5'b1000;
-    localparam counters_channels_1_quadrature_modes = 3'b11;
-    localparam counters_channels_1_sign_bit = 32'h8000000;
-    localparam counters_channels_1_sign_extension = 32'hf0000000;
-    localparam counters_channels_1_err_max = 8'hff;
-    localparam counters_channels_1_decoder_mode_x4 = 3'b0;
-    localparam counters_channels_1_decoder_mode_x2 = 3'b1;
-    localparam counters_channels_1_decoder_mode_x1 = 3'b10;
-    localparam counters_channels_1_decoder_mode_pulse_dir = 3'b11;
-    localparam counters_channels_1_decoder_mode_cw_ccw = 3'b100;
-    localparam counters_channels_1_counter_lo_mask = 32'h3fff;
-    localparam counters_channels_1_counter_lo_upper_mask = 32'h3ffe;
-    localparam counters_channels_1_counter_hi_mask = 32'h3fff;
-    localparam counters_channels_1_counter_lo_bits = 5'b1110;
-    localparam counters_channels_1_counter_one = 32'h1;
-    localparam counters_channels_2_addr_ctrl = 8'h18;
-    localparam counters_channels_2_addr_cmd = 8'h19;
-    localparam counters_channels_2_addr_count = 8'h1a;
-    localparam counters_channels_2_addr_index = 8'h1b;
-    localparam counters_channels_2_addr_status = 8'h1c;
-    localparam counters_channels_2_ctrl_writable = 32'hff03ff;
-    localparam counters_channels_2_mode_lsb = 5'b0;
-    localparam counters_channels_2_reverse_bit = 5'b11;
-    localparam counters_channels_2_err_en_bit = 5'b100;
-    localparam counters_channels_2_idx_invert_bit = 5'b101;
-    localparam counters_channels_2_idx_latch_bit = 5'b110;
-    localparam counters_channels_2_idx_clear_bit = 5'b111;
-    localparam counters_channels_2_idx_gate_bit = 5'b1000;
-    localparam counters_channels_2_idx_oneshot_bit = 5'b1001;
-    localparam counters_channels_2_filter_ab_lsb = 5'b10000;
-    localparam counters_channels_2_filter_z_lsb = 5'b10100;
-    localparam counters_channels_2_cmd_clear_bit = 5'b0;
-    localparam counters_channels_2_cmd_load_bit = 5'b1;
-    localparam counters_channels_2_cmd_arm_bit = 5'b10;
-    localparam counters_channels_2_cmd_clear_status_bit = 5'b11;
-    localparam counters_channels_2_status_err = 32'h1;
-    localparam counters_channels_2_status_armed = 32'h2;
-    localparam counters_channels_2_status_seen = 32'h4;
-    localparam counters_channels_2_status_a = 32'h10;
-    localparam counters_channels_2_status_b = 32'h20;
-    localparam counters_channels_2_status_z = 32'h40;
-    localparam counters_channels_2_status_err_count_lsb = 5'b1000;
-    localparam counters_channels_2_quadrature_modes = 3'b11;
-    localparam counters_channels_2_sign_bit = 32'h8000000;
-    localparam counters_channels_2_sign_extension = 32'hf0000000;
-    localparam counters_channels_2_err_max = 8'hff;
-    localparam counters_channels_2_decoder_mode_x4 = 3'b0;
-    localparam counters_channels_2_decoder_mode_x2 = 3'b1;
-    localparam counters_channels_2_decoder_mode_x1 = 3'b10;
-    localparam counters_channels_2_decoder_mode_pulse_dir = 3'b11;
-    localparam counters_channels_2_decoder_mode_cw_ccw = 3'b100;
-    localparam counters_channels_2_counter_lo_mask = 32'h3fff;
-    localparam counters_channels_2_counter_lo_upper_mask = 32'h3ffe;
-    localparam counters_channels_2_counter_hi_mask = 32'h3fff;
-    localparam counters_channels_2_counter_lo_bits = 5'b1110;
-    localparam counters_channels_2_counter_one = 32'h1;
-    localparam counters_channels_3_addr_ctrl = 8'h20;
-    localparam counters_channels_3_addr_cmd = 8'h21;
-    localparam counters_channels_3_addr_count = 8'h22;
-    localparam counters_channels_3_addr_index = 8'h23;
-    localparam counters_channels_3_addr_status = 8'h24;
-    localparam counters_channels_3_ctrl_writable = 32'hff03ff;
-    localparam counters_channels_3_mode_lsb = 5'b0;
-    localparam counters_channels_3_reverse_bit = 5'b11;
-    localparam counters_channels_3_err_en_bit = 5'b100;
-    localparam counters_channels_3_idx_invert_bit = 5'b101;
-    localparam counters_channels_3_idx_latch_bit = 5'b110;
-    localparam counters_channels_3_idx_clear_bit = 5'b111;
-    localparam counters_channels_3_idx_gate_bit = 5'b1000;
-    localparam counters_channels_3_idx_oneshot_bit = 5'b1001;
-    localparam counters_channels_3_filter_ab_lsb = 5'b10000;
-    localparam counters_channels_3_filter_z_lsb = 5'b10100;
-    localparam counters_channels_3_cmd_clear_bit = 5'b0;
-    localparam counters_channels_3_cmd_load_bit = 5'b1;
-    localparam counters_channels_3_cmd_arm_bit = 5'b10;
-    localparam counters_channels_3_cmd_clear_status_bit = 5'b11;
-    localparam counters_channels_3_status_err = 32'h1;
-    localparam counters_channels_3_status_armed = 32'h2;
-    localparam counters_channels_3_status_seen = 32'h4;
-    localparam counters_channels_3_status_a = 32'h10;
-    localparam counters_channels_3_status_b = 32'h20;
-    localparam counters_channels_3_status_z = 32'h40;
-    localparam counters_channels_3_status_err_count_lsb = 5'b1000;
-    localparam counters_channels_3_quadrature_modes = 3'b11;
-    localparam counters_channels_3_sign_bit = 32'h8000000;
-    localparam counters_channels_3_sign_extension = 32'hf0000000;
-    localparam counters_channels_3_err_max = 8'hff;
-    localparam counters_channels_3_decoder_mode_x4 = 3'b0;
-    localparam counters_channels_3_decoder_mode_x2 = 3'b1;
-    localparam counters_channels_3_decoder_mode_x1 = 3'b10;
-    localparam counters_channels_3_decoder_mode_pulse_dir = 3'b11;
-    localparam counters_channels_3_decoder_mode_cw_ccw = 3'b100;
-    localparam counters_channels_3_counter_lo_mask = 32'h3fff;
-    localparam counters_channels_3_counter_lo_upper_mask = 32'h3ffe;
-    localparam counters_channels_3_counter_hi_mask = 32'h3fff;
-    localparam counters_channels_3_counter_lo_bits = 5'b1110;
-    localparam counters_channels_3_counter_one = 32'h1;
 
-    reg mcu_bus_reset;
-    reg mcu_bus_ne_n;
-    reg mcu_bus_noe_n;
-    reg mcu_bus_nwe_n;
-    reg [11:0] mcu_bus_a;
-    reg [15:0] mcu_bus_d_in;
-    reg [15:0] mcu_bus_d_out;
-    reg mcu_bus_d_oe;
-    reg [9:0] mcu_bus_reg_addr;
-    reg [31:0] mcu_bus_reg_wdata;
-    reg mcu_bus_reg_we;
-    reg mcu_bus_reg_re;
-    reg [31:0] mcu_bus_reg_rdata;
-    reg [9:0] mcu_bus_ram_addr;
-    reg [15:0] mcu_bus_ram_wdata;
-    reg mcu_bus_ram_we;
-    reg [15:0] mcu_bus_ram_rdata;
+    reg mcu_reset;
+    reg mcu_fsmc_ne_n;
+    reg mcu_fsmc_noe_n;
+    reg mcu_fsmc_nwe_n;
+    reg [11:0] mcu_fsmc_a;
+    reg [15:0] mcu_fsmc_d_in;
+    reg [15:0] mcu_fsmc_d_out;
+    reg mcu_fsmc_d_oe;
+    reg [3:0] mcu_enc_a;
+    reg [3:0] mcu_enc_b;
+    reg [3:0] mcu_enc_z;
+    reg [9:0] mcu_ram_addr;
+    reg [15:0] mcu_ram_wdata;
+    reg mcu_ram_we;
+    reg [15:0] mcu_ram_rdata;
     reg pc_bus_reset;
     reg [9:0] pc_bus_sa;
     reg [15:0] pc_bus_sd_in;
@@ -284,75 +282,696 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] pc_bus_dsp_wdata;
     reg pc_bus_dsp_we;
     reg [15:0] pc_bus_dsp_rdata;
-    reg identity_reset;
-    reg [3:0] identity_addr;
-    reg identity_re;
-    reg [31:0] identity_rdata;
-    reg counters_reset;
-    reg [3:0] counters_a;
-    reg [3:0] counters_b;
-    reg [3:0] counters_z;
-    reg [7:0] counters_addr;
-    reg [31:0] counters_wdata;
-    reg counters_we;
-    reg counters_re;
-    reg [31:0] counters_rdata;
-    reg read_from_id_d;
-    reg read_from_id_q = 1'h0;
-    reg read_from_counters_d;
-    reg read_from_counters_q = 1'h0;
-    reg select_id;
-    reg select_counters;
-    reg mcu_bus_ne_s1_d;
-    reg mcu_bus_ne_s1_q = 1'h0;
-    reg mcu_bus_noe_s1_d;
-    reg mcu_bus_noe_s1_q = 1'h0;
-    reg mcu_bus_noe_s2_d;
-    reg mcu_bus_noe_s2_q = 1'h0;
-    reg mcu_bus_noe_s3_d;
-    reg mcu_bus_noe_s3_q = 1'h0;
-    reg mcu_bus_nwe_s1_d;
-    reg mcu_bus_nwe_s1_q = 1'h0;
-    reg mcu_bus_nwe_s2_d;
-    reg mcu_bus_nwe_s2_q = 1'h0;
-    reg mcu_bus_nwe_s3_d;
-    reg mcu_bus_nwe_s3_q = 1'h0;
-    reg [11:0] mcu_bus_a_s1_d;
-    reg [11:0] mcu_bus_a_s1_q = 12'h0;
-    reg [15:0] mcu_bus_d_s1_d;
-    reg [15:0] mcu_bus_d_s1_q = 16'h0;
-    reg [15:0] mcu_bus_d_s2_d;
-    reg [15:0] mcu_bus_d_s2_q = 16'h0;
-    reg mcu_bus_cyc_sel_d;
-    reg mcu_bus_cyc_sel_q = 1'h0;
-    reg [11:0] mcu_bus_cyc_a_d;
-    reg [11:0] mcu_bus_cyc_a_q = 12'h0;
-    reg [15:0] mcu_bus_wdata_d;
-    reg [15:0] mcu_bus_wdata_q = 16'h0;
-    reg [15:0] mcu_bus_hold_lo_d;
-    reg [15:0] mcu_bus_hold_lo_q = 16'h0;
-    reg [15:0] mcu_bus_hold_hi_d;
-    reg [15:0] mcu_bus_hold_hi_q = 16'h0;
-    reg [9:0] mcu_bus_hold_word_d;
-    reg [9:0] mcu_bus_hold_word_q = 10'h0;
-    reg mcu_bus_hold_valid_d;
-    reg mcu_bus_hold_valid_q = 1'h0;
-    reg mcu_bus_rd_p1_d;
-    reg mcu_bus_rd_p1_q = 1'h0;
-    reg mcu_bus_rd_p2_d;
-    reg mcu_bus_rd_p2_q = 1'h0;
-    reg [1:0] mcu_bus_rd_src1_d;
-    reg [1:0] mcu_bus_rd_src1_q = 2'h0;
-    reg [1:0] mcu_bus_rd_src2_d;
-    reg [1:0] mcu_bus_rd_src2_q = 2'h0;
-    reg [15:0] mcu_bus_d_q_d;
-    reg [15:0] mcu_bus_d_q_q = 16'h0;
-    reg mcu_bus_rd_start;
-    reg mcu_bus_wr_end;
-    reg mcu_bus_cyc_reg;
-    reg mcu_bus_cyc_high;
-    reg mcu_bus_use_hold;
-    reg [1:0] mcu_bus_src;
+    reg mcu_mcu_bus_reset;
+    reg mcu_mcu_bus_ne_n;
+    reg mcu_mcu_bus_noe_n;
+    reg mcu_mcu_bus_nwe_n;
+    reg [11:0] mcu_mcu_bus_a;
+    reg [15:0] mcu_mcu_bus_d_in;
+    reg [15:0] mcu_mcu_bus_d_out;
+    reg mcu_mcu_bus_d_oe;
+    reg [9:0] mcu_mcu_bus_reg_addr;
+    reg [31:0] mcu_mcu_bus_reg_wdata;
+    reg mcu_mcu_bus_reg_we;
+    reg mcu_mcu_bus_reg_re;
+    reg [31:0] mcu_mcu_bus_reg_rdata;
+    reg [9:0] mcu_mcu_bus_ram_addr;
+    reg [15:0] mcu_mcu_bus_ram_wdata;
+    reg mcu_mcu_bus_ram_we;
+    reg [15:0] mcu_mcu_bus_ram_rdata;
+    reg mcu_identity_reset;
+    reg [3:0] mcu_identity_addr;
+    reg mcu_identity_re;
+    reg [31:0] mcu_identity_rdata;
+    reg mcu_counters_reset;
+    reg [3:0] mcu_counters_a;
+    reg [3:0] mcu_counters_b;
+    reg [3:0] mcu_counters_z;
+    reg [7:0] mcu_counters_addr;
+    reg [31:0] mcu_counters_wdata;
+    reg mcu_counters_we;
+    reg mcu_counters_re;
+    reg [31:0] mcu_counters_rdata;
+    reg mcu_read_from_id_d;
+    reg mcu_read_from_id_q = 1'h0;
+    reg mcu_read_from_counters_d;
+    reg mcu_read_from_counters_q = 1'h0;
+    reg mcu_select_id;
+    reg mcu_select_counters;
+    reg mcu_mcu_bus_ne_s1_d;
+    reg mcu_mcu_bus_ne_s1_q = 1'h0;
+    reg mcu_mcu_bus_noe_s1_d;
+    reg mcu_mcu_bus_noe_s1_q = 1'h0;
+    reg mcu_mcu_bus_noe_s2_d;
+    reg mcu_mcu_bus_noe_s2_q = 1'h0;
+    reg mcu_mcu_bus_noe_s3_d;
+    reg mcu_mcu_bus_noe_s3_q = 1'h0;
+    reg mcu_mcu_bus_nwe_s1_d;
+    reg mcu_mcu_bus_nwe_s1_q = 1'h0;
+    reg mcu_mcu_bus_nwe_s2_d;
+    reg mcu_mcu_bus_nwe_s2_q = 1'h0;
+    reg mcu_mcu_bus_nwe_s3_d;
+    reg mcu_mcu_bus_nwe_s3_q = 1'h0;
+    reg [11:0] mcu_mcu_bus_a_s1_d;
+    reg [11:0] mcu_mcu_bus_a_s1_q = 12'h0;
+    reg [15:0] mcu_mcu_bus_d_s1_d;
+    reg [15:0] mcu_mcu_bus_d_s1_q = 16'h0;
+    reg [15:0] mcu_mcu_bus_d_s2_d;
+    reg [15:0] mcu_mcu_bus_d_s2_q = 16'h0;
+    reg mcu_mcu_bus_cyc_sel_d;
+    reg mcu_mcu_bus_cyc_sel_q = 1'h0;
+    reg [11:0] mcu_mcu_bus_cyc_a_d;
+    reg [11:0] mcu_mcu_bus_cyc_a_q = 12'h0;
+    reg [15:0] mcu_mcu_bus_wdata_d;
+    reg [15:0] mcu_mcu_bus_wdata_q = 16'h0;
+    reg [15:0] mcu_mcu_bus_hold_lo_d;
+    reg [15:0] mcu_mcu_bus_hold_lo_q = 16'h0;
+    reg [15:0] mcu_mcu_bus_hold_hi_d;
+    reg [15:0] mcu_mcu_bus_hold_hi_q = 16'h0;
+    reg [9:0] mcu_mcu_bus_hold_word_d;
+    reg [9:0] mcu_mcu_bus_hold_word_q = 10'h0;
+    reg mcu_mcu_bus_hold_valid_d;
+    reg mcu_mcu_bus_hold_valid_q = 1'h0;
+    reg mcu_mcu_bus_rd_p1_d;
+    reg mcu_mcu_bus_rd_p1_q = 1'h0;
+    reg mcu_mcu_bus_rd_p2_d;
+    reg mcu_mcu_bus_rd_p2_q = 1'h0;
+    reg [1:0] mcu_mcu_bus_rd_src1_d;
+    reg [1:0] mcu_mcu_bus_rd_src1_q = 2'h0;
+    reg [1:0] mcu_mcu_bus_rd_src2_d;
+    reg [1:0] mcu_mcu_bus_rd_src2_q = 2'h0;
+    reg [15:0] mcu_mcu_bus_d_q_d;
+    reg [15:0] mcu_mcu_bus_d_q_q = 16'h0;
+    reg mcu_mcu_bus_rd_start;
+    reg mcu_mcu_bus_wr_end;
+    reg mcu_mcu_bus_cyc_reg;
+    reg mcu_mcu_bus_cyc_high;
+    reg mcu_mcu_bus_use_hold;
+    reg [1:0] mcu_mcu_bus_src;
+    reg [3:0] mcu_identity_read_addr_d;
+    reg [3:0] mcu_identity_read_addr_q = 4'h0;
+    reg mcu_identity_read_pending_d;
+    reg mcu_identity_read_pending_q = 1'h0;
+    reg [31:0] mcu_identity_read_data_d;
+    reg [31:0] mcu_identity_read_data_q = 32'h0;
+    reg [31:0] mcu_identity_read_value;
+    reg mcu_counters_channels_0_reset;
+    reg mcu_counters_channels_0_a;
+    reg mcu_counters_channels_0_b;
+    reg mcu_counters_channels_0_z;
+    reg [7:0] mcu_counters_channels_0_addr;
+    reg [31:0] mcu_counters_channels_0_wdata;
+    reg mcu_counters_channels_0_we;
+    reg mcu_counters_channels_0_re;
+    reg mcu_counters_channels_0_snapshot;
+    reg [31:0] mcu_counters_channels_0_preset;
+    reg mcu_counters_channels_0_preset_low_is_max;
+    reg mcu_counters_channels_0_preset_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_0_rdata;
+    reg mcu_counters_channels_1_reset;
+    reg mcu_counters_channels_1_a;
+    reg mcu_counters_channels_1_b;
+    reg mcu_counters_channels_1_z;
+    reg [7:0] mcu_counters_channels_1_addr;
+    reg [31:0] mcu_counters_channels_1_wdata;
+    reg mcu_counters_channels_1_we;
+    reg mcu_counters_channels_1_re;
+    reg mcu_counters_channels_1_snapshot;
+    reg [31:0] mcu_counters_channels_1_preset;
+    reg mcu_counters_channels_1_preset_low_is_max;
+    reg mcu_counters_channels_1_preset_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_1_rdata;
+    reg mcu_counters_channels_2_reset;
+    reg mcu_counters_channels_2_a;
+    reg mcu_counters_channels_2_b;
+    reg mcu_counters_channels_2_z;
+    reg [7:0] mcu_counters_channels_2_addr;
+    reg [31:0] mcu_counters_channels_2_wdata;
+    reg mcu_counters_channels_2_we;
+    reg mcu_counters_channels_2_re;
+    reg mcu_counters_channels_2_snapshot;
+    reg [31:0] mcu_counters_channels_2_preset;
+    reg mcu_counters_channels_2_preset_low_is_max;
+    reg mcu_counters_channels_2_preset_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_2_rdata;
+    reg mcu_counters_channels_3_reset;
+    reg mcu_counters_channels_3_a;
+    reg mcu_counters_channels_3_b;
+    reg mcu_counters_channels_3_z;
+    reg [7:0] mcu_counters_channels_3_addr;
+    reg [31:0] mcu_counters_channels_3_wdata;
+    reg mcu_counters_channels_3_we;
+    reg mcu_counters_channels_3_re;
+    reg mcu_counters_channels_3_snapshot;
+    reg [31:0] mcu_counters_channels_3_preset;
+    reg mcu_counters_channels_3_preset_low_is_max;
+    reg mcu_counters_channels_3_preset_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_3_rdata;
+    reg [31:0] mcu_counters_preset_d;
+    reg [31:0] mcu_counters_preset_q = 32'h0;
+    reg [31:0] mcu_counters_read_data_d;
+    reg [31:0] mcu_counters_read_data_q = 32'h0;
+    reg mcu_counters_preset_low_is_max_d;
+    reg mcu_counters_preset_low_is_max_q = 1'h0;
+    reg mcu_counters_preset_low_is_nonzero_d;
+    reg mcu_counters_preset_low_is_nonzero_q = 1'h0;
+    reg mcu_counters_read_pending_d;
+    reg mcu_counters_read_pending_q = 1'h0;
+    reg mcu_counters_read_info_d;
+    reg mcu_counters_read_info_q = 1'h0;
+    reg mcu_counters_read_preset_d;
+    reg mcu_counters_read_preset_q = 1'h0;
+    reg mcu_counters_snapshot;
+    reg [31:0] mcu_counters_preset_read;
+    reg [31:0] mcu_counters_read_value;
+    reg mcu_counters_channels_0_filter_a_reset;
+    reg mcu_counters_channels_0_filter_a_pin;
+    reg [3:0] mcu_counters_channels_0_filter_a_setting;
+    reg mcu_counters_channels_0_filter_a_level;
+    reg mcu_counters_channels_0_filter_b_reset;
+    reg mcu_counters_channels_0_filter_b_pin;
+    reg [3:0] mcu_counters_channels_0_filter_b_setting;
+    reg mcu_counters_channels_0_filter_b_level;
+    reg mcu_counters_channels_0_filter_z_reset;
+    reg mcu_counters_channels_0_filter_z_pin;
+    reg [3:0] mcu_counters_channels_0_filter_z_setting;
+    reg mcu_counters_channels_0_filter_z_level;
+    reg mcu_counters_channels_0_a_prev_d;
+    reg mcu_counters_channels_0_a_prev_q = 1'h0;
+    reg mcu_counters_channels_0_b_prev_d;
+    reg mcu_counters_channels_0_b_prev_q = 1'h0;
+    reg mcu_counters_channels_0_zg_prev_d;
+    reg mcu_counters_channels_0_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_0_decoder_hold;
+    reg mcu_counters_channels_0_decoder_a;
+    reg mcu_counters_channels_0_decoder_b;
+    reg mcu_counters_channels_0_decoder_a_prev;
+    reg mcu_counters_channels_0_decoder_b_prev;
+    reg [2:0] mcu_counters_channels_0_decoder_mode;
+    reg mcu_counters_channels_0_decoder_reverse;
+    reg mcu_counters_channels_0_decoder_up_q;
+    reg mcu_counters_channels_0_decoder_down_q;
+    reg mcu_counters_channels_0_counter_up;
+    reg mcu_counters_channels_0_counter_down;
+    reg mcu_counters_channels_0_counter_clear;
+    reg mcu_counters_channels_0_counter_load;
+    reg [31:0] mcu_counters_channels_0_counter_load_value;
+    reg mcu_counters_channels_0_counter_load_low_is_max;
+    reg mcu_counters_channels_0_counter_load_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_0_counter_count;
+    reg mcu_counters_channels_0_load_q_d;
+    reg mcu_counters_channels_0_load_q_q = 1'h0;
+    reg mcu_counters_channels_0_index_latch_q_d;
+    reg mcu_counters_channels_0_index_latch_q_q = 1'h0;
+    reg mcu_counters_channels_0_index_clear_q_d;
+    reg mcu_counters_channels_0_index_clear_q_q = 1'h0;
+    reg [31:0] mcu_counters_channels_0_index_d;
+    reg [31:0] mcu_counters_channels_0_index_q = 32'h0;
+    reg mcu_counters_channels_0_err_d;
+    reg mcu_counters_channels_0_err_q = 1'h0;
+    reg [7:0] mcu_counters_channels_0_err_count_d;
+    reg [7:0] mcu_counters_channels_0_err_count_q = 8'h0;
+    reg mcu_counters_channels_0_seen_d;
+    reg mcu_counters_channels_0_seen_q = 1'h0;
+    reg mcu_counters_channels_0_armed_d;
+    reg mcu_counters_channels_0_armed_q = 1'h0;
+    reg [31:0] mcu_counters_channels_0_ctrl_d;
+    reg [31:0] mcu_counters_channels_0_ctrl_q = 32'h0;
+    reg [31:0] mcu_counters_channels_0_snap_count_d;
+    reg [31:0] mcu_counters_channels_0_snap_count_q = 32'h0;
+    reg [31:0] mcu_counters_channels_0_snap_index_d;
+    reg [31:0] mcu_counters_channels_0_snap_index_q = 32'h0;
+    reg [31:0] mcu_counters_channels_0_snap_status_d;
+    reg [31:0] mcu_counters_channels_0_snap_status_q = 32'h0;
+    reg mcu_counters_channels_0_read_ctrl_d;
+    reg mcu_counters_channels_0_read_ctrl_q = 1'h0;
+    reg mcu_counters_channels_0_read_count_d;
+    reg mcu_counters_channels_0_read_count_q = 1'h0;
+    reg mcu_counters_channels_0_read_index_d;
+    reg mcu_counters_channels_0_read_index_q = 1'h0;
+    reg mcu_counters_channels_0_read_status_d;
+    reg mcu_counters_channels_0_read_status_q = 1'h0;
+    reg mcu_counters_channels_0_level_a;
+    reg mcu_counters_channels_0_level_b;
+    reg mcu_counters_channels_0_level_z;
+    reg mcu_counters_channels_0_illegal;
+    reg [31:0] mcu_counters_channels_0_count_now;
+    reg mcu_counters_channels_0_cmd_clear;
+    reg mcu_counters_channels_0_cmd_load;
+    reg mcu_counters_channels_0_zg;
+    reg mcu_counters_channels_0_index_event;
+    reg mcu_counters_channels_0_index_act;
+    reg mcu_counters_channels_0_cmd_write;
+    reg [31:0] mcu_counters_channels_0_status;
+    reg [31:0] mcu_counters_channels_0_count_read;
+    reg [31:0] mcu_counters_channels_0_index_read;
+    reg mcu_counters_channels_0_filter_a_sync1_d;
+    reg mcu_counters_channels_0_filter_a_sync1_q = 1'h0;
+    reg mcu_counters_channels_0_filter_a_sync2_d;
+    reg mcu_counters_channels_0_filter_a_sync2_q = 1'h0;
+    reg mcu_counters_channels_0_filter_a_accepted_d;
+    reg mcu_counters_channels_0_filter_a_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_0_filter_a_count_d;
+    reg [3:0] mcu_counters_channels_0_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_0_filter_b_sync1_d;
+    reg mcu_counters_channels_0_filter_b_sync1_q = 1'h0;
+    reg mcu_counters_channels_0_filter_b_sync2_d;
+    reg mcu_counters_channels_0_filter_b_sync2_q = 1'h0;
+    reg mcu_counters_channels_0_filter_b_accepted_d;
+    reg mcu_counters_channels_0_filter_b_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_0_filter_b_count_d;
+    reg [3:0] mcu_counters_channels_0_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_0_filter_z_sync1_d;
+    reg mcu_counters_channels_0_filter_z_sync1_q = 1'h0;
+    reg mcu_counters_channels_0_filter_z_sync2_d;
+    reg mcu_counters_channels_0_filter_z_sync2_q = 1'h0;
+    reg mcu_counters_channels_0_filter_z_accepted_d;
+    reg mcu_counters_channels_0_filter_z_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_0_filter_z_count_d;
+    reg [3:0] mcu_counters_channels_0_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_0_decoder_up_reg_d;
+    reg mcu_counters_channels_0_decoder_up_reg_q = 1'h0;
+    reg mcu_counters_channels_0_decoder_down_reg_d;
+    reg mcu_counters_channels_0_decoder_down_reg_q = 1'h0;
+    reg mcu_counters_channels_0_decoder_changed_a;
+    reg mcu_counters_channels_0_decoder_changed_b;
+    reg mcu_counters_channels_0_decoder_a_ne_b;
+    reg mcu_counters_channels_0_decoder_rise_a;
+    reg mcu_counters_channels_0_decoder_rise_b;
+    reg mcu_counters_channels_0_decoder_forward;
+    reg mcu_counters_channels_0_decoder_backward;
+    reg [31:0] mcu_counters_channels_0_counter_lo_d;
+    reg [31:0] mcu_counters_channels_0_counter_lo_q = 32'h0;
+    reg [31:0] mcu_counters_channels_0_counter_hi_d;
+    reg [31:0] mcu_counters_channels_0_counter_hi_q = 32'h0;
+    reg mcu_counters_channels_0_counter_lo_max_d;
+    reg mcu_counters_channels_0_counter_lo_max_q = 1'h0;
+    reg mcu_counters_channels_0_counter_lo_nonzero_d;
+    reg mcu_counters_channels_0_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] mcu_counters_channels_0_counter_load_hi;
+    reg mcu_counters_channels_0_counter_lo_ones_above;
+    reg mcu_counters_channels_0_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_0_counter_lo_step;
+    reg [31:0] mcu_counters_channels_0_counter_hi_step;
+    reg [31:0] mcu_counters_channels_0_counter_lo_carry_in;
+    reg [31:0] mcu_counters_channels_0_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_0_counter_load_lo;
+    reg mcu_counters_channels_1_filter_a_reset;
+    reg mcu_counters_channels_1_filter_a_pin;
+    reg [3:0] mcu_counters_channels_1_filter_a_setting;
+    reg mcu_counters_channels_1_filter_a_level;
+    reg mcu_counters_channels_1_filter_b_reset;
+    reg mcu_counters_channels_1_filter_b_pin;
+    reg [3:0] mcu_counters_channels_1_filter_b_setting;
+    reg mcu_counters_channels_1_filter_b_level;
+    reg mcu_counters_channels_1_filter_z_reset;
+    reg mcu_counters_channels_1_filter_z_pin;
+    reg [3:0] mcu_counters_channels_1_filter_z_setting;
+    reg mcu_counters_channels_1_filter_z_level;
+    reg mcu_counters_channels_1_a_prev_d;
+    reg mcu_counters_channels_1_a_prev_q = 1'h0;
+    reg mcu_counters_channels_1_b_prev_d;
+    reg mcu_counters_channels_1_b_prev_q = 1'h0;
+    reg mcu_counters_channels_1_zg_prev_d;
+    reg mcu_counters_channels_1_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_1_decoder_hold;
+    reg mcu_counters_channels_1_decoder_a;
+    reg mcu_counters_channels_1_decoder_b;
+    reg mcu_counters_channels_1_decoder_a_prev;
+    reg mcu_counters_channels_1_decoder_b_prev;
+    reg [2:0] mcu_counters_channels_1_decoder_mode;
+    reg mcu_counters_channels_1_decoder_reverse;
+    reg mcu_counters_channels_1_decoder_up_q;
+    reg mcu_counters_channels_1_decoder_down_q;
+    reg mcu_counters_channels_1_counter_up;
+    reg mcu_counters_channels_1_counter_down;
+    reg mcu_counters_channels_1_counter_clear;
+    reg mcu_counters_channels_1_counter_load;
+    reg [31:0] mcu_counters_channels_1_counter_load_value;
+    reg mcu_counters_channels_1_counter_load_low_is_max;
+    reg mcu_counters_channels_1_counter_load_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_1_counter_count;
+    reg mcu_counters_channels_1_load_q_d;
+    reg mcu_counters_channels_1_load_q_q = 1'h0;
+    reg mcu_counters_channels_1_index_latch_q_d;
+    reg mcu_counters_channels_1_index_latch_q_q = 1'h0;
+    reg mcu_counters_channels_1_index_clear_q_d;
+    reg mcu_counters_channels_1_index_clear_q_q = 1'h0;
+    reg [31:0] mcu_counters_channels_1_index_d;
+    reg [31:0] mcu_counters_channels_1_index_q = 32'h0;
+    reg mcu_counters_channels_1_err_d;
+    reg mcu_counters_channels_1_err_q = 1'h0;
+    reg [7:0] mcu_counters_channels_1_err_count_d;
+    reg [7:0] mcu_counters_channels_1_err_count_q = 8'h0;
+    reg mcu_counters_channels_1_seen_d;
+    reg mcu_counters_channels_1_seen_q = 1'h0;
+    reg mcu_counters_channels_1_armed_d;
+    reg mcu_counters_channels_1_armed_q = 1'h0;
+    reg [31:0] mcu_counters_channels_1_ctrl_d;
+    reg [31:0] mcu_counters_channels_1_ctrl_q = 32'h0;
+    reg [31:0] mcu_counters_channels_1_snap_count_d;
+    reg [31:0] mcu_counters_channels_1_snap_count_q = 32'h0;
+    reg [31:0] mcu_counters_channels_1_snap_index_d;
+    reg [31:0] mcu_counters_channels_1_snap_index_q = 32'h0;
+    reg [31:0] mcu_counters_channels_1_snap_status_d;
+    reg [31:0] mcu_counters_channels_1_snap_status_q = 32'h0;
+    reg mcu_counters_channels_1_read_ctrl_d;
+    reg mcu_counters_channels_1_read_ctrl_q = 1'h0;
+    reg mcu_counters_channels_1_read_count_d;
+    reg mcu_counters_channels_1_read_count_q = 1'h0;
+    reg mcu_counters_channels_1_read_index_d;
+    reg mcu_counters_channels_1_read_index_q = 1'h0;
+    reg mcu_counters_channels_1_read_status_d;
+    reg mcu_counters_channels_1_read_status_q = 1'h0;
+    reg mcu_counters_channels_1_level_a;
+    reg mcu_counters_channels_1_level_b;
+    reg mcu_counters_channels_1_level_z;
+    reg mcu_counters_channels_1_illegal;
+    reg [31:0] mcu_counters_channels_1_count_now;
+    reg mcu_counters_channels_1_cmd_clear;
+    reg mcu_counters_channels_1_cmd_load;
+    reg mcu_counters_channels_1_zg;
+    reg mcu_counters_channels_1_index_event;
+    reg mcu_counters_channels_1_index_act;
+    reg mcu_counters_channels_1_cmd_write;
+    reg [31:0] mcu_counters_channels_1_status;
+    reg [31:0] mcu_counters_channels_1_count_read;
+    reg [31:0] mcu_counters_channels_1_index_read;
+    reg mcu_counters_channels_1_filter_a_sync1_d;
+    reg mcu_counters_channels_1_filter_a_sync1_q = 1'h0;
+    reg mcu_counters_channels_1_filter_a_sync2_d;
+    reg mcu_counters_channels_1_filter_a_sync2_q = 1'h0;
+    reg mcu_counters_channels_1_filter_a_accepted_d;
+    reg mcu_counters_channels_1_filter_a_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_1_filter_a_count_d;
+    reg [3:0] mcu_counters_channels_1_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_1_filter_b_sync1_d;
+    reg mcu_counters_channels_1_filter_b_sync1_q = 1'h0;
+    reg mcu_counters_channels_1_filter_b_sync2_d;
+    reg mcu_counters_channels_1_filter_b_sync2_q = 1'h0;
+    reg mcu_counters_channels_1_filter_b_accepted_d;
+    reg mcu_counters_channels_1_filter_b_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_1_filter_b_count_d;
+    reg [3:0] mcu_counters_channels_1_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_1_filter_z_sync1_d;
+    reg mcu_counters_channels_1_filter_z_sync1_q = 1'h0;
+    reg mcu_counters_channels_1_filter_z_sync2_d;
+    reg mcu_counters_channels_1_filter_z_sync2_q = 1'h0;
+    reg mcu_counters_channels_1_filter_z_accepted_d;
+    reg mcu_counters_channels_1_filter_z_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_1_filter_z_count_d;
+    reg [3:0] mcu_counters_channels_1_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_1_decoder_up_reg_d;
+    reg mcu_counters_channels_1_decoder_up_reg_q = 1'h0;
+    reg mcu_counters_channels_1_decoder_down_reg_d;
+    reg mcu_counters_channels_1_decoder_down_reg_q = 1'h0;
+    reg mcu_counters_channels_1_decoder_changed_a;
+    reg mcu_counters_channels_1_decoder_changed_b;
+    reg mcu_counters_channels_1_decoder_a_ne_b;
+    reg mcu_counters_channels_1_decoder_rise_a;
+    reg mcu_counters_channels_1_decoder_rise_b;
+    reg mcu_counters_channels_1_decoder_forward;
+    reg mcu_counters_channels_1_decoder_backward;
+    reg [31:0] mcu_counters_channels_1_counter_lo_d;
+    reg [31:0] mcu_counters_channels_1_counter_lo_q = 32'h0;
+    reg [31:0] mcu_counters_channels_1_counter_hi_d;
+    reg [31:0] mcu_counters_channels_1_counter_hi_q = 32'h0;
+    reg mcu_counters_channels_1_counter_lo_max_d;
+    reg mcu_counters_channels_1_counter_lo_max_q = 1'h0;
+    reg mcu_counters_channels_1_counter_lo_nonzero_d;
+    reg mcu_counters_channels_1_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] mcu_counters_channels_1_counter_load_hi;
+    reg mcu_counters_channels_1_counter_lo_ones_above;
+    reg mcu_counters_channels_1_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_1_counter_lo_step;
+    reg [31:0] mcu_counters_channels_1_counter_hi_step;
+    reg [31:0] mcu_counters_channels_1_counter_lo_carry_in;
+    reg [31:0] mcu_counters_channels_1_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_1_counter_load_lo;
+    reg mcu_counters_channels_2_filter_a_reset;
+    reg mcu_counters_channels_2_filter_a_pin;
+    reg [3:0] mcu_counters_channels_2_filter_a_setting;
+    reg mcu_counters_channels_2_filter_a_level;
+    reg mcu_counters_channels_2_filter_b_reset;
+    reg mcu_counters_channels_2_filter_b_pin;
+    reg [3:0] mcu_counters_channels_2_filter_b_setting;
+    reg mcu_counters_channels_2_filter_b_level;
+    reg mcu_counters_channels_2_filter_z_reset;
+    reg mcu_counters_channels_2_filter_z_pin;
+    reg [3:0] mcu_counters_channels_2_filter_z_setting;
+    reg mcu_counters_channels_2_filter_z_level;
+    reg mcu_counters_channels_2_a_prev_d;
+    reg mcu_counters_channels_2_a_prev_q = 1'h0;
+    reg mcu_counters_channels_2_b_prev_d;
+    reg mcu_counters_channels_2_b_prev_q = 1'h0;
+    reg mcu_counters_channels_2_zg_prev_d;
+    reg mcu_counters_channels_2_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_2_decoder_hold;
+    reg mcu_counters_channels_2_decoder_a;
+    reg mcu_counters_channels_2_decoder_b;
+    reg mcu_counters_channels_2_decoder_a_prev;
+    reg mcu_counters_channels_2_decoder_b_prev;
+    reg [2:0] mcu_counters_channels_2_decoder_mode;
+    reg mcu_counters_channels_2_decoder_reverse;
+    reg mcu_counters_channels_2_decoder_up_q;
+    reg mcu_counters_channels_2_decoder_down_q;
+    reg mcu_counters_channels_2_counter_up;
+    reg mcu_counters_channels_2_counter_down;
+    reg mcu_counters_channels_2_counter_clear;
+    reg mcu_counters_channels_2_counter_load;
+    reg [31:0] mcu_counters_channels_2_counter_load_value;
+    reg mcu_counters_channels_2_counter_load_low_is_max;
+    reg mcu_counters_channels_2_counter_load_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_2_counter_count;
+    reg mcu_counters_channels_2_load_q_d;
+    reg mcu_counters_channels_2_load_q_q = 1'h0;
+    reg mcu_counters_channels_2_index_latch_q_d;
+    reg mcu_counters_channels_2_index_latch_q_q = 1'h0;
+    reg mcu_counters_channels_2_index_clear_q_d;
+    reg mcu_counters_channels_2_index_clear_q_q = 1'h0;
+    reg [31:0] mcu_counters_channels_2_index_d;
+    reg [31:0] mcu_counters_channels_2_index_q = 32'h0;
+    reg mcu_counters_channels_2_err_d;
+    reg mcu_counters_channels_2_err_q = 1'h0;
+    reg [7:0] mcu_counters_channels_2_err_count_d;
+    reg [7:0] mcu_counters_channels_2_err_count_q = 8'h0;
+    reg mcu_counters_channels_2_seen_d;
+    reg mcu_counters_channels_2_seen_q = 1'h0;
+    reg mcu_counters_channels_2_armed_d;
+    reg mcu_counters_channels_2_armed_q = 1'h0;
+    reg [31:0] mcu_counters_channels_2_ctrl_d;
+    reg [31:0] mcu_counters_channels_2_ctrl_q = 32'h0;
+    reg [31:0] mcu_counters_channels_2_snap_count_d;
+    reg [31:0] mcu_counters_channels_2_snap_count_q = 32'h0;
+    reg [31:0] mcu_counters_channels_2_snap_index_d;
+    reg [31:0] mcu_counters_channels_2_snap_index_q = 32'h0;
+    reg [31:0] mcu_counters_channels_2_snap_status_d;
+    reg [31:0] mcu_counters_channels_2_snap_status_q = 32'h0;
+    reg mcu_counters_channels_2_read_ctrl_d;
+    reg mcu_counters_channels_2_read_ctrl_q = 1'h0;
+    reg mcu_counters_channels_2_read_count_d;
+    reg mcu_counters_channels_2_read_count_q = 1'h0;
+    reg mcu_counters_channels_2_read_index_d;
+    reg mcu_counters_channels_2_read_index_q = 1'h0;
+    reg mcu_counters_channels_2_read_status_d;
+    reg mcu_counters_channels_2_read_status_q = 1'h0;
+    reg mcu_counters_channels_2_level_a;
+    reg mcu_counters_channels_2_level_b;
+    reg mcu_counters_channels_2_level_z;
+    reg mcu_counters_channels_2_illegal;
+    reg [31:0] mcu_counters_channels_2_count_now;
+    reg mcu_counters_channels_2_cmd_clear;
+    reg mcu_counters_channels_2_cmd_load;
+    reg mcu_counters_channels_2_zg;
+    reg mcu_counters_channels_2_index_event;
+    reg mcu_counters_channels_2_index_act;
+    reg mcu_counters_channels_2_cmd_write;
+    reg [31:0] mcu_counters_channels_2_status;
+    reg [31:0] mcu_counters_channels_2_count_read;
+    reg [31:0] mcu_counters_channels_2_index_read;
+    reg mcu_counters_channels_2_filter_a_sync1_d;
+    reg mcu_counters_channels_2_filter_a_sync1_q = 1'h0;
+    reg mcu_counters_channels_2_filter_a_sync2_d;
+    reg mcu_counters_channels_2_filter_a_sync2_q = 1'h0;
+    reg mcu_counters_channels_2_filter_a_accepted_d;
+    reg mcu_counters_channels_2_filter_a_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_2_filter_a_count_d;
+    reg [3:0] mcu_counters_channels_2_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_2_filter_b_sync1_d;
+    reg mcu_counters_channels_2_filter_b_sync1_q = 1'h0;
+    reg mcu_counters_channels_2_filter_b_sync2_d;
+    reg mcu_counters_channels_2_filter_b_sync2_q = 1'h0;
+    reg mcu_counters_channels_2_filter_b_accepted_d;
+    reg mcu_counters_channels_2_filter_b_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_2_filter_b_count_d;
+    reg [3:0] mcu_counters_channels_2_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_2_filter_z_sync1_d;
+    reg mcu_counters_channels_2_filter_z_sync1_q = 1'h0;
+    reg mcu_counters_channels_2_filter_z_sync2_d;
+    reg mcu_counters_channels_2_filter_z_sync2_q = 1'h0;
+    reg mcu_counters_channels_2_filter_z_accepted_d;
+    reg mcu_counters_channels_2_filter_z_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_2_filter_z_count_d;
+    reg [3:0] mcu_counters_channels_2_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_2_decoder_up_reg_d;
+    reg mcu_counters_channels_2_decoder_up_reg_q = 1'h0;
+    reg mcu_counters_channels_2_decoder_down_reg_d;
+    reg mcu_counters_channels_2_decoder_down_reg_q = 1'h0;
+    reg mcu_counters_channels_2_decoder_changed_a;
+    reg mcu_counters_channels_2_decoder_changed_b;
+    reg mcu_counters_channels_2_decoder_a_ne_b;
+    reg mcu_counters_channels_2_decoder_rise_a;
+    reg mcu_counters_channels_2_decoder_rise_b;
+    reg mcu_counters_channels_2_decoder_forward;
+    reg mcu_counters_channels_2_decoder_backward;
+    reg [31:0] mcu_counters_channels_2_counter_lo_d;
+    reg [31:0] mcu_counters_channels_2_counter_lo_q = 32'h0;
+    reg [31:0] mcu_counters_channels_2_counter_hi_d;
+    reg [31:0] mcu_counters_channels_2_counter_hi_q = 32'h0;
+    reg mcu_counters_channels_2_counter_lo_max_d;
+    reg mcu_counters_channels_2_counter_lo_max_q = 1'h0;
+    reg mcu_counters_channels_2_counter_lo_nonzero_d;
+    reg mcu_counters_channels_2_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] mcu_counters_channels_2_counter_load_hi;
+    reg mcu_counters_channels_2_counter_lo_ones_above;
+    reg mcu_counters_channels_2_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_2_counter_lo_step;
+    reg [31:0] mcu_counters_channels_2_counter_hi_step;
+    reg [31:0] mcu_counters_channels_2_counter_lo_carry_in;
+    reg [31:0] mcu_counters_channels_2_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_2_counter_load_lo;
+    reg mcu_counters_channels_3_filter_a_reset;
+    reg mcu_counters_channels_3_filter_a_pin;
+    reg [3:0] mcu_counters_channels_3_filter_a_setting;
+    reg mcu_counters_channels_3_filter_a_level;
+    reg mcu_counters_channels_3_filter_b_reset;
+    reg mcu_counters_channels_3_filter_b_pin;
+    reg [3:0] mcu_counters_channels_3_filter_b_setting;
+    reg mcu_counters_channels_3_filter_b_level;
+    reg mcu_counters_channels_3_filter_z_reset;
+    reg mcu_counters_channels_3_filter_z_pin;
+    reg [3:0] mcu_counters_channels_3_filter_z_setting;
+    reg mcu_counters_channels_3_filter_z_level;
+    reg mcu_counters_channels_3_a_prev_d;
+    reg mcu_counters_channels_3_a_prev_q = 1'h0;
+    reg mcu_counters_channels_3_b_prev_d;
+    reg mcu_counters_channels_3_b_prev_q = 1'h0;
+    reg mcu_counters_channels_3_zg_prev_d;
+    reg mcu_counters_channels_3_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_3_decoder_hold;
+    reg mcu_counters_channels_3_decoder_a;
+    reg mcu_counters_channels_3_decoder_b;
+    reg mcu_counters_channels_3_decoder_a_prev;
+    reg mcu_counters_channels_3_decoder_b_prev;
+    reg [2:0] mcu_counters_channels_3_decoder_mode;
+    reg mcu_counters_channels_3_decoder_reverse;
+    reg mcu_counters_channels_3_decoder_up_q;
+    reg mcu_counters_channels_3_decoder_down_q;
+    reg mcu_counters_channels_3_counter_up;
+    reg mcu_counters_channels_3_counter_down;
+    reg mcu_counters_channels_3_counter_clear;
+    reg mcu_counters_channels_3_counter_load;
+    reg [31:0] mcu_counters_channels_3_counter_load_value;
+    reg mcu_counters_channels_3_counter_load_low_is_max;
+    reg mcu_counters_channels_3_counter_load_low_is_nonzero;
+    reg [31:0] mcu_counters_channels_3_counter_count;
+    reg mcu_counters_channels_3_load_q_d;
+    reg mcu_counters_channels_3_load_q_q = 1'h0;
+    reg mcu_counters_channels_3_index_latch_q_d;
+    reg mcu_counters_channels_3_index_latch_q_q = 1'h0;
+    reg mcu_counters_channels_3_index_clear_q_d;
+    reg mcu_counters_channels_3_index_clear_q_q = 1'h0;
+    reg [31:0] mcu_counters_channels_3_index_d;
+    reg [31:0] mcu_counters_channels_3_index_q = 32'h0;
+    reg mcu_counters_channels_3_err_d;
+    reg mcu_counters_channels_3_err_q = 1'h0;
+    reg [7:0] mcu_counters_channels_3_err_count_d;
+    reg [7:0] mcu_counters_channels_3_err_count_q = 8'h0;
+    reg mcu_counters_channels_3_seen_d;
+    reg mcu_counters_channels_3_seen_q = 1'h0;
+    reg mcu_counters_channels_3_armed_d;
+    reg mcu_counters_channels_3_armed_q = 1'h0;
+    reg [31:0] mcu_counters_channels_3_ctrl_d;
+    reg [31:0] mcu_counters_channels_3_ctrl_q = 32'h0;
+    reg [31:0] mcu_counters_channels_3_snap_count_d;
+    reg [31:0] mcu_counters_channels_3_snap_count_q = 32'h0;
+    reg [31:0] mcu_counters_channels_3_snap_index_d;
+    reg [31:0] mcu_counters_channels_3_snap_index_q = 32'h0;
+    reg [31:0] mcu_counters_channels_3_snap_status_d;
+    reg [31:0] mcu_counters_channels_3_snap_status_q = 32'h0;
+    reg mcu_counters_channels_3_read_ctrl_d;
+    reg mcu_counters_channels_3_read_ctrl_q = 1'h0;
+    reg mcu_counters_channels_3_read_count_d;
+    reg mcu_counters_channels_3_read_count_q = 1'h0;
+    reg mcu_counters_channels_3_read_index_d;
+    reg mcu_counters_channels_3_read_index_q = 1'h0;
+    reg mcu_counters_channels_3_read_status_d;
+    reg mcu_counters_channels_3_read_status_q = 1'h0;
+    reg mcu_counters_channels_3_level_a;
+    reg mcu_counters_channels_3_level_b;
+    reg mcu_counters_channels_3_level_z;
+    reg mcu_counters_channels_3_illegal;
+    reg [31:0] mcu_counters_channels_3_count_now;
+    reg mcu_counters_channels_3_cmd_clear;
+    reg mcu_counters_channels_3_cmd_load;
+    reg mcu_counters_channels_3_zg;
+    reg mcu_counters_channels_3_index_event;
+    reg mcu_counters_channels_3_index_act;
+    reg mcu_counters_channels_3_cmd_write;
+    reg [31:0] mcu_counters_channels_3_status;
+    reg [31:0] mcu_counters_channels_3_count_read;
+    reg [31:0] mcu_counters_channels_3_index_read;
+    reg mcu_counters_channels_3_filter_a_sync1_d;
+    reg mcu_counters_channels_3_filter_a_sync1_q = 1'h0;
+    reg mcu_counters_channels_3_filter_a_sync2_d;
+    reg mcu_counters_channels_3_filter_a_sync2_q = 1'h0;
+    reg mcu_counters_channels_3_filter_a_accepted_d;
+    reg mcu_counters_channels_3_filter_a_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_3_filter_a_count_d;
+    reg [3:0] mcu_counters_channels_3_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_3_filter_b_sync1_d;
+    reg mcu_counters_channels_3_filter_b_sync1_q = 1'h0;
+    reg mcu_counters_channels_3_filter_b_sync2_d;
+    reg mcu_counters_channels_3_filter_b_sync2_q = 1'h0;
+    reg mcu_counters_channels_3_filter_b_accepted_d;
+    reg mcu_counters_channels_3_filter_b_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_3_filter_b_count_d;
+    reg [3:0] mcu_counters_channels_3_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_3_filter_z_sync1_d;
+    reg mcu_counters_channels_3_filter_z_sync1_q = 1'h0;
+    reg mcu_counters_channels_3_filter_z_sync2_d;
+    reg mcu_counters_channels_3_filter_z_sync2_q = 1'h0;
+    reg mcu_counters_channels_3_filter_z_accepted_d;
+    reg mcu_counters_channels_3_filter_z_accepted_q = 1'h0;
+    reg [3:0] mcu_counters_channels_3_filter_z_count_d;
+    reg [3:0] mcu_counters_channels_3_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_3_decoder_up_reg_d;
+    reg mcu_counters_channels_3_decoder_up_reg_q = 1'h0;
+    reg mcu_counters_channels_3_decoder_down_reg_d;
+    reg mcu_counters_channels_3_decoder_down_reg_q = 1'h0;
+    reg mcu_counters_channels_3_decoder_changed_a;
+    reg mcu_counters_channels_3_decoder_changed_b;
+    reg mcu_counters_channels_3_decoder_a_ne_b;
+    reg mcu_counters_channels_3_decoder_rise_a;
+    reg mcu_counters_channels_3_decoder_rise_b;
+    reg mcu_counters_channels_3_decoder_forward;
+    reg mcu_counters_channels_3_decoder_backward;
+    reg [31:0] mcu_counters_channels_3_counter_lo_d;
+    reg [31:0] mcu_counters_channels_3_counter_lo_q = 32'h0;
+    reg [31:0] mcu_counters_channels_3_counter_hi_d;
+    reg [31:0] mcu_counters_channels_3_counter_hi_q = 32'h0;
+    reg mcu_counters_channels_3_counter_lo_max_d;
+    reg mcu_counters_channels_3_counter_lo_max_q = 1'h0;
+    reg mcu_counters_channels_3_counter_lo_nonzero_d;
+    reg mcu_counters_channels_3_counter_lo_nonzero_q = 1'h0;
+    reg [31:0] mcu_counters_channels_3_counter_load_hi;
+    reg mcu_counters_channels_3_counter_lo_ones_above;
+    reg mcu_counters_channels_3_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_3_counter_lo_step;
+    reg [31:0] mcu_counters_channels_3_counter_hi_step;
+    reg [31:0] mcu_counters_channels_3_counter_lo_carry_in;
+    reg [31:0] mcu_counters_channels_3_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_3_counter_load_lo;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -443,652 +1062,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg pc_bus_core_access_end;
     reg pc_bus_core_advance;
     reg pc_bus_core_frozen;
-    reg [3:0] identity_read_addr_d;
-    reg [3:0] identity_read_addr_q = 4'h0;
-    reg identity_read_pending_d;
-    reg identity_read_pending_q = 1'h0;
-    reg [31:0] identity_read_data_d;
-    reg [31:0] identity_read_data_q = 32'h0;
-    reg [31:0] identity_read_value;
-    reg counters_channels_0_reset;
-    reg counters_channels_0_a;
-    reg counters_channels_0_b;
-    reg counters_channels_0_z;
-    reg [7:0] counters_channels_0_addr;
-    reg [31:0] counters_channels_0_wdata;
-    reg counters_channels_0_we;
-    reg counters_channels_0_re;
-    reg counters_channels_0_snapshot;
-    reg [31:0] counters_channels_0_preset;
-    reg counters_channels_0_preset_low_is_max;
-    reg counters_channels_0_preset_low_is_nonzero;
-    reg [31:0] counters_channels_0_rdata;
-    reg counters_channels_1_reset;
-    reg counters_channels_1_a;
-    reg counters_channels_1_b;
-    reg counters_channels_1_z;
-    reg [7:0] counters_channels_1_addr;
-    reg [31:0] counters_channels_1_wdata;
-    reg counters_channels_1_we;
-    reg counters_channels_1_re;
-    reg counters_channels_1_snapshot;
-    reg [31:0] counters_channels_1_preset;
-    reg counters_channels_1_preset_low_is_max;
-    reg counters_channels_1_preset_low_is_nonzero;
-    reg [31:0] counters_channels_1_rdata;
-    reg counters_channels_2_reset;
-    reg counters_channels_2_a;
-    reg counters_channels_2_b;
-    reg counters_channels_2_z;
-    reg [7:0] counters_channels_2_addr;
-    reg [31:0] counters_channels_2_wdata;
-    reg counters_channels_2_we;
-    reg counters_channels_2_re;
-    reg counters_channels_2_snapshot;
-    reg [31:0] counters_channels_2_preset;
-    reg counters_channels_2_preset_low_is_max;
-    reg counters_channels_2_preset_low_is_nonzero;
-    reg [31:0] counters_channels_2_rdata;
-    reg counters_channels_3_reset;
-    reg counters_channels_3_a;
-    reg counters_channels_3_b;
-    reg counters_channels_3_z;
-    reg [7:0] counters_channels_3_addr;
-    reg [31:0] counters_channels_3_wdata;
-    reg counters_channels_3_we;
-    reg counters_channels_3_re;
-    reg counters_channels_3_snapshot;
-    reg [31:0] counters_channels_3_preset;
-    reg counters_channels_3_preset_low_is_max;
-    reg counters_channels_3_preset_low_is_nonzero;
-    reg [31:0] counters_channels_3_rdata;
-    reg [31:0] counters_preset_d;
-    reg [31:0] counters_preset_q = 32'h0;
-    reg [31:0] counters_read_data_d;
-    reg [31:0] counters_read_data_q = 32'h0;
-    reg counters_preset_low_is_max_d;
-    reg counters_preset_low_is_max_q = 1'h0;
-    reg counters_preset_low_is_nonzero_d;
-    reg counters_preset_low_is_nonzero_q = 1'h0;
-    reg counters_read_pending_d;
-    reg counters_read_pending_q = 1'h0;
-    reg counters_read_info_d;
-    reg counters_read_info_q = 1'h0;
-    reg counters_read_preset_d;
-    reg counters_read_preset_q = 1'h0;
-    reg counters_snapshot;
-    reg [31:0] counters_preset_read;
-    reg [31:0] counters_read_value;
-    reg counters_channels_0_filter_a_reset;
-    reg counters_channels_0_filter_a_pin;
-    reg [3:0] counters_channels_0_filter_a_setting;
-    reg counters_channels_0_filter_a_level;
-    reg counters_channels_0_filter_b_reset;
-    reg counters_channels_0_filter_b_pin;
-    reg [3:0] counters_channels_0_filter_b_setting;
-    reg counters_channels_0_filter_b_level;
-    reg counters_channels_0_filter_z_reset;
-    reg counters_channels_0_filter_z_pin;
-    reg [3:0] counters_channels_0_filter_z_setting;
-    reg counters_channels_0_filter_z_level;
-    reg counters_channels_0_a_prev_d;
-    reg counters_channels_0_a_prev_q = 1'h0;
-    reg counters_channels_0_b_prev_d;
-    reg counters_channels_0_b_prev_q = 1'h0;
-    reg counters_channels_0_zg_prev_d;
-    reg counters_channels_0_zg_prev_q = 1'h0;
-    reg counters_channels_0_decoder_hold;
-    reg counters_channels_0_decoder_a;
-    reg counters_channels_0_decoder_b;
-    reg counters_channels_0_decoder_a_prev;
-    reg counters_channels_0_decoder_b_prev;
-    reg [2:0] counters_channels_0_decoder_mode;
-    reg counters_channels_0_decoder_reverse;
-    reg counters_channels_0_decoder_up_q;
-    reg counters_channels_0_decoder_down_q;
-    reg counters_channels_0_counter_up;
-    reg counters_channels_0_counter_down;
-    reg counters_channels_0_counter_clear;
-    reg counters_channels_0_counter_load;
-    reg [31:0] counters_channels_0_counter_load_value;
-    reg counters_channels_0_counter_load_low_is_max;
-    reg counters_channels_0_counter_load_low_is_nonzero;
-    reg [31:0] counters_channels_0_counter_count;
-    reg counters_channels_0_load_q_d;
-    reg counters_channels_0_load_q_q = 1'h0;
-    reg counters_channels_0_index_latch_q_d;
-    reg counters_channels_0_index_latch_q_q = 1'h0;
-    reg counters_channels_0_index_clear_q_d;
-    reg counters_channels_0_index_clear_q_q = 1'h0;
-    reg [31:0] counters_channels_0_index_d;
-    reg [31:0] counters_channels_0_index_q = 32'h0;
-    reg counters_channels_0_err_d;
-    reg counters_channels_0_err_q = 1'h0;
-    reg [7:0] counters_channels_0_err_count_d;
-    reg [7:0] counters_channels_0_err_count_q = 8'h0;
-    reg counters_channels_0_seen_d;
-    reg counters_channels_0_seen_q = 1'h0;
-    reg counters_channels_0_armed_d;
-    reg counters_channels_0_armed_q = 1'h0;
-    reg [31:0] counters_channels_0_ctrl_d;
-    reg [31:0] counters_channels_0_ctrl_q = 32'h0;
-    reg [31:0] counters_channels_0_snap_count_d;
-    reg [31:0] counters_channels_0_snap_count_q = 32'h0;
-    reg [31:0] counters_channels_0_snap_index_d;
-    reg [31:0] counters_channels_0_snap_index_q = 32'h0;
-    reg [31:0] counters_channels_0_snap_status_d;
-    reg [31:0] counters_channels_0_snap_status_q = 32'h0;
-    reg counters_channels_0_read_ctrl_d;
-    reg counters_channels_0_read_ctrl_q = 1'h0;
-    reg counters_channels_0_read_count_d;
-    reg counters_channels_0_read_count_q = 1'h0;
-    reg counters_channels_0_read_index_d;
-    reg counters_channels_0_read_index_q = 1'h0;
-    reg counters_channels_0_read_status_d;
-    reg counters_channels_0_read_status_q = 1'h0;
-    reg counters_channels_0_level_a;
-    reg counters_channels_0_level_b;
-    reg counters_channels_0_level_z;
-    reg counters_channels_0_illegal;
-    reg [31:0] counters_channels_0_count_now;
-    reg counters_channels_0_cmd_clear;
-    reg counters_channels_0_cmd_load;
-    reg counters_channels_0_zg;
-    reg counters_channels_0_index_event;
-    reg counters_channels_0_index_act;
-    reg counters_channels_0_cmd_write;
-    reg [31:0] counters_channels_0_status;
-    reg [31:0] counters_channels_0_count_read;
-    reg [31:0] counters_channels_0_index_read;
-    reg counters_channels_0_filter_a_sync1_d;
-    reg counters_channels_0_filter_a_sync1_q = 1'h0;
-    reg counters_channels_0_filter_a_sync2_d;
-    reg counters_channels_0_filter_a_sync2_q = 1'h0;
-    reg counters_channels_0_filter_a_accepted_d;
-    reg counters_channels_0_filter_a_accepted_q = 1'h0;
-    reg [3:0] counters_channels_0_filter_a_count_d;
-    reg [3:0] counters_channels_0_filter_a_count_q = 4'h0;
-    reg counters_channels_0_filter_b_sync1_d;
-    reg counters_channels_0_filter_b_sync1_q = 1'h0;
-    reg counters_channels_0_filter_b_sync2_d;
-    reg counters_channels_0_filter_b_sync2_q = 1'h0;
-    reg counters_channels_0_filter_b_accepted_d;
-    reg counters_channels_0_filter_b_accepted_q = 1'h0;
-    reg [3:0] counters_channels_0_filter_b_count_d;
-    reg [3:0] counters_channels_0_filter_b_count_q = 4'h0;
-    reg counters_channels_0_filter_z_sync1_d;
-    reg counters_channels_0_filter_z_sync1_q = 1'h0;
-    reg counters_channels_0_filter_z_sync2_d;
-    reg counters_channels_0_filter_z_sync2_q = 1'h0;
-    reg counters_channels_0_filter_z_accepted_d;
-    reg counters_channels_0_filter_z_accepted_q = 1'h0;
-    reg [3:0] counters_channels_0_filter_z_count_d;
-    reg [3:0] counters_channels_0_filter_z_count_q = 4'h0;
-    reg counters_channels_0_decoder_up_reg_d;
-    reg counters_channels_0_decoder_up_reg_q = 1'h0;
-    reg counters_channels_0_decoder_down_reg_d;
-    reg counters_channels_0_decoder_down_reg_q = 1'h0;
-    reg counters_channels_0_decoder_changed_a;
-    reg counters_channels_0_decoder_changed_b;
-    reg counters_channels_0_decoder_a_ne_b;
-    reg counters_channels_0_decoder_rise_a;
-    reg counters_channels_0_decoder_rise_b;
-    reg counters_channels_0_decoder_forward;
-    reg counters_channels_0_decoder_backward;
-    reg [31:0] counters_channels_0_counter_lo_d;
-    reg [31:0] counters_channels_0_counter_lo_q = 32'h0;
-    reg [31:0] counters_channels_0_counter_hi_d;
-    reg [31:0] counters_channels_0_counter_hi_q = 32'h0;
-    reg counters_channels_0_counter_lo_max_d;
-    reg counters_channels_0_counter_lo_max_q = 1'h0;
-    reg counters_channels_0_counter_lo_nonzero_d;
-    reg counters_channels_0_counter_lo_nonzero_q = 1'h0;
-    reg [31:0] counters_channels_0_counter_load_hi;
-    reg counters_channels_0_counter_lo_ones_above;
-    reg counters_channels_0_counter_lo_zeros_above;
-    reg [31:0] counters_channels_0_counter_lo_step;
-    reg [31:0] counters_channels_0_counter_hi_step;
-    reg [31:0] counters_channels_0_counter_lo_carry_in;
-    reg [31:0] counters_channels_0_counter_hi_carry_in;
-    reg [31:0] counters_channels_0_counter_load_lo;
-    reg counters_channels_1_filter_a_reset;
-    reg counters_channels_1_filter_a_pin;
-    reg [3:0] counters_channels_1_filter_a_setting;
-    reg counters_channels_1_filter_a_level;
-    reg counters_channels_1_filter_b_reset;
-    reg counters_channels_1_filter_b_pin;
-    reg [3:0] counters_channels_1_filter_b_setting;
-    reg counters_channels_1_filter_b_level;
-    reg counters_channels_1_filter_z_reset;
-    reg counters_channels_1_filter_z_pin;
-    reg [3:0] counters_channels_1_filter_z_setting;
-    reg counters_channels_1_filter_z_level;
-    reg counters_channels_1_a_prev_d;
-    reg counters_channels_1_a_prev_q = 1'h0;
-    reg counters_channels_1_b_prev_d;
-    reg counters_channels_1_b_prev_q = 1'h0;
-    reg counters_channels_1_zg_prev_d;
-    reg counters_channels_1_zg_prev_q = 1'h0;
-    reg counters_channels_1_decoder_hold;
-    reg counters_channels_1_decoder_a;
-    reg counters_channels_1_decoder_b;
-    reg counters_channels_1_decoder_a_prev;
-    reg counters_channels_1_decoder_b_prev;
-    reg [2:0] counters_channels_1_decoder_mode;
-    reg counters_channels_1_decoder_reverse;
-    reg counters_channels_1_decoder_up_q;
-    reg counters_channels_1_decoder_down_q;
-    reg counters_channels_1_counter_up;
-    reg counters_channels_1_counter_down;
-    reg counters_channels_1_counter_clear;
-    reg counters_channels_1_counter_load;
-    reg [31:0] counters_channels_1_counter_load_value;
-    reg counters_channels_1_counter_load_low_is_max;
-    reg counters_channels_1_counter_load_low_is_nonzero;
-    reg [31:0] counters_channels_1_counter_count;
-    reg counters_channels_1_load_q_d;
-    reg counters_channels_1_load_q_q = 1'h0;
-    reg counters_channels_1_index_latch_q_d;
-    reg counters_channels_1_index_latch_q_q = 1'h0;
-    reg counters_channels_1_index_clear_q_d;
-    reg counters_channels_1_index_clear_q_q = 1'h0;
-    reg [31:0] counters_channels_1_index_d;
-    reg [31:0] counters_channels_1_index_q = 32'h0;
-    reg counters_channels_1_err_d;
-    reg counters_channels_1_err_q = 1'h0;
-    reg [7:0] counters_channels_1_err_count_d;
-    reg [7:0] counters_channels_1_err_count_q = 8'h0;
-    reg counters_channels_1_seen_d;
-    reg counters_channels_1_seen_q = 1'h0;
-    reg counters_channels_1_armed_d;
-    reg counters_channels_1_armed_q = 1'h0;
-    reg [31:0] counters_channels_1_ctrl_d;
-    reg [31:0] counters_channels_1_ctrl_q = 32'h0;
-    reg [31:0] counters_channels_1_snap_count_d;
-    reg [31:0] counters_channels_1_snap_count_q = 32'h0;
-    reg [31:0] counters_channels_1_snap_index_d;
-    reg [31:0] counters_channels_1_snap_index_q = 32'h0;
-    reg [31:0] counters_channels_1_snap_status_d;
-    reg [31:0] counters_channels_1_snap_status_q = 32'h0;
-    reg counters_channels_1_read_ctrl_d;
-    reg counters_channels_1_read_ctrl_q = 1'h0;
-    reg counters_channels_1_read_count_d;
-    reg counters_channels_1_read_count_q = 1'h0;
-    reg counters_channels_1_read_index_d;
-    reg counters_channels_1_read_index_q = 1'h0;
-    reg counters_channels_1_read_status_d;
-    reg counters_channels_1_read_status_q = 1'h0;
-    reg counters_channels_1_level_a;
-    reg counters_channels_1_level_b;
-    reg counters_channels_1_level_z;
-    reg counters_channels_1_illegal;
-    reg [31:0] counters_channels_1_count_now;
-    reg counters_channels_1_cmd_clear;
-    reg counters_channels_1_cmd_load;
-    reg counters_channels_1_zg;
-    reg counters_channels_1_index_event;
-    reg counters_channels_1_index_act;
-    reg counters_channels_1_cmd_write;
-    reg [31:0] counters_channels_1_status;
-    reg [31:0] counters_channels_1_count_read;
-    reg [31:0] counters_channels_1_index_read;
-    reg counters_channels_1_filter_a_sync1_d;
-    reg counters_channels_1_filter_a_sync1_q = 1'h0;
-    reg counters_channels_1_filter_a_sync2_d;
-    reg counters_channels_1_filter_a_sync2_q = 1'h0;
-    reg counters_channels_1_filter_a_accepted_d;
-    reg counters_channels_1_filter_a_accepted_q = 1'h0;
-    reg [3:0] counters_channels_1_filter_a_count_d;
-    reg [3:0] counters_channels_1_filter_a_count_q = 4'h0;
-    reg counters_channels_1_filter_b_sync1_d;
-    reg counters_channels_1_filter_b_sync1_q = 1'h0;
-    reg counters_channels_1_filter_b_sync2_d;
-    reg counters_channels_1_filter_b_sync2_q = 1'h0;
-    reg counters_channels_1_filter_b_accepted_d;
-    reg counters_channels_1_filter_b_accepted_q = 1'h0;
-    reg [3:0] counters_channels_1_filter_b_count_d;
-    reg [3:0] counters_channels_1_filter_b_count_q = 4'h0;
-    reg counters_channels_1_filter_z_sync1_d;
-    reg counters_channels_1_filter_z_sync1_q = 1'h0;
-    reg counters_channels_1_filter_z_sync2_d;
-    reg counters_channels_1_filter_z_sync2_q = 1'h0;
-    reg counters_channels_1_filter_z_accepted_d;
-    reg counters_channels_1_filter_z_accepted_q = 1'h0;
-    reg [3:0] counters_channels_1_filter_z_count_d;
-    reg [3:0] counters_channels_1_filter_z_count_q = 4'h0;
-    reg counters_channels_1_decoder_up_reg_d;
-    reg counters_channels_1_decoder_up_reg_q = 1'h0;
-    reg counters_channels_1_decoder_down_reg_d;
-    reg counters_channels_1_decoder_down_reg_q = 1'h0;
-    reg counters_channels_1_decoder_changed_a;
-    reg counters_channels_1_decoder_changed_b;
-    reg counters_channels_1_decoder_a_ne_b;
-    reg counters_channels_1_decoder_rise_a;
-    reg counters_channels_1_decoder_rise_b;
-    reg counters_channels_1_decoder_forward;
-    reg counters_channels_1_decoder_backward;
-    reg [31:0] counters_channels_1_counter_lo_d;
-    reg [31:0] counters_channels_1_counter_lo_q = 32'h0;
-    reg [31:0] counters_channels_1_counter_hi_d;
-    reg [31:0] counters_channels_1_counter_hi_q = 32'h0;
-    reg counters_channels_1_counter_lo_max_d;
-    reg counters_channels_1_counter_lo_max_q = 1'h0;
-    reg counters_channels_1_counter_lo_nonzero_d;
-    reg counters_channels_1_counter_lo_nonzero_q = 1'h0;
-    reg [31:0] counters_channels_1_counter_load_hi;
-    reg counters_channels_1_counter_lo_ones_above;
-    reg counters_channels_1_counter_lo_zeros_above;
-    reg [31:0] counters_channels_1_counter_lo_step;
-    reg [31:0] counters_channels_1_counter_hi_step;
-    reg [31:0] counters_channels_1_counter_lo_carry_in;
-    reg [31:0] counters_channels_1_counter_hi_carry_in;
-    reg [31:0] counters_channels_1_counter_load_lo;
-    reg counters_channels_2_filter_a_reset;
-    reg counters_channels_2_filter_a_pin;
-    reg [3:0] counters_channels_2_filter_a_setting;
-    reg counters_channels_2_filter_a_level;
-    reg counters_channels_2_filter_b_reset;
-    reg counters_channels_2_filter_b_pin;
-    reg [3:0] counters_channels_2_filter_b_setting;
-    reg counters_channels_2_filter_b_level;
-    reg counters_channels_2_filter_z_reset;
-    reg counters_channels_2_filter_z_pin;
-    reg [3:0] counters_channels_2_filter_z_setting;
-    reg counters_channels_2_filter_z_level;
-    reg counters_channels_2_a_prev_d;
-    reg counters_channels_2_a_prev_q = 1'h0;
-    reg counters_channels_2_b_prev_d;
-    reg counters_channels_2_b_prev_q = 1'h0;
-    reg counters_channels_2_zg_prev_d;
-    reg counters_channels_2_zg_prev_q = 1'h0;
-    reg counters_channels_2_decoder_hold;
-    reg counters_channels_2_decoder_a;
-    reg counters_channels_2_decoder_b;
-    reg counters_channels_2_decoder_a_prev;
-    reg counters_channels_2_decoder_b_prev;
-    reg [2:0] counters_channels_2_decoder_mode;
-    reg counters_channels_2_decoder_reverse;
-    reg counters_channels_2_decoder_up_q;
-    reg counters_channels_2_decoder_down_q;
-    reg counters_channels_2_counter_up;
-    reg counters_channels_2_counter_down;
-    reg counters_channels_2_counter_clear;
-    reg counters_channels_2_counter_load;
-    reg [31:0] counters_channels_2_counter_load_value;
-    reg counters_channels_2_counter_load_low_is_max;
-    reg counters_channels_2_counter_load_low_is_nonzero;
-    reg [31:0] counters_channels_2_counter_count;
-    reg counters_channels_2_load_q_d;
-    reg counters_channels_2_load_q_q = 1'h0;
-    reg counters_channels_2_index_latch_q_d;
-    reg counters_channels_2_index_latch_q_q = 1'h0;
-    reg counters_channels_2_index_clear_q_d;
-    reg counters_channels_2_index_clear_q_q = 1'h0;
-    reg [31:0] counters_channels_2_index_d;
-    reg [31:0] counters_channels_2_index_q = 32'h0;
-    reg counters_channels_2_err_d;
-    reg counters_channels_2_err_q = 1'h0;
-    reg [7:0] counters_channels_2_err_count_d;
-    reg [7:0] counters_channels_2_err_count_q = 8'h0;
-    reg counters_channels_2_seen_d;
-    reg counters_channels_2_seen_q = 1'h0;
-    reg counters_channels_2_armed_d;
-    reg counters_channels_2_armed_q = 1'h0;
-    reg [31:0] counters_channels_2_ctrl_d;
-    reg [31:0] counters_channels_2_ctrl_q = 32'h0;
-    reg [31:0] counters_channels_2_snap_count_d;
-    reg [31:0] counters_channels_2_snap_count_q = 32'h0;
-    reg [31:0] counters_channels_2_snap_index_d;
-    reg [31:0] counters_channels_2_snap_index_q = 32'h0;
-    reg [31:0] counters_channels_2_snap_status_d;
-    reg [31:0] counters_channels_2_snap_status_q = 32'h0;
-    reg counters_channels_2_read_ctrl_d;
-    reg counters_channels_2_read_ctrl_q = 1'h0;
-    reg counters_channels_2_read_count_d;
-    reg counters_channels_2_read_count_q = 1'h0;
-    reg counters_channels_2_read_index_d;
-    reg counters_channels_2_read_index_q = 1'h0;
-    reg counters_channels_2_read_status_d;
-    reg counters_channels_2_read_status_q = 1'h0;
-    reg counters_channels_2_level_a;
-    reg counters_channels_2_level_b;
-    reg counters_channels_2_level_z;
-    reg counters_channels_2_illegal;
-    reg [31:0] counters_channels_2_count_now;
-    reg counters_channels_2_cmd_clear;
-    reg counters_channels_2_cmd_load;
-    reg counters_channels_2_zg;
-    reg counters_channels_2_index_event;
-    reg counters_channels_2_index_act;
-    reg counters_channels_2_cmd_write;
-    reg [31:0] counters_channels_2_status;
-    reg [31:0] counters_channels_2_count_read;
-    reg [31:0] counters_channels_2_index_read;
-    reg counters_channels_2_filter_a_sync1_d;
-    reg counters_channels_2_filter_a_sync1_q = 1'h0;
-    reg counters_channels_2_filter_a_sync2_d;
-    reg counters_channels_2_filter_a_sync2_q = 1'h0;
-    reg counters_channels_2_filter_a_accepted_d;
-    reg counters_channels_2_filter_a_accepted_q = 1'h0;
-    reg [3:0] counters_channels_2_filter_a_count_d;
-    reg [3:0] counters_channels_2_filter_a_count_q = 4'h0;
-    reg counters_channels_2_filter_b_sync1_d;
-    reg counters_channels_2_filter_b_sync1_q = 1'h0;
-    reg counters_channels_2_filter_b_sync2_d;
-    reg counters_channels_2_filter_b_sync2_q = 1'h0;
-    reg counters_channels_2_filter_b_accepted_d;
-    reg counters_channels_2_filter_b_accepted_q = 1'h0;
-    reg [3:0] counters_channels_2_filter_b_count_d;
-    reg [3:0] counters_channels_2_filter_b_count_q = 4'h0;
-    reg counters_channels_2_filter_z_sync1_d;
-    reg counters_channels_2_filter_z_sync1_q = 1'h0;
-    reg counters_channels_2_filter_z_sync2_d;
-    reg counters_channels_2_filter_z_sync2_q = 1'h0;
-    reg counters_channels_2_filter_z_accepted_d;
-    reg counters_channels_2_filter_z_accepted_q = 1'h0;
-    reg [3:0] counters_channels_2_filter_z_count_d;
-    reg [3:0] counters_channels_2_filter_z_count_q = 4'h0;
-    reg counters_channels_2_decoder_up_reg_d;
-    reg counters_channels_2_decoder_up_reg_q = 1'h0;
-    reg counters_channels_2_decoder_down_reg_d;
-    reg counters_channels_2_decoder_down_reg_q = 1'h0;
-    reg counters_channels_2_decoder_changed_a;
-    reg counters_channels_2_decoder_changed_b;
-    reg counters_channels_2_decoder_a_ne_b;
-    reg counters_channels_2_decoder_rise_a;
-    reg counters_channels_2_decoder_rise_b;
-    reg counters_channels_2_decoder_forward;
-    reg counters_channels_2_decoder_backward;
-    reg [31:0] counters_channels_2_counter_lo_d;
-    reg [31:0] counters_channels_2_counter_lo_q = 32'h0;
-    reg [31:0] counters_channels_2_counter_hi_d;
-    reg [31:0] counters_channels_2_counter_hi_q = 32'h0;
-    reg counters_channels_2_counter_lo_max_d;
-    reg counters_channels_2_counter_lo_max_q = 1'h0;
-    reg counters_channels_2_counter_lo_nonzero_d;
-    reg counters_channels_2_counter_lo_nonzero_q = 1'h0;
-    reg [31:0] counters_channels_2_counter_load_hi;
-    reg counters_channels_2_counter_lo_ones_above;
-    reg counters_channels_2_counter_lo_zeros_above;
-    reg [31:0] counters_channels_2_counter_lo_step;
-    reg [31:0] counters_channels_2_counter_hi_step;
-    reg [31:0] counters_channels_2_counter_lo_carry_in;
-    reg [31:0] counters_channels_2_counter_hi_carry_in;
-    reg [31:0] counters_channels_2_counter_load_lo;
-    reg counters_channels_3_filter_a_reset;
-    reg counters_channels_3_filter_a_pin;
-    reg [3:0] counters_channels_3_filter_a_setting;
-    reg counters_channels_3_filter_a_level;
-    reg counters_channels_3_filter_b_reset;
-    reg counters_channels_3_filter_b_pin;
-    reg [3:0] counters_channels_3_filter_b_setting;
-    reg counters_channels_3_filter_b_level;
-    reg counters_channels_3_filter_z_reset;
-    reg counters_channels_3_filter_z_pin;
-    reg [3:0] counters_channels_3_filter_z_setting;
-    reg counters_channels_3_filter_z_level;
-    reg counters_channels_3_a_prev_d;
-    reg counters_channels_3_a_prev_q = 1'h0;
-    reg counters_channels_3_b_prev_d;
-    reg counters_channels_3_b_prev_q = 1'h0;
-    reg counters_channels_3_zg_prev_d;
-    reg counters_channels_3_zg_prev_q = 1'h0;
-    reg counters_channels_3_decoder_hold;
-    reg counters_channels_3_decoder_a;
-    reg counters_channels_3_decoder_b;
-    reg counters_channels_3_decoder_a_prev;
-    reg counters_channels_3_decoder_b_prev;
-    reg [2:0] counters_channels_3_decoder_mode;
-    reg counters_channels_3_decoder_reverse;
-    reg counters_channels_3_decoder_up_q;
-    reg counters_channels_3_decoder_down_q;
-    reg counters_channels_3_counter_up;
-    reg counters_channels_3_counter_down;
-    reg counters_channels_3_counter_clear;
-    reg counters_channels_3_counter_load;
-    reg [31:0] counters_channels_3_counter_load_value;
-    reg counters_channels_3_counter_load_low_is_max;
-    reg counters_channels_3_counter_load_low_is_nonzero;
-    reg [31:0] counters_channels_3_counter_count;
-    reg counters_channels_3_load_q_d;
-    reg counters_channels_3_load_q_q = 1'h0;
-    reg counters_channels_3_index_latch_q_d;
-    reg counters_channels_3_index_latch_q_q = 1'h0;
-    reg counters_channels_3_index_clear_q_d;
-    reg counters_channels_3_index_clear_q_q = 1'h0;
-    reg [31:0] counters_channels_3_index_d;
-    reg [31:0] counters_channels_3_index_q = 32'h0;
-    reg counters_channels_3_err_d;
-    reg counters_channels_3_err_q = 1'h0;
-    reg [7:0] counters_channels_3_err_count_d;
-    reg [7:0] counters_channels_3_err_count_q = 8'h0;
-    reg counters_channels_3_seen_d;
-    reg counters_channels_3_seen_q = 1'h0;
-    reg counters_channels_3_armed_d;
-    reg counters_channels_3_armed_q = 1'h0;
-    reg [31:0] counters_channels_3_ctrl_d;
-    reg [31:0] counters_channels_3_ctrl_q = 32'h0;
-    reg [31:0] counters_channels_3_snap_count_d;
-    reg [31:0] counters_channels_3_snap_count_q = 32'h0;
-    reg [31:0] counters_channels_3_snap_index_d;
-    reg [31:0] counters_channels_3_snap_index_q = 32'h0;
-    reg [31:0] counters_channels_3_snap_status_d;
-    reg [31:0] counters_channels_3_snap_status_q = 32'h0;
-    reg counters_channels_3_read_ctrl_d;
-    reg counters_channels_3_read_ctrl_q = 1'h0;
-    reg counters_channels_3_read_count_d;
-    reg counters_channels_3_read_count_q = 1'h0;
-    reg counters_channels_3_read_index_d;
-    reg counters_channels_3_read_index_q = 1'h0;
-    reg counters_channels_3_read_status_d;
-    reg counters_channels_3_read_status_q = 1'h0;
-    reg counters_channels_3_level_a;
-    reg counters_channels_3_level_b;
-    reg counters_channels_3_level_z;
-    reg counters_channels_3_illegal;
-    reg [31:0] counters_channels_3_count_now;
-    reg counters_channels_3_cmd_clear;
-    reg counters_channels_3_cmd_load;
-    reg counters_channels_3_zg;
-    reg counters_channels_3_index_event;
-    reg counters_channels_3_index_act;
-    reg counters_channels_3_cmd_write;
-    reg [31:0] counters_channels_3_status;
-    reg [31:0] counters_channels_3_count_read;
-    reg [31:0] counters_channels_3_index_read;
-    reg counters_channels_3_filter_a_sync1_d;
-    reg counters_channels_3_filter_a_sync1_q = 1'h0;
-    reg counters_channels_3_filter_a_sync2_d;
-    reg counters_channels_3_filter_a_sync2_q = 1'h0;
-    reg counters_channels_3_filter_a_accepted_d;
-    reg counters_channels_3_filter_a_accepted_q = 1'h0;
-    reg [3:0] counters_channels_3_filter_a_count_d;
-    reg [3:0] counters_channels_3_filter_a_count_q = 4'h0;
-    reg counters_channels_3_filter_b_sync1_d;
-    reg counters_channels_3_filter_b_sync1_q = 1'h0;
-    reg counters_channels_3_filter_b_sync2_d;
-    reg counters_channels_3_filter_b_sync2_q = 1'h0;
-    reg counters_channels_3_filter_b_accepted_d;
-    reg counters_channels_3_filter_b_accepted_q = 1'h0;
-    reg [3:0] counters_channels_3_filter_b_count_d;
-    reg [3:0] counters_channels_3_filter_b_count_q = 4'h0;
-    reg counters_channels_3_filter_z_sync1_d;
-    reg counters_channels_3_filter_z_sync1_q = 1'h0;
-    reg counters_channels_3_filter_z_sync2_d;
-    reg counters_channels_3_filter_z_sync2_q = 1'h0;
-    reg counters_channels_3_filter_z_accepted_d;
-    reg counters_channels_3_filter_z_accepted_q = 1'h0;
-    reg [3:0] counters_channels_3_filter_z_count_d;
-    reg [3:0] counters_channels_3_filter_z_count_q = 4'h0;
-    reg counters_channels_3_decoder_up_reg_d;
-    reg counters_channels_3_decoder_up_reg_q = 1'h0;
-    reg counters_channels_3_decoder_down_reg_d;
-    reg counters_channels_3_decoder_down_reg_q = 1'h0;
-    reg counters_channels_3_decoder_changed_a;
-    reg counters_channels_3_decoder_changed_b;
-    reg counters_channels_3_decoder_a_ne_b;
-    reg counters_channels_3_decoder_rise_a;
-    reg counters_channels_3_decoder_rise_b;
-    reg counters_channels_3_decoder_forward;
-    reg counters_channels_3_decoder_backward;
-    reg [31:0] counters_channels_3_counter_lo_d;
-    reg [31:0] counters_channels_3_counter_lo_q = 32'h0;
-    reg [31:0] counters_channels_3_counter_hi_d;
-    reg [31:0] counters_channels_3_counter_hi_q = 32'h0;
-    reg counters_channels_3_counter_lo_max_d;
-    reg counters_channels_3_counter_lo_max_q = 1'h0;
-    reg counters_channels_3_counter_lo_nonzero_d;
-    reg counters_channels_3_counter_lo_nonzero_q = 1'h0;
-    reg [31:0] counters_channels_3_counter_load_hi;
-    reg counters_channels_3_counter_lo_ones_above;
-    reg counters_channels_3_counter_lo_zeros_above;
-    reg [31:0] counters_channels_3_counter_lo_step;
-    reg [31:0] counters_channels_3_counter_hi_step;
-    reg [31:0] counters_channels_3_counter_lo_carry_in;
-    reg [31:0] counters_channels_3_counter_hi_carry_in;
-    reg [31:0] counters_channels_3_counter_load_lo;
 
     always @(*) begin
-        read_from_id_d = read_from_id_q;
-        read_from_counters_d = read_from_counters_q;
-        mcu_bus_reset = reset;
+        mcu_reset = reset;
         pc_bus_reset = reset;
-        identity_reset = reset;
-        counters_reset = reset;
-        mcu_bus_ne_n = fsmc_ne_n;
-        mcu_bus_noe_n = fsmc_noe_n;
-        mcu_bus_nwe_n = fsmc_nwe_n;
-        mcu_bus_a = fsmc_a;
-        mcu_bus_d_in = fsmc_d_in;
-        fsmc_d_out = mcu_bus_d_out;
-        fsmc_d_oe = mcu_bus_d_oe;
-        select_id = mcu_bus_reg_addr[9:4] == id_page;
-        select_counters = mcu_bus_reg_addr[9:8] == counter_page;
-        identity_addr = mcu_bus_reg_addr[3:0];
-        identity_re = mcu_bus_reg_re & select_id;
-        counters_addr = mcu_bus_reg_addr[7:0];
-        counters_wdata = mcu_bus_reg_wdata;
-        counters_we = mcu_bus_reg_we & select_counters;
-        counters_re = mcu_bus_reg_re & select_counters;
-        if (mcu_bus_reg_re) begin
-            read_from_id_d = select_id;
-            read_from_counters_d = select_counters;
-        end
-        mcu_bus_reg_rdata = 32'h0;
-        if (read_from_id_q) begin
-            mcu_bus_reg_rdata = identity_rdata;
-        end
-        if (read_from_counters_q) begin
-            mcu_bus_reg_rdata = counters_rdata;
-        end
-        if (reset) begin
-            read_from_id_d = 1'b0;
-            read_from_counters_d = 1'b0;
-        end
-        pc_bus_dsp_addr = mcu_bus_ram_addr;
-        pc_bus_dsp_wdata = mcu_bus_ram_wdata;
-        pc_bus_dsp_we = mcu_bus_ram_we;
-        mcu_bus_ram_rdata = pc_bus_dsp_rdata;
+        mcu_fsmc_ne_n = fsmc_ne_n;
+        mcu_fsmc_noe_n = fsmc_noe_n;
+        mcu_fsmc_nwe_n = fsmc_nwe_n;
+        mcu_fsmc_a = fsmc_a;
+        mcu_fsmc_d_in = fsmc_d_in;
+        fsmc_d_out = mcu_fsmc_d_out;
+        fsmc_d_oe = mcu_fsmc_d_oe;
+        mcu_enc_a = enc_a;
+        mcu_enc_b = enc_b;
+        mcu_enc_z = enc_z;
         pc_bus_sa = isa_sa;
         pc_bus_sd_in = isa_sd_in;
         isa_sd_out = pc_bus_sd_out;
@@ -1099,117 +1086,1668 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_bale = isa_bale;
         pc_bus_base = isa_base;
         isa_iocs16_n = pc_bus_iocs16_n;
-        counters_a = enc_a;
-        counters_b = enc_b;
-        counters_z = enc_z;
+        pc_bus_dsp_addr = mcu_ram_addr;
+        pc_bus_dsp_wdata = mcu_ram_wdata;
+        pc_bus_dsp_we = mcu_ram_we;
+        mcu_ram_rdata = pc_bus_dsp_rdata;
     end
 
     always @(*) begin
-        mcu_bus_ne_s1_d = mcu_bus_ne_s1_q;
-        mcu_bus_noe_s1_d = mcu_bus_noe_s1_q;
-        mcu_bus_noe_s2_d = mcu_bus_noe_s2_q;
-        mcu_bus_noe_s3_d = mcu_bus_noe_s3_q;
-        mcu_bus_nwe_s1_d = mcu_bus_nwe_s1_q;
-        mcu_bus_nwe_s2_d = mcu_bus_nwe_s2_q;
-        mcu_bus_nwe_s3_d = mcu_bus_nwe_s3_q;
-        mcu_bus_a_s1_d = mcu_bus_a_s1_q;
-        mcu_bus_d_s1_d = mcu_bus_d_s1_q;
-        mcu_bus_d_s2_d = mcu_bus_d_s2_q;
-        mcu_bus_cyc_sel_d = mcu_bus_cyc_sel_q;
-        mcu_bus_cyc_a_d = mcu_bus_cyc_a_q;
-        mcu_bus_wdata_d = mcu_bus_wdata_q;
-        mcu_bus_hold_lo_d = mcu_bus_hold_lo_q;
-        mcu_bus_hold_hi_d = mcu_bus_hold_hi_q;
-        mcu_bus_hold_word_d = mcu_bus_hold_word_q;
-        mcu_bus_hold_valid_d = mcu_bus_hold_valid_q;
-        mcu_bus_rd_p1_d = mcu_bus_rd_p1_q;
-        mcu_bus_rd_p2_d = mcu_bus_rd_p2_q;
-        mcu_bus_rd_src1_d = mcu_bus_rd_src1_q;
-        mcu_bus_rd_src2_d = mcu_bus_rd_src2_q;
-        mcu_bus_d_q_d = mcu_bus_d_q_q;
-        mcu_bus_ne_s1_d = mcu_bus_ne_n;
-        mcu_bus_noe_s1_d = mcu_bus_noe_n;
-        mcu_bus_noe_s2_d = mcu_bus_noe_s1_q;
-        mcu_bus_noe_s3_d = mcu_bus_noe_s2_q;
-        mcu_bus_nwe_s1_d = mcu_bus_nwe_n;
-        mcu_bus_nwe_s2_d = mcu_bus_nwe_s1_q;
-        mcu_bus_nwe_s3_d = mcu_bus_nwe_s2_q;
-        mcu_bus_a_s1_d = mcu_bus_a;
-        mcu_bus_d_s1_d = mcu_bus_d_in;
-        mcu_bus_d_s2_d = mcu_bus_d_s1_q;
-        if (mcu_bus_noe_s2_q & mcu_bus_nwe_s2_q) begin
-            mcu_bus_cyc_sel_d = ~mcu_bus_ne_s1_q;
-            mcu_bus_cyc_a_d = mcu_bus_a_s1_q;
+        mcu_read_from_id_d = mcu_read_from_id_q;
+        mcu_read_from_counters_d = mcu_read_from_counters_q;
+        mcu_mcu_bus_reset = mcu_reset;
+        mcu_identity_reset = mcu_reset;
+        mcu_counters_reset = mcu_reset;
+        mcu_mcu_bus_ne_n = mcu_fsmc_ne_n;
+        mcu_mcu_bus_noe_n = mcu_fsmc_noe_n;
+        mcu_mcu_bus_nwe_n = mcu_fsmc_nwe_n;
+        mcu_mcu_bus_a = mcu_fsmc_a;
+        mcu_mcu_bus_d_in = mcu_fsmc_d_in;
+        mcu_fsmc_d_out = mcu_mcu_bus_d_out;
+        mcu_fsmc_d_oe = mcu_mcu_bus_d_oe;
+        mcu_select_id = mcu_mcu_bus_reg_addr[9:4] == mcu_id_page;
+        mcu_select_counters = mcu_mcu_bus_reg_addr[9:8] == mcu_counter_page;
+        mcu_identity_addr = mcu_mcu_bus_reg_addr[3:0];
+        mcu_identity_re = mcu_mcu_bus_reg_re & mcu_select_id;
+        mcu_counters_addr = mcu_mcu_bus_reg_addr[7:0];
+        mcu_counters_wdata = mcu_mcu_bus_reg_wdata;
+        mcu_counters_we = mcu_mcu_bus_reg_we & mcu_select_counters;
+        mcu_counters_re = mcu_mcu_bus_reg_re & mcu_select_counters;
+        if (mcu_mcu_bus_reg_re) begin
+            mcu_read_from_id_d = mcu_select_id;
+            mcu_read_from_counters_d = mcu_select_counters;
         end
-        if (~mcu_bus_nwe_s2_q & ~mcu_bus_nwe_s3_q) begin
-            mcu_bus_wdata_d = mcu_bus_d_s2_q;
+        mcu_mcu_bus_reg_rdata = 32'h0;
+        if (mcu_read_from_id_q) begin
+            mcu_mcu_bus_reg_rdata = mcu_identity_rdata;
         end
-        mcu_bus_rd_start = ~mcu_bus_noe_s2_q & mcu_bus_noe_s3_q & mcu_bus_cyc_sel_q;
-        mcu_bus_wr_end = mcu_bus_nwe_s2_q & ~mcu_bus_nwe_s3_q & mcu_bus_cyc_sel_q;
-        mcu_bus_cyc_reg = ~mcu_bus_cyc_a_q[mcu_bus_ram_bit];
-        mcu_bus_cyc_high = mcu_bus_cyc_a_q[0];
-        mcu_bus_use_hold = mcu_bus_cyc_high & mcu_bus_hold_valid_q & (mcu_bus_hold_word_q == mcu_bus_cyc_a_q[10:1]);
-        mcu_bus_reg_addr = mcu_bus_cyc_a_q[10:1];
-        mcu_bus_reg_wdata = ({16'h0, mcu_bus_wdata_q} << mcu_bus_half_shift) | {16'h0, mcu_bus_hold_lo_q};
-        mcu_bus_reg_we = mcu_bus_wr_end & mcu_bus_cyc_reg & mcu_bus_cyc_high;
-        mcu_bus_reg_re = mcu_bus_rd_start & mcu_bus_cyc_reg & ~mcu_bus_use_hold;
-        mcu_bus_ram_addr = mcu_bus_cyc_a_q[9:0];
-        mcu_bus_ram_wdata = mcu_bus_wdata_q;
-        mcu_bus_ram_we = mcu_bus_wr_end & ~mcu_bus_cyc_reg;
-        if (mcu_bus_wr_end & mcu_bus_cyc_reg & ~mcu_bus_cyc_high) begin
-            mcu_bus_hold_lo_d = mcu_bus_wdata_q;
+        if (mcu_read_from_counters_q) begin
+            mcu_mcu_bus_reg_rdata = mcu_counters_rdata;
         end
-        mcu_bus_src = mcu_bus_src_reg_high;
-        if (~mcu_bus_cyc_reg) begin
-            mcu_bus_src = mcu_bus_src_ram;
+        if (mcu_reset) begin
+            mcu_read_from_id_d = 1'b0;
+            mcu_read_from_counters_d = 1'b0;
         end
-        else if (~mcu_bus_cyc_high) begin
-            mcu_bus_src = mcu_bus_src_reg_low;
+        mcu_ram_addr = mcu_mcu_bus_ram_addr;
+        mcu_ram_wdata = mcu_mcu_bus_ram_wdata;
+        mcu_ram_we = mcu_mcu_bus_ram_we;
+        mcu_mcu_bus_ram_rdata = mcu_ram_rdata;
+        mcu_counters_a = mcu_enc_a;
+        mcu_counters_b = mcu_enc_b;
+        mcu_counters_z = mcu_enc_z;
+    end
+
+    always @(*) begin
+        mcu_mcu_bus_ne_s1_d = mcu_mcu_bus_ne_s1_q;
+        mcu_mcu_bus_noe_s1_d = mcu_mcu_bus_noe_s1_q;
+        mcu_mcu_bus_noe_s2_d = mcu_mcu_bus_noe_s2_q;
+        mcu_mcu_bus_noe_s3_d = mcu_mcu_bus_noe_s3_q;
+        mcu_mcu_bus_nwe_s1_d = mcu_mcu_bus_nwe_s1_q;
+        mcu_mcu_bus_nwe_s2_d = mcu_mcu_bus_nwe_s2_q;
+        mcu_mcu_bus_nwe_s3_d = mcu_mcu_bus_nwe_s3_q;
+        mcu_mcu_bus_a_s1_d = mcu_mcu_bus_a_s1_q;
+        mcu_mcu_bus_d_s1_d = mcu_mcu_bus_d_s1_q;
+        mcu_mcu_bus_d_s2_d = mcu_mcu_bus_d_s2_q;
+        mcu_mcu_bus_cyc_sel_d = mcu_mcu_bus_cyc_sel_q;
+        mcu_mcu_bus_cyc_a_d = mcu_mcu_bus_cyc_a_q;
+        mcu_mcu_bus_wdata_d = mcu_mcu_bus_wdata_q;
+        mcu_mcu_bus_hold_lo_d = mcu_mcu_bus_hold_lo_q;
+        mcu_mcu_bus_hold_hi_d = mcu_mcu_bus_hold_hi_q;
+        mcu_mcu_bus_hold_word_d = mcu_mcu_bus_hold_word_q;
+        mcu_mcu_bus_hold_valid_d = mcu_mcu_bus_hold_valid_q;
+        mcu_mcu_bus_rd_p1_d = mcu_mcu_bus_rd_p1_q;
+        mcu_mcu_bus_rd_p2_d = mcu_mcu_bus_rd_p2_q;
+        mcu_mcu_bus_rd_src1_d = mcu_mcu_bus_rd_src1_q;
+        mcu_mcu_bus_rd_src2_d = mcu_mcu_bus_rd_src2_q;
+        mcu_mcu_bus_d_q_d = mcu_mcu_bus_d_q_q;
+        mcu_mcu_bus_ne_s1_d = mcu_mcu_bus_ne_n;
+        mcu_mcu_bus_noe_s1_d = mcu_mcu_bus_noe_n;
+        mcu_mcu_bus_noe_s2_d = mcu_mcu_bus_noe_s1_q;
+        mcu_mcu_bus_noe_s3_d = mcu_mcu_bus_noe_s2_q;
+        mcu_mcu_bus_nwe_s1_d = mcu_mcu_bus_nwe_n;
+        mcu_mcu_bus_nwe_s2_d = mcu_mcu_bus_nwe_s1_q;
+        mcu_mcu_bus_nwe_s3_d = mcu_mcu_bus_nwe_s2_q;
+        mcu_mcu_bus_a_s1_d = mcu_mcu_bus_a;
+        mcu_mcu_bus_d_s1_d = mcu_mcu_bus_d_in;
+        mcu_mcu_bus_d_s2_d = mcu_mcu_bus_d_s1_q;
+        if (mcu_mcu_bus_noe_s2_q & mcu_mcu_bus_nwe_s2_q) begin
+            mcu_mcu_bus_cyc_sel_d = ~mcu_mcu_bus_ne_s1_q;
+            mcu_mcu_bus_cyc_a_d = mcu_mcu_bus_a_s1_q;
         end
-        else if (mcu_bus_use_hold) begin
-            mcu_bus_src = mcu_bus_src_hold;
+        if (~mcu_mcu_bus_nwe_s2_q & ~mcu_mcu_bus_nwe_s3_q) begin
+            mcu_mcu_bus_wdata_d = mcu_mcu_bus_d_s2_q;
         end
-        mcu_bus_rd_p1_d = mcu_bus_rd_start;
-        mcu_bus_rd_p2_d = mcu_bus_rd_p1_q;
-        if (mcu_bus_rd_start) begin
-            mcu_bus_rd_src1_d = mcu_bus_src;
-            mcu_bus_hold_word_d = mcu_bus_cyc_a_q[10:1];
+        mcu_mcu_bus_rd_start = ~mcu_mcu_bus_noe_s2_q & mcu_mcu_bus_noe_s3_q & mcu_mcu_bus_cyc_sel_q;
+        mcu_mcu_bus_wr_end = mcu_mcu_bus_nwe_s2_q & ~mcu_mcu_bus_nwe_s3_q & mcu_mcu_bus_cyc_sel_q;
+        mcu_mcu_bus_cyc_reg = ~mcu_mcu_bus_cyc_a_q[mcu_mcu_bus_ram_bit];
+        mcu_mcu_bus_cyc_high = mcu_mcu_bus_cyc_a_q[0];
+        mcu_mcu_bus_use_hold = mcu_mcu_bus_cyc_high & mcu_mcu_bus_hold_valid_q & (mcu_mcu_bus_hold_word_q == mcu_mcu_bus_cyc_a_q[10:1]);
+        mcu_mcu_bus_reg_addr = mcu_mcu_bus_cyc_a_q[10:1];
+        mcu_mcu_bus_reg_wdata = ({16'h0, mcu_mcu_bus_wdata_q} << mcu_mcu_bus_half_shift) | {16'h0, mcu_mcu_bus_hold_lo_q};
+        mcu_mcu_bus_reg_we = mcu_mcu_bus_wr_end & mcu_mcu_bus_cyc_reg & mcu_mcu_bus_cyc_high;
+        mcu_mcu_bus_reg_re = mcu_mcu_bus_rd_start & mcu_mcu_bus_cyc_reg & ~mcu_mcu_bus_use_hold;
+        mcu_mcu_bus_ram_addr = mcu_mcu_bus_cyc_a_q[9:0];
+        mcu_mcu_bus_ram_wdata = mcu_mcu_bus_wdata_q;
+        mcu_mcu_bus_ram_we = mcu_mcu_bus_wr_end & ~mcu_mcu_bus_cyc_reg;
+        if (mcu_mcu_bus_wr_end & mcu_mcu_bus_cyc_reg & ~mcu_mcu_bus_cyc_high) begin
+            mcu_mcu_bus_hold_lo_d = mcu_mcu_bus_wdata_q;
         end
-        mcu_bus_rd_src2_d = mcu_bus_rd_src1_q;
-        if (mcu_bus_rd_start | mcu_bus_wr_end) begin
-            mcu_bus_hold_valid_d = 1'b0;
+        mcu_mcu_bus_src = mcu_mcu_bus_src_reg_high;
+        if (~mcu_mcu_bus_cyc_reg) begin
+            mcu_mcu_bus_src = mcu_mcu_bus_src_ram;
         end
-        if (mcu_bus_rd_p2_q) begin
-            if (mcu_bus_rd_src2_q == mcu_bus_src_ram) begin
-                mcu_bus_d_q_d = mcu_bus_ram_rdata;
+        else if (~mcu_mcu_bus_cyc_high) begin
+            mcu_mcu_bus_src = mcu_mcu_bus_src_reg_low;
+        end
+        else if (mcu_mcu_bus_use_hold) begin
+            mcu_mcu_bus_src = mcu_mcu_bus_src_hold;
+        end
+        mcu_mcu_bus_rd_p1_d = mcu_mcu_bus_rd_start;
+        mcu_mcu_bus_rd_p2_d = mcu_mcu_bus_rd_p1_q;
+        if (mcu_mcu_bus_rd_start) begin
+            mcu_mcu_bus_rd_src1_d = mcu_mcu_bus_src;
+            mcu_mcu_bus_hold_word_d = mcu_mcu_bus_cyc_a_q[10:1];
+        end
+        mcu_mcu_bus_rd_src2_d = mcu_mcu_bus_rd_src1_q;
+        if (mcu_mcu_bus_rd_start | mcu_mcu_bus_wr_end) begin
+            mcu_mcu_bus_hold_valid_d = 1'b0;
+        end
+        if (mcu_mcu_bus_rd_p2_q) begin
+            if (mcu_mcu_bus_rd_src2_q == mcu_mcu_bus_src_ram) begin
+                mcu_mcu_bus_d_q_d = mcu_mcu_bus_ram_rdata;
             end
-            else if (mcu_bus_rd_src2_q == mcu_bus_src_reg_low) begin
-                mcu_bus_d_q_d = mcu_bus_reg_rdata[15:0];
-                mcu_bus_hold_hi_d = mcu_bus_reg_rdata[31:16];
-                mcu_bus_hold_valid_d = 1'b1;
+            else if (mcu_mcu_bus_rd_src2_q == mcu_mcu_bus_src_reg_low) begin
+                mcu_mcu_bus_d_q_d = mcu_mcu_bus_reg_rdata[15:0];
+                mcu_mcu_bus_hold_hi_d = mcu_mcu_bus_reg_rdata[31:16];
+                mcu_mcu_bus_hold_valid_d = 1'b1;
             end
-            else if (mcu_bus_rd_src2_q == mcu_bus_src_reg_high) begin
-                mcu_bus_d_q_d = mcu_bus_reg_rdata[31:16];
+            else if (mcu_mcu_bus_rd_src2_q == mcu_mcu_bus_src_reg_high) begin
+                mcu_mcu_bus_d_q_d = mcu_mcu_bus_reg_rdata[31:16];
             end
             else begin
-                mcu_bus_d_q_d = mcu_bus_hold_hi_q;
+                mcu_mcu_bus_d_q_d = mcu_mcu_bus_hold_hi_q;
             end
         end
-        mcu_bus_d_out = mcu_bus_d_q_q;
-        mcu_bus_d_oe = ~mcu_bus_ne_n & ~mcu_bus_noe_n;
-        if (mcu_bus_reset) begin
-            mcu_bus_ne_s1_d = 1'b1;
-            mcu_bus_noe_s1_d = 1'b1;
-            mcu_bus_noe_s2_d = 1'b1;
-            mcu_bus_noe_s3_d = 1'b1;
-            mcu_bus_nwe_s1_d = 1'b1;
-            mcu_bus_nwe_s2_d = 1'b1;
-            mcu_bus_nwe_s3_d = 1'b1;
-            mcu_bus_cyc_sel_d = 1'b0;
-            mcu_bus_hold_valid_d = 1'b0;
-            mcu_bus_rd_p1_d = 1'b0;
-            mcu_bus_rd_p2_d = 1'b0;
+        mcu_mcu_bus_d_out = mcu_mcu_bus_d_q_q;
+        mcu_mcu_bus_d_oe = ~mcu_mcu_bus_ne_n & ~mcu_mcu_bus_noe_n;
+        if (mcu_mcu_bus_reset) begin
+            mcu_mcu_bus_ne_s1_d = 1'b1;
+            mcu_mcu_bus_noe_s1_d = 1'b1;
+            mcu_mcu_bus_noe_s2_d = 1'b1;
+            mcu_mcu_bus_noe_s3_d = 1'b1;
+            mcu_mcu_bus_nwe_s1_d = 1'b1;
+            mcu_mcu_bus_nwe_s2_d = 1'b1;
+            mcu_mcu_bus_nwe_s3_d = 1'b1;
+            mcu_mcu_bus_cyc_sel_d = 1'b0;
+            mcu_mcu_bus_hold_valid_d = 1'b0;
+            mcu_mcu_bus_rd_p1_d = 1'b0;
+            mcu_mcu_bus_rd_p2_d = 1'b0;
         end
+    end
+
+    always @(*) begin
+        mcu_identity_read_addr_d = mcu_identity_read_addr_q;
+        mcu_identity_read_pending_d = mcu_identity_read_pending_q;
+        mcu_identity_read_data_d = mcu_identity_read_data_q;
+        mcu_identity_read_pending_d = mcu_identity_re;
+        if (mcu_identity_re) begin
+            mcu_identity_read_addr_d = mcu_identity_addr;
+        end
+        mcu_identity_read_value = 32'h0;
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_0) begin
+            mcu_identity_read_value = mcu_identity_values_0;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_1) begin
+            mcu_identity_read_value = mcu_identity_values_1;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_2) begin
+            mcu_identity_read_value = mcu_identity_values_2;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_3) begin
+            mcu_identity_read_value = mcu_identity_values_3;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_4) begin
+            mcu_identity_read_value = mcu_identity_values_4;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_5) begin
+            mcu_identity_read_value = mcu_identity_values_5;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_6) begin
+            mcu_identity_read_value = mcu_identity_values_6;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_7) begin
+            mcu_identity_read_value = mcu_identity_values_7;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_8) begin
+            mcu_identity_read_value = mcu_identity_values_8;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_9) begin
+            mcu_identity_read_value = mcu_identity_values_9;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_10) begin
+            mcu_identity_read_value = mcu_identity_values_10;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_11) begin
+            mcu_identity_read_value = mcu_identity_values_11;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_12) begin
+            mcu_identity_read_value = mcu_identity_values_12;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_13) begin
+            mcu_identity_read_value = mcu_identity_values_13;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_14) begin
+            mcu_identity_read_value = mcu_identity_values_14;
+        end
+        if (mcu_identity_read_addr_q == mcu_identity_addresses_15) begin
+            mcu_identity_read_value = mcu_identity_values_15;
+        end
+        if (mcu_identity_read_pending_q) begin
+            mcu_identity_read_data_d = mcu_identity_read_value;
+        end
+        if (mcu_identity_reset) begin
+            mcu_identity_read_pending_d = 1'b0;
+            mcu_identity_read_addr_d = 4'h0;
+            mcu_identity_read_data_d = 32'h0;
+        end
+        mcu_identity_rdata = mcu_identity_read_data_q;
+    end
+
+    always @(*) begin
+        mcu_counters_preset_d = mcu_counters_preset_q;
+        mcu_counters_read_data_d = mcu_counters_read_data_q;
+        mcu_counters_preset_low_is_max_d = mcu_counters_preset_low_is_max_q;
+        mcu_counters_preset_low_is_nonzero_d = mcu_counters_preset_low_is_nonzero_q;
+        mcu_counters_read_pending_d = mcu_counters_read_pending_q;
+        mcu_counters_read_info_d = mcu_counters_read_info_q;
+        mcu_counters_read_preset_d = mcu_counters_read_preset_q;
+        mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot);
+        mcu_counters_channels_0_reset = mcu_counters_reset;
+        mcu_counters_channels_0_a = mcu_counters_a[0];
+        mcu_counters_channels_0_b = mcu_counters_b[0];
+        mcu_counters_channels_0_z = mcu_counters_z[0];
+        mcu_counters_channels_0_addr = mcu_counters_addr;
+        mcu_counters_channels_0_wdata = mcu_counters_wdata;
+        mcu_counters_channels_0_we = mcu_counters_we;
+        mcu_counters_channels_0_re = mcu_counters_re;
+        mcu_counters_channels_0_snapshot = mcu_counters_snapshot;
+        mcu_counters_channels_0_preset = mcu_counters_preset_q;
+        mcu_counters_channels_0_preset_low_is_max = mcu_counters_preset_low_is_max_q;
+        mcu_counters_channels_0_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        mcu_counters_channels_1_reset = mcu_counters_reset;
+        mcu_counters_channels_1_a = mcu_counters_a[1];
+        mcu_counters_channels_1_b = mcu_counters_b[1];
+        mcu_counters_channels_1_z = mcu_counters_z[1];
+        mcu_counters_channels_1_addr = mcu_counters_addr;
+        mcu_counters_channels_1_wdata = mcu_counters_wdata;
+        mcu_counters_channels_1_we = mcu_counters_we;
+        mcu_counters_channels_1_re = mcu_counters_re;
+        mcu_counters_channels_1_snapshot = mcu_counters_snapshot;
+        mcu_counters_channels_1_preset = mcu_counters_preset_q;
+        mcu_counters_channels_1_preset_low_is_max = mcu_counters_preset_low_is_max_q;
+        mcu_counters_channels_1_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        mcu_counters_channels_2_reset = mcu_counters_reset;
+        mcu_counters_channels_2_a = mcu_counters_a[2];
+        mcu_counters_channels_2_b = mcu_counters_b[2];
+        mcu_counters_channels_2_z = mcu_counters_z[2];
+        mcu_counters_channels_2_addr = mcu_counters_addr;
+        mcu_counters_channels_2_wdata = mcu_counters_wdata;
+        mcu_counters_channels_2_we = mcu_counters_we;
+        mcu_counters_channels_2_re = mcu_counters_re;
+        mcu_counters_channels_2_snapshot = mcu_counters_snapshot;
+        mcu_counters_channels_2_preset = mcu_counters_preset_q;
+        mcu_counters_channels_2_preset_low_is_max = mcu_counters_preset_low_is_max_q;
+        mcu_counters_channels_2_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        mcu_counters_channels_3_reset = mcu_counters_reset;
+        mcu_counters_channels_3_a = mcu_counters_a[3];
+        mcu_counters_channels_3_b = mcu_counters_b[3];
+        mcu_counters_channels_3_z = mcu_counters_z[3];
+        mcu_counters_channels_3_addr = mcu_counters_addr;
+        mcu_counters_channels_3_wdata = mcu_counters_wdata;
+        mcu_counters_channels_3_we = mcu_counters_we;
+        mcu_counters_channels_3_re = mcu_counters_re;
+        mcu_counters_channels_3_snapshot = mcu_counters_snapshot;
+        mcu_counters_channels_3_preset = mcu_counters_preset_q;
+        mcu_counters_channels_3_preset_low_is_max = mcu_counters_preset_low_is_max_q;
+        mcu_counters_channels_3_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        if (|(mcu_counters_preset_q & mcu_counters_sign_bit)) begin
+            mcu_counters_preset_read = (mcu_counters_preset_q & mcu_counters_width_mask) | mcu_counters_sign_extension;
+        end
+        else begin
+            mcu_counters_preset_read = mcu_counters_preset_q & mcu_counters_width_mask;
+        end
+        mcu_counters_read_pending_d = mcu_counters_re;
+        mcu_counters_read_info_d = mcu_counters_re & (mcu_counters_addr == mcu_counters_addr_info);
+        mcu_counters_read_preset_d = mcu_counters_re & (mcu_counters_addr == mcu_counters_addr_preset);
+        mcu_counters_read_value = 32'h0;
+        if (mcu_counters_read_info_q) begin
+            mcu_counters_read_value = mcu_counters_info;
+        end
+        if (mcu_counters_read_preset_q) begin
+            mcu_counters_read_value = mcu_counters_read_value | mcu_counters_preset_read;
+        end
+        mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_0_rdata;
+        mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_1_rdata;
+        mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_2_rdata;
+        mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_3_rdata;
+        if (mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_preset)) begin
+            mcu_counters_preset_d = mcu_counters_wdata;
+            mcu_counters_preset_low_is_max_d = (mcu_counters_wdata & mcu_counters_low_mask) == mcu_counters_low_mask;
+            mcu_counters_preset_low_is_nonzero_d = |(mcu_counters_wdata & mcu_counters_low_mask);
+        end
+        if (mcu_counters_read_pending_q) begin
+            mcu_counters_read_data_d = mcu_counters_read_value;
+        end
+        if (mcu_counters_reset) begin
+            mcu_counters_preset_d = 32'h0;
+            mcu_counters_preset_low_is_max_d = 1'b0;
+            mcu_counters_preset_low_is_nonzero_d = 1'b0;
+            mcu_counters_read_data_d = 32'h0;
+            mcu_counters_read_pending_d = 1'b0;
+            mcu_counters_read_info_d = 1'b0;
+            mcu_counters_read_preset_d = 1'b0;
+        end
+        mcu_counters_rdata = mcu_counters_read_data_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_a_prev_d = mcu_counters_channels_0_a_prev_q;
+        mcu_counters_channels_0_b_prev_d = mcu_counters_channels_0_b_prev_q;
+        mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg_prev_q;
+        mcu_counters_channels_0_load_q_d = mcu_counters_channels_0_load_q_q;
+        mcu_counters_channels_0_index_latch_q_d = mcu_counters_channels_0_index_latch_q_q;
+        mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_clear_q_q;
+        mcu_counters_channels_0_index_d = mcu_counters_channels_0_index_q;
+        mcu_counters_channels_0_err_d = mcu_counters_channels_0_err_q;
+        mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q;
+        mcu_counters_channels_0_seen_d = mcu_counters_channels_0_seen_q;
+        mcu_counters_channels_0_armed_d = mcu_counters_channels_0_armed_q;
+        mcu_counters_channels_0_ctrl_d = mcu_counters_channels_0_ctrl_q;
+        mcu_counters_channels_0_snap_count_d = mcu_counters_channels_0_snap_count_q;
+        mcu_counters_channels_0_snap_index_d = mcu_counters_channels_0_snap_index_q;
+        mcu_counters_channels_0_snap_status_d = mcu_counters_channels_0_snap_status_q;
+        mcu_counters_channels_0_read_ctrl_d = mcu_counters_channels_0_read_ctrl_q;
+        mcu_counters_channels_0_read_count_d = mcu_counters_channels_0_read_count_q;
+        mcu_counters_channels_0_read_index_d = mcu_counters_channels_0_read_index_q;
+        mcu_counters_channels_0_read_status_d = mcu_counters_channels_0_read_status_q;
+        mcu_counters_channels_0_filter_a_reset = mcu_counters_channels_0_reset;
+        mcu_counters_channels_0_filter_b_reset = mcu_counters_channels_0_reset;
+        mcu_counters_channels_0_filter_z_reset = mcu_counters_channels_0_reset;
+        mcu_counters_channels_0_filter_a_pin = mcu_counters_channels_0_a;
+        mcu_counters_channels_0_filter_b_pin = mcu_counters_channels_0_b;
+        mcu_counters_channels_0_filter_z_pin = mcu_counters_channels_0_z;
+        mcu_counters_channels_0_filter_a_setting = mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_0_filter_b_setting = mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_0_filter_z_setting = mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_filter_z_lsb)+:(4)];
+        mcu_counters_channels_0_level_a = mcu_counters_channels_0_filter_a_level;
+        mcu_counters_channels_0_level_b = mcu_counters_channels_0_filter_b_level;
+        mcu_counters_channels_0_level_z = mcu_counters_channels_0_filter_z_level;
+        mcu_counters_channels_0_cmd_write = mcu_counters_channels_0_we & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_cmd);
+        mcu_counters_channels_0_cmd_clear = mcu_counters_channels_0_cmd_write & mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_bit];
+        mcu_counters_channels_0_cmd_load = mcu_counters_channels_0_cmd_write & mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_load_bit];
+        mcu_counters_channels_0_decoder_hold = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_load;
+        mcu_counters_channels_0_decoder_a = mcu_counters_channels_0_level_a;
+        mcu_counters_channels_0_decoder_b = mcu_counters_channels_0_level_b;
+        mcu_counters_channels_0_decoder_a_prev = mcu_counters_channels_0_a_prev_q;
+        mcu_counters_channels_0_decoder_b_prev = mcu_counters_channels_0_b_prev_q;
+        mcu_counters_channels_0_decoder_mode = mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_mode_lsb)+:(3)];
+        mcu_counters_channels_0_decoder_reverse = mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_reverse_bit];
+        mcu_counters_channels_0_illegal = (mcu_counters_channels_0_level_a ^ mcu_counters_channels_0_a_prev_q) & (mcu_counters_channels_0_level_b ^ mcu_counters_channels_0_b_prev_q) & (mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_mode_lsb)+:(3)] < mcu_counters_channels_0_quadrature_modes);
+        mcu_counters_channels_0_zg = (mcu_counters_channels_0_level_z ^ mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_invert_bit]) & (~mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_gate_bit] | (mcu_counters_channels_0_level_a & mcu_counters_channels_0_level_b));
+        mcu_counters_channels_0_index_event = mcu_counters_channels_0_zg & ~mcu_counters_channels_0_zg_prev_q;
+        mcu_counters_channels_0_index_act = mcu_counters_channels_0_index_event & (~mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_oneshot_bit] | mcu_counters_channels_0_armed_q);
+        mcu_counters_channels_0_counter_up = mcu_counters_channels_0_decoder_up_q;
+        mcu_counters_channels_0_counter_down = mcu_counters_channels_0_decoder_down_q;
+        mcu_counters_channels_0_counter_load_value = mcu_counters_channels_0_preset;
+        mcu_counters_channels_0_counter_load_low_is_max = mcu_counters_channels_0_preset_low_is_max;
+        mcu_counters_channels_0_counter_load_low_is_nonzero = mcu_counters_channels_0_preset_low_is_nonzero;
+        mcu_counters_channels_0_counter_load = mcu_counters_channels_0_load_q_q;
+        mcu_counters_channels_0_counter_clear = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_clear | mcu_counters_channels_0_cmd_load | mcu_counters_channels_0_index_clear_q_q;
+        mcu_counters_channels_0_count_now = mcu_counters_channels_0_counter_count;
+        mcu_counters_channels_0_load_q_d = mcu_counters_channels_0_cmd_load & ~mcu_counters_channels_0_cmd_clear;
+        mcu_counters_channels_0_index_latch_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_latch_bit];
+        mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_clear_bit];
+        mcu_counters_channels_0_a_prev_d = mcu_counters_channels_0_level_a;
+        mcu_counters_channels_0_b_prev_d = mcu_counters_channels_0_level_b;
+        mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg;
+        if (mcu_counters_channels_0_index_latch_q_q) begin
+            mcu_counters_channels_0_index_d = mcu_counters_channels_0_count_now;
+        end
+        if (mcu_counters_channels_0_illegal & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_err_en_bit]) begin
+            mcu_counters_channels_0_err_d = 1'b1;
+            if (mcu_counters_channels_0_err_count_q != mcu_counters_channels_0_err_max) begin
+                mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q + 8'h1;
+            end
+        end
+        if (mcu_counters_channels_0_index_event) begin
+            mcu_counters_channels_0_seen_d = 1'b1;
+        end
+        if (mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_oneshot_bit]) begin
+            mcu_counters_channels_0_armed_d = 1'b0;
+        end
+        if (mcu_counters_channels_0_cmd_write) begin
+            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_arm_bit]) begin
+                mcu_counters_channels_0_armed_d = 1'b1;
+            end
+            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_status_bit]) begin
+                mcu_counters_channels_0_err_d = 1'b0;
+                mcu_counters_channels_0_err_count_d = 8'h0;
+                mcu_counters_channels_0_seen_d = 1'b0;
+            end
+        end
+        if (mcu_counters_channels_0_we & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_ctrl)) begin
+            mcu_counters_channels_0_ctrl_d = mcu_counters_channels_0_wdata & mcu_counters_channels_0_ctrl_writable;
+        end
+        mcu_counters_channels_0_status = {24'h0, mcu_counters_channels_0_err_count_q} << mcu_counters_channels_0_status_err_count_lsb;
+        if (mcu_counters_channels_0_err_q) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_err;
+        end
+        if (mcu_counters_channels_0_armed_q) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_armed;
+        end
+        if (mcu_counters_channels_0_seen_q) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_seen;
+        end
+        if (mcu_counters_channels_0_level_a) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_a;
+        end
+        if (mcu_counters_channels_0_level_b) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_b;
+        end
+        if (mcu_counters_channels_0_level_z) begin
+            mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_z;
+        end
+        if (mcu_counters_channels_0_snapshot) begin
+            mcu_counters_channels_0_snap_count_d = mcu_counters_channels_0_count_now;
+            mcu_counters_channels_0_snap_index_d = mcu_counters_channels_0_index_q;
+            mcu_counters_channels_0_snap_status_d = mcu_counters_channels_0_status;
+        end
+        mcu_counters_channels_0_read_ctrl_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_ctrl);
+        mcu_counters_channels_0_read_count_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_count);
+        mcu_counters_channels_0_read_index_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_index);
+        mcu_counters_channels_0_read_status_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_status);
+        if (mcu_counters_channels_0_reset) begin
+            mcu_counters_channels_0_index_d = 32'h0;
+            mcu_counters_channels_0_err_d = 1'b0;
+            mcu_counters_channels_0_err_count_d = 8'h0;
+            mcu_counters_channels_0_seen_d = 1'b0;
+            mcu_counters_channels_0_armed_d = 1'b0;
+            mcu_counters_channels_0_load_q_d = 1'b0;
+            mcu_counters_channels_0_index_latch_q_d = 1'b0;
+            mcu_counters_channels_0_index_clear_q_d = 1'b0;
+            mcu_counters_channels_0_ctrl_d = 32'h0;
+            mcu_counters_channels_0_snap_count_d = 32'h0;
+            mcu_counters_channels_0_snap_index_d = 32'h0;
+            mcu_counters_channels_0_snap_status_d = 32'h0;
+            mcu_counters_channels_0_read_ctrl_d = 1'b0;
+            mcu_counters_channels_0_read_count_d = 1'b0;
+            mcu_counters_channels_0_read_index_d = 1'b0;
+            mcu_counters_channels_0_read_status_d = 1'b0;
+        end
+        if (|(mcu_counters_channels_0_snap_count_q & mcu_counters_channels_0_sign_bit)) begin
+            mcu_counters_channels_0_count_read = mcu_counters_channels_0_snap_count_q | mcu_counters_channels_0_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_0_count_read = mcu_counters_channels_0_snap_count_q;
+        end
+        if (|(mcu_counters_channels_0_snap_index_q & mcu_counters_channels_0_sign_bit)) begin
+            mcu_counters_channels_0_index_read = mcu_counters_channels_0_snap_index_q | mcu_counters_channels_0_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_0_index_read = mcu_counters_channels_0_snap_index_q;
+        end
+        mcu_counters_channels_0_rdata = 32'h0;
+        if (mcu_counters_channels_0_read_ctrl_q) begin
+            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_ctrl_q;
+        end
+        if (mcu_counters_channels_0_read_count_q) begin
+            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_count_read;
+        end
+        if (mcu_counters_channels_0_read_index_q) begin
+            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_index_read;
+        end
+        if (mcu_counters_channels_0_read_status_q) begin
+            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_snap_status_q;
+        end
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_filter_a_sync1_d = mcu_counters_channels_0_filter_a_sync1_q;
+        mcu_counters_channels_0_filter_a_sync2_d = mcu_counters_channels_0_filter_a_sync2_q;
+        mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_accepted_q;
+        mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q;
+        mcu_counters_channels_0_filter_a_sync1_d = mcu_counters_channels_0_filter_a_pin;
+        mcu_counters_channels_0_filter_a_sync2_d = mcu_counters_channels_0_filter_a_sync1_q;
+        if (mcu_counters_channels_0_filter_a_reset) begin
+            mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_sync2_q;
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_a_sync2_q == mcu_counters_channels_0_filter_a_accepted_q) begin
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_a_count_q == mcu_counters_channels_0_filter_a_setting) begin
+            mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_sync2_q;
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q + 4'h1;
+        end
+        mcu_counters_channels_0_filter_a_level = mcu_counters_channels_0_filter_a_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_filter_b_sync1_d = mcu_counters_channels_0_filter_b_sync1_q;
+        mcu_counters_channels_0_filter_b_sync2_d = mcu_counters_channels_0_filter_b_sync2_q;
+        mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_accepted_q;
+        mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q;
+        mcu_counters_channels_0_filter_b_sync1_d = mcu_counters_channels_0_filter_b_pin;
+        mcu_counters_channels_0_filter_b_sync2_d = mcu_counters_channels_0_filter_b_sync1_q;
+        if (mcu_counters_channels_0_filter_b_reset) begin
+            mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_sync2_q;
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_b_sync2_q == mcu_counters_channels_0_filter_b_accepted_q) begin
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_b_count_q == mcu_counters_channels_0_filter_b_setting) begin
+            mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_sync2_q;
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q + 4'h1;
+        end
+        mcu_counters_channels_0_filter_b_level = mcu_counters_channels_0_filter_b_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_filter_z_sync1_d = mcu_counters_channels_0_filter_z_sync1_q;
+        mcu_counters_channels_0_filter_z_sync2_d = mcu_counters_channels_0_filter_z_sync2_q;
+        mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_accepted_q;
+        mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q;
+        mcu_counters_channels_0_filter_z_sync1_d = mcu_counters_channels_0_filter_z_pin;
+        mcu_counters_channels_0_filter_z_sync2_d = mcu_counters_channels_0_filter_z_sync1_q;
+        if (mcu_counters_channels_0_filter_z_reset) begin
+            mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_sync2_q;
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_z_sync2_q == mcu_counters_channels_0_filter_z_accepted_q) begin
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_0_filter_z_count_q == mcu_counters_channels_0_filter_z_setting) begin
+            mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_sync2_q;
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q + 4'h1;
+        end
+        mcu_counters_channels_0_filter_z_level = mcu_counters_channels_0_filter_z_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_decoder_up_reg_d = mcu_counters_channels_0_decoder_up_reg_q;
+        mcu_counters_channels_0_decoder_down_reg_d = mcu_counters_channels_0_decoder_down_reg_q;
+        mcu_counters_channels_0_decoder_changed_a = mcu_counters_channels_0_decoder_a ^ mcu_counters_channels_0_decoder_a_prev;
+        mcu_counters_channels_0_decoder_changed_b = mcu_counters_channels_0_decoder_b ^ mcu_counters_channels_0_decoder_b_prev;
+        mcu_counters_channels_0_decoder_a_ne_b = mcu_counters_channels_0_decoder_a ^ mcu_counters_channels_0_decoder_b;
+        mcu_counters_channels_0_decoder_rise_a = mcu_counters_channels_0_decoder_a & ~mcu_counters_channels_0_decoder_a_prev;
+        mcu_counters_channels_0_decoder_rise_b = mcu_counters_channels_0_decoder_b & ~mcu_counters_channels_0_decoder_b_prev;
+        mcu_counters_channels_0_decoder_forward = 1'b0;
+        mcu_counters_channels_0_decoder_backward = 1'b0;
+        if (mcu_counters_channels_0_decoder_mode == mcu_counters_channels_0_decoder_mode_x4) begin
+            mcu_counters_channels_0_decoder_forward = (mcu_counters_channels_0_decoder_changed_a & ~mcu_counters_channels_0_decoder_changed_b & mcu_counters_channels_0_decoder_a_ne_b) | (mcu_counters_channels_0_decoder_changed_b & ~mcu_counters_channels_0_decoder_changed_a & ~mcu_counters_channels_0_decoder_a_ne_b);
+            mcu_counters_channels_0_decoder_backward = (mcu_counters_channels_0_decoder_changed_a & ~mcu_counters_channels_0_decoder_changed_b & ~mcu_counters_channels_0_decoder_a_ne_b) | (mcu_counters_channels_0_decoder_changed_b & ~mcu_counters_channels_0_decoder_changed_a & mcu_counters_channels_0_decoder_a_ne_b);
+        end
+        if (mcu_counters_channels_0_decoder_mode == mcu_counters_channels_0_decoder_mode_x2) begin
+            mcu_counters_channels_0_decoder_forward = mcu_counters_channels_0_decoder_changed_a & ~mcu_counters_channels_0_decoder_changed_b & mcu_counters_channels_0_decoder_a_ne_b;
+            mcu_counters_channels_0_decoder_backward = mcu_counters_channels_0_decoder_changed_a & ~mcu_counters_channels_0_decoder_changed_b & ~mcu_counters_channels_0_decoder_a_ne_b;
+        end
+        if (mcu_counters_channels_0_decoder_mode == mcu_counters_channels_0_decoder_mode_x1) begin
+            mcu_counters_channels_0_decoder_forward = ~mcu_counters_channels_0_decoder_a_prev & ~mcu_counters_channels_0_decoder_b_prev & mcu_counters_channels_0_decoder_a & ~mcu_counters_channels_0_decoder_b;
+            mcu_counters_channels_0_decoder_backward = mcu_counters_channels_0_decoder_a_prev & ~mcu_counters_channels_0_decoder_b_prev & ~mcu_counters_channels_0_decoder_a & ~mcu_counters_channels_0_decoder_b;
+        end
+        if (mcu_counters_channels_0_decoder_mode == mcu_counters_channels_0_decoder_mode_pulse_dir) begin
+            mcu_counters_channels_0_decoder_forward = mcu_counters_channels_0_decoder_rise_a & ~mcu_counters_channels_0_decoder_b;
+            mcu_counters_channels_0_decoder_backward = mcu_counters_channels_0_decoder_rise_a & mcu_counters_channels_0_decoder_b;
+        end
+        if (mcu_counters_channels_0_decoder_mode == mcu_counters_channels_0_decoder_mode_cw_ccw) begin
+            mcu_counters_channels_0_decoder_forward = mcu_counters_channels_0_decoder_rise_a & ~mcu_counters_channels_0_decoder_rise_b;
+            mcu_counters_channels_0_decoder_backward = mcu_counters_channels_0_decoder_rise_b & ~mcu_counters_channels_0_decoder_rise_a;
+        end
+        if (mcu_counters_channels_0_decoder_reverse) begin
+            mcu_counters_channels_0_decoder_up_reg_d = mcu_counters_channels_0_decoder_backward;
+            mcu_counters_channels_0_decoder_down_reg_d = mcu_counters_channels_0_decoder_forward;
+        end
+        else begin
+            mcu_counters_channels_0_decoder_up_reg_d = mcu_counters_channels_0_decoder_forward;
+            mcu_counters_channels_0_decoder_down_reg_d = mcu_counters_channels_0_decoder_backward;
+        end
+        if (mcu_counters_channels_0_decoder_hold) begin
+            mcu_counters_channels_0_decoder_up_reg_d = 1'b0;
+            mcu_counters_channels_0_decoder_down_reg_d = 1'b0;
+        end
+        mcu_counters_channels_0_decoder_up_q = mcu_counters_channels_0_decoder_up_reg_q;
+        mcu_counters_channels_0_decoder_down_q = mcu_counters_channels_0_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_0_counter_lo_d = mcu_counters_channels_0_counter_lo_q;
+        mcu_counters_channels_0_counter_hi_d = mcu_counters_channels_0_counter_hi_q;
+        mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_max_q;
+        mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_lo_nonzero_q;
+        mcu_counters_channels_0_counter_lo_ones_above = (mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask) == mcu_counters_channels_0_counter_lo_upper_mask;
+        mcu_counters_channels_0_counter_lo_zeros_above = ~|(mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask);
+        mcu_counters_channels_0_counter_load_lo = mcu_counters_channels_0_counter_load_value & mcu_counters_channels_0_counter_lo_mask;
+        mcu_counters_channels_0_counter_load_hi = (mcu_counters_channels_0_counter_load_value >> mcu_counters_channels_0_counter_lo_bits) & mcu_counters_channels_0_counter_hi_mask;
+        mcu_counters_channels_0_counter_lo_step = 32'h0;
+        mcu_counters_channels_0_counter_hi_step = 32'h0;
+        mcu_counters_channels_0_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_0_counter_hi_carry_in = 32'h0;
+        if (mcu_counters_channels_0_counter_up) begin
+            mcu_counters_channels_0_counter_lo_carry_in = mcu_counters_channels_0_counter_one;
+            if (mcu_counters_channels_0_counter_lo_max_q) begin
+                mcu_counters_channels_0_counter_hi_carry_in = mcu_counters_channels_0_counter_one;
+            end
+        end
+        if (mcu_counters_channels_0_counter_down) begin
+            mcu_counters_channels_0_counter_lo_step = mcu_counters_channels_0_counter_lo_mask;
+            if (~mcu_counters_channels_0_counter_lo_nonzero_q) begin
+                mcu_counters_channels_0_counter_hi_step = mcu_counters_channels_0_counter_hi_mask;
+            end
+        end
+        if (mcu_counters_channels_0_counter_load) begin
+            mcu_counters_channels_0_counter_lo_step = mcu_counters_channels_0_counter_load_lo;
+            mcu_counters_channels_0_counter_hi_step = mcu_counters_channels_0_counter_load_hi;
+        end
+        mcu_counters_channels_0_counter_lo_d = (mcu_counters_channels_0_counter_lo_q + mcu_counters_channels_0_counter_lo_step + mcu_counters_channels_0_counter_lo_carry_in) & mcu_counters_channels_0_counter_lo_mask;
+        mcu_counters_channels_0_counter_hi_d = (mcu_counters_channels_0_counter_hi_q + mcu_counters_channels_0_counter_hi_step + mcu_counters_channels_0_counter_hi_carry_in) & mcu_counters_channels_0_counter_hi_mask;
+        if (mcu_counters_channels_0_counter_load) begin
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_load_low_is_max;
+            mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_load_low_is_nonzero;
+        end
+        else if (mcu_counters_channels_0_counter_up) begin
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & ~mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0]);
+        end
+        else if (mcu_counters_channels_0_counter_down) begin
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_zeros_above & ~mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_zeros_above & mcu_counters_channels_0_counter_lo_q[0]);
+        end
+        else begin
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~mcu_counters_channels_0_counter_lo_zeros_above | mcu_counters_channels_0_counter_lo_q[0];
+        end
+        if (mcu_counters_channels_0_counter_clear) begin
+            mcu_counters_channels_0_counter_lo_d = 32'h0;
+            mcu_counters_channels_0_counter_hi_d = 32'h0;
+            mcu_counters_channels_0_counter_lo_max_d = 1'b0;
+            mcu_counters_channels_0_counter_lo_nonzero_d = 1'b0;
+        end
+        mcu_counters_channels_0_counter_count = mcu_counters_channels_0_counter_lo_q | (mcu_counters_channels_0_counter_hi_q << mcu_counters_channels_0_counter_lo_bits);
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_a_prev_d = mcu_counters_channels_1_a_prev_q;
+        mcu_counters_channels_1_b_prev_d = mcu_counters_channels_1_b_prev_q;
+        mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg_prev_q;
+        mcu_counters_channels_1_load_q_d = mcu_counters_channels_1_load_q_q;
+        mcu_counters_channels_1_index_latch_q_d = mcu_counters_channels_1_index_latch_q_q;
+        mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_clear_q_q;
+        mcu_counters_channels_1_index_d = mcu_counters_channels_1_index_q;
+        mcu_counters_channels_1_err_d = mcu_counters_channels_1_err_q;
+        mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q;
+        mcu_counters_channels_1_seen_d = mcu_counters_channels_1_seen_q;
+        mcu_counters_channels_1_armed_d = mcu_counters_channels_1_armed_q;
+        mcu_counters_channels_1_ctrl_d = mcu_counters_channels_1_ctrl_q;
+        mcu_counters_channels_1_snap_count_d = mcu_counters_channels_1_snap_count_q;
+        mcu_counters_channels_1_snap_index_d = mcu_counters_channels_1_snap_index_q;
+        mcu_counters_channels_1_snap_status_d = mcu_counters_channels_1_snap_status_q;
+        mcu_counters_channels_1_read_ctrl_d = mcu_counters_channels_1_read_ctrl_q;
+        mcu_counters_channels_1_read_count_d = mcu_counters_channels_1_read_count_q;
+        mcu_counters_channels_1_read_index_d = mcu_counters_channels_1_read_index_q;
+        mcu_counters_channels_1_read_status_d = mcu_counters_channels_1_read_status_q;
+        mcu_counters_channels_1_filter_a_reset = mcu_counters_channels_1_reset;
+        mcu_counters_channels_1_filter_b_reset = mcu_counters_channels_1_reset;
+        mcu_counters_channels_1_filter_z_reset = mcu_counters_channels_1_reset;
+        mcu_counters_channels_1_filter_a_pin = mcu_counters_channels_1_a;
+        mcu_counters_channels_1_filter_b_pin = mcu_counters_channels_1_b;
+        mcu_counters_channels_1_filter_z_pin = mcu_counters_channels_1_z;
+        mcu_counters_channels_1_filter_a_setting = mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_1_filter_b_setting = mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_1_filter_z_setting = mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_filter_z_lsb)+:(4)];
+        mcu_counters_channels_1_level_a = mcu_counters_channels_1_filter_a_level;
+        mcu_counters_channels_1_level_b = mcu_counters_channels_1_filter_b_level;
+        mcu_counters_channels_1_level_z = mcu_counters_channels_1_filter_z_level;
+        mcu_counters_channels_1_cmd_write = mcu_counters_channels_1_we & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_cmd);
+        mcu_counters_channels_1_cmd_clear = mcu_counters_channels_1_cmd_write & mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_bit];
+        mcu_counters_channels_1_cmd_load = mcu_counters_channels_1_cmd_write & mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_load_bit];
+        mcu_counters_channels_1_decoder_hold = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_load;
+        mcu_counters_channels_1_decoder_a = mcu_counters_channels_1_level_a;
+        mcu_counters_channels_1_decoder_b = mcu_counters_channels_1_level_b;
+        mcu_counters_channels_1_decoder_a_prev = mcu_counters_channels_1_a_prev_q;
+        mcu_counters_channels_1_decoder_b_prev = mcu_counters_channels_1_b_prev_q;
+        mcu_counters_channels_1_decoder_mode = mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_mode_lsb)+:(3)];
+        mcu_counters_channels_1_decoder_reverse = mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_reverse_bit];
+        mcu_counters_channels_1_illegal = (mcu_counters_channels_1_level_a ^ mcu_counters_channels_1_a_prev_q) & (mcu_counters_channels_1_level_b ^ mcu_counters_channels_1_b_prev_q) & (mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_mode_lsb)+:(3)] < mcu_counters_channels_1_quadrature_modes);
+        mcu_counters_channels_1_zg = (mcu_counters_channels_1_level_z ^ mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_invert_bit]) & (~mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_gate_bit] | (mcu_counters_channels_1_level_a & mcu_counters_channels_1_level_b));
+        mcu_counters_channels_1_index_event = mcu_counters_channels_1_zg & ~mcu_counters_channels_1_zg_prev_q;
+        mcu_counters_channels_1_index_act = mcu_counters_channels_1_index_event & (~mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_oneshot_bit] | mcu_counters_channels_1_armed_q);
+        mcu_counters_channels_1_counter_up = mcu_counters_channels_1_decoder_up_q;
+        mcu_counters_channels_1_counter_down = mcu_counters_channels_1_decoder_down_q;
+        mcu_counters_channels_1_counter_load_value = mcu_counters_channels_1_preset;
+        mcu_counters_channels_1_counter_load_low_is_max = mcu_counters_channels_1_preset_low_is_max;
+        mcu_counters_channels_1_counter_load_low_is_nonzero = mcu_counters_channels_1_preset_low_is_nonzero;
+        mcu_counters_channels_1_counter_load = mcu_counters_channels_1_load_q_q;
+        mcu_counters_channels_1_counter_clear = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_clear | mcu_counters_channels_1_cmd_load | mcu_counters_channels_1_index_clear_q_q;
+        mcu_counters_channels_1_count_now = mcu_counters_channels_1_counter_count;
+        mcu_counters_channels_1_load_q_d = mcu_counters_channels_1_cmd_load & ~mcu_counters_channels_1_cmd_clear;
+        mcu_counters_channels_1_index_latch_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_latch_bit];
+        mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_clear_bit];
+        mcu_counters_channels_1_a_prev_d = mcu_counters_channels_1_level_a;
+        mcu_counters_channels_1_b_prev_d = mcu_counters_channels_1_level_b;
+        mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg;
+        if (mcu_counters_channels_1_index_latch_q_q) begin
+            mcu_counters_channels_1_index_d = mcu_counters_channels_1_count_now;
+        end
+        if (mcu_counters_channels_1_illegal & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_err_en_bit]) begin
+            mcu_counters_channels_1_err_d = 1'b1;
+            if (mcu_counters_channels_1_err_count_q != mcu_counters_channels_1_err_max) begin
+                mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q + 8'h1;
+            end
+        end
+        if (mcu_counters_channels_1_index_event) begin
+            mcu_counters_channels_1_seen_d = 1'b1;
+        end
+        if (mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_oneshot_bit]) begin
+            mcu_counters_channels_1_armed_d = 1'b0;
+        end
+        if (mcu_counters_channels_1_cmd_write) begin
+            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_arm_bit]) begin
+                mcu_counters_channels_1_armed_d = 1'b1;
+            end
+            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_status_bit]) begin
+                mcu_counters_channels_1_err_d = 1'b0;
+                mcu_counters_channels_1_err_count_d = 8'h0;
+                mcu_counters_channels_1_seen_d = 1'b0;
+            end
+        end
+        if (mcu_counters_channels_1_we & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_ctrl)) begin
+            mcu_counters_channels_1_ctrl_d = mcu_counters_channels_1_wdata & mcu_counters_channels_1_ctrl_writable;
+        end
+        mcu_counters_channels_1_status = {24'h0, mcu_counters_channels_1_err_count_q} << mcu_counters_channels_1_status_err_count_lsb;
+        if (mcu_counters_channels_1_err_q) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_err;
+        end
+        if (mcu_counters_channels_1_armed_q) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_armed;
+        end
+        if (mcu_counters_channels_1_seen_q) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_seen;
+        end
+        if (mcu_counters_channels_1_level_a) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_a;
+        end
+        if (mcu_counters_channels_1_level_b) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_b;
+        end
+        if (mcu_counters_channels_1_level_z) begin
+            mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_z;
+        end
+        if (mcu_counters_channels_1_snapshot) begin
+            mcu_counters_channels_1_snap_count_d = mcu_counters_channels_1_count_now;
+            mcu_counters_channels_1_snap_index_d = mcu_counters_channels_1_index_q;
+            mcu_counters_channels_1_snap_status_d = mcu_counters_channels_1_status;
+        end
+        mcu_counters_channels_1_read_ctrl_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_ctrl);
+        mcu_counters_channels_1_read_count_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_count);
+        mcu_counters_channels_1_read_index_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_index);
+        mcu_counters_channels_1_read_status_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_status);
+        if (mcu_counters_channels_1_reset) begin
+            mcu_counters_channels_1_index_d = 32'h0;
+            mcu_counters_channels_1_err_d = 1'b0;
+            mcu_counters_channels_1_err_count_d = 8'h0;
+            mcu_counters_channels_1_seen_d = 1'b0;
+            mcu_counters_channels_1_armed_d = 1'b0;
+            mcu_counters_channels_1_load_q_d = 1'b0;
+            mcu_counters_channels_1_index_latch_q_d = 1'b0;
+            mcu_counters_channels_1_index_clear_q_d = 1'b0;
+            mcu_counters_channels_1_ctrl_d = 32'h0;
+            mcu_counters_channels_1_snap_count_d = 32'h0;
+            mcu_counters_channels_1_snap_index_d = 32'h0;
+            mcu_counters_channels_1_snap_status_d = 32'h0;
+            mcu_counters_channels_1_read_ctrl_d = 1'b0;
+            mcu_counters_channels_1_read_count_d = 1'b0;
+            mcu_counters_channels_1_read_index_d = 1'b0;
+            mcu_counters_channels_1_read_status_d = 1'b0;
+        end
+        if (|(mcu_counters_channels_1_snap_count_q & mcu_counters_channels_1_sign_bit)) begin
+            mcu_counters_channels_1_count_read = mcu_counters_channels_1_snap_count_q | mcu_counters_channels_1_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_1_count_read = mcu_counters_channels_1_snap_count_q;
+        end
+        if (|(mcu_counters_channels_1_snap_index_q & mcu_counters_channels_1_sign_bit)) begin
+            mcu_counters_channels_1_index_read = mcu_counters_channels_1_snap_index_q | mcu_counters_channels_1_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_1_index_read = mcu_counters_channels_1_snap_index_q;
+        end
+        mcu_counters_channels_1_rdata = 32'h0;
+        if (mcu_counters_channels_1_read_ctrl_q) begin
+            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_ctrl_q;
+        end
+        if (mcu_counters_channels_1_read_count_q) begin
+            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_count_read;
+        end
+        if (mcu_counters_channels_1_read_index_q) begin
+            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_index_read;
+        end
+        if (mcu_counters_channels_1_read_status_q) begin
+            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_snap_status_q;
+        end
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_filter_a_sync1_d = mcu_counters_channels_1_filter_a_sync1_q;
+        mcu_counters_channels_1_filter_a_sync2_d = mcu_counters_channels_1_filter_a_sync2_q;
+        mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_accepted_q;
+        mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q;
+        mcu_counters_channels_1_filter_a_sync1_d = mcu_counters_channels_1_filter_a_pin;
+        mcu_counters_channels_1_filter_a_sync2_d = mcu_counters_channels_1_filter_a_sync1_q;
+        if (mcu_counters_channels_1_filter_a_reset) begin
+            mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_sync2_q;
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_a_sync2_q == mcu_counters_channels_1_filter_a_accepted_q) begin
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_a_count_q == mcu_counters_channels_1_filter_a_setting) begin
+            mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_sync2_q;
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q + 4'h1;
+        end
+        mcu_counters_channels_1_filter_a_level = mcu_counters_channels_1_filter_a_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_filter_b_sync1_d = mcu_counters_channels_1_filter_b_sync1_q;
+        mcu_counters_channels_1_filter_b_sync2_d = mcu_counters_channels_1_filter_b_sync2_q;
+        mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_accepted_q;
+        mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q;
+        mcu_counters_channels_1_filter_b_sync1_d = mcu_counters_channels_1_filter_b_pin;
+        mcu_counters_channels_1_filter_b_sync2_d = mcu_counters_channels_1_filter_b_sync1_q;
+        if (mcu_counters_channels_1_filter_b_reset) begin
+            mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_sync2_q;
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_b_sync2_q == mcu_counters_channels_1_filter_b_accepted_q) begin
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_b_count_q == mcu_counters_channels_1_filter_b_setting) begin
+            mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_sync2_q;
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q + 4'h1;
+        end
+        mcu_counters_channels_1_filter_b_level = mcu_counters_channels_1_filter_b_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_filter_z_sync1_d = mcu_counters_channels_1_filter_z_sync1_q;
+        mcu_counters_channels_1_filter_z_sync2_d = mcu_counters_channels_1_filter_z_sync2_q;
+        mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_accepted_q;
+        mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q;
+        mcu_counters_channels_1_filter_z_sync1_d = mcu_counters_channels_1_filter_z_pin;
+        mcu_counters_channels_1_filter_z_sync2_d = mcu_counters_channels_1_filter_z_sync1_q;
+        if (mcu_counters_channels_1_filter_z_reset) begin
+            mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_sync2_q;
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_z_sync2_q == mcu_counters_channels_1_filter_z_accepted_q) begin
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_1_filter_z_count_q == mcu_counters_channels_1_filter_z_setting) begin
+            mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_sync2_q;
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q + 4'h1;
+        end
+        mcu_counters_channels_1_filter_z_level = mcu_counters_channels_1_filter_z_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_decoder_up_reg_d = mcu_counters_channels_1_decoder_up_reg_q;
+        mcu_counters_channels_1_decoder_down_reg_d = mcu_counters_channels_1_decoder_down_reg_q;
+        mcu_counters_channels_1_decoder_changed_a = mcu_counters_channels_1_decoder_a ^ mcu_counters_channels_1_decoder_a_prev;
+        mcu_counters_channels_1_decoder_changed_b = mcu_counters_channels_1_decoder_b ^ mcu_counters_channels_1_decoder_b_prev;
+        mcu_counters_channels_1_decoder_a_ne_b = mcu_counters_channels_1_decoder_a ^ mcu_counters_channels_1_decoder_b;
+        mcu_counters_channels_1_decoder_rise_a = mcu_counters_channels_1_decoder_a & ~mcu_counters_channels_1_decoder_a_prev;
+        mcu_counters_channels_1_decoder_rise_b = mcu_counters_channels_1_decoder_b & ~mcu_counters_channels_1_decoder_b_prev;
+        mcu_counters_channels_1_decoder_forward = 1'b0;
+        mcu_counters_channels_1_decoder_backward = 1'b0;
+        if (mcu_counters_channels_1_decoder_mode == mcu_counters_channels_1_decoder_mode_x4) begin
+            mcu_counters_channels_1_decoder_forward = (mcu_counters_channels_1_decoder_changed_a & ~mcu_counters_channels_1_decoder_changed_b & mcu_counters_channels_1_decoder_a_ne_b) | (mcu_counters_channels_1_decoder_changed_b & ~mcu_counters_channels_1_decoder_changed_a & ~mcu_counters_channels_1_decoder_a_ne_b);
+            mcu_counters_channels_1_decoder_backward = (mcu_counters_channels_1_decoder_changed_a & ~mcu_counters_channels_1_decoder_changed_b & ~mcu_counters_channels_1_decoder_a_ne_b) | (mcu_counters_channels_1_decoder_changed_b & ~mcu_counters_channels_1_decoder_changed_a & mcu_counters_channels_1_decoder_a_ne_b);
+        end
+        if (mcu_counters_channels_1_decoder_mode == mcu_counters_channels_1_decoder_mode_x2) begin
+            mcu_counters_channels_1_decoder_forward = mcu_counters_channels_1_decoder_changed_a & ~mcu_counters_channels_1_decoder_changed_b & mcu_counters_channels_1_decoder_a_ne_b;
+            mcu_counters_channels_1_decoder_backward = mcu_counters_channels_1_decoder_changed_a & ~mcu_counters_channels_1_decoder_changed_b & ~mcu_counters_channels_1_decoder_a_ne_b;
+        end
+        if (mcu_counters_channels_1_decoder_mode == mcu_counters_channels_1_decoder_mode_x1) begin
+            mcu_counters_channels_1_decoder_forward = ~mcu_counters_channels_1_decoder_a_prev & ~mcu_counters_channels_1_decoder_b_prev & mcu_counters_channels_1_decoder_a & ~mcu_counters_channels_1_decoder_b;
+            mcu_counters_channels_1_decoder_backward = mcu_counters_channels_1_decoder_a_prev & ~mcu_counters_channels_1_decoder_b_prev & ~mcu_counters_channels_1_decoder_a & ~mcu_counters_channels_1_decoder_b;
+        end
+        if (mcu_counters_channels_1_decoder_mode == mcu_counters_channels_1_decoder_mode_pulse_dir) begin
+            mcu_counters_channels_1_decoder_forward = mcu_counters_channels_1_decoder_rise_a & ~mcu_counters_channels_1_decoder_b;
+            mcu_counters_channels_1_decoder_backward = mcu_counters_channels_1_decoder_rise_a & mcu_counters_channels_1_decoder_b;
+        end
+        if (mcu_counters_channels_1_decoder_mode == mcu_counters_channels_1_decoder_mode_cw_ccw) begin
+            mcu_counters_channels_1_decoder_forward = mcu_counters_channels_1_decoder_rise_a & ~mcu_counters_channels_1_decoder_rise_b;
+            mcu_counters_channels_1_decoder_backward = mcu_counters_channels_1_decoder_rise_b & ~mcu_counters_channels_1_decoder_rise_a;
+        end
+        if (mcu_counters_channels_1_decoder_reverse) begin
+            mcu_counters_channels_1_decoder_up_reg_d = mcu_counters_channels_1_decoder_backward;
+            mcu_counters_channels_1_decoder_down_reg_d = mcu_counters_channels_1_decoder_forward;
+        end
+        else begin
+            mcu_counters_channels_1_decoder_up_reg_d = mcu_counters_channels_1_decoder_forward;
+            mcu_counters_channels_1_decoder_down_reg_d = mcu_counters_channels_1_decoder_backward;
+        end
+        if (mcu_counters_channels_1_decoder_hold) begin
+            mcu_counters_channels_1_decoder_up_reg_d = 1'b0;
+            mcu_counters_channels_1_decoder_down_reg_d = 1'b0;
+        end
+        mcu_counters_channels_1_decoder_up_q = mcu_counters_channels_1_decoder_up_reg_q;
+        mcu_counters_channels_1_decoder_down_q = mcu_counters_channels_1_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_1_counter_lo_d = mcu_counters_channels_1_counter_lo_q;
+        mcu_counters_channels_1_counter_hi_d = mcu_counters_channels_1_counter_hi_q;
+        mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_max_q;
+        mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_lo_nonzero_q;
+        mcu_counters_channels_1_counter_lo_ones_above = (mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask) == mcu_counters_channels_1_counter_lo_upper_mask;
+        mcu_counters_channels_1_counter_lo_zeros_above = ~|(mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask);
+        mcu_counters_channels_1_counter_load_lo = mcu_counters_channels_1_counter_load_value & mcu_counters_channels_1_counter_lo_mask;
+        mcu_counters_channels_1_counter_load_hi = (mcu_counters_channels_1_counter_load_value >> mcu_counters_channels_1_counter_lo_bits) & mcu_counters_channels_1_counter_hi_mask;
+        mcu_counters_channels_1_counter_lo_step = 32'h0;
+        mcu_counters_channels_1_counter_hi_step = 32'h0;
+        mcu_counters_channels_1_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_1_counter_hi_carry_in = 32'h0;
+        if (mcu_counters_channels_1_counter_up) begin
+            mcu_counters_channels_1_counter_lo_carry_in = mcu_counters_channels_1_counter_one;
+            if (mcu_counters_channels_1_counter_lo_max_q) begin
+                mcu_counters_channels_1_counter_hi_carry_in = mcu_counters_channels_1_counter_one;
+            end
+        end
+        if (mcu_counters_channels_1_counter_down) begin
+            mcu_counters_channels_1_counter_lo_step = mcu_counters_channels_1_counter_lo_mask;
+            if (~mcu_counters_channels_1_counter_lo_nonzero_q) begin
+                mcu_counters_channels_1_counter_hi_step = mcu_counters_channels_1_counter_hi_mask;
+            end
+        end
+        if (mcu_counters_channels_1_counter_load) begin
+            mcu_counters_channels_1_counter_lo_step = mcu_counters_channels_1_counter_load_lo;
+            mcu_counters_channels_1_counter_hi_step = mcu_counters_channels_1_counter_load_hi;
+        end
+        mcu_counters_channels_1_counter_lo_d = (mcu_counters_channels_1_counter_lo_q + mcu_counters_channels_1_counter_lo_step + mcu_counters_channels_1_counter_lo_carry_in) & mcu_counters_channels_1_counter_lo_mask;
+        mcu_counters_channels_1_counter_hi_d = (mcu_counters_channels_1_counter_hi_q + mcu_counters_channels_1_counter_hi_step + mcu_counters_channels_1_counter_hi_carry_in) & mcu_counters_channels_1_counter_hi_mask;
+        if (mcu_counters_channels_1_counter_load) begin
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_load_low_is_max;
+            mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_load_low_is_nonzero;
+        end
+        else if (mcu_counters_channels_1_counter_up) begin
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & ~mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0]);
+        end
+        else if (mcu_counters_channels_1_counter_down) begin
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_zeros_above & ~mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_zeros_above & mcu_counters_channels_1_counter_lo_q[0]);
+        end
+        else begin
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~mcu_counters_channels_1_counter_lo_zeros_above | mcu_counters_channels_1_counter_lo_q[0];
+        end
+        if (mcu_counters_channels_1_counter_clear) begin
+            mcu_counters_channels_1_counter_lo_d = 32'h0;
+            mcu_counters_channels_1_counter_hi_d = 32'h0;
+            mcu_counters_channels_1_counter_lo_max_d = 1'b0;
+            mcu_counters_channels_1_counter_lo_nonzero_d = 1'b0;
+        end
+        mcu_counters_channels_1_counter_count = mcu_counters_channels_1_counter_lo_q | (mcu_counters_channels_1_counter_hi_q << mcu_counters_channels_1_counter_lo_bits);
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_a_prev_d = mcu_counters_channels_2_a_prev_q;
+        mcu_counters_channels_2_b_prev_d = mcu_counters_channels_2_b_prev_q;
+        mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg_prev_q;
+        mcu_counters_channels_2_load_q_d = mcu_counters_channels_2_load_q_q;
+        mcu_counters_channels_2_index_latch_q_d = mcu_counters_channels_2_index_latch_q_q;
+        mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_clear_q_q;
+        mcu_counters_channels_2_index_d = mcu_counters_channels_2_index_q;
+        mcu_counters_channels_2_err_d = mcu_counters_channels_2_err_q;
+        mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q;
+        mcu_counters_channels_2_seen_d = mcu_counters_channels_2_seen_q;
+        mcu_counters_channels_2_armed_d = mcu_counters_channels_2_armed_q;
+        mcu_counters_channels_2_ctrl_d = mcu_counters_channels_2_ctrl_q;
+        mcu_counters_channels_2_snap_count_d = mcu_counters_channels_2_snap_count_q;
+        mcu_counters_channels_2_snap_index_d = mcu_counters_channels_2_snap_index_q;
+        mcu_counters_channels_2_snap_status_d = mcu_counters_channels_2_snap_status_q;
+        mcu_counters_channels_2_read_ctrl_d = mcu_counters_channels_2_read_ctrl_q;
+        mcu_counters_channels_2_read_count_d = mcu_counters_channels_2_read_count_q;
+        mcu_counters_channels_2_read_index_d = mcu_counters_channels_2_read_index_q;
+        mcu_counters_channels_2_read_status_d = mcu_counters_channels_2_read_status_q;
+        mcu_counters_channels_2_filter_a_reset = mcu_counters_channels_2_reset;
+        mcu_counters_channels_2_filter_b_reset = mcu_counters_channels_2_reset;
+        mcu_counters_channels_2_filter_z_reset = mcu_counters_channels_2_reset;
+        mcu_counters_channels_2_filter_a_pin = mcu_counters_channels_2_a;
+        mcu_counters_channels_2_filter_b_pin = mcu_counters_channels_2_b;
+        mcu_counters_channels_2_filter_z_pin = mcu_counters_channels_2_z;
+        mcu_counters_channels_2_filter_a_setting = mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_2_filter_b_setting = mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_2_filter_z_setting = mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_filter_z_lsb)+:(4)];
+        mcu_counters_channels_2_level_a = mcu_counters_channels_2_filter_a_level;
+        mcu_counters_channels_2_level_b = mcu_counters_channels_2_filter_b_level;
+        mcu_counters_channels_2_level_z = mcu_counters_channels_2_filter_z_level;
+        mcu_counters_channels_2_cmd_write = mcu_counters_channels_2_we & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_cmd);
+        mcu_counters_channels_2_cmd_clear = mcu_counters_channels_2_cmd_write & mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_bit];
+        mcu_counters_channels_2_cmd_load = mcu_counters_channels_2_cmd_write & mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_load_bit];
+        mcu_counters_channels_2_decoder_hold = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_load;
+        mcu_counters_channels_2_decoder_a = mcu_counters_channels_2_level_a;
+        mcu_counters_channels_2_decoder_b = mcu_counters_channels_2_level_b;
+        mcu_counters_channels_2_decoder_a_prev = mcu_counters_channels_2_a_prev_q;
+        mcu_counters_channels_2_decoder_b_prev = mcu_counters_channels_2_b_prev_q;
+        mcu_counters_channels_2_decoder_mode = mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_mode_lsb)+:(3)];
+        mcu_counters_channels_2_decoder_reverse = mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_reverse_bit];
+        mcu_counters_channels_2_illegal = (mcu_counters_channels_2_level_a ^ mcu_counters_channels_2_a_prev_q) & (mcu_counters_channels_2_level_b ^ mcu_counters_channels_2_b_prev_q) & (mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_mode_lsb)+:(3)] < mcu_counters_channels_2_quadrature_modes);
+        mcu_counters_channels_2_zg = (mcu_counters_channels_2_level_z ^ mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_invert_bit]) & (~mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_gate_bit] | (mcu_counters_channels_2_level_a & mcu_counters_channels_2_level_b));
+        mcu_counters_channels_2_index_event = mcu_counters_channels_2_zg & ~mcu_counters_channels_2_zg_prev_q;
+        mcu_counters_channels_2_index_act = mcu_counters_channels_2_index_event & (~mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_oneshot_bit] | mcu_counters_channels_2_armed_q);
+        mcu_counters_channels_2_counter_up = mcu_counters_channels_2_decoder_up_q;
+        mcu_counters_channels_2_counter_down = mcu_counters_channels_2_decoder_down_q;
+        mcu_counters_channels_2_counter_load_value = mcu_counters_channels_2_preset;
+        mcu_counters_channels_2_counter_load_low_is_max = mcu_counters_channels_2_preset_low_is_max;
+        mcu_counters_channels_2_counter_load_low_is_nonzero = mcu_counters_channels_2_preset_low_is_nonzero;
+        mcu_counters_channels_2_counter_load = mcu_counters_channels_2_load_q_q;
+        mcu_counters_channels_2_counter_clear = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_clear | mcu_counters_channels_2_cmd_load | mcu_counters_channels_2_index_clear_q_q;
+        mcu_counters_channels_2_count_now = mcu_counters_channels_2_counter_count;
+        mcu_counters_channels_2_load_q_d = mcu_counters_channels_2_cmd_load & ~mcu_counters_channels_2_cmd_clear;
+        mcu_counters_channels_2_index_latch_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_latch_bit];
+        mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_clear_bit];
+        mcu_counters_channels_2_a_prev_d = mcu_counters_channels_2_level_a;
+        mcu_counters_channels_2_b_prev_d = mcu_counters_channels_2_level_b;
+        mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg;
+        if (mcu_counters_channels_2_index_latch_q_q) begin
+            mcu_counters_channels_2_index_d = mcu_counters_channels_2_count_now;
+        end
+        if (mcu_counters_channels_2_illegal & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_err_en_bit]) begin
+            mcu_counters_channels_2_err_d = 1'b1;
+            if (mcu_counters_channels_2_err_count_q != mcu_counters_channels_2_err_max) begin
+                mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q + 8'h1;
+            end
+        end
+        if (mcu_counters_channels_2_index_event) begin
+            mcu_counters_channels_2_seen_d = 1'b1;
+        end
+        if (mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_oneshot_bit]) begin
+            mcu_counters_channels_2_armed_d = 1'b0;
+        end
+        if (mcu_counters_channels_2_cmd_write) begin
+            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_arm_bit]) begin
+                mcu_counters_channels_2_armed_d = 1'b1;
+            end
+            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_status_bit]) begin
+                mcu_counters_channels_2_err_d = 1'b0;
+                mcu_counters_channels_2_err_count_d = 8'h0;
+                mcu_counters_channels_2_seen_d = 1'b0;
+            end
+        end
+        if (mcu_counters_channels_2_we & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_ctrl)) begin
+            mcu_counters_channels_2_ctrl_d = mcu_counters_channels_2_wdata & mcu_counters_channels_2_ctrl_writable;
+        end
+        mcu_counters_channels_2_status = {24'h0, mcu_counters_channels_2_err_count_q} << mcu_counters_channels_2_status_err_count_lsb;
+        if (mcu_counters_channels_2_err_q) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_err;
+        end
+        if (mcu_counters_channels_2_armed_q) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_armed;
+        end
+        if (mcu_counters_channels_2_seen_q) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_seen;
+        end
+        if (mcu_counters_channels_2_level_a) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_a;
+        end
+        if (mcu_counters_channels_2_level_b) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_b;
+        end
+        if (mcu_counters_channels_2_level_z) begin
+            mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_z;
+        end
+        if (mcu_counters_channels_2_snapshot) begin
+            mcu_counters_channels_2_snap_count_d = mcu_counters_channels_2_count_now;
+            mcu_counters_channels_2_snap_index_d = mcu_counters_channels_2_index_q;
+            mcu_counters_channels_2_snap_status_d = mcu_counters_channels_2_status;
+        end
+        mcu_counters_channels_2_read_ctrl_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_ctrl);
+        mcu_counters_channels_2_read_count_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_count);
+        mcu_counters_channels_2_read_index_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_index);
+        mcu_counters_channels_2_read_status_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_status);
+        if (mcu_counters_channels_2_reset) begin
+            mcu_counters_channels_2_index_d = 32'h0;
+            mcu_counters_channels_2_err_d = 1'b0;
+            mcu_counters_channels_2_err_count_d = 8'h0;
+            mcu_counters_channels_2_seen_d = 1'b0;
+            mcu_counters_channels_2_armed_d = 1'b0;
+            mcu_counters_channels_2_load_q_d = 1'b0;
+            mcu_counters_channels_2_index_latch_q_d = 1'b0;
+            mcu_counters_channels_2_index_clear_q_d = 1'b0;
+            mcu_counters_channels_2_ctrl_d = 32'h0;
+            mcu_counters_channels_2_snap_count_d = 32'h0;
+            mcu_counters_channels_2_snap_index_d = 32'h0;
+            mcu_counters_channels_2_snap_status_d = 32'h0;
+            mcu_counters_channels_2_read_ctrl_d = 1'b0;
+            mcu_counters_channels_2_read_count_d = 1'b0;
+            mcu_counters_channels_2_read_index_d = 1'b0;
+            mcu_counters_channels_2_read_status_d = 1'b0;
+        end
+        if (|(mcu_counters_channels_2_snap_count_q & mcu_counters_channels_2_sign_bit)) begin
+            mcu_counters_channels_2_count_read = mcu_counters_channels_2_snap_count_q | mcu_counters_channels_2_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_2_count_read = mcu_counters_channels_2_snap_count_q;
+        end
+        if (|(mcu_counters_channels_2_snap_index_q & mcu_counters_channels_2_sign_bit)) begin
+            mcu_counters_channels_2_index_read = mcu_counters_channels_2_snap_index_q | mcu_counters_channels_2_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_2_index_read = mcu_counters_channels_2_snap_index_q;
+        end
+        mcu_counters_channels_2_rdata = 32'h0;
+        if (mcu_counters_channels_2_read_ctrl_q) begin
+            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_ctrl_q;
+        end
+        if (mcu_counters_channels_2_read_count_q) begin
+            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_count_read;
+        end
+        if (mcu_counters_channels_2_read_index_q) begin
+            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_index_read;
+        end
+        if (mcu_counters_channels_2_read_status_q) begin
+            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_snap_status_q;
+        end
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_filter_a_sync1_d = mcu_counters_channels_2_filter_a_sync1_q;
+        mcu_counters_channels_2_filter_a_sync2_d = mcu_counters_channels_2_filter_a_sync2_q;
+        mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_accepted_q;
+        mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q;
+        mcu_counters_channels_2_filter_a_sync1_d = mcu_counters_channels_2_filter_a_pin;
+        mcu_counters_channels_2_filter_a_sync2_d = mcu_counters_channels_2_filter_a_sync1_q;
+        if (mcu_counters_channels_2_filter_a_reset) begin
+            mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_sync2_q;
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_a_sync2_q == mcu_counters_channels_2_filter_a_accepted_q) begin
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_a_count_q == mcu_counters_channels_2_filter_a_setting) begin
+            mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_sync2_q;
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q + 4'h1;
+        end
+        mcu_counters_channels_2_filter_a_level = mcu_counters_channels_2_filter_a_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_filter_b_sync1_d = mcu_counters_channels_2_filter_b_sync1_q;
+        mcu_counters_channels_2_filter_b_sync2_d = mcu_counters_channels_2_filter_b_sync2_q;
+        mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_accepted_q;
+        mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q;
+        mcu_counters_channels_2_filter_b_sync1_d = mcu_counters_channels_2_filter_b_pin;
+        mcu_counters_channels_2_filter_b_sync2_d = mcu_counters_channels_2_filter_b_sync1_q;
+        if (mcu_counters_channels_2_filter_b_reset) begin
+            mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_sync2_q;
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_b_sync2_q == mcu_counters_channels_2_filter_b_accepted_q) begin
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_b_count_q == mcu_counters_channels_2_filter_b_setting) begin
+            mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_sync2_q;
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q + 4'h1;
+        end
+        mcu_counters_channels_2_filter_b_level = mcu_counters_channels_2_filter_b_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_filter_z_sync1_d = mcu_counters_channels_2_filter_z_sync1_q;
+        mcu_counters_channels_2_filter_z_sync2_d = mcu_counters_channels_2_filter_z_sync2_q;
+        mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_accepted_q;
+        mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q;
+        mcu_counters_channels_2_filter_z_sync1_d = mcu_counters_channels_2_filter_z_pin;
+        mcu_counters_channels_2_filter_z_sync2_d = mcu_counters_channels_2_filter_z_sync1_q;
+        if (mcu_counters_channels_2_filter_z_reset) begin
+            mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_sync2_q;
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_z_sync2_q == mcu_counters_channels_2_filter_z_accepted_q) begin
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_2_filter_z_count_q == mcu_counters_channels_2_filter_z_setting) begin
+            mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_sync2_q;
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q + 4'h1;
+        end
+        mcu_counters_channels_2_filter_z_level = mcu_counters_channels_2_filter_z_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_decoder_up_reg_d = mcu_counters_channels_2_decoder_up_reg_q;
+        mcu_counters_channels_2_decoder_down_reg_d = mcu_counters_channels_2_decoder_down_reg_q;
+        mcu_counters_channels_2_decoder_changed_a = mcu_counters_channels_2_decoder_a ^ mcu_counters_channels_2_decoder_a_prev;
+        mcu_counters_channels_2_decoder_changed_b = mcu_counters_channels_2_decoder_b ^ mcu_counters_channels_2_decoder_b_prev;
+        mcu_counters_channels_2_decoder_a_ne_b = mcu_counters_channels_2_decoder_a ^ mcu_counters_channels_2_decoder_b;
+        mcu_counters_channels_2_decoder_rise_a = mcu_counters_channels_2_decoder_a & ~mcu_counters_channels_2_decoder_a_prev;
+        mcu_counters_channels_2_decoder_rise_b = mcu_counters_channels_2_decoder_b & ~mcu_counters_channels_2_decoder_b_prev;
+        mcu_counters_channels_2_decoder_forward = 1'b0;
+        mcu_counters_channels_2_decoder_backward = 1'b0;
+        if (mcu_counters_channels_2_decoder_mode == mcu_counters_channels_2_decoder_mode_x4) begin
+            mcu_counters_channels_2_decoder_forward = (mcu_counters_channels_2_decoder_changed_a & ~mcu_counters_channels_2_decoder_changed_b & mcu_counters_channels_2_decoder_a_ne_b) | (mcu_counters_channels_2_decoder_changed_b & ~mcu_counters_channels_2_decoder_changed_a & ~mcu_counters_channels_2_decoder_a_ne_b);
+            mcu_counters_channels_2_decoder_backward = (mcu_counters_channels_2_decoder_changed_a & ~mcu_counters_channels_2_decoder_changed_b & ~mcu_counters_channels_2_decoder_a_ne_b) | (mcu_counters_channels_2_decoder_changed_b & ~mcu_counters_channels_2_decoder_changed_a & mcu_counters_channels_2_decoder_a_ne_b);
+        end
+        if (mcu_counters_channels_2_decoder_mode == mcu_counters_channels_2_decoder_mode_x2) begin
+            mcu_counters_channels_2_decoder_forward = mcu_counters_channels_2_decoder_changed_a & ~mcu_counters_channels_2_decoder_changed_b & mcu_counters_channels_2_decoder_a_ne_b;
+            mcu_counters_channels_2_decoder_backward = mcu_counters_channels_2_decoder_changed_a & ~mcu_counters_channels_2_decoder_changed_b & ~mcu_counters_channels_2_decoder_a_ne_b;
+        end
+        if (mcu_counters_channels_2_decoder_mode == mcu_counters_channels_2_decoder_mode_x1) begin
+            mcu_counters_channels_2_decoder_forward = ~mcu_counters_channels_2_decoder_a_prev & ~mcu_counters_channels_2_decoder_b_prev & mcu_counters_channels_2_decoder_a & ~mcu_counters_channels_2_decoder_b;
+            mcu_counters_channels_2_decoder_backward = mcu_counters_channels_2_decoder_a_prev & ~mcu_counters_channels_2_decoder_b_prev & ~mcu_counters_channels_2_decoder_a & ~mcu_counters_channels_2_decoder_b;
+        end
+        if (mcu_counters_channels_2_decoder_mode == mcu_counters_channels_2_decoder_mode_pulse_dir) begin
+            mcu_counters_channels_2_decoder_forward = mcu_counters_channels_2_decoder_rise_a & ~mcu_counters_channels_2_decoder_b;
+            mcu_counters_channels_2_decoder_backward = mcu_counters_channels_2_decoder_rise_a & mcu_counters_channels_2_decoder_b;
+        end
+        if (mcu_counters_channels_2_decoder_mode == mcu_counters_channels_2_decoder_mode_cw_ccw) begin
+            mcu_counters_channels_2_decoder_forward = mcu_counters_channels_2_decoder_rise_a & ~mcu_counters_channels_2_decoder_rise_b;
+            mcu_counters_channels_2_decoder_backward = mcu_counters_channels_2_decoder_rise_b & ~mcu_counters_channels_2_decoder_rise_a;
+        end
+        if (mcu_counters_channels_2_decoder_reverse) begin
+            mcu_counters_channels_2_decoder_up_reg_d = mcu_counters_channels_2_decoder_backward;
+            mcu_counters_channels_2_decoder_down_reg_d = mcu_counters_channels_2_decoder_forward;
+        end
+        else begin
+            mcu_counters_channels_2_decoder_up_reg_d = mcu_counters_channels_2_decoder_forward;
+            mcu_counters_channels_2_decoder_down_reg_d = mcu_counters_channels_2_decoder_backward;
+        end
+        if (mcu_counters_channels_2_decoder_hold) begin
+            mcu_counters_channels_2_decoder_up_reg_d = 1'b0;
+            mcu_counters_channels_2_decoder_down_reg_d = 1'b0;
+        end
+        mcu_counters_channels_2_decoder_up_q = mcu_counters_channels_2_decoder_up_reg_q;
+        mcu_counters_channels_2_decoder_down_q = mcu_counters_channels_2_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_2_counter_lo_d = mcu_counters_channels_2_counter_lo_q;
+        mcu_counters_channels_2_counter_hi_d = mcu_counters_channels_2_counter_hi_q;
+        mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_max_q;
+        mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_lo_nonzero_q;
+        mcu_counters_channels_2_counter_lo_ones_above = (mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask) == mcu_counters_channels_2_counter_lo_upper_mask;
+        mcu_counters_channels_2_counter_lo_zeros_above = ~|(mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask);
+        mcu_counters_channels_2_counter_load_lo = mcu_counters_channels_2_counter_load_value & mcu_counters_channels_2_counter_lo_mask;
+        mcu_counters_channels_2_counter_load_hi = (mcu_counters_channels_2_counter_load_value >> mcu_counters_channels_2_counter_lo_bits) & mcu_counters_channels_2_counter_hi_mask;
+        mcu_counters_channels_2_counter_lo_step = 32'h0;
+        mcu_counters_channels_2_counter_hi_step = 32'h0;
+        mcu_counters_channels_2_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_2_counter_hi_carry_in = 32'h0;
+        if (mcu_counters_channels_2_counter_up) begin
+            mcu_counters_channels_2_counter_lo_carry_in = mcu_counters_channels_2_counter_one;
+            if (mcu_counters_channels_2_counter_lo_max_q) begin
+                mcu_counters_channels_2_counter_hi_carry_in = mcu_counters_channels_2_counter_one;
+            end
+        end
+        if (mcu_counters_channels_2_counter_down) begin
+            mcu_counters_channels_2_counter_lo_step = mcu_counters_channels_2_counter_lo_mask;
+            if (~mcu_counters_channels_2_counter_lo_nonzero_q) begin
+                mcu_counters_channels_2_counter_hi_step = mcu_counters_channels_2_counter_hi_mask;
+            end
+        end
+        if (mcu_counters_channels_2_counter_load) begin
+            mcu_counters_channels_2_counter_lo_step = mcu_counters_channels_2_counter_load_lo;
+            mcu_counters_channels_2_counter_hi_step = mcu_counters_channels_2_counter_load_hi;
+        end
+        mcu_counters_channels_2_counter_lo_d = (mcu_counters_channels_2_counter_lo_q + mcu_counters_channels_2_counter_lo_step + mcu_counters_channels_2_counter_lo_carry_in) & mcu_counters_channels_2_counter_lo_mask;
+        mcu_counters_channels_2_counter_hi_d = (mcu_counters_channels_2_counter_hi_q + mcu_counters_channels_2_counter_hi_step + mcu_counters_channels_2_counter_hi_carry_in) & mcu_counters_channels_2_counter_hi_mask;
+        if (mcu_counters_channels_2_counter_load) begin
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_load_low_is_max;
+            mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_load_low_is_nonzero;
+        end
+        else if (mcu_counters_channels_2_counter_up) begin
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & ~mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0]);
+        end
+        else if (mcu_counters_channels_2_counter_down) begin
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_zeros_above & ~mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_zeros_above & mcu_counters_channels_2_counter_lo_q[0]);
+        end
+        else begin
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~mcu_counters_channels_2_counter_lo_zeros_above | mcu_counters_channels_2_counter_lo_q[0];
+        end
+        if (mcu_counters_channels_2_counter_clear) begin
+            mcu_counters_channels_2_counter_lo_d = 32'h0;
+            mcu_counters_channels_2_counter_hi_d = 32'h0;
+            mcu_counters_channels_2_counter_lo_max_d = 1'b0;
+            mcu_counters_channels_2_counter_lo_nonzero_d = 1'b0;
+        end
+        mcu_counters_channels_2_counter_count = mcu_counters_channels_2_counter_lo_q | (mcu_counters_channels_2_counter_hi_q << mcu_counters_channels_2_counter_lo_bits);
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_a_prev_d = mcu_counters_channels_3_a_prev_q;
+        mcu_counters_channels_3_b_prev_d = mcu_counters_channels_3_b_prev_q;
+        mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg_prev_q;
+        mcu_counters_channels_3_load_q_d = mcu_counters_channels_3_load_q_q;
+        mcu_counters_channels_3_index_latch_q_d = mcu_counters_channels_3_index_latch_q_q;
+        mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_clear_q_q;
+        mcu_counters_channels_3_index_d = mcu_counters_channels_3_index_q;
+        mcu_counters_channels_3_err_d = mcu_counters_channels_3_err_q;
+        mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q;
+        mcu_counters_channels_3_seen_d = mcu_counters_channels_3_seen_q;
+        mcu_counters_channels_3_armed_d = mcu_counters_channels_3_armed_q;
+        mcu_counters_channels_3_ctrl_d = mcu_counters_channels_3_ctrl_q;
+        mcu_counters_channels_3_snap_count_d = mcu_counters_channels_3_snap_count_q;
+        mcu_counters_channels_3_snap_index_d = mcu_counters_channels_3_snap_index_q;
+        mcu_counters_channels_3_snap_status_d = mcu_counters_channels_3_snap_status_q;
+        mcu_counters_channels_3_read_ctrl_d = mcu_counters_channels_3_read_ctrl_q;
+        mcu_counters_channels_3_read_count_d = mcu_counters_channels_3_read_count_q;
+        mcu_counters_channels_3_read_index_d = mcu_counters_channels_3_read_index_q;
+        mcu_counters_channels_3_read_status_d = mcu_counters_channels_3_read_status_q;
+        mcu_counters_channels_3_filter_a_reset = mcu_counters_channels_3_reset;
+        mcu_counters_channels_3_filter_b_reset = mcu_counters_channels_3_reset;
+        mcu_counters_channels_3_filter_z_reset = mcu_counters_channels_3_reset;
+        mcu_counters_channels_3_filter_a_pin = mcu_counters_channels_3_a;
+        mcu_counters_channels_3_filter_b_pin = mcu_counters_channels_3_b;
+        mcu_counters_channels_3_filter_z_pin = mcu_counters_channels_3_z;
+        mcu_counters_channels_3_filter_a_setting = mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_3_filter_b_setting = mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_filter_ab_lsb)+:(4)];
+        mcu_counters_channels_3_filter_z_setting = mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_filter_z_lsb)+:(4)];
+        mcu_counters_channels_3_level_a = mcu_counters_channels_3_filter_a_level;
+        mcu_counters_channels_3_level_b = mcu_counters_channels_3_filter_b_level;
+        mcu_counters_channels_3_level_z = mcu_counters_channels_3_filter_z_level;
+        mcu_counters_channels_3_cmd_write = mcu_counters_channels_3_we & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_cmd);
+        mcu_counters_channels_3_cmd_clear = mcu_counters_channels_3_cmd_write & mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_bit];
+        mcu_counters_channels_3_cmd_load = mcu_counters_channels_3_cmd_write & mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_load_bit];
+        mcu_counters_channels_3_decoder_hold = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_load;
+        mcu_counters_channels_3_decoder_a = mcu_counters_channels_3_level_a;
+        mcu_counters_channels_3_decoder_b = mcu_counters_channels_3_level_b;
+        mcu_counters_channels_3_decoder_a_prev = mcu_counters_channels_3_a_prev_q;
+        mcu_counters_channels_3_decoder_b_prev = mcu_counters_channels_3_b_prev_q;
+        mcu_counters_channels_3_decoder_mode = mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_mode_lsb)+:(3)];
+        mcu_counters_channels_3_decoder_reverse = mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_reverse_bit];
+        mcu_counters_channels_3_illegal = (mcu_counters_channels_3_level_a ^ mcu_counters_channels_3_a_prev_q) & (mcu_counters_channels_3_level_b ^ mcu_counters_channels_3_b_prev_q) & (mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_mode_lsb)+:(3)] < mcu_counters_channels_3_quadrature_modes);
+        mcu_counters_channels_3_zg = (mcu_counters_channels_3_level_z ^ mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_invert_bit]) & (~mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_gate_bit] | (mcu_counters_channels_3_level_a & mcu_counters_channels_3_level_b));
+        mcu_counters_channels_3_index_event = mcu_counters_channels_3_zg & ~mcu_counters_channels_3_zg_prev_q;
+        mcu_counters_channels_3_index_act = mcu_counters_channels_3_index_event & (~mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_oneshot_bit] | mcu_counters_channels_3_armed_q);
+        mcu_counters_channels_3_counter_up = mcu_counters_channels_3_decoder_up_q;
+        mcu_counters_channels_3_counter_down = mcu_counters_channels_3_decoder_down_q;
+        mcu_counters_channels_3_counter_load_value = mcu_counters_channels_3_preset;
+        mcu_counters_channels_3_counter_load_low_is_max = mcu_counters_channels_3_preset_low_is_max;
+        mcu_counters_channels_3_counter_load_low_is_nonzero = mcu_counters_channels_3_preset_low_is_nonzero;
+        mcu_counters_channels_3_counter_load = mcu_counters_channels_3_load_q_q;
+        mcu_counters_channels_3_counter_clear = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_clear | mcu_counters_channels_3_cmd_load | mcu_counters_channels_3_index_clear_q_q;
+        mcu_counters_channels_3_count_now = mcu_counters_channels_3_counter_count;
+        mcu_counters_channels_3_load_q_d = mcu_counters_channels_3_cmd_load & ~mcu_counters_channels_3_cmd_clear;
+        mcu_counters_channels_3_index_latch_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_latch_bit];
+        mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_clear_bit];
+        mcu_counters_channels_3_a_prev_d = mcu_counters_channels_3_level_a;
+        mcu_counters_channels_3_b_prev_d = mcu_counters_channels_3_level_b;
+        mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg;
+        if (mcu_counters_channels_3_index_latch_q_q) begin
+            mcu_counters_channels_3_index_d = mcu_counters_channels_3_count_now;
+        end
+        if (mcu_counters_channels_3_illegal & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_err_en_bit]) begin
+            mcu_counters_channels_3_err_d = 1'b1;
+            if (mcu_counters_channels_3_err_count_q != mcu_counters_channels_3_err_max) begin
+                mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q + 8'h1;
+            end
+        end
+        if (mcu_counters_channels_3_index_event) begin
+            mcu_counters_channels_3_seen_d = 1'b1;
+        end
+        if (mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_oneshot_bit]) begin
+            mcu_counters_channels_3_armed_d = 1'b0;
+        end
+        if (mcu_counters_channels_3_cmd_write) begin
+            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_arm_bit]) begin
+                mcu_counters_channels_3_armed_d = 1'b1;
+            end
+            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_status_bit]) begin
+                mcu_counters_channels_3_err_d = 1'b0;
+                mcu_counters_channels_3_err_count_d = 8'h0;
+                mcu_counters_channels_3_seen_d = 1'b0;
+            end
+        end
+        if (mcu_counters_channels_3_we & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_ctrl)) begin
+            mcu_counters_channels_3_ctrl_d = mcu_counters_channels_3_wdata & mcu_counters_channels_3_ctrl_writable;
+        end
+        mcu_counters_channels_3_status = {24'h0, mcu_counters_channels_3_err_count_q} << mcu_counters_channels_3_status_err_count_lsb;
+        if (mcu_counters_channels_3_err_q) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_err;
+        end
+        if (mcu_counters_channels_3_armed_q) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_armed;
+        end
+        if (mcu_counters_channels_3_seen_q) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_seen;
+        end
+        if (mcu_counters_channels_3_level_a) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_a;
+        end
+        if (mcu_counters_channels_3_level_b) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_b;
+        end
+        if (mcu_counters_channels_3_level_z) begin
+            mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_z;
+        end
+        if (mcu_counters_channels_3_snapshot) begin
+            mcu_counters_channels_3_snap_count_d = mcu_counters_channels_3_count_now;
+            mcu_counters_channels_3_snap_index_d = mcu_counters_channels_3_index_q;
+            mcu_counters_channels_3_snap_status_d = mcu_counters_channels_3_status;
+        end
+        mcu_counters_channels_3_read_ctrl_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_ctrl);
+        mcu_counters_channels_3_read_count_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_count);
+        mcu_counters_channels_3_read_index_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_index);
+        mcu_counters_channels_3_read_status_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_status);
+        if (mcu_counters_channels_3_reset) begin
+            mcu_counters_channels_3_index_d = 32'h0;
+            mcu_counters_channels_3_err_d = 1'b0;
+            mcu_counters_channels_3_err_count_d = 8'h0;
+            mcu_counters_channels_3_seen_d = 1'b0;
+            mcu_counters_channels_3_armed_d = 1'b0;
+            mcu_counters_channels_3_load_q_d = 1'b0;
+            mcu_counters_channels_3_index_latch_q_d = 1'b0;
+            mcu_counters_channels_3_index_clear_q_d = 1'b0;
+            mcu_counters_channels_3_ctrl_d = 32'h0;
+            mcu_counters_channels_3_snap_count_d = 32'h0;
+            mcu_counters_channels_3_snap_index_d = 32'h0;
+            mcu_counters_channels_3_snap_status_d = 32'h0;
+            mcu_counters_channels_3_read_ctrl_d = 1'b0;
+            mcu_counters_channels_3_read_count_d = 1'b0;
+            mcu_counters_channels_3_read_index_d = 1'b0;
+            mcu_counters_channels_3_read_status_d = 1'b0;
+        end
+        if (|(mcu_counters_channels_3_snap_count_q & mcu_counters_channels_3_sign_bit)) begin
+            mcu_counters_channels_3_count_read = mcu_counters_channels_3_snap_count_q | mcu_counters_channels_3_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_3_count_read = mcu_counters_channels_3_snap_count_q;
+        end
+        if (|(mcu_counters_channels_3_snap_index_q & mcu_counters_channels_3_sign_bit)) begin
+            mcu_counters_channels_3_index_read = mcu_counters_channels_3_snap_index_q | mcu_counters_channels_3_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_3_index_read = mcu_counters_channels_3_snap_index_q;
+        end
+        mcu_counters_channels_3_rdata = 32'h0;
+        if (mcu_counters_channels_3_read_ctrl_q) begin
+            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_ctrl_q;
+        end
+        if (mcu_counters_channels_3_read_count_q) begin
+            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_count_read;
+        end
+        if (mcu_counters_channels_3_read_index_q) begin
+            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_index_read;
+        end
+        if (mcu_counters_channels_3_read_status_q) begin
+            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_snap_status_q;
+        end
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_filter_a_sync1_d = mcu_counters_channels_3_filter_a_sync1_q;
+        mcu_counters_channels_3_filter_a_sync2_d = mcu_counters_channels_3_filter_a_sync2_q;
+        mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_accepted_q;
+        mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q;
+        mcu_counters_channels_3_filter_a_sync1_d = mcu_counters_channels_3_filter_a_pin;
+        mcu_counters_channels_3_filter_a_sync2_d = mcu_counters_channels_3_filter_a_sync1_q;
+        if (mcu_counters_channels_3_filter_a_reset) begin
+            mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_sync2_q;
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_a_sync2_q == mcu_counters_channels_3_filter_a_accepted_q) begin
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_a_count_q == mcu_counters_channels_3_filter_a_setting) begin
+            mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_sync2_q;
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q + 4'h1;
+        end
+        mcu_counters_channels_3_filter_a_level = mcu_counters_channels_3_filter_a_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_filter_b_sync1_d = mcu_counters_channels_3_filter_b_sync1_q;
+        mcu_counters_channels_3_filter_b_sync2_d = mcu_counters_channels_3_filter_b_sync2_q;
+        mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_accepted_q;
+        mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q;
+        mcu_counters_channels_3_filter_b_sync1_d = mcu_counters_channels_3_filter_b_pin;
+        mcu_counters_channels_3_filter_b_sync2_d = mcu_counters_channels_3_filter_b_sync1_q;
+        if (mcu_counters_channels_3_filter_b_reset) begin
+            mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_sync2_q;
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_b_sync2_q == mcu_counters_channels_3_filter_b_accepted_q) begin
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_b_count_q == mcu_counters_channels_3_filter_b_setting) begin
+            mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_sync2_q;
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q + 4'h1;
+        end
+        mcu_counters_channels_3_filter_b_level = mcu_counters_channels_3_filter_b_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_filter_z_sync1_d = mcu_counters_channels_3_filter_z_sync1_q;
+        mcu_counters_channels_3_filter_z_sync2_d = mcu_counters_channels_3_filter_z_sync2_q;
+        mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_accepted_q;
+        mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q;
+        mcu_counters_channels_3_filter_z_sync1_d = mcu_counters_channels_3_filter_z_pin;
+        mcu_counters_channels_3_filter_z_sync2_d = mcu_counters_channels_3_filter_z_sync1_q;
+        if (mcu_counters_channels_3_filter_z_reset) begin
+            mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_sync2_q;
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_z_sync2_q == mcu_counters_channels_3_filter_z_accepted_q) begin
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+        end
+        else if (mcu_counters_channels_3_filter_z_count_q == mcu_counters_channels_3_filter_z_setting) begin
+            mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_sync2_q;
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+        end
+        else begin
+            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q + 4'h1;
+        end
+        mcu_counters_channels_3_filter_z_level = mcu_counters_channels_3_filter_z_accepted_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_decoder_up_reg_d = mcu_counters_channels_3_decoder_up_reg_q;
+        mcu_counters_channels_3_decoder_down_reg_d = mcu_counters_channels_3_decoder_down_reg_q;
+        mcu_counters_channels_3_decoder_changed_a = mcu_counters_channels_3_decoder_a ^ mcu_counters_channels_3_decoder_a_prev;
+        mcu_counters_channels_3_decoder_changed_b = mcu_counters_channels_3_decoder_b ^ mcu_counters_channels_3_decoder_b_prev;
+        mcu_counters_channels_3_decoder_a_ne_b = mcu_counters_channels_3_decoder_a ^ mcu_counters_channels_3_decoder_b;
+        mcu_counters_channels_3_decoder_rise_a = mcu_counters_channels_3_decoder_a & ~mcu_counters_channels_3_decoder_a_prev;
+        mcu_counters_channels_3_decoder_rise_b = mcu_counters_channels_3_decoder_b & ~mcu_counters_channels_3_decoder_b_prev;
+        mcu_counters_channels_3_decoder_forward = 1'b0;
+        mcu_counters_channels_3_decoder_backward = 1'b0;
+        if (mcu_counters_channels_3_decoder_mode == mcu_counters_channels_3_decoder_mode_x4) begin
+            mcu_counters_channels_3_decoder_forward = (mcu_counters_channels_3_decoder_changed_a & ~mcu_counters_channels_3_decoder_changed_b & mcu_counters_channels_3_decoder_a_ne_b) | (mcu_counters_channels_3_decoder_changed_b & ~mcu_counters_channels_3_decoder_changed_a & ~mcu_counters_channels_3_decoder_a_ne_b);
+            mcu_counters_channels_3_decoder_backward = (mcu_counters_channels_3_decoder_changed_a & ~mcu_counters_channels_3_decoder_changed_b & ~mcu_counters_channels_3_decoder_a_ne_b) | (mcu_counters_channels_3_decoder_changed_b & ~mcu_counters_channels_3_decoder_changed_a & mcu_counters_channels_3_decoder_a_ne_b);
+        end
+        if (mcu_counters_channels_3_decoder_mode == mcu_counters_channels_3_decoder_mode_x2) begin
+            mcu_counters_channels_3_decoder_forward = mcu_counters_channels_3_decoder_changed_a & ~mcu_counters_channels_3_decoder_changed_b & mcu_counters_channels_3_decoder_a_ne_b;
+            mcu_counters_channels_3_decoder_backward = mcu_counters_channels_3_decoder_changed_a & ~mcu_counters_channels_3_decoder_changed_b & ~mcu_counters_channels_3_decoder_a_ne_b;
+        end
+        if (mcu_counters_channels_3_decoder_mode == mcu_counters_channels_3_decoder_mode_x1) begin
+            mcu_counters_channels_3_decoder_forward = ~mcu_counters_channels_3_decoder_a_prev & ~mcu_counters_channels_3_decoder_b_prev & mcu_counters_channels_3_decoder_a & ~mcu_counters_channels_3_decoder_b;
+            mcu_counters_channels_3_decoder_backward = mcu_counters_channels_3_decoder_a_prev & ~mcu_counters_channels_3_decoder_b_prev & ~mcu_counters_channels_3_decoder_a & ~mcu_counters_channels_3_decoder_b;
+        end
+        if (mcu_counters_channels_3_decoder_mode == mcu_counters_channels_3_decoder_mode_pulse_dir) begin
+            mcu_counters_channels_3_decoder_forward = mcu_counters_channels_3_decoder_rise_a & ~mcu_counters_channels_3_decoder_b;
+            mcu_counters_channels_3_decoder_backward = mcu_counters_channels_3_decoder_rise_a & mcu_counters_channels_3_decoder_b;
+        end
+        if (mcu_counters_channels_3_decoder_mode == mcu_counters_channels_3_decoder_mode_cw_ccw) begin
+            mcu_counters_channels_3_decoder_forward = mcu_counters_channels_3_decoder_rise_a & ~mcu_counters_channels_3_decoder_rise_b;
+            mcu_counters_channels_3_decoder_backward = mcu_counters_channels_3_decoder_rise_b & ~mcu_counters_channels_3_decoder_rise_a;
+        end
+        if (mcu_counters_channels_3_decoder_reverse) begin
+            mcu_counters_channels_3_decoder_up_reg_d = mcu_counters_channels_3_decoder_backward;
+            mcu_counters_channels_3_decoder_down_reg_d = mcu_counters_channels_3_decoder_forward;
+        end
+        else begin
+            mcu_counters_channels_3_decoder_up_reg_d = mcu_counters_channels_3_decoder_forward;
+            mcu_counters_channels_3_decoder_down_reg_d = mcu_counters_channels_3_decoder_backward;
+        end
+        if (mcu_counters_channels_3_decoder_hold) begin
+            mcu_counters_channels_3_decoder_up_reg_d = 1'b0;
+            mcu_counters_channels_3_decoder_down_reg_d = 1'b0;
+        end
+        mcu_counters_channels_3_decoder_up_q = mcu_counters_channels_3_decoder_up_reg_q;
+        mcu_counters_channels_3_decoder_down_q = mcu_counters_channels_3_decoder_down_reg_q;
+    end
+
+    always @(*) begin
+        mcu_counters_channels_3_counter_lo_d = mcu_counters_channels_3_counter_lo_q;
+        mcu_counters_channels_3_counter_hi_d = mcu_counters_channels_3_counter_hi_q;
+        mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_max_q;
+        mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_lo_nonzero_q;
+        mcu_counters_channels_3_counter_lo_ones_above = (mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask) == mcu_counters_channels_3_counter_lo_upper_mask;
+        mcu_counters_channels_3_counter_lo_zeros_above = ~|(mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask);
+        mcu_counters_channels_3_counter_load_lo = mcu_counters_channels_3_counter_load_value & mcu_counters_channels_3_counter_lo_mask;
+        mcu_counters_channels_3_counter_load_hi = (mcu_counters_channels_3_counter_load_value >> mcu_counters_channels_3_counter_lo_bits) & mcu_counters_channels_3_counter_hi_mask;
+        mcu_counters_channels_3_counter_lo_step = 32'h0;
+        mcu_counters_channels_3_counter_hi_step = 32'h0;
+        mcu_counters_channels_3_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_3_counter_hi_carry_in = 32'h0;
+        if (mcu_counters_channels_3_counter_up) begin
+            mcu_counters_channels_3_counter_lo_carry_in = mcu_counters_channels_3_counter_one;
+            if (mcu_counters_channels_3_counter_lo_max_q) begin
+                mcu_counters_channels_3_counter_hi_carry_in = mcu_counters_channels_3_counter_one;
+            end
+        end
+        if (mcu_counters_channels_3_counter_down) begin
+            mcu_counters_channels_3_counter_lo_step = mcu_counters_channels_3_counter_lo_mask;
+            if (~mcu_counters_channels_3_counter_lo_nonzero_q) begin
+                mcu_counters_channels_3_counter_hi_step = mcu_counters_channels_3_counter_hi_mask;
+            end
+        end
+        if (mcu_counters_channels_3_counter_load) begin
+            mcu_counters_channels_3_counter_lo_step = mcu_counters_channels_3_counter_load_lo;
+            mcu_counters_channels_3_counter_hi_step = mcu_counters_channels_3_counter_load_hi;
+        end
+        mcu_counters_channels_3_counter_lo_d = (mcu_counters_channels_3_counter_lo_q + mcu_counters_channels_3_counter_lo_step + mcu_counters_channels_3_counter_lo_carry_in) & mcu_counters_channels_3_counter_lo_mask;
+        mcu_counters_channels_3_counter_hi_d = (mcu_counters_channels_3_counter_hi_q + mcu_counters_channels_3_counter_hi_step + mcu_counters_channels_3_counter_hi_carry_in) & mcu_counters_channels_3_counter_hi_mask;
+        if (mcu_counters_channels_3_counter_load) begin
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_load_low_is_max;
+            mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_load_low_is_nonzero;
+        end
+        else if (mcu_counters_channels_3_counter_up) begin
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & ~mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0]);
+        end
+        else if (mcu_counters_channels_3_counter_down) begin
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_zeros_above & ~mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_zeros_above & mcu_counters_channels_3_counter_lo_q[0]);
+        end
+        else begin
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~mcu_counters_channels_3_counter_lo_zeros_above | mcu_counters_channels_3_counter_lo_q[0];
+        end
+        if (mcu_counters_channels_3_counter_clear) begin
+            mcu_counters_channels_3_counter_lo_d = 32'h0;
+            mcu_counters_channels_3_counter_hi_d = 32'h0;
+            mcu_counters_channels_3_counter_lo_max_d = 1'b0;
+            mcu_counters_channels_3_counter_lo_nonzero_d = 1'b0;
+        end
+        mcu_counters_channels_3_counter_count = mcu_counters_channels_3_counter_lo_q | (mcu_counters_channels_3_counter_hi_q << mcu_counters_channels_3_counter_lo_bits);
     end
 
     always @(*) begin
@@ -1380,1533 +2918,188 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_core_decoder_p_eq_q_n = ~((pc_bus_core_decoder_p == pc_bus_core_decoder_q) & ~pc_bus_core_decoder_g_n);
     end
 
-    always @(*) begin
-        identity_read_addr_d = identity_read_addr_q;
-        identity_read_pending_d = identity_read_pending_q;
-        identity_read_data_d = identity_read_data_q;
-        identity_read_pending_d = identity_re;
-        if (identity_re) begin
-            identity_read_addr_d = identity_addr;
-        end
-        identity_read_value = 32'h0;
-        if (identity_read_addr_q == identity_addresses_0) begin
-            identity_read_value = identity_values_0;
-        end
-        if (identity_read_addr_q == identity_addresses_1) begin
-            identity_read_value = identity_values_1;
-        end
-        if (identity_read_addr_q == identity_addresses_2) begin
-            identity_read_value = identity_values_2;
-        end
-        if (identity_read_addr_q == identity_addresses_3) begin
-            identity_read_value = identity_values_3;
-        end
-        if (identity_read_addr_q == identity_addresses_4) begin
-            identity_read_value = identity_values_4;
-        end
-        if (identity_read_addr_q == identity_addresses_5) begin
-            identity_read_value = identity_values_5;
-        end
-        if (identity_read_addr_q == identity_addresses_6) begin
-            identity_read_value = identity_values_6;
-        end
-        if (identity_read_addr_q == identity_addresses_7) begin
-            identity_read_value = identity_values_7;
-        end
-        if (identity_read_addr_q == identity_addresses_8) begin
-            identity_read_value = identity_values_8;
-        end
-        if (identity_read_addr_q == identity_addresses_9) begin
-            identity_read_value = identity_values_9;
-        end
-        if (identity_read_addr_q == identity_addresses_10) begin
-            identity_read_value = identity_values_10;
-        end
-        if (identity_read_addr_q == identity_addresses_11) begin
-            identity_read_value = identity_values_11;
-        end
-        if (identity_read_addr_q == identity_addresses_12) begin
-            identity_read_value = identity_values_12;
-        end
-        if (identity_read_addr_q == identity_addresses_13) begin
-            identity_read_value = identity_values_13;
-        end
-        if (identity_read_addr_q == identity_addresses_14) begin
-            identity_read_value = identity_values_14;
-        end
-        if (identity_read_addr_q == identity_addresses_15) begin
-            identity_read_value = identity_values_15;
-        end
-        if (identity_read_pending_q) begin
-            identity_read_data_d = identity_read_value;
-        end
-        if (identity_reset) begin
-            identity_read_pending_d = 1'b0;
-            identity_read_addr_d = 4'h0;
-            identity_read_data_d = 32'h0;
-        end
-        identity_rdata = identity_read_data_q;
-    end
-
-    always @(*) begin
-        counters_preset_d = counters_preset_q;
-        counters_read_data_d = counters_read_data_q;
-        counters_preset_low_is_max_d = counters_preset_low_is_max_q;
-        counters_preset_low_is_nonzero_d = counters_preset_low_is_nonzero_q;
-        counters_read_pending_d = counters_read_pending_q;
-        counters_read_info_d = counters_read_info_q;
-        counters_read_preset_d = counters_read_preset_q;
-        counters_snapshot = counters_we & (counters_addr == counters_addr_snapshot);
-        counters_channels_0_reset = counters_reset;
-        counters_channels_0_a = counters_a[0];
-        counters_channels_0_b = counters_b[0];
-        counters_channels_0_z = counters_z[0];
-        counters_channels_0_addr = counters_addr;
-        counters_channels_0_wdata = counters_wdata;
-        counters_channels_0_we = counters_we;
-        counters_channels_0_re = counters_re;
-        counters_channels_0_snapshot = counters_snapshot;
-        counters_channels_0_preset = counters_preset_q;
-        counters_channels_0_preset_low_is_max = counters_preset_low_is_max_q;
-        counters_channels_0_preset_low_is_nonzero = counters_preset_low_is_nonzero_q;
-        counters_channels_1_reset = counters_reset;
-        counters_channels_1_a = counters_a[1];
-        counters_channels_1_b = counters_b[1];
-        counters_channels_1_z = counters_z[1];
-        counters_channels_1_addr = counters_addr;
-        counters_channels_1_wdata = counters_wdata;
-        counters_channels_1_we = counters_we;
-        counters_channels_1_re = counters_re;
-        counters_channels_1_snapshot = counters_snapshot;
-        counters_channels_1_preset = counters_preset_q;
-        counters_channels_1_preset_low_is_max = counters_preset_low_is_max_q;
-        counters_channels_1_preset_low_is_nonzero = counters_preset_low_is_nonzero_q;
-        counters_channels_2_reset = counters_reset;
-        counters_channels_2_a = counters_a[2];
-        counters_channels_2_b = counters_b[2];
-        counters_channels_2_z = counters_z[2];
-        counters_channels_2_addr = counters_addr;
-        counters_channels_2_wdata = counters_wdata;
-        counters_channels_2_we = counters_we;
-        counters_channels_2_re = counters_re;
-        counters_channels_2_snapshot = counters_snapshot;
-        counters_channels_2_preset = counters_preset_q;
-        counters_channels_2_preset_low_is_max = counters_preset_low_is_max_q;
-        counters_channels_2_preset_low_is_nonzero = counters_preset_low_is_nonzero_q;
-        counters_channels_3_reset = counters_reset;
-        counters_channels_3_a = counters_a[3];
-        counters_channels_3_b = counters_b[3];
-        counters_channels_3_z = counters_z[3];
-        counters_channels_3_addr = counters_addr;
-        counters_channels_3_wdata = counters_wdata;
-        counters_channels_3_we = counters_we;
-        counters_channels_3_re = counters_re;
-        counters_channels_3_snapshot = counters_snapshot;
-        counters_channels_3_preset = counters_preset_q;
-        counters_channels_3_preset_low_is_max = counters_preset_low_is_max_q;
-        counters_channels_3_preset_low_is_nonzero = counters_preset_low_is_nonzero_q;
-        if (|(counters_preset_q & counters_sign_bit)) begin
-            counters_preset_read = (counters_preset_q & counters_width_mask) | counters_sign_extension;
-        end
-        else begin
-            counters_preset_read = counters_preset_q & counters_width_mask;
-        end
-        counters_read_pending_d = counters_re;
-        counters_read_info_d = counters_re & (counters_addr == counters_addr_info);
-        counters_read_preset_d = counters_re & (counters_addr == counters_addr_preset);
-        counters_read_value = 32'h0;
-        if (counters_read_info_q) begin
-            counters_read_value = counters_info;
-        end
-        if (counters_read_preset_q) begin
-            counters_read_value = counters_read_value | counters_preset_read;
-        end
-        counters_read_value = counters_read_value | counters_channels_0_rdata;
-        counters_read_value = counters_read_value | counters_channels_1_rdata;
-        counters_read_value = counters_read_value | counters_channels_2_rdata;
-        counters_read_value = counters_read_value | counters_channels_3_rdata;
-        if (counters_we & (counters_addr == counters_addr_preset)) begin
-            counters_preset_d = counters_wdata;
-            counters_preset_low_is_max_d = (counters_wdata & counters_low_mask) == counters_low_mask;
-            counters_preset_low_is_nonzero_d = |(counters_wdata & counters_low_mask);
-        end
-        if (counters_read_pending_q) begin
-            counters_read_data_d = counters_read_value;
-        end
-        if (counters_reset) begin
-            counters_preset_d = 32'h0;
-            counters_preset_low_is_max_d = 1'b0;
-            counters_preset_low_is_nonzero_d = 1'b0;
-            counters_read_data_d = 32'h0;
-            counters_read_pending_d = 1'b0;
-            counters_read_info_d = 1'b0;
-            counters_read_preset_d = 1'b0;
-        end
-        counters_rdata = counters_read_data_q;
-    end
-
-    always @(*) begin
-        counters_channels_0_a_prev_d = counters_channels_0_a_prev_q;
-        counters_channels_0_b_prev_d = counters_channels_0_b_prev_q;
-        counters_channels_0_zg_prev_d = counters_channels_0_zg_prev_q;
-        counters_channels_0_load_q_d = counters_channels_0_load_q_q;
-        counters_channels_0_index_latch_q_d = counters_channels_0_index_latch_q_q;
-        counters_channels_0_index_clear_q_d = counters_channels_0_index_clear_q_q;
-        counters_channels_0_index_d = counters_channels_0_index_q;
-        counters_channels_0_err_d = counters_channels_0_err_q;
-        counters_channels_0_err_count_d = counters_channels_0_err_count_q;
-        counters_channels_0_seen_d = counters_channels_0_seen_q;
-        counters_channels_0_armed_d = counters_channels_0_armed_q;
-        counters_channels_0_ctrl_d = counters_channels_0_ctrl_q;
-        counters_channels_0_snap_count_d = counters_channels_0_snap_count_q;
-        counters_channels_0_snap_index_d = counters_channels_0_snap_index_q;
-        counters_channels_0_snap_status_d = counters_channels_0_snap_status_q;
-        counters_channels_0_read_ctrl_d = counters_channels_0_read_ctrl_q;
-        counters_channels_0_read_count_d = counters_channels_0_read_count_q;
-        counters_channels_0_read_index_d = counters_channels_0_read_index_q;
-        counters_channels_0_read_status_d = counters_channels_0_read_status_q;
-        counters_channels_0_filter_a_reset = counters_channels_0_reset;
-        counters_channels_0_filter_b_reset = counters_channels_0_reset;
-        counters_channels_0_filter_z_reset = counters_channels_0_reset;
-        counters_channels_0_filter_a_pin = counters_channels_0_a;
-        counters_channels_0_filter_b_pin = counters_channels_0_b;
-        counters_channels_0_filter_z_pin = counters_channels_0_z;
-        counters_channels_0_filter_a_setting = counters_channels_0_ctrl_q[(counters_channels_0_filter_ab_lsb)+:(4)];
-        counters_channels_0_filter_b_setting = counters_channels_0_ctrl_q[(counters_channels_0_filter_ab_lsb)+:(4)];
-        counters_channels_0_filter_z_setting = counters_channels_0_ctrl_q[(counters_channels_0_filter_z_lsb)+:(4)];
-        counters_channels_0_level_a = counters_channels_0_filter_a_level;
-        counters_channels_0_level_b = counters_channels_0_filter_b_level;
-        counters_channels_0_level_z = counters_channels_0_filter_z_level;
-        counters_channels_0_cmd_write = counters_channels_0_we & (counters_channels_0_addr == counters_channels_0_addr_cmd);
-        counters_channels_0_cmd_clear = counters_channels_0_cmd_write & counters_channels_0_wdata[counters_channels_0_cmd_clear_bit];
-        counters_channels_0_cmd_load = counters_channels_0_cmd_write & counters_channels_0_wdata[counters_channels_0_cmd_load_bit];
-        counters_channels_0_decoder_hold = counters_channels_0_reset | counters_channels_0_cmd_load;
-        counters_channels_0_decoder_a = counters_channels_0_level_a;
-        counters_channels_0_decoder_b = counters_channels_0_level_b;
-        counters_channels_0_decoder_a_prev = counters_channels_0_a_prev_q;
-        counters_channels_0_decoder_b_prev = counters_channels_0_b_prev_q;
-        counters_channels_0_decoder_mode = counters_channels_0_ctrl_q[(counters_channels_0_mode_lsb)+:(3)];
-        counters_channels_0_decoder_reverse = counters_channels_0_ctrl_q[counters_channels_0_reverse_bit];
-        counters_channels_0_illegal = (counters_channels_0_level_a ^ counters_channels_0_a_prev_q) & (counters_channels_0_level_b ^ counters_channels_0_b_prev_q) & (counters_channels_0_ctrl_q[(counters_channels_0_mode_lsb)+:(3)] < counters_channels_0_quadrature_modes);
-        counters_channels_0_zg = (counters_channels_0_level_z ^ counters_channels_0_ctrl_q[counters_channels_0_idx_invert_bit]) & (~counters_channels_0_ctrl_q[counters_channels_0_idx_gate_bit] | (counters_channels_0_level_a & counters_channels_0_level_b));
-        counters_channels_0_index_event = counters_channels_0_zg & ~counters_channels_0_zg_prev_q;
-        counters_channels_0_index_act = counters_channels_0_index_event & (~counters_channels_0_ctrl_q[counters_channels_0_idx_oneshot_bit] | counters_channels_0_armed_q);
-        counters_channels_0_counter_up = counters_channels_0_decoder_up_q;
-        counters_channels_0_counter_down = counters_channels_0_decoder_down_q;
-        counters_channels_0_counter_load_value = counters_channels_0_preset;
-        counters_channels_0_counter_load_low_is_max = counters_channels_0_preset_low_is_max;
-        counters_channels_0_counter_load_low_is_nonzero = counters_channels_0_preset_low_is_nonzero;
-        counters_channels_0_counter_load = counters_channels_0_load_q_q;
-        counters_channels_0_counter_clear = counters_channels_0_reset | counters_channels_0_cmd_clear | counters_channels_0_cmd_load | counters_channels_0_index_clear_q_q;
-        counters_channels_0_count_now = counters_channels_0_counter_count;
-        counters_channels_0_load_q_d = counters_channels_0_cmd_load & ~counters_channels_0_cmd_clear;
-        counters_channels_0_index_latch_q_d = counters_channels_0_index_act & counters_channels_0_ctrl_q[counters_channels_0_idx_latch_bit];
-        counters_channels_0_index_clear_q_d = counters_channels_0_index_act & counters_channels_0_ctrl_q[counters_channels_0_idx_clear_bit];
-        counters_channels_0_a_prev_d = counters_channels_0_level_a;
-        counters_channels_0_b_prev_d = counters_channels_0_level_b;
-        counters_channels_0_zg_prev_d = counters_channels_0_zg;
-        if (counters_channels_0_index_latch_q_q) begin
-            counters_channels_0_index_d = counters_channels_0_count_now;
-        end
-        if (counters_channels_0_illegal & counters_channels_0_ctrl_q[counters_channels_0_err_en_bit]) begin
-            counters_channels_0_err_d = 1'b1;
-            if (counters_channels_0_err_count_q != counters_channels_0_err_max) begin
-                counters_channels_0_err_count_d = counters_channels_0_err_count_q + 8'h1;
-            end
-        end
-        if (counters_channels_0_index_event) begin
-            counters_channels_0_seen_d = 1'b1;
-        end
-        if (counters_channels_0_index_act & counters_channels_0_ctrl_q[counters_channels_0_idx_oneshot_bit]) begin
-            counters_channels_0_armed_d = 1'b0;
-        end
-        if (counters_channels_0_cmd_write) begin
-            if (counters_channels_0_wdata[counters_channels_0_cmd_arm_bit]) begin
-                counters_channels_0_armed_d = 1'b1;
-            end
-            if (counters_channels_0_wdata[counters_channels_0_cmd_clear_status_bit]) begin
-                counters_channels_0_err_d = 1'b0;
-                counters_channels_0_err_count_d = 8'h0;
-                counters_channels_0_seen_d = 1'b0;
-            end
-        end
-        if (counters_channels_0_we & (counters_channels_0_addr == counters_channels_0_addr_ctrl)) begin
-            counters_channels_0_ctrl_d = counters_channels_0_wdata & counters_channels_0_ctrl_writable;
-        end
-        counters_channels_0_status = {24'h0, counters_channels_0_err_count_q} << counters_channels_0_status_err_count_lsb;
-        if (counters_channels_0_err_q) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_err;
-        end
-        if (counters_channels_0_armed_q) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_armed;
-        end
-        if (counters_channels_0_seen_q) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_seen;
-        end
-        if (counters_channels_0_level_a) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_a;
-        end
-        if (counters_channels_0_level_b) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_b;
-        end
-        if (counters_channels_0_level_z) begin
-            counters_channels_0_status = counters_channels_0_status | counters_channels_0_status_z;
-        end
-        if (counters_channels_0_snapshot) begin
-            counters_channels_0_snap_count_d = counters_channels_0_count_now;
-            counters_channels_0_snap_index_d = counters_channels_0_index_q;
-            counters_channels_0_snap_status_d = counters_channels_0_status;
-        end
-        counters_channels_0_read_ctrl_d = counters_channels_0_re & (counters_channels_0_addr == counters_channels_0_addr_ctrl);
-        counters_channels_0_read_count_d = counters_channels_0_re & (counters_channels_0_addr == counters_channels_0_addr_count);
-        counters_channels_0_read_index_d = counters_channels_0_re & (counters_channels_0_addr == counters_channels_0_addr_index);
-        counters_channels_0_read_status_d = counters_channels_0_re & (counters_channels_0_addr == counters_channels_0_addr_status);
-        if (counters_channels_0_reset) begin
-            counters_channels_0_index_d = 32'h0;
-            counters_channels_0_err_d = 1'b0;
-            counters_channels_0_err_count_d = 8'h0;
-            counters_channels_0_seen_d = 1'b0;
-            counters_channels_0_armed_d = 1'b0;
-            counters_channels_0_load_q_d = 1'b0;
-            counters_channels_0_index_latch_q_d = 1'b0;
-            counters_channels_0_index_clear_q_d = 1'b0;
-            counters_channels_0_ctrl_d = 32'h0;
-            counters_channels_0_snap_count_d = 32'h0;
-            counters_channels_0_snap_index_d = 32'h0;
-            counters_channels_0_snap_status_d = 32'h0;
-            counters_channels_0_read_ctrl_d = 1'b0;
-            counters_channels_0_read_count_d = 1'b0;
-            counters_channels_0_read_index_d = 1'b0;
-            counters_channels_0_read_status_d = 1'b0;
-        end
-        if (|(counters_channels_0_snap_count_q & counters_channels_0_sign_bit)) begin
-            counters_channels_0_count_read = counters_channels_0_snap_count_q | counters_channels_0_sign_extension;
-        end
-        else begin
-            counters_channels_0_count_read = counters_channels_0_snap_count_q;
-        end
-        if (|(counters_channels_0_snap_index_q & counters_channels_0_sign_bit)) begin
-            counters_channels_0_index_read = counters_channels_0_snap_index_q | counters_channels_0_sign_extension;
-        end
-        else begin
-            counters_channels_0_index_read = counters_channels_0_snap_index_q;
-        end
-        counters_channels_0_rdata = 32'h0;
-        if (counters_channels_0_read_ctrl_q) begin
-            counters_channels_0_rdata = counters_channels_0_rdata | counters_channels_0_ctrl_q;
-        end
-        if (counters_channels_0_read_count_q) begin
-            counters_channels_0_rdata = counters_channels_0_rdata | counters_channels_0_count_read;
-        end
-        if (counters_channels_0_read_index_q) begin
-            counters_channels_0_rdata = counters_channels_0_rdata | counters_channels_0_index_read;
-        end
-        if (counters_channels_0_read_status_q) begin
-            counters_channels_0_rdata = counters_channels_0_rdata | counters_channels_0_snap_status_q;
-        end
-    end
-
-    always @(*) begin
-        counters_channels_0_filter_a_sync1_d = counters_channels_0_filter_a_sync1_q;
-        counters_channels_0_filter_a_sync2_d = counters_channels_0_filter_a_sync2_q;
-        counters_channels_0_filter_a_accepted_d = counters_channels_0_filter_a_accepted_q;
-        counters_channels_0_filter_a_count_d = counters_channels_0_filter_a_count_q;
-        counters_channels_0_filter_a_sync1_d = counters_channels_0_filter_a_pin;
-        counters_channels_0_filter_a_sync2_d = counters_channels_0_filter_a_sync1_q;
-        if (counters_channels_0_filter_a_reset) begin
-            counters_channels_0_filter_a_accepted_d = counters_channels_0_filter_a_sync2_q;
-            counters_channels_0_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_a_sync2_q == counters_channels_0_filter_a_accepted_q) begin
-            counters_channels_0_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_a_count_q == counters_channels_0_filter_a_setting) begin
-            counters_channels_0_filter_a_accepted_d = counters_channels_0_filter_a_sync2_q;
-            counters_channels_0_filter_a_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_0_filter_a_count_d = counters_channels_0_filter_a_count_q + 4'h1;
-        end
-        counters_channels_0_filter_a_level = counters_channels_0_filter_a_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_0_filter_b_sync1_d = counters_channels_0_filter_b_sync1_q;
-        counters_channels_0_filter_b_sync2_d = counters_channels_0_filter_b_sync2_q;
-        counters_channels_0_filter_b_accepted_d = counters_channels_0_filter_b_accepted_q;
-        counters_channels_0_filter_b_count_d = counters_channels_0_filter_b_count_q;
-        counters_channels_0_filter_b_sync1_d = counters_channels_0_filter_b_pin;
-        counters_channels_0_filter_b_sync2_d = counters_channels_0_filter_b_sync1_q;
-        if (counters_channels_0_filter_b_reset) begin
-            counters_channels_0_filter_b_accepted_d = counters_channels_0_filter_b_sync2_q;
-            counters_channels_0_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_b_sync2_q == counters_channels_0_filter_b_accepted_q) begin
-            counters_channels_0_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_b_count_q == counters_channels_0_filter_b_setting) begin
-            counters_channels_0_filter_b_accepted_d = counters_channels_0_filter_b_sync2_q;
-            counters_channels_0_filter_b_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_0_filter_b_count_d = counters_channels_0_filter_b_count_q + 4'h1;
-        end
-        counters_channels_0_filter_b_level = counters_channels_0_filter_b_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_0_filter_z_sync1_d = counters_channels_0_filter_z_sync1_q;
-        counters_channels_0_filter_z_sync2_d = counters_channels_0_filter_z_sync2_q;
-        counters_channels_0_filter_z_accepted_d = counters_channels_0_filter_z_accepted_q;
-        counters_channels_0_filter_z_count_d = counters_channels_0_filter_z_count_q;
-        counters_channels_0_filter_z_sync1_d = counters_channels_0_filter_z_pin;
-        counters_channels_0_filter_z_sync2_d = counters_channels_0_filter_z_sync1_q;
-        if (counters_channels_0_filter_z_reset) begin
-            counters_channels_0_filter_z_accepted_d = counters_channels_0_filter_z_sync2_q;
-            counters_channels_0_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_z_sync2_q == counters_channels_0_filter_z_accepted_q) begin
-            counters_channels_0_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_0_filter_z_count_q == counters_channels_0_filter_z_setting) begin
-            counters_channels_0_filter_z_accepted_d = counters_channels_0_filter_z_sync2_q;
-            counters_channels_0_filter_z_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_0_filter_z_count_d = counters_channels_0_filter_z_count_q + 4'h1;
-        end
-        counters_channels_0_filter_z_level = counters_channels_0_filter_z_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_0_decoder_up_reg_d = counters_channels_0_decoder_up_reg_q;
-        counters_channels_0_decoder_down_reg_d = counters_channels_0_decoder_down_reg_q;
-        counters_channels_0_decoder_changed_a = counters_channels_0_decoder_a ^ counters_channels_0_decoder_a_prev;
-        counters_channels_0_decoder_changed_b = counters_channels_0_decoder_b ^ counters_channels_0_decoder_b_prev;
-        counters_channels_0_decoder_a_ne_b = counters_channels_0_decoder_a ^ counters_channels_0_decoder_b;
-        counters_channels_0_decoder_rise_a = counters_channels_0_decoder_a & ~counters_channels_0_decoder_a_prev;
-        counters_channels_0_decoder_rise_b = counters_channels_0_decoder_b & ~counters_channels_0_decoder_b_prev;
-        counters_channels_0_decoder_forward = 1'b0;
-        counters_channels_0_decoder_backward = 1'b0;
-        if (counters_channels_0_decoder_mode == counters_channels_0_decoder_mode_x4) begin
-            counters_channels_0_decoder_forward = (counters_channels_0_decoder_changed_a & ~counters_channels_0_decoder_changed_b & counters_channels_0_decoder_a_ne_b) | (counters_channels_0_decoder_changed_b & ~counters_channels_0_decoder_changed_a & ~counters_channels_0_decoder_a_ne_b);
-            counters_channels_0_decoder_backward = (counters_channels_0_decoder_changed_a & ~counters_channels_0_decoder_changed_b & ~counters_channels_0_decoder_a_ne_b) | (counters_channels_0_decoder_changed_b & ~counters_channels_0_decoder_changed_a & counters_channels_0_decoder_a_ne_b);
-        end
-        if (counters_channels_0_decoder_mode == counters_channels_0_decoder_mode_x2) begin
-            counters_channels_0_decoder_forward = counters_channels_0_decoder_changed_a & ~counters_channels_0_decoder_changed_b & counters_channels_0_decoder_a_ne_b;
-            counters_channels_0_decoder_backward = counters_channels_0_decoder_changed_a & ~counters_channels_0_decoder_changed_b & ~counters_channels_0_decoder_a_ne_b;
-        end
-        if (counters_channels_0_decoder_mode == counters_channels_0_decoder_mode_x1) begin
-            counters_channels_0_decoder_forward = ~counters_channels_0_decoder_a_prev & ~counters_channels_0_decoder_b_prev & counters_channels_0_decoder_a & ~counters_channels_0_decoder_b;
-            counters_channels_0_decoder_backward = counters_channels_0_decoder_a_prev & ~counters_channels_0_decoder_b_prev & ~counters_channels_0_decoder_a & ~counters_channels_0_decoder_b;
-        end
-        if (counters_channels_0_decoder_mode == counters_channels_0_decoder_mode_pulse_dir) begin
-            counters_channels_0_decoder_forward = counters_channels_0_decoder_rise_a & ~counters_channels_0_decoder_b;
-            counters_channels_0_decoder_backward = counters_channels_0_decoder_rise_a & counters_channels_0_decoder_b;
-        end
-        if (counters_channels_0_decoder_mode == counters_channels_0_decoder_mode_cw_ccw) begin
-            counters_channels_0_decoder_forward = counters_channels_0_decoder_rise_a & ~counters_channels_0_decoder_rise_b;
-            counters_channels_0_decoder_backward = counters_channels_0_decoder_rise_b & ~counters_channels_0_decoder_rise_a;
-        end
-        if (counters_channels_0_decoder_reverse) begin
-            counters_channels_0_decoder_up_reg_d = counters_channels_0_decoder_backward;
-            counters_channels_0_decoder_down_reg_d = counters_channels_0_decoder_forward;
-        end
-        else begin
-            counters_channels_0_decoder_up_reg_d = counters_channels_0_decoder_forward;
-            counters_channels_0_decoder_down_reg_d = counters_channels_0_decoder_backward;
-        end
-        if (counters_channels_0_decoder_hold) begin
-            counters_channels_0_decoder_up_reg_d = 1'b0;
-            counters_channels_0_decoder_down_reg_d = 1'b0;
-        end
-        counters_channels_0_decoder_up_q = counters_channels_0_decoder_up_reg_q;
-        counters_channels_0_decoder_down_q = counters_channels_0_decoder_down_reg_q;
-    end
-
-    always @(*) begin
-        counters_channels_0_counter_lo_d = counters_channels_0_counter_lo_q;
-        counters_channels_0_counter_hi_d = counters_channels_0_counter_hi_q;
-        counters_channels_0_counter_lo_max_d = counters_channels_0_counter_lo_max_q;
-        counters_channels_0_counter_lo_nonzero_d = counters_channels_0_counter_lo_nonzero_q;
-        counters_channels_0_counter_lo_ones_above = (counters_channels_0_counter_lo_q & counters_channels_0_counter_lo_upper_mask) == counters_channels_0_counter_lo_upper_mask;
-        counters_channels_0_counter_lo_zeros_above = ~|(counters_channels_0_counter_lo_q & counters_channels_0_counter_lo_upper_mask);
-        counters_channels_0_counter_load_lo = counters_channels_0_counter_load_value & counters_channels_0_counter_lo_mask;
-        counters_channels_0_counter_load_hi = (counters_channels_0_counter_load_value >> counters_channels_0_counter_lo_bits) & counters_channels_0_counter_hi_mask;
-        counters_channels_0_counter_lo_step = 32'h0;
-        counters_channels_0_counter_hi_step = 32'h0;
-        counters_channels_0_counter_lo_carry_in = 32'h0;
-        counters_channels_0_counter_hi_carry_in = 32'h0;
-        if (counters_channels_0_counter_up) begin
-            counters_channels_0_counter_lo_carry_in = counters_channels_0_counter_one;
-            if (counters_channels_0_counter_lo_max_q) begin
-                counters_channels_0_counter_hi_carry_in = counters_channels_0_counter_one;
-            end
-        end
-        if (counters_channels_0_counter_down) begin
-            counters_channels_0_counter_lo_step = counters_channels_0_counter_lo_mask;
-            if (~counters_channels_0_counter_lo_nonzero_q) begin
-                counters_channels_0_counter_hi_step = counters_channels_0_counter_hi_mask;
-            end
-        end
-        if (counters_channels_0_counter_load) begin
-            counters_channels_0_counter_lo_step = counters_channels_0_counter_load_lo;
-            counters_channels_0_counter_hi_step = counters_channels_0_counter_load_hi;
-        end
-        counters_channels_0_counter_lo_d = (counters_channels_0_counter_lo_q + counters_channels_0_counter_lo_step + counters_channels_0_counter_lo_carry_in) & counters_channels_0_counter_lo_mask;
-        counters_channels_0_counter_hi_d = (counters_channels_0_counter_hi_q + counters_channels_0_counter_hi_step + counters_channels_0_counter_hi_carry_in) & counters_channels_0_counter_hi_mask;
-        if (counters_channels_0_counter_load) begin
-            counters_channels_0_counter_lo_max_d = counters_channels_0_counter_load_low_is_max;
-            counters_channels_0_counter_lo_nonzero_d = counters_channels_0_counter_load_low_is_nonzero;
-        end
-        else if (counters_channels_0_counter_up) begin
-            counters_channels_0_counter_lo_max_d = counters_channels_0_counter_lo_ones_above & ~counters_channels_0_counter_lo_q[0];
-            counters_channels_0_counter_lo_nonzero_d = ~(counters_channels_0_counter_lo_ones_above & counters_channels_0_counter_lo_q[0]);
-        end
-        else if (counters_channels_0_counter_down) begin
-            counters_channels_0_counter_lo_max_d = counters_channels_0_counter_lo_zeros_above & ~counters_channels_0_counter_lo_q[0];
-            counters_channels_0_counter_lo_nonzero_d = ~(counters_channels_0_counter_lo_zeros_above & counters_channels_0_counter_lo_q[0]);
-        end
-        else begin
-            counters_channels_0_counter_lo_max_d = counters_channels_0_counter_lo_ones_above & counters_channels_0_counter_lo_q[0];
-            counters_channels_0_counter_lo_nonzero_d = ~counters_channels_0_counter_lo_zeros_above | counters_channels_0_counter_lo_q[0];
-        end
-        if (counters_channels_0_counter_clear) begin
-            counters_channels_0_counter_lo_d = 32'h0;
-            counters_channels_0_counter_hi_d = 32'h0;
-            counters_channels_0_counter_lo_max_d = 1'b0;
-            counters_channels_0_counter_lo_nonzero_d = 1'b0;
-        end
-        counters_channels_0_counter_count = counters_channels_0_counter_lo_q | (counters_channels_0_counter_hi_q << counters_channels_0_counter_lo_bits);
-    end
-
-    always @(*) begin
-        counters_channels_1_a_prev_d = counters_channels_1_a_prev_q;
-        counters_channels_1_b_prev_d = counters_channels_1_b_prev_q;
-        counters_channels_1_zg_prev_d = counters_channels_1_zg_prev_q;
-        counters_channels_1_load_q_d = counters_channels_1_load_q_q;
-        counters_channels_1_index_latch_q_d = counters_channels_1_index_latch_q_q;
-        counters_channels_1_index_clear_q_d = counters_channels_1_index_clear_q_q;
-        counters_channels_1_index_d = counters_channels_1_index_q;
-        counters_channels_1_err_d = counters_channels_1_err_q;
-        counters_channels_1_err_count_d = counters_channels_1_err_count_q;
-        counters_channels_1_seen_d = counters_channels_1_seen_q;
-        counters_channels_1_armed_d = counters_channels_1_armed_q;
-        counters_channels_1_ctrl_d = counters_channels_1_ctrl_q;
-        counters_channels_1_snap_count_d = counters_channels_1_snap_count_q;
-        counters_channels_1_snap_index_d = counters_channels_1_snap_index_q;
-        counters_channels_1_snap_status_d = counters_channels_1_snap_status_q;
-        counters_channels_1_read_ctrl_d = counters_channels_1_read_ctrl_q;
-        counters_channels_1_read_count_d = counters_channels_1_read_count_q;
-        counters_channels_1_read_index_d = counters_channels_1_read_index_q;
-        counters_channels_1_read_status_d = counters_channels_1_read_status_q;
-        counters_channels_1_filter_a_reset = counters_channels_1_reset;
-        counters_channels_1_filter_b_reset = counters_channels_1_reset;
-        counters_channels_1_filter_z_reset = counters_channels_1_reset;
-        counters_channels_1_filter_a_pin = counters_channels_1_a;
-        counters_channels_1_filter_b_pin = counters_channels_1_b;
-        counters_channels_1_filter_z_pin = counters_channels_1_z;
-        counters_channels_1_filter_a_setting = counters_channels_1_ctrl_q[(counters_channels_1_filter_ab_lsb)+:(4)];
-        counters_channels_1_filter_b_setting = counters_channels_1_ctrl_q[(counters_channels_1_filter_ab_lsb)+:(4)];
-        counters_channels_1_filter_z_setting = counters_channels_1_ctrl_q[(counters_channels_1_filter_z_lsb)+:(4)];
-        counters_channels_1_level_a = counters_channels_1_filter_a_level;
-        counters_channels_1_level_b = counters_channels_1_filter_b_level;
-        counters_channels_1_level_z = counters_channels_1_filter_z_level;
-        counters_channels_1_cmd_write = counters_channels_1_we & (counters_channels_1_addr == counters_channels_1_addr_cmd);
-        counters_channels_1_cmd_clear = counters_channels_1_cmd_write & counters_channels_1_wdata[counters_channels_1_cmd_clear_bit];
-        counters_channels_1_cmd_load = counters_channels_1_cmd_write & counters_channels_1_wdata[counters_channels_1_cmd_load_bit];
-        counters_channels_1_decoder_hold = counters_channels_1_reset | counters_channels_1_cmd_load;
-        counters_channels_1_decoder_a = counters_channels_1_level_a;
-        counters_channels_1_decoder_b = counters_channels_1_level_b;
-        counters_channels_1_decoder_a_prev = counters_channels_1_a_prev_q;
-        counters_channels_1_decoder_b_prev = counters_channels_1_b_prev_q;
-        counters_channels_1_decoder_mode = counters_channels_1_ctrl_q[(counters_channels_1_mode_lsb)+:(3)];
-        counters_channels_1_decoder_reverse = counters_channels_1_ctrl_q[counters_channels_1_reverse_bit];
-        counters_channels_1_illegal = (counters_channels_1_level_a ^ counters_channels_1_a_prev_q) & (counters_channels_1_level_b ^ counters_channels_1_b_prev_q) & (counters_channels_1_ctrl_q[(counters_channels_1_mode_lsb)+:(3)] < counters_channels_1_quadrature_modes);
-        counters_channels_1_zg = (counters_channels_1_level_z ^ counters_channels_1_ctrl_q[counters_channels_1_idx_invert_bit]) & (~counters_channels_1_ctrl_q[counters_channels_1_idx_gate_bit] | (counters_channels_1_level_a & counters_channels_1_level_b));
-        counters_channels_1_index_event = counters_channels_1_zg & ~counters_channels_1_zg_prev_q;
-        counters_channels_1_index_act = counters_channels_1_index_event & (~counters_channels_1_ctrl_q[counters_channels_1_idx_oneshot_bit] | counters_channels_1_armed_q);
-        counters_channels_1_counter_up = counters_channels_1_decoder_up_q;
-        counters_channels_1_counter_down = counters_channels_1_decoder_down_q;
-        counters_channels_1_counter_load_value = counters_channels_1_preset;
-        counters_channels_1_counter_load_low_is_max = counters_channels_1_preset_low_is_max;
-        counters_channels_1_counter_load_low_is_nonzero = counters_channels_1_preset_low_is_nonzero;
-        counters_channels_1_counter_load = counters_channels_1_load_q_q;
-        counters_channels_1_counter_clear = counters_channels_1_reset | counters_channels_1_cmd_clear | counters_channels_1_cmd_load | counters_channels_1_index_clear_q_q;
-        counters_channels_1_count_now = counters_channels_1_counter_count;
-        counters_channels_1_load_q_d = counters_channels_1_cmd_load & ~counters_channels_1_cmd_clear;
-        counters_channels_1_index_latch_q_d = counters_channels_1_index_act & counters_channels_1_ctrl_q[counters_channels_1_idx_latch_bit];
-        counters_channels_1_index_clear_q_d = counters_channels_1_index_act & counters_channels_1_ctrl_q[counters_channels_1_idx_clear_bit];
-        counters_channels_1_a_prev_d = counters_channels_1_level_a;
-        counters_channels_1_b_prev_d = counters_channels_1_level_b;
-        counters_channels_1_zg_prev_d = counters_channels_1_zg;
-        if (counters_channels_1_index_latch_q_q) begin
-            counters_channels_1_index_d = counters_channels_1_count_now;
-        end
-        if (counters_channels_1_illegal & counters_channels_1_ctrl_q[counters_channels_1_err_en_bit]) begin
-            counters_channels_1_err_d = 1'b1;
-            if (counters_channels_1_err_count_q != counters_channels_1_err_max) begin
-                counters_channels_1_err_count_d = counters_channels_1_err_count_q + 8'h1;
-            end
-        end
-        if (counters_channels_1_index_event) begin
-            counters_channels_1_seen_d = 1'b1;
-        end
-        if (counters_channels_1_index_act & counters_channels_1_ctrl_q[counters_channels_1_idx_oneshot_bit]) begin
-            counters_channels_1_armed_d = 1'b0;
-        end
-        if (counters_channels_1_cmd_write) begin
-            if (counters_channels_1_wdata[counters_channels_1_cmd_arm_bit]) begin
-                counters_channels_1_armed_d = 1'b1;
-            end
-            if (counters_channels_1_wdata[counters_channels_1_cmd_clear_status_bit]) begin
-                counters_channels_1_err_d = 1'b0;
-                counters_channels_1_err_count_d = 8'h0;
-                counters_channels_1_seen_d = 1'b0;
-            end
-        end
-        if (counters_channels_1_we & (counters_channels_1_addr == counters_channels_1_addr_ctrl)) begin
-            counters_channels_1_ctrl_d = counters_channels_1_wdata & counters_channels_1_ctrl_writable;
-        end
-        counters_channels_1_status = {24'h0, counters_channels_1_err_count_q} << counters_channels_1_status_err_count_lsb;
-        if (counters_channels_1_err_q) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_err;
-        end
-        if (counters_channels_1_armed_q) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_armed;
-        end
-        if (counters_channels_1_seen_q) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_seen;
-        end
-        if (counters_channels_1_level_a) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_a;
-        end
-        if (counters_channels_1_level_b) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_b;
-        end
-        if (counters_channels_1_level_z) begin
-            counters_channels_1_status = counters_channels_1_status | counters_channels_1_status_z;
-        end
-        if (counters_channels_1_snapshot) begin
-            counters_channels_1_snap_count_d = counters_channels_1_count_now;
-            counters_channels_1_snap_index_d = counters_channels_1_index_q;
-            counters_channels_1_snap_status_d = counters_channels_1_status;
-        end
-        counters_channels_1_read_ctrl_d = counters_channels_1_re & (counters_channels_1_addr == counters_channels_1_addr_ctrl);
-        counters_channels_1_read_count_d = counters_channels_1_re & (counters_channels_1_addr == counters_channels_1_addr_count);
-        counters_channels_1_read_index_d = counters_channels_1_re & (counters_channels_1_addr == counters_channels_1_addr_index);
-        counters_channels_1_read_status_d = counters_channels_1_re & (counters_channels_1_addr == counters_channels_1_addr_status);
-        if (counters_channels_1_reset) begin
-            counters_channels_1_index_d = 32'h0;
-            counters_channels_1_err_d = 1'b0;
-            counters_channels_1_err_count_d = 8'h0;
-            counters_channels_1_seen_d = 1'b0;
-            counters_channels_1_armed_d = 1'b0;
-            counters_channels_1_load_q_d = 1'b0;
-            counters_channels_1_index_latch_q_d = 1'b0;
-            counters_channels_1_index_clear_q_d = 1'b0;
-            counters_channels_1_ctrl_d = 32'h0;
-            counters_channels_1_snap_count_d = 32'h0;
-            counters_channels_1_snap_index_d = 32'h0;
-            counters_channels_1_snap_status_d = 32'h0;
-            counters_channels_1_read_ctrl_d = 1'b0;
-            counters_channels_1_read_count_d = 1'b0;
-            counters_channels_1_read_index_d = 1'b0;
-            counters_channels_1_read_status_d = 1'b0;
-        end
-        if (|(counters_channels_1_snap_count_q & counters_channels_1_sign_bit)) begin
-            counters_channels_1_count_read = counters_channels_1_snap_count_q | counters_channels_1_sign_extension;
-        end
-        else begin
-            counters_channels_1_count_read = counters_channels_1_snap_count_q;
-        end
-        if (|(counters_channels_1_snap_index_q & counters_channels_1_sign_bit)) begin
-            counters_channels_1_index_read = counters_channels_1_snap_index_q | counters_channels_1_sign_extension;
-        end
-        else begin
-            counters_channels_1_index_read = counters_channels_1_snap_index_q;
-        end
-        counters_channels_1_rdata = 32'h0;
-        if (counters_channels_1_read_ctrl_q) begin
-            counters_channels_1_rdata = counters_channels_1_rdata | counters_channels_1_ctrl_q;
-        end
-        if (counters_channels_1_read_count_q) begin
-            counters_channels_1_rdata = counters_channels_1_rdata | counters_channels_1_count_read;
-        end
-        if (counters_channels_1_read_index_q) begin
-            counters_channels_1_rdata = counters_channels_1_rdata | counters_channels_1_index_read;
-        end
-        if (counters_channels_1_read_status_q) begin
-            counters_channels_1_rdata = counters_channels_1_rdata | counters_channels_1_snap_status_q;
-        end
-    end
-
-    always @(*) begin
-        counters_channels_1_filter_a_sync1_d = counters_channels_1_filter_a_sync1_q;
-        counters_channels_1_filter_a_sync2_d = counters_channels_1_filter_a_sync2_q;
-        counters_channels_1_filter_a_accepted_d = counters_channels_1_filter_a_accepted_q;
-        counters_channels_1_filter_a_count_d = counters_channels_1_filter_a_count_q;
-        counters_channels_1_filter_a_sync1_d = counters_channels_1_filter_a_pin;
-        counters_channels_1_filter_a_sync2_d = counters_channels_1_filter_a_sync1_q;
-        if (counters_channels_1_filter_a_reset) begin
-            counters_channels_1_filter_a_accepted_d = counters_channels_1_filter_a_sync2_q;
-            counters_channels_1_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_a_sync2_q == counters_channels_1_filter_a_accepted_q) begin
-            counters_channels_1_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_a_count_q == counters_channels_1_filter_a_setting) begin
-            counters_channels_1_filter_a_accepted_d = counters_channels_1_filter_a_sync2_q;
-            counters_channels_1_filter_a_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_1_filter_a_count_d = counters_channels_1_filter_a_count_q + 4'h1;
-        end
-        counters_channels_1_filter_a_level = counters_channels_1_filter_a_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_1_filter_b_sync1_d = counters_channels_1_filter_b_sync1_q;
-        counters_channels_1_filter_b_sync2_d = counters_channels_1_filter_b_sync2_q;
-        counters_channels_1_filter_b_accepted_d = counters_channels_1_filter_b_accepted_q;
-        counters_channels_1_filter_b_count_d = counters_channels_1_filter_b_count_q;
-        counters_channels_1_filter_b_sync1_d = counters_channels_1_filter_b_pin;
-        counters_channels_1_filter_b_sync2_d = counters_channels_1_filter_b_sync1_q;
-        if (counters_channels_1_filter_b_reset) begin
-            counters_channels_1_filter_b_accepted_d = counters_channels_1_filter_b_sync2_q;
-            counters_channels_1_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_b_sync2_q == counters_channels_1_filter_b_accepted_q) begin
-            counters_channels_1_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_b_count_q == counters_channels_1_filter_b_setting) begin
-            counters_channels_1_filter_b_accepted_d = counters_channels_1_filter_b_sync2_q;
-            counters_channels_1_filter_b_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_1_filter_b_count_d = counters_channels_1_filter_b_count_q + 4'h1;
-        end
-        counters_channels_1_filter_b_level = counters_channels_1_filter_b_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_1_filter_z_sync1_d = counters_channels_1_filter_z_sync1_q;
-        counters_channels_1_filter_z_sync2_d = counters_channels_1_filter_z_sync2_q;
-        counters_channels_1_filter_z_accepted_d = counters_channels_1_filter_z_accepted_q;
-        counters_channels_1_filter_z_count_d = counters_channels_1_filter_z_count_q;
-        counters_channels_1_filter_z_sync1_d = counters_channels_1_filter_z_pin;
-        counters_channels_1_filter_z_sync2_d = counters_channels_1_filter_z_sync1_q;
-        if (counters_channels_1_filter_z_reset) begin
-            counters_channels_1_filter_z_accepted_d = counters_channels_1_filter_z_sync2_q;
-            counters_channels_1_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_z_sync2_q == counters_channels_1_filter_z_accepted_q) begin
-            counters_channels_1_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_1_filter_z_count_q == counters_channels_1_filter_z_setting) begin
-            counters_channels_1_filter_z_accepted_d = counters_channels_1_filter_z_sync2_q;
-            counters_channels_1_filter_z_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_1_filter_z_count_d = counters_channels_1_filter_z_count_q + 4'h1;
-        end
-        counters_channels_1_filter_z_level = counters_channels_1_filter_z_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_1_decoder_up_reg_d = counters_channels_1_decoder_up_reg_q;
-        counters_channels_1_decoder_down_reg_d = counters_channels_1_decoder_down_reg_q;
-        counters_channels_1_decoder_changed_a = counters_channels_1_decoder_a ^ counters_channels_1_decoder_a_prev;
-        counters_channels_1_decoder_changed_b = counters_channels_1_decoder_b ^ counters_channels_1_decoder_b_prev;
-        counters_channels_1_decoder_a_ne_b = counters_channels_1_decoder_a ^ counters_channels_1_decoder_b;
-        counters_channels_1_decoder_rise_a = counters_channels_1_decoder_a & ~counters_channels_1_decoder_a_prev;
-        counters_channels_1_decoder_rise_b = counters_channels_1_decoder_b & ~counters_channels_1_decoder_b_prev;
-        counters_channels_1_decoder_forward = 1'b0;
-        counters_channels_1_decoder_backward = 1'b0;
-        if (counters_channels_1_decoder_mode == counters_channels_1_decoder_mode_x4) begin
-            counters_channels_1_decoder_forward = (counters_channels_1_decoder_changed_a & ~counters_channels_1_decoder_changed_b & counters_channels_1_decoder_a_ne_b) | (counters_channels_1_decoder_changed_b & ~counters_channels_1_decoder_changed_a & ~counters_channels_1_decoder_a_ne_b);
-            counters_channels_1_decoder_backward = (counters_channels_1_decoder_changed_a & ~counters_channels_1_decoder_changed_b & ~counters_channels_1_decoder_a_ne_b) | (counters_channels_1_decoder_changed_b & ~counters_channels_1_decoder_changed_a & counters_channels_1_decoder_a_ne_b);
-        end
-        if (counters_channels_1_decoder_mode == counters_channels_1_decoder_mode_x2) begin
-            counters_channels_1_decoder_forward = counters_channels_1_decoder_changed_a & ~counters_channels_1_decoder_changed_b & counters_channels_1_decoder_a_ne_b;
-            counters_channels_1_decoder_backward = counters_channels_1_decoder_changed_a & ~counters_channels_1_decoder_changed_b & ~counters_channels_1_decoder_a_ne_b;
-        end
-        if (counters_channels_1_decoder_mode == counters_channels_1_decoder_mode_x1) begin
-            counters_channels_1_decoder_forward = ~counters_channels_1_decoder_a_prev & ~counters_channels_1_decoder_b_prev & counters_channels_1_decoder_a & ~counters_channels_1_decoder_b;
-            counters_channels_1_decoder_backward = counters_channels_1_decoder_a_prev & ~counters_channels_1_decoder_b_prev & ~counters_channels_1_decoder_a & ~counters_channels_1_decoder_b;
-        end
-        if (counters_channels_1_decoder_mode == counters_channels_1_decoder_mode_pulse_dir) begin
-            counters_channels_1_decoder_forward = counters_channels_1_decoder_rise_a & ~counters_channels_1_decoder_b;
-            counters_channels_1_decoder_backward = counters_channels_1_decoder_rise_a & counters_channels_1_decoder_b;
-        end
-        if (counters_channels_1_decoder_mode == counters_channels_1_decoder_mode_cw_ccw) begin
-            counters_channels_1_decoder_forward = counters_channels_1_decoder_rise_a & ~counters_channels_1_decoder_rise_b;
-            counters_channels_1_decoder_backward = counters_channels_1_decoder_rise_b & ~counters_channels_1_decoder_rise_a;
-        end
-        if (counters_channels_1_decoder_reverse) begin
-            counters_channels_1_decoder_up_reg_d = counters_channels_1_decoder_backward;
-            counters_channels_1_decoder_down_reg_d = counters_channels_1_decoder_forward;
-        end
-        else begin
-            counters_channels_1_decoder_up_reg_d = counters_channels_1_decoder_forward;
-            counters_channels_1_decoder_down_reg_d = counters_channels_1_decoder_backward;
-        end
-        if (counters_channels_1_decoder_hold) begin
-            counters_channels_1_decoder_up_reg_d = 1'b0;
-            counters_channels_1_decoder_down_reg_d = 1'b0;
-        end
-        counters_channels_1_decoder_up_q = counters_channels_1_decoder_up_reg_q;
-        counters_channels_1_decoder_down_q = counters_channels_1_decoder_down_reg_q;
-    end
-
-    always @(*) begin
-        counters_channels_1_counter_lo_d = counters_channels_1_counter_lo_q;
-        counters_channels_1_counter_hi_d = counters_channels_1_counter_hi_q;
-        counters_channels_1_counter_lo_max_d = counters_channels_1_counter_lo_max_q;
-        counters_channels_1_counter_lo_nonzero_d = counters_channels_1_counter_lo_nonzero_q;
-        counters_channels_1_counter_lo_ones_above = (counters_channels_1_counter_lo_q & counters_channels_1_counter_lo_upper_mask) == counters_channels_1_counter_lo_upper_mask;
-        counters_channels_1_counter_lo_zeros_above = ~|(counters_channels_1_counter_lo_q & counters_channels_1_counter_lo_upper_mask);
-        counters_channels_1_counter_load_lo = counters_channels_1_counter_load_value & counters_channels_1_counter_lo_mask;
-        counters_channels_1_counter_load_hi = (counters_channels_1_counter_load_value >> counters_channels_1_counter_lo_bits) & counters_channels_1_counter_hi_mask;
-        counters_channels_1_counter_lo_step = 32'h0;
-        counters_channels_1_counter_hi_step = 32'h0;
-        counters_channels_1_counter_lo_carry_in = 32'h0;
-        counters_channels_1_counter_hi_carry_in = 32'h0;
-        if (counters_channels_1_counter_up) begin
-            counters_channels_1_counter_lo_carry_in = counters_channels_1_counter_one;
-            if (counters_channels_1_counter_lo_max_q) begin
-                counters_channels_1_counter_hi_carry_in = counters_channels_1_counter_one;
-            end
-        end
-        if (counters_channels_1_counter_down) begin
-            counters_channels_1_counter_lo_step = counters_channels_1_counter_lo_mask;
-            if (~counters_channels_1_counter_lo_nonzero_q) begin
-                counters_channels_1_counter_hi_step = counters_channels_1_counter_hi_mask;
-            end
-        end
-        if (counters_channels_1_counter_load) begin
-            counters_channels_1_counter_lo_step = counters_channels_1_counter_load_lo;
-            counters_channels_1_counter_hi_step = counters_channels_1_counter_load_hi;
-        end
-        counters_channels_1_counter_lo_d = (counters_channels_1_counter_lo_q + counters_channels_1_counter_lo_step + counters_channels_1_counter_lo_carry_in) & counters_channels_1_counter_lo_mask;
-        counters_channels_1_counter_hi_d = (counters_channels_1_counter_hi_q + counters_channels_1_counter_hi_step + counters_channels_1_counter_hi_carry_in) & counters_channels_1_counter_hi_mask;
-        if (counters_channels_1_counter_load) begin
-            counters_channels_1_counter_lo_max_d = counters_channels_1_counter_load_low_is_max;
-            counters_channels_1_counter_lo_nonzero_d = counters_channels_1_counter_load_low_is_nonzero;
-        end
-        else if (counters_channels_1_counter_up) begin
-            counters_channels_1_counter_lo_max_d = counters_channels_1_counter_lo_ones_above & ~counters_channels_1_counter_lo_q[0];
-            counters_channels_1_counter_lo_nonzero_d = ~(counters_channels_1_counter_lo_ones_above & counters_channels_1_counter_lo_q[0]);
-        end
-        else if (counters_channels_1_counter_down) begin
-            counters_channels_1_counter_lo_max_d = counters_channels_1_counter_lo_zeros_above & ~counters_channels_1_counter_lo_q[0];
-            counters_channels_1_counter_lo_nonzero_d = ~(counters_channels_1_counter_lo_zeros_above & counters_channels_1_counter_lo_q[0]);
-        end
-        else begin
-            counters_channels_1_counter_lo_max_d = counters_channels_1_counter_lo_ones_above & counters_channels_1_counter_lo_q[0];
-            counters_channels_1_counter_lo_nonzero_d = ~counters_channels_1_counter_lo_zeros_above | counters_channels_1_counter_lo_q[0];
-        end
-        if (counters_channels_1_counter_clear) begin
-            counters_channels_1_counter_lo_d = 32'h0;
-            counters_channels_1_counter_hi_d = 32'h0;
-            counters_channels_1_counter_lo_max_d = 1'b0;
-            counters_channels_1_counter_lo_nonzero_d = 1'b0;
-        end
-        counters_channels_1_counter_count = counters_channels_1_counter_lo_q | (counters_channels_1_counter_hi_q << counters_channels_1_counter_lo_bits);
-    end
-
-    always @(*) begin
-        counters_channels_2_a_prev_d = counters_channels_2_a_prev_q;
-        counters_channels_2_b_prev_d = counters_channels_2_b_prev_q;
-        counters_channels_2_zg_prev_d = counters_channels_2_zg_prev_q;
-        counters_channels_2_load_q_d = counters_channels_2_load_q_q;
-        counters_channels_2_index_latch_q_d = counters_channels_2_index_latch_q_q;
-        counters_channels_2_index_clear_q_d = counters_channels_2_index_clear_q_q;
-        counters_channels_2_index_d = counters_channels_2_index_q;
-        counters_channels_2_err_d = counters_channels_2_err_q;
-        counters_channels_2_err_count_d = counters_channels_2_err_count_q;
-        counters_channels_2_seen_d = counters_channels_2_seen_q;
-        counters_channels_2_armed_d = counters_channels_2_armed_q;
-        counters_channels_2_ctrl_d = counters_channels_2_ctrl_q;
-        counters_channels_2_snap_count_d = counters_channels_2_snap_count_q;
-        counters_channels_2_snap_index_d = counters_channels_2_snap_index_q;
-        counters_channels_2_snap_status_d = counters_channels_2_snap_status_q;
-        counters_channels_2_read_ctrl_d = counters_channels_2_read_ctrl_q;
-        counters_channels_2_read_count_d = counters_channels_2_read_count_q;
-        counters_channels_2_read_index_d = counters_channels_2_read_index_q;
-        counters_channels_2_read_status_d = counters_channels_2_read_status_q;
-        counters_channels_2_filter_a_reset = counters_channels_2_reset;
-        counters_channels_2_filter_b_reset = counters_channels_2_reset;
-        counters_channels_2_filter_z_reset = counters_channels_2_reset;
-        counters_channels_2_filter_a_pin = counters_channels_2_a;
-        counters_channels_2_filter_b_pin = counters_channels_2_b;
-        counters_channels_2_filter_z_pin = counters_channels_2_z;
-        counters_channels_2_filter_a_setting = counters_channels_2_ctrl_q[(counters_channels_2_filter_ab_lsb)+:(4)];
-        counters_channels_2_filter_b_setting = counters_channels_2_ctrl_q[(counters_channels_2_filter_ab_lsb)+:(4)];
-        counters_channels_2_filter_z_setting = counters_channels_2_ctrl_q[(counters_channels_2_filter_z_lsb)+:(4)];
-        counters_channels_2_level_a = counters_channels_2_filter_a_level;
-        counters_channels_2_level_b = counters_channels_2_filter_b_level;
-        counters_channels_2_level_z = counters_channels_2_filter_z_level;
-        counters_channels_2_cmd_write = counters_channels_2_we & (counters_channels_2_addr == counters_channels_2_addr_cmd);
-        counters_channels_2_cmd_clear = counters_channels_2_cmd_write & counters_channels_2_wdata[counters_channels_2_cmd_clear_bit];
-        counters_channels_2_cmd_load = counters_channels_2_cmd_write & counters_channels_2_wdata[counters_channels_2_cmd_load_bit];
-        counters_channels_2_decoder_hold = counters_channels_2_reset | counters_channels_2_cmd_load;
-        counters_channels_2_decoder_a = counters_channels_2_level_a;
-        counters_channels_2_decoder_b = counters_channels_2_level_b;
-        counters_channels_2_decoder_a_prev = counters_channels_2_a_prev_q;
-        counters_channels_2_decoder_b_prev = counters_channels_2_b_prev_q;
-        counters_channels_2_decoder_mode = counters_channels_2_ctrl_q[(counters_channels_2_mode_lsb)+:(3)];
-        counters_channels_2_decoder_reverse = counters_channels_2_ctrl_q[counters_channels_2_reverse_bit];
-        counters_channels_2_illegal = (counters_channels_2_level_a ^ counters_channels_2_a_prev_q) & (counters_channels_2_level_b ^ counters_channels_2_b_prev_q) & (counters_channels_2_ctrl_q[(counters_channels_2_mode_lsb)+:(3)] < counters_channels_2_quadrature_modes);
-        counters_channels_2_zg = (counters_channels_2_level_z ^ counters_channels_2_ctrl_q[counters_channels_2_idx_invert_bit]) & (~counters_channels_2_ctrl_q[counters_channels_2_idx_gate_bit] | (counters_channels_2_level_a & counters_channels_2_level_b));
-        counters_channels_2_index_event = counters_channels_2_zg & ~counters_channels_2_zg_prev_q;
-        counters_channels_2_index_act = counters_channels_2_index_event & (~counters_channels_2_ctrl_q[counters_channels_2_idx_oneshot_bit] | counters_channels_2_armed_q);
-        counters_channels_2_counter_up = counters_channels_2_decoder_up_q;
-        counters_channels_2_counter_down = counters_channels_2_decoder_down_q;
-        counters_channels_2_counter_load_value = counters_channels_2_preset;
-        counters_channels_2_counter_load_low_is_max = counters_channels_2_preset_low_is_max;
-        counters_channels_2_counter_load_low_is_nonzero = counters_channels_2_preset_low_is_nonzero;
-        counters_channels_2_counter_load = counters_channels_2_load_q_q;
-        counters_channels_2_counter_clear = counters_channels_2_reset | counters_channels_2_cmd_clear | counters_channels_2_cmd_load | counters_channels_2_index_clear_q_q;
-        counters_channels_2_count_now = counters_channels_2_counter_count;
-        counters_channels_2_load_q_d = counters_channels_2_cmd_load & ~counters_channels_2_cmd_clear;
-        counters_channels_2_index_latch_q_d = counters_channels_2_index_act & counters_channels_2_ctrl_q[counters_channels_2_idx_latch_bit];
-        counters_channels_2_index_clear_q_d = counters_channels_2_index_act & counters_channels_2_ctrl_q[counters_channels_2_idx_clear_bit];
-        counters_channels_2_a_prev_d = counters_channels_2_level_a;
-        counters_channels_2_b_prev_d = counters_channels_2_level_b;
-        counters_channels_2_zg_prev_d = counters_channels_2_zg;
-        if (counters_channels_2_index_latch_q_q) begin
-            counters_channels_2_index_d = counters_channels_2_count_now;
-        end
-        if (counters_channels_2_illegal & counters_channels_2_ctrl_q[counters_channels_2_err_en_bit]) begin
-            counters_channels_2_err_d = 1'b1;
-            if (counters_channels_2_err_count_q != counters_channels_2_err_max) begin
-                counters_channels_2_err_count_d = counters_channels_2_err_count_q + 8'h1;
-            end
-        end
-        if (counters_channels_2_index_event) begin
-            counters_channels_2_seen_d = 1'b1;
-        end
-        if (counters_channels_2_index_act & counters_channels_2_ctrl_q[counters_channels_2_idx_oneshot_bit]) begin
-            counters_channels_2_armed_d = 1'b0;
-        end
-        if (counters_channels_2_cmd_write) begin
-            if (counters_channels_2_wdata[counters_channels_2_cmd_arm_bit]) begin
-                counters_channels_2_armed_d = 1'b1;
-            end
-            if (counters_channels_2_wdata[counters_channels_2_cmd_clear_status_bit]) begin
-                counters_channels_2_err_d = 1'b0;
-                counters_channels_2_err_count_d = 8'h0;
-                counters_channels_2_seen_d = 1'b0;
-            end
-        end
-        if (counters_channels_2_we & (counters_channels_2_addr == counters_channels_2_addr_ctrl)) begin
-            counters_channels_2_ctrl_d = counters_channels_2_wdata & counters_channels_2_ctrl_writable;
-        end
-        counters_channels_2_status = {24'h0, counters_channels_2_err_count_q} << counters_channels_2_status_err_count_lsb;
-        if (counters_channels_2_err_q) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_err;
-        end
-        if (counters_channels_2_armed_q) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_armed;
-        end
-        if (counters_channels_2_seen_q) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_seen;
-        end
-        if (counters_channels_2_level_a) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_a;
-        end
-        if (counters_channels_2_level_b) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_b;
-        end
-        if (counters_channels_2_level_z) begin
-            counters_channels_2_status = counters_channels_2_status | counters_channels_2_status_z;
-        end
-        if (counters_channels_2_snapshot) begin
-            counters_channels_2_snap_count_d = counters_channels_2_count_now;
-            counters_channels_2_snap_index_d = counters_channels_2_index_q;
-            counters_channels_2_snap_status_d = counters_channels_2_status;
-        end
-        counters_channels_2_read_ctrl_d = counters_channels_2_re & (counters_channels_2_addr == counters_channels_2_addr_ctrl);
-        counters_channels_2_read_count_d = counters_channels_2_re & (counters_channels_2_addr == counters_channels_2_addr_count);
-        counters_channels_2_read_index_d = counters_channels_2_re & (counters_channels_2_addr == counters_channels_2_addr_index);
-        counters_channels_2_read_status_d = counters_channels_2_re & (counters_channels_2_addr == counters_channels_2_addr_status);
-        if (counters_channels_2_reset) begin
-            counters_channels_2_index_d = 32'h0;
-            counters_channels_2_err_d = 1'b0;
-            counters_channels_2_err_count_d = 8'h0;
-            counters_channels_2_seen_d = 1'b0;
-            counters_channels_2_armed_d = 1'b0;
-            counters_channels_2_load_q_d = 1'b0;
-            counters_channels_2_index_latch_q_d = 1'b0;
-            counters_channels_2_index_clear_q_d = 1'b0;
-            counters_channels_2_ctrl_d = 32'h0;
-            counters_channels_2_snap_count_d = 32'h0;
-            counters_channels_2_snap_index_d = 32'h0;
-            counters_channels_2_snap_status_d = 32'h0;
-            counters_channels_2_read_ctrl_d = 1'b0;
-            counters_channels_2_read_count_d = 1'b0;
-            counters_channels_2_read_index_d = 1'b0;
-            counters_channels_2_read_status_d = 1'b0;
-        end
-        if (|(counters_channels_2_snap_count_q & counters_channels_2_sign_bit)) begin
-            counters_channels_2_count_read = counters_channels_2_snap_count_q | counters_channels_2_sign_extension;
-        end
-        else begin
-            counters_channels_2_count_read = counters_channels_2_snap_count_q;
-        end
-        if (|(counters_channels_2_snap_index_q & counters_channels_2_sign_bit)) begin
-            counters_channels_2_index_read = counters_channels_2_snap_index_q | counters_channels_2_sign_extension;
-        end
-        else begin
-            counters_channels_2_index_read = counters_channels_2_snap_index_q;
-        end
-        counters_channels_2_rdata = 32'h0;
-        if (counters_channels_2_read_ctrl_q) begin
-            counters_channels_2_rdata = counters_channels_2_rdata | counters_channels_2_ctrl_q;
-        end
-        if (counters_channels_2_read_count_q) begin
-            counters_channels_2_rdata = counters_channels_2_rdata | counters_channels_2_count_read;
-        end
-        if (counters_channels_2_read_index_q) begin
-            counters_channels_2_rdata = counters_channels_2_rdata | counters_channels_2_index_read;
-        end
-        if (counters_channels_2_read_status_q) begin
-            counters_channels_2_rdata = counters_channels_2_rdata | counters_channels_2_snap_status_q;
-        end
-    end
-
-    always @(*) begin
-        counters_channels_2_filter_a_sync1_d = counters_channels_2_filter_a_sync1_q;
-        counters_channels_2_filter_a_sync2_d = counters_channels_2_filter_a_sync2_q;
-        counters_channels_2_filter_a_accepted_d = counters_channels_2_filter_a_accepted_q;
-        counters_channels_2_filter_a_count_d = counters_channels_2_filter_a_count_q;
-        counters_channels_2_filter_a_sync1_d = counters_channels_2_filter_a_pin;
-        counters_channels_2_filter_a_sync2_d = counters_channels_2_filter_a_sync1_q;
-        if (counters_channels_2_filter_a_reset) begin
-            counters_channels_2_filter_a_accepted_d = counters_channels_2_filter_a_sync2_q;
-            counters_channels_2_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_a_sync2_q == counters_channels_2_filter_a_accepted_q) begin
-            counters_channels_2_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_a_count_q == counters_channels_2_filter_a_setting) begin
-            counters_channels_2_filter_a_accepted_d = counters_channels_2_filter_a_sync2_q;
-            counters_channels_2_filter_a_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_2_filter_a_count_d = counters_channels_2_filter_a_count_q + 4'h1;
-        end
-        counters_channels_2_filter_a_level = counters_channels_2_filter_a_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_2_filter_b_sync1_d = counters_channels_2_filter_b_sync1_q;
-        counters_channels_2_filter_b_sync2_d = counters_channels_2_filter_b_sync2_q;
-        counters_channels_2_filter_b_accepted_d = counters_channels_2_filter_b_accepted_q;
-        counters_channels_2_filter_b_count_d = counters_channels_2_filter_b_count_q;
-        counters_channels_2_filter_b_sync1_d = counters_channels_2_filter_b_pin;
-        counters_channels_2_filter_b_sync2_d = counters_channels_2_filter_b_sync1_q;
-        if (counters_channels_2_filter_b_reset) begin
-            counters_channels_2_filter_b_accepted_d = counters_channels_2_filter_b_sync2_q;
-            counters_channels_2_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_b_sync2_q == counters_channels_2_filter_b_accepted_q) begin
-            counters_channels_2_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_b_count_q == counters_channels_2_filter_b_setting) begin
-            counters_channels_2_filter_b_accepted_d = counters_channels_2_filter_b_sync2_q;
-            counters_channels_2_filter_b_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_2_filter_b_count_d = counters_channels_2_filter_b_count_q + 4'h1;
-        end
-        counters_channels_2_filter_b_level = counters_channels_2_filter_b_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_2_filter_z_sync1_d = counters_channels_2_filter_z_sync1_q;
-        counters_channels_2_filter_z_sync2_d = counters_channels_2_filter_z_sync2_q;
-        counters_channels_2_filter_z_accepted_d = counters_channels_2_filter_z_accepted_q;
-        counters_channels_2_filter_z_count_d = counters_channels_2_filter_z_count_q;
-        counters_channels_2_filter_z_sync1_d = counters_channels_2_filter_z_pin;
-        counters_channels_2_filter_z_sync2_d = counters_channels_2_filter_z_sync1_q;
-        if (counters_channels_2_filter_z_reset) begin
-            counters_channels_2_filter_z_accepted_d = counters_channels_2_filter_z_sync2_q;
-            counters_channels_2_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_z_sync2_q == counters_channels_2_filter_z_accepted_q) begin
-            counters_channels_2_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_2_filter_z_count_q == counters_channels_2_filter_z_setting) begin
-            counters_channels_2_filter_z_accepted_d = counters_channels_2_filter_z_sync2_q;
-            counters_channels_2_filter_z_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_2_filter_z_count_d = counters_channels_2_filter_z_count_q + 4'h1;
-        end
-        counters_channels_2_filter_z_level = counters_channels_2_filter_z_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_2_decoder_up_reg_d = counters_channels_2_decoder_up_reg_q;
-        counters_channels_2_decoder_down_reg_d = counters_channels_2_decoder_down_reg_q;
-        counters_channels_2_decoder_changed_a = counters_channels_2_decoder_a ^ counters_channels_2_decoder_a_prev;
-        counters_channels_2_decoder_changed_b = counters_channels_2_decoder_b ^ counters_channels_2_decoder_b_prev;
-        counters_channels_2_decoder_a_ne_b = counters_channels_2_decoder_a ^ counters_channels_2_decoder_b;
-        counters_channels_2_decoder_rise_a = counters_channels_2_decoder_a & ~counters_channels_2_decoder_a_prev;
-        counters_channels_2_decoder_rise_b = counters_channels_2_decoder_b & ~counters_channels_2_decoder_b_prev;
-        counters_channels_2_decoder_forward = 1'b0;
-        counters_channels_2_decoder_backward = 1'b0;
-        if (counters_channels_2_decoder_mode == counters_channels_2_decoder_mode_x4) begin
-            counters_channels_2_decoder_forward = (counters_channels_2_decoder_changed_a & ~counters_channels_2_decoder_changed_b & counters_channels_2_decoder_a_ne_b) | (counters_channels_2_decoder_changed_b & ~counters_channels_2_decoder_changed_a & ~counters_channels_2_decoder_a_ne_b);
-            counters_channels_2_decoder_backward = (counters_channels_2_decoder_changed_a & ~counters_channels_2_decoder_changed_b & ~counters_channels_2_decoder_a_ne_b) | (counters_channels_2_decoder_changed_b & ~counters_channels_2_decoder_changed_a & counters_channels_2_decoder_a_ne_b);
-        end
-        if (counters_channels_2_decoder_mode == counters_channels_2_decoder_mode_x2) begin
-            counters_channels_2_decoder_forward = counters_channels_2_decoder_changed_a & ~counters_channels_2_decoder_changed_b & counters_channels_2_decoder_a_ne_b;
-            counters_channels_2_decoder_backward = counters_channels_2_decoder_changed_a & ~counters_channels_2_decoder_changed_b & ~counters_channels_2_decoder_a_ne_b;
-        end
-        if (counters_channels_2_decoder_mode == counters_channels_2_decoder_mode_x1) begin
-            counters_channels_2_decoder_forward = ~counters_channels_2_decoder_a_prev & ~counters_channels_2_decoder_b_prev & counters_channels_2_decoder_a & ~counters_channels_2_decoder_b;
-            counters_channels_2_decoder_backward = counters_channels_2_decoder_a_prev & ~counters_channels_2_decoder_b_prev & ~counters_channels_2_decoder_a & ~counters_channels_2_decoder_b;
-        end
-        if (counters_channels_2_decoder_mode == counters_channels_2_decoder_mode_pulse_dir) begin
-            counters_channels_2_decoder_forward = counters_channels_2_decoder_rise_a & ~counters_channels_2_decoder_b;
-            counters_channels_2_decoder_backward = counters_channels_2_decoder_rise_a & counters_channels_2_decoder_b;
-        end
-        if (counters_channels_2_decoder_mode == counters_channels_2_decoder_mode_cw_ccw) begin
-            counters_channels_2_decoder_forward = counters_channels_2_decoder_rise_a & ~counters_channels_2_decoder_rise_b;
-            counters_channels_2_decoder_backward = counters_channels_2_decoder_rise_b & ~counters_channels_2_decoder_rise_a;
-        end
-        if (counters_channels_2_decoder_reverse) begin
-            counters_channels_2_decoder_up_reg_d = counters_channels_2_decoder_backward;
-            counters_channels_2_decoder_down_reg_d = counters_channels_2_decoder_forward;
-        end
-        else begin
-            counters_channels_2_decoder_up_reg_d = counters_channels_2_decoder_forward;
-            counters_channels_2_decoder_down_reg_d = counters_channels_2_decoder_backward;
-        end
-        if (counters_channels_2_decoder_hold) begin
-            counters_channels_2_decoder_up_reg_d = 1'b0;
-            counters_channels_2_decoder_down_reg_d = 1'b0;
-        end
-        counters_channels_2_decoder_up_q = counters_channels_2_decoder_up_reg_q;
-        counters_channels_2_decoder_down_q = counters_channels_2_decoder_down_reg_q;
-    end
-
-    always @(*) begin
-        counters_channels_2_counter_lo_d = counters_channels_2_counter_lo_q;
-        counters_channels_2_counter_hi_d = counters_channels_2_counter_hi_q;
-        counters_channels_2_counter_lo_max_d = counters_channels_2_counter_lo_max_q;
-        counters_channels_2_counter_lo_nonzero_d = counters_channels_2_counter_lo_nonzero_q;
-        counters_channels_2_counter_lo_ones_above = (counters_channels_2_counter_lo_q & counters_channels_2_counter_lo_upper_mask) == counters_channels_2_counter_lo_upper_mask;
-        counters_channels_2_counter_lo_zeros_above = ~|(counters_channels_2_counter_lo_q & counters_channels_2_counter_lo_upper_mask);
-        counters_channels_2_counter_load_lo = counters_channels_2_counter_load_value & counters_channels_2_counter_lo_mask;
-        counters_channels_2_counter_load_hi = (counters_channels_2_counter_load_value >> counters_channels_2_counter_lo_bits) & counters_channels_2_counter_hi_mask;
-        counters_channels_2_counter_lo_step = 32'h0;
-        counters_channels_2_counter_hi_step = 32'h0;
-        counters_channels_2_counter_lo_carry_in = 32'h0;
-        counters_channels_2_counter_hi_carry_in = 32'h0;
-        if (counters_channels_2_counter_up) begin
-            counters_channels_2_counter_lo_carry_in = counters_channels_2_counter_one;
-            if (counters_channels_2_counter_lo_max_q) begin
-                counters_channels_2_counter_hi_carry_in = counters_channels_2_counter_one;
-            end
-        end
-        if (counters_channels_2_counter_down) begin
-            counters_channels_2_counter_lo_step = counters_channels_2_counter_lo_mask;
-            if (~counters_channels_2_counter_lo_nonzero_q) begin
-                counters_channels_2_counter_hi_step = counters_channels_2_counter_hi_mask;
-            end
-        end
-        if (counters_channels_2_counter_load) begin
-            counters_channels_2_counter_lo_step = counters_channels_2_counter_load_lo;
-            counters_channels_2_counter_hi_step = counters_channels_2_counter_load_hi;
-        end
-        counters_channels_2_counter_lo_d = (counters_channels_2_counter_lo_q + counters_channels_2_counter_lo_step + counters_channels_2_counter_lo_carry_in) & counters_channels_2_counter_lo_mask;
-        counters_channels_2_counter_hi_d = (counters_channels_2_counter_hi_q + counters_channels_2_counter_hi_step + counters_channels_2_counter_hi_carry_in) & counters_channels_2_counter_hi_mask;
-        if (counters_channels_2_counter_load) begin
-            counters_channels_2_counter_lo_max_d = counters_channels_2_counter_load_low_is_max;
-            counters_channels_2_counter_lo_nonzero_d = counters_channels_2_counter_load_low_is_nonzero;
-        end
-        else if (counters_channels_2_counter_up) begin
-            counters_channels_2_counter_lo_max_d = counters_channels_2_counter_lo_ones_above & ~counters_channels_2_counter_lo_q[0];
-            counters_channels_2_counter_lo_nonzero_d = ~(counters_channels_2_counter_lo_ones_above & counters_channels_2_counter_lo_q[0]);
-        end
-        else if (counters_channels_2_counter_down) begin
-            counters_channels_2_counter_lo_max_d = counters_channels_2_counter_lo_zeros_above & ~counters_channels_2_counter_lo_q[0];
-            counters_channels_2_counter_lo_nonzero_d = ~(counters_channels_2_counter_lo_zeros_above & counters_channels_2_counter_lo_q[0]);
-        end
-        else begin
-            counters_channels_2_counter_lo_max_d = counters_channels_2_counter_lo_ones_above & counters_channels_2_counter_lo_q[0];
-            counters_channels_2_counter_lo_nonzero_d = ~counters_channels_2_counter_lo_zeros_above | counters_channels_2_counter_lo_q[0];
-        end
-        if (counters_channels_2_counter_clear) begin
-            counters_channels_2_counter_lo_d = 32'h0;
-            counters_channels_2_counter_hi_d = 32'h0;
-            counters_channels_2_counter_lo_max_d = 1'b0;
-            counters_channels_2_counter_lo_nonzero_d = 1'b0;
-        end
-        counters_channels_2_counter_count = counters_channels_2_counter_lo_q | (counters_channels_2_counter_hi_q << counters_channels_2_counter_lo_bits);
-    end
-
-    always @(*) begin
-        counters_channels_3_a_prev_d = counters_channels_3_a_prev_q;
-        counters_channels_3_b_prev_d = counters_channels_3_b_prev_q;
-        counters_channels_3_zg_prev_d = counters_channels_3_zg_prev_q;
-        counters_channels_3_load_q_d = counters_channels_3_load_q_q;
-        counters_channels_3_index_latch_q_d = counters_channels_3_index_latch_q_q;
-        counters_channels_3_index_clear_q_d = counters_channels_3_index_clear_q_q;
-        counters_channels_3_index_d = counters_channels_3_index_q;
-        counters_channels_3_err_d = counters_channels_3_err_q;
-        counters_channels_3_err_count_d = counters_channels_3_err_count_q;
-        counters_channels_3_seen_d = counters_channels_3_seen_q;
-        counters_channels_3_armed_d = counters_channels_3_armed_q;
-        counters_channels_3_ctrl_d = counters_channels_3_ctrl_q;
-        counters_channels_3_snap_count_d = counters_channels_3_snap_count_q;
-        counters_channels_3_snap_index_d = counters_channels_3_snap_index_q;
-        counters_channels_3_snap_status_d = counters_channels_3_snap_status_q;
-        counters_channels_3_read_ctrl_d = counters_channels_3_read_ctrl_q;
-        counters_channels_3_read_count_d = counters_channels_3_read_count_q;
-        counters_channels_3_read_index_d = counters_channels_3_read_index_q;
-        counters_channels_3_read_status_d = counters_channels_3_read_status_q;
-        counters_channels_3_filter_a_reset = counters_channels_3_reset;
-        counters_channels_3_filter_b_reset = counters_channels_3_reset;
-        counters_channels_3_filter_z_reset = counters_channels_3_reset;
-        counters_channels_3_filter_a_pin = counters_channels_3_a;
-        counters_channels_3_filter_b_pin = counters_channels_3_b;
-        counters_channels_3_filter_z_pin = counters_channels_3_z;
-        counters_channels_3_filter_a_setting = counters_channels_3_ctrl_q[(counters_channels_3_filter_ab_lsb)+:(4)];
-        counters_channels_3_filter_b_setting = counters_channels_3_ctrl_q[(counters_channels_3_filter_ab_lsb)+:(4)];
-        counters_channels_3_filter_z_setting = counters_channels_3_ctrl_q[(counters_channels_3_filter_z_lsb)+:(4)];
-        counters_channels_3_level_a = counters_channels_3_filter_a_level;
-        counters_channels_3_level_b = counters_channels_3_filter_b_level;
-        counters_channels_3_level_z = counters_channels_3_filter_z_level;
-        counters_channels_3_cmd_write = counters_channels_3_we & (counters_channels_3_addr == counters_channels_3_addr_cmd);
-        counters_channels_3_cmd_clear = counters_channels_3_cmd_write & counters_channels_3_wdata[counters_channels_3_cmd_clear_bit];
-        counters_channels_3_cmd_load = counters_channels_3_cmd_write & counters_channels_3_wdata[counters_channels_3_cmd_load_bit];
-        counters_channels_3_decoder_hold = counters_channels_3_reset | counters_channels_3_cmd_load;
-        counters_channels_3_decoder_a = counters_channels_3_level_a;
-        counters_channels_3_decoder_b = counters_channels_3_level_b;
-        counters_channels_3_decoder_a_prev = counters_channels_3_a_prev_q;
-        counters_channels_3_decoder_b_prev = counters_channels_3_b_prev_q;
-        counters_channels_3_decoder_mode = counters_channels_3_ctrl_q[(counters_channels_3_mode_lsb)+:(3)];
-        counters_channels_3_decoder_reverse = counters_channels_3_ctrl_q[counters_channels_3_reverse_bit];
-        counters_channels_3_illegal = (counters_channels_3_level_a ^ counters_channels_3_a_prev_q) & (counters_channels_3_level_b ^ counters_channels_3_b_prev_q) & (counters_channels_3_ctrl_q[(counters_channels_3_mode_lsb)+:(3)] < counters_channels_3_quadrature_modes);
-        counters_channels_3_zg = (counters_channels_3_level_z ^ counters_channels_3_ctrl_q[counters_channels_3_idx_invert_bit]) & (~counters_channels_3_ctrl_q[counters_channels_3_idx_gate_bit] | (counters_channels_3_level_a & counters_channels_3_level_b));
-        counters_channels_3_index_event = counters_channels_3_zg & ~counters_channels_3_zg_prev_q;
-        counters_channels_3_index_act = counters_channels_3_index_event & (~counters_channels_3_ctrl_q[counters_channels_3_idx_oneshot_bit] | counters_channels_3_armed_q);
-        counters_channels_3_counter_up = counters_channels_3_decoder_up_q;
-        counters_channels_3_counter_down = counters_channels_3_decoder_down_q;
-        counters_channels_3_counter_load_value = counters_channels_3_preset;
-        counters_channels_3_counter_load_low_is_max = counters_channels_3_preset_low_is_max;
-        counters_channels_3_counter_load_low_is_nonzero = counters_channels_3_preset_low_is_nonzero;
-        counters_channels_3_counter_load = counters_channels_3_load_q_q;
-        counters_channels_3_counter_clear = counters_channels_3_reset | counters_channels_3_cmd_clear | counters_channels_3_cmd_load | counters_channels_3_index_clear_q_q;
-        counters_channels_3_count_now = counters_channels_3_counter_count;
-        counters_channels_3_load_q_d = counters_channels_3_cmd_load & ~counters_channels_3_cmd_clear;
-        counters_channels_3_index_latch_q_d = counters_channels_3_index_act & counters_channels_3_ctrl_q[counters_channels_3_idx_latch_bit];
-        counters_channels_3_index_clear_q_d = counters_channels_3_index_act & counters_channels_3_ctrl_q[counters_channels_3_idx_clear_bit];
-        counters_channels_3_a_prev_d = counters_channels_3_level_a;
-        counters_channels_3_b_prev_d = counters_channels_3_level_b;
-        counters_channels_3_zg_prev_d = counters_channels_3_zg;
-        if (counters_channels_3_index_latch_q_q) begin
-            counters_channels_3_index_d = counters_channels_3_count_now;
-        end
-        if (counters_channels_3_illegal & counters_channels_3_ctrl_q[counters_channels_3_err_en_bit]) begin
-            counters_channels_3_err_d = 1'b1;
-            if (counters_channels_3_err_count_q != counters_channels_3_err_max) begin
-                counters_channels_3_err_count_d = counters_channels_3_err_count_q + 8'h1;
-            end
-        end
-        if (counters_channels_3_index_event) begin
-            counters_channels_3_seen_d = 1'b1;
-        end
-        if (counters_channels_3_index_act & counters_channels_3_ctrl_q[counters_channels_3_idx_oneshot_bit]) begin
-            counters_channels_3_armed_d = 1'b0;
-        end
-        if (counters_channels_3_cmd_write) begin
-            if (counters_channels_3_wdata[counters_channels_3_cmd_arm_bit]) begin
-                counters_channels_3_armed_d = 1'b1;
-            end
-            if (counters_channels_3_wdata[counters_channels_3_cmd_clear_status_bit]) begin
-                counters_channels_3_err_d = 1'b0;
-                counters_channels_3_err_count_d = 8'h0;
-                counters_channels_3_seen_d = 1'b0;
-            end
-        end
-        if (counters_channels_3_we & (counters_channels_3_addr == counters_channels_3_addr_ctrl)) begin
-            counters_channels_3_ctrl_d = counters_channels_3_wdata & counters_channels_3_ctrl_writable;
-        end
-        counters_channels_3_status = {24'h0, counters_channels_3_err_count_q} << counters_channels_3_status_err_count_lsb;
-        if (counters_channels_3_err_q) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_err;
-        end
-        if (counters_channels_3_armed_q) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_armed;
-        end
-        if (counters_channels_3_seen_q) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_seen;
-        end
-        if (counters_channels_3_level_a) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_a;
-        end
-        if (counters_channels_3_level_b) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_b;
-        end
-        if (counters_channels_3_level_z) begin
-            counters_channels_3_status = counters_channels_3_status | counters_channels_3_status_z;
-        end
-        if (counters_channels_3_snapshot) begin
-            counters_channels_3_snap_count_d = counters_channels_3_count_now;
-            counters_channels_3_snap_index_d = counters_channels_3_index_q;
-            counters_channels_3_snap_status_d = counters_channels_3_status;
-        end
-        counters_channels_3_read_ctrl_d = counters_channels_3_re & (counters_channels_3_addr == counters_channels_3_addr_ctrl);
-        counters_channels_3_read_count_d = counters_channels_3_re & (counters_channels_3_addr == counters_channels_3_addr_count);
-        counters_channels_3_read_index_d = counters_channels_3_re & (counters_channels_3_addr == counters_channels_3_addr_index);
-        counters_channels_3_read_status_d = counters_channels_3_re & (counters_channels_3_addr == counters_channels_3_addr_status);
-        if (counters_channels_3_reset) begin
-            counters_channels_3_index_d = 32'h0;
-            counters_channels_3_err_d = 1'b0;
-            counters_channels_3_err_count_d = 8'h0;
-            counters_channels_3_seen_d = 1'b0;
-            counters_channels_3_armed_d = 1'b0;
-            counters_channels_3_load_q_d = 1'b0;
-            counters_channels_3_index_latch_q_d = 1'b0;
-            counters_channels_3_index_clear_q_d = 1'b0;
-            counters_channels_3_ctrl_d = 32'h0;
-            counters_channels_3_snap_count_d = 32'h0;
-            counters_channels_3_snap_index_d = 32'h0;
-            counters_channels_3_snap_status_d = 32'h0;
-            counters_channels_3_read_ctrl_d = 1'b0;
-            counters_channels_3_read_count_d = 1'b0;
-            counters_channels_3_read_index_d = 1'b0;
-            counters_channels_3_read_status_d = 1'b0;
-        end
-        if (|(counters_channels_3_snap_count_q & counters_channels_3_sign_bit)) begin
-            counters_channels_3_count_read = counters_channels_3_snap_count_q | counters_channels_3_sign_extension;
-        end
-        else begin
-            counters_channels_3_count_read = counters_channels_3_snap_count_q;
-        end
-        if (|(counters_channels_3_snap_index_q & counters_channels_3_sign_bit)) begin
-            counters_channels_3_index_read = counters_channels_3_snap_index_q | counters_channels_3_sign_extension;
-        end
-        else begin
-            counters_channels_3_index_read = counters_channels_3_snap_index_q;
-        end
-        counters_channels_3_rdata = 32'h0;
-        if (counters_channels_3_read_ctrl_q) begin
-            counters_channels_3_rdata = counters_channels_3_rdata | counters_channels_3_ctrl_q;
-        end
-        if (counters_channels_3_read_count_q) begin
-            counters_channels_3_rdata = counters_channels_3_rdata | counters_channels_3_count_read;
-        end
-        if (counters_channels_3_read_index_q) begin
-            counters_channels_3_rdata = counters_channels_3_rdata | counters_channels_3_index_read;
-        end
-        if (counters_channels_3_read_status_q) begin
-            counters_channels_3_rdata = counters_channels_3_rdata | counters_channels_3_snap_status_q;
-        end
-    end
-
-    always @(*) begin
-        counters_channels_3_filter_a_sync1_d = counters_channels_3_filter_a_sync1_q;
-        counters_channels_3_filter_a_sync2_d = counters_channels_3_filter_a_sync2_q;
-        counters_channels_3_filter_a_accepted_d = counters_channels_3_filter_a_accepted_q;
-        counters_channels_3_filter_a_count_d = counters_channels_3_filter_a_count_q;
-        counters_channels_3_filter_a_sync1_d = counters_channels_3_filter_a_pin;
-        counters_channels_3_filter_a_sync2_d = counters_channels_3_filter_a_sync1_q;
-        if (counters_channels_3_filter_a_reset) begin
-            counters_channels_3_filter_a_accepted_d = counters_channels_3_filter_a_sync2_q;
-            counters_channels_3_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_a_sync2_q == counters_channels_3_filter_a_accepted_q) begin
-            counters_channels_3_filter_a_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_a_count_q == counters_channels_3_filter_a_setting) begin
-            counters_channels_3_filter_a_accepted_d = counters_channels_3_filter_a_sync2_q;
-            counters_channels_3_filter_a_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_3_filter_a_count_d = counters_channels_3_filter_a_count_q + 4'h1;
-        end
-        counters_channels_3_filter_a_level = counters_channels_3_filter_a_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_3_filter_b_sync1_d = counters_channels_3_filter_b_sync1_q;
-        counters_channels_3_filter_b_sync2_d = counters_channels_3_filter_b_sync2_q;
-        counters_channels_3_filter_b_accepted_d = counters_channels_3_filter_b_accepted_q;
-        counters_channels_3_filter_b_count_d = counters_channels_3_filter_b_count_q;
-        counters_channels_3_filter_b_sync1_d = counters_channels_3_filter_b_pin;
-        counters_channels_3_filter_b_sync2_d = counters_channels_3_filter_b_sync1_q;
-        if (counters_channels_3_filter_b_reset) begin
-            counters_channels_3_filter_b_accepted_d = counters_channels_3_filter_b_sync2_q;
-            counters_channels_3_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_b_sync2_q == counters_channels_3_filter_b_accepted_q) begin
-            counters_channels_3_filter_b_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_b_count_q == counters_channels_3_filter_b_setting) begin
-            counters_channels_3_filter_b_accepted_d = counters_channels_3_filter_b_sync2_q;
-            counters_channels_3_filter_b_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_3_filter_b_count_d = counters_channels_3_filter_b_count_q + 4'h1;
-        end
-        counters_channels_3_filter_b_level = counters_channels_3_filter_b_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_3_filter_z_sync1_d = counters_channels_3_filter_z_sync1_q;
-        counters_channels_3_filter_z_sync2_d = counters_channels_3_filter_z_sync2_q;
-        counters_channels_3_filter_z_accepted_d = counters_channels_3_filter_z_accepted_q;
-        counters_channels_3_filter_z_count_d = counters_channels_3_filter_z_count_q;
-        counters_channels_3_filter_z_sync1_d = counters_channels_3_filter_z_pin;
-        counters_channels_3_filter_z_sync2_d = counters_channels_3_filter_z_sync1_q;
-        if (counters_channels_3_filter_z_reset) begin
-            counters_channels_3_filter_z_accepted_d = counters_channels_3_filter_z_sync2_q;
-            counters_channels_3_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_z_sync2_q == counters_channels_3_filter_z_accepted_q) begin
-            counters_channels_3_filter_z_count_d = 4'h0;
-        end
-        else if (counters_channels_3_filter_z_count_q == counters_channels_3_filter_z_setting) begin
-            counters_channels_3_filter_z_accepted_d = counters_channels_3_filter_z_sync2_q;
-            counters_channels_3_filter_z_count_d = 4'h0;
-        end
-        else begin
-            counters_channels_3_filter_z_count_d = counters_channels_3_filter_z_count_q + 4'h1;
-        end
-        counters_channels_3_filter_z_level = counters_channels_3_filter_z_accepted_q;
-    end
-
-    always @(*) begin
-        counters_channels_3_decoder_up_reg_d = counters_channels_3_decoder_up_reg_q;
-        counters_channels_3_decoder_down_reg_d = counters_channels_3_decoder_down_reg_q;
-        counters_channels_3_decoder_changed_a = counters_channels_3_decoder_a ^ counters_channels_3_decoder_a_prev;
-        counters_channels_3_decoder_changed_b = counters_channels_3_decoder_b ^ counters_channels_3_decoder_b_prev;
-        counters_channels_3_decoder_a_ne_b = counters_channels_3_decoder_a ^ counters_channels_3_decoder_b;
-        counters_channels_3_decoder_rise_a = counters_channels_3_decoder_a & ~counters_channels_3_decoder_a_prev;
-        counters_channels_3_decoder_rise_b = counters_channels_3_decoder_b & ~counters_channels_3_decoder_b_prev;
-        counters_channels_3_decoder_forward = 1'b0;
-        counters_channels_3_decoder_backward = 1'b0;
-        if (counters_channels_3_decoder_mode == counters_channels_3_decoder_mode_x4) begin
-            counters_channels_3_decoder_forward = (counters_channels_3_decoder_changed_a & ~counters_channels_3_decoder_changed_b & counters_channels_3_decoder_a_ne_b) | (counters_channels_3_decoder_changed_b & ~counters_channels_3_decoder_changed_a & ~counters_channels_3_decoder_a_ne_b);
-            counters_channels_3_decoder_backward = (counters_channels_3_decoder_changed_a & ~counters_channels_3_decoder_changed_b & ~counters_channels_3_decoder_a_ne_b) | (counters_channels_3_decoder_changed_b & ~counters_channels_3_decoder_changed_a & counters_channels_3_decoder_a_ne_b);
-        end
-        if (counters_channels_3_decoder_mode == counters_channels_3_decoder_mode_x2) begin
-            counters_channels_3_decoder_forward = counters_channels_3_decoder_changed_a & ~counters_channels_3_decoder_changed_b & counters_channels_3_decoder_a_ne_b;
-            counters_channels_3_decoder_backward = counters_channels_3_decoder_changed_a & ~counters_channels_3_decoder_changed_b & ~counters_channels_3_decoder_a_ne_b;
-        end
-        if (counters_channels_3_decoder_mode == counters_channels_3_decoder_mode_x1) begin
-            counters_channels_3_decoder_forward = ~counters_channels_3_decoder_a_prev & ~counters_channels_3_decoder_b_prev & counters_channels_3_decoder_a & ~counters_channels_3_decoder_b;
-            counters_channels_3_decoder_backward = counters_channels_3_decoder_a_prev & ~counters_channels_3_decoder_b_prev & ~counters_channels_3_decoder_a & ~counters_channels_3_decoder_b;
-        end
-        if (counters_channels_3_decoder_mode == counters_channels_3_decoder_mode_pulse_dir) begin
-            counters_channels_3_decoder_forward = counters_channels_3_decoder_rise_a & ~counters_channels_3_decoder_b;
-            counters_channels_3_decoder_backward = counters_channels_3_decoder_rise_a & counters_channels_3_decoder_b;
-        end
-        if (counters_channels_3_decoder_mode == counters_channels_3_decoder_mode_cw_ccw) begin
-            counters_channels_3_decoder_forward = counters_channels_3_decoder_rise_a & ~counters_channels_3_decoder_rise_b;
-            counters_channels_3_decoder_backward = counters_channels_3_decoder_rise_b & ~counters_channels_3_decoder_rise_a;
-        end
-        if (counters_channels_3_decoder_reverse) begin
-            counters_channels_3_decoder_up_reg_d = counters_channels_3_decoder_backward;
-            counters_channels_3_decoder_down_reg_d = counters_channels_3_decoder_forward;
-        end
-        else begin
-            counters_channels_3_decoder_up_reg_d = counters_channels_3_decoder_forward;
-            counters_channels_3_decoder_down_reg_d = counters_channels_3_decoder_backward;
-        end
-        if (counters_channels_3_decoder_hold) begin
-            counters_channels_3_decoder_up_reg_d = 1'b0;
-            counters_channels_3_decoder_down_reg_d = 1'b0;
-        end
-        counters_channels_3_decoder_up_q = counters_channels_3_decoder_up_reg_q;
-        counters_channels_3_decoder_down_q = counters_channels_3_decoder_down_reg_q;
-    end
-
-    always @(*) begin
-        counters_channels_3_counter_lo_d = counters_channels_3_counter_lo_q;
-        counters_channels_3_counter_hi_d = counters_channels_3_counter_hi_q;
-        counters_channels_3_counter_lo_max_d = counters_channels_3_counter_lo_max_q;
-        counters_channels_3_counter_lo_nonzero_d = counters_channels_3_counter_lo_nonzero_q;
-        counters_channels_3_counter_lo_ones_above = (counters_channels_3_counter_lo_q & counters_channels_3_counter_lo_upper_mask) == counters_channels_3_counter_lo_upper_mask;
-        counters_channels_3_counter_lo_zeros_above = ~|(counters_channels_3_counter_lo_q & counters_channels_3_counter_lo_upper_mask);
-        counters_channels_3_counter_load_lo = counters_channels_3_counter_load_value & counters_channels_3_counter_lo_mask;
-        counters_channels_3_counter_load_hi = (counters_channels_3_counter_load_value >> counters_channels_3_counter_lo_bits) & counters_channels_3_counter_hi_mask;
-        counters_channels_3_counter_lo_step = 32'h0;
-        counters_channels_3_counter_hi_step = 32'h0;
-        counters_channels_3_counter_lo_carry_in = 32'h0;
-        counters_channels_3_counter_hi_carry_in = 32'h0;
-        if (counters_channels_3_counter_up) begin
-            counters_channels_3_counter_lo_carry_in = counters_channels_3_counter_one;
-            if (counters_channels_3_counter_lo_max_q) begin
-                counters_channels_3_counter_hi_carry_in = counters_channels_3_counter_one;
-            end
-        end
-        if (counters_channels_3_counter_down) begin
-            counters_channels_3_counter_lo_step = counters_channels_3_counter_lo_mask;
-            if (~counters_channels_3_counter_lo_nonzero_q) begin
-                counters_channels_3_counter_hi_step = counters_channels_3_counter_hi_mask;
-            end
-        end
-        if (counters_channels_3_counter_load) begin
-            counters_channels_3_counter_lo_step = counters_channels_3_counter_load_lo;
-            counters_channels_3_counter_hi_step = counters_channels_3_counter_load_hi;
-        end
-        counters_channels_3_counter_lo_d = (counters_channels_3_counter_lo_q + counters_channels_3_counter_lo_step + counters_channels_3_counter_lo_carry_in) & counters_channels_3_counter_lo_mask;
-        counters_channels_3_counter_hi_d = (counters_channels_3_counter_hi_q + counters_channels_3_counter_hi_step + counters_channels_3_counter_hi_carry_in) & counters_channels_3_counter_hi_mask;
-        if (counters_channels_3_counter_load) begin
-            counters_channels_3_counter_lo_max_d = counters_channels_3_counter_load_low_is_max;
-            counters_channels_3_counter_lo_nonzero_d = counters_channels_3_counter_load_low_is_nonzero;
-        end
-        else if (counters_channels_3_counter_up) begin
-            counters_channels_3_counter_lo_max_d = counters_channels_3_counter_lo_ones_above & ~counters_channels_3_counter_lo_q[0];
-            counters_channels_3_counter_lo_nonzero_d = ~(counters_channels_3_counter_lo_ones_above & counters_channels_3_counter_lo_q[0]);
-        end
-        else if (counters_channels_3_counter_down) begin
-            counters_channels_3_counter_lo_max_d = counters_channels_3_counter_lo_zeros_above & ~counters_channels_3_counter_lo_q[0];
-            counters_channels_3_counter_lo_nonzero_d = ~(counters_channels_3_counter_lo_zeros_above & counters_channels_3_counter_lo_q[0]);
-        end
-        else begin
-            counters_channels_3_counter_lo_max_d = counters_channels_3_counter_lo_ones_above & counters_channels_3_counter_lo_q[0];
-            counters_channels_3_counter_lo_nonzero_d = ~counters_channels_3_counter_lo_zeros_above | counters_channels_3_counter_lo_q[0];
-        end
-        if (counters_channels_3_counter_clear) begin
-            counters_channels_3_counter_lo_d = 32'h0;
-            counters_channels_3_counter_hi_d = 32'h0;
-            counters_channels_3_counter_lo_max_d = 1'b0;
-            counters_channels_3_counter_lo_nonzero_d = 1'b0;
-        end
-        counters_channels_3_counter_count = counters_channels_3_counter_lo_q | (counters_channels_3_counter_hi_q << counters_channels_3_counter_lo_bits);
-    end
-
-    always @(posedge clock) mcu_bus_ne_s1_q <= mcu_bus_ne_s1_d;
-    always @(posedge clock) mcu_bus_noe_s1_q <= mcu_bus_noe_s1_d;
-    always @(posedge clock) mcu_bus_noe_s2_q <= mcu_bus_noe_s2_d;
-    always @(posedge clock) mcu_bus_noe_s3_q <= mcu_bus_noe_s3_d;
-    always @(posedge clock) mcu_bus_nwe_s1_q <= mcu_bus_nwe_s1_d;
-    always @(posedge clock) mcu_bus_nwe_s2_q <= mcu_bus_nwe_s2_d;
-    always @(posedge clock) mcu_bus_nwe_s3_q <= mcu_bus_nwe_s3_d;
-    always @(posedge clock) mcu_bus_a_s1_q <= mcu_bus_a_s1_d;
-    always @(posedge clock) mcu_bus_d_s1_q <= mcu_bus_d_s1_d;
-    always @(posedge clock) mcu_bus_d_s2_q <= mcu_bus_d_s2_d;
-    always @(posedge clock) mcu_bus_cyc_sel_q <= mcu_bus_cyc_sel_d;
-    always @(posedge clock) mcu_bus_cyc_a_q <= mcu_bus_cyc_a_d;
-    always @(posedge clock) mcu_bus_wdata_q <= mcu_bus_wdata_d;
-    always @(posedge clock) mcu_bus_hold_lo_q <= mcu_bus_hold_lo_d;
-    always @(posedge clock) mcu_bus_hold_hi_q <= mcu_bus_hold_hi_d;
-    always @(posedge clock) mcu_bus_hold_word_q <= mcu_bus_hold_word_d;
-    always @(posedge clock) mcu_bus_hold_valid_q <= mcu_bus_hold_valid_d;
-    always @(posedge clock) mcu_bus_rd_p1_q <= mcu_bus_rd_p1_d;
-    always @(posedge clock) mcu_bus_rd_p2_q <= mcu_bus_rd_p2_d;
-    always @(posedge clock) mcu_bus_rd_src1_q <= mcu_bus_rd_src1_d;
-    always @(posedge clock) mcu_bus_rd_src2_q <= mcu_bus_rd_src2_d;
-    always @(posedge clock) mcu_bus_d_q_q <= mcu_bus_d_q_d;
+    always @(posedge clock) mcu_mcu_bus_ne_s1_q <= mcu_mcu_bus_ne_s1_d;
+    always @(posedge clock) mcu_mcu_bus_noe_s1_q <= mcu_mcu_bus_noe_s1_d;
+    always @(posedge clock) mcu_mcu_bus_noe_s2_q <= mcu_mcu_bus_noe_s2_d;
+    always @(posedge clock) mcu_mcu_bus_noe_s3_q <= mcu_mcu_bus_noe_s3_d;
+    always @(posedge clock) mcu_mcu_bus_nwe_s1_q <= mcu_mcu_bus_nwe_s1_d;
+    always @(posedge clock) mcu_mcu_bus_nwe_s2_q <= mcu_mcu_bus_nwe_s2_d;
+    always @(posedge clock) mcu_mcu_bus_nwe_s3_q <= mcu_mcu_bus_nwe_s3_d;
+    always @(posedge clock) mcu_mcu_bus_a_s1_q <= mcu_mcu_bus_a_s1_d;
+    always @(posedge clock) mcu_mcu_bus_d_s1_q <= mcu_mcu_bus_d_s1_d;
+    always @(posedge clock) mcu_mcu_bus_d_s2_q <= mcu_mcu_bus_d_s2_d;
+    always @(posedge clock) mcu_mcu_bus_cyc_sel_q <= mcu_mcu_bus_cyc_sel_d;
+    always @(posedge clock) mcu_mcu_bus_cyc_a_q <= mcu_mcu_bus_cyc_a_d;
+    always @(posedge clock) mcu_mcu_bus_wdata_q <= mcu_mcu_bus_wdata_d;
+    always @(posedge clock) mcu_mcu_bus_hold_lo_q <= mcu_mcu_bus_hold_lo_d;
+    always @(posedge clock) mcu_mcu_bus_hold_hi_q <= mcu_mcu_bus_hold_hi_d;
+    always @(posedge clock) mcu_mcu_bus_hold_word_q <= mcu_mcu_bus_hold_word_d;
+    always @(posedge clock) mcu_mcu_bus_hold_valid_q <= mcu_mcu_bus_hold_valid_d;
+    always @(posedge clock) mcu_mcu_bus_rd_p1_q <= mcu_mcu_bus_rd_p1_d;
+    always @(posedge clock) mcu_mcu_bus_rd_p2_q <= mcu_mcu_bus_rd_p2_d;
+    always @(posedge clock) mcu_mcu_bus_rd_src1_q <= mcu_mcu_bus_rd_src1_d;
+    always @(posedge clock) mcu_mcu_bus_rd_src2_q <= mcu_mcu_bus_rd_src2_d;
+    always @(posedge clock) mcu_mcu_bus_d_q_q <= mcu_mcu_bus_d_q_d;
+    always @(posedge clock) mcu_identity_read_addr_q <= mcu_identity_read_addr_d;
+    always @(posedge clock) mcu_identity_read_pending_q <= mcu_identity_read_pending_d;
+    always @(posedge clock) mcu_identity_read_data_q <= mcu_identity_read_data_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_a_sync1_q <= mcu_counters_channels_0_filter_a_sync1_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_a_sync2_q <= mcu_counters_channels_0_filter_a_sync2_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_a_accepted_q <= mcu_counters_channels_0_filter_a_accepted_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_a_count_q <= mcu_counters_channels_0_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_b_sync1_q <= mcu_counters_channels_0_filter_b_sync1_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_b_sync2_q <= mcu_counters_channels_0_filter_b_sync2_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_b_accepted_q <= mcu_counters_channels_0_filter_b_accepted_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_b_count_q <= mcu_counters_channels_0_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_z_sync1_q <= mcu_counters_channels_0_filter_z_sync1_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_z_sync2_q <= mcu_counters_channels_0_filter_z_sync2_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_z_accepted_q <= mcu_counters_channels_0_filter_z_accepted_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_z_count_q <= mcu_counters_channels_0_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_0_a_prev_q <= mcu_counters_channels_0_a_prev_d;
+    always @(posedge clock) mcu_counters_channels_0_b_prev_q <= mcu_counters_channels_0_b_prev_d;
+    always @(posedge clock) mcu_counters_channels_0_zg_prev_q <= mcu_counters_channels_0_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_0_decoder_up_reg_q <= mcu_counters_channels_0_decoder_up_reg_d;
+    always @(posedge clock) mcu_counters_channels_0_decoder_down_reg_q <= mcu_counters_channels_0_decoder_down_reg_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_lo_q <= mcu_counters_channels_0_counter_lo_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_hi_q <= mcu_counters_channels_0_counter_hi_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_lo_max_q <= mcu_counters_channels_0_counter_lo_max_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_lo_nonzero_q <= mcu_counters_channels_0_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_0_load_q_q <= mcu_counters_channels_0_load_q_d;
+    always @(posedge clock) mcu_counters_channels_0_index_latch_q_q <= mcu_counters_channels_0_index_latch_q_d;
+    always @(posedge clock) mcu_counters_channels_0_index_clear_q_q <= mcu_counters_channels_0_index_clear_q_d;
+    always @(posedge clock) mcu_counters_channels_0_index_q <= mcu_counters_channels_0_index_d;
+    always @(posedge clock) mcu_counters_channels_0_err_q <= mcu_counters_channels_0_err_d;
+    always @(posedge clock) mcu_counters_channels_0_err_count_q <= mcu_counters_channels_0_err_count_d;
+    always @(posedge clock) mcu_counters_channels_0_seen_q <= mcu_counters_channels_0_seen_d;
+    always @(posedge clock) mcu_counters_channels_0_armed_q <= mcu_counters_channels_0_armed_d;
+    always @(posedge clock) mcu_counters_channels_0_ctrl_q <= mcu_counters_channels_0_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_0_snap_count_q <= mcu_counters_channels_0_snap_count_d;
+    always @(posedge clock) mcu_counters_channels_0_snap_index_q <= mcu_counters_channels_0_snap_index_d;
+    always @(posedge clock) mcu_counters_channels_0_snap_status_q <= mcu_counters_channels_0_snap_status_d;
+    always @(posedge clock) mcu_counters_channels_0_read_ctrl_q <= mcu_counters_channels_0_read_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_0_read_count_q <= mcu_counters_channels_0_read_count_d;
+    always @(posedge clock) mcu_counters_channels_0_read_index_q <= mcu_counters_channels_0_read_index_d;
+    always @(posedge clock) mcu_counters_channels_0_read_status_q <= mcu_counters_channels_0_read_status_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_a_sync1_q <= mcu_counters_channels_1_filter_a_sync1_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_a_sync2_q <= mcu_counters_channels_1_filter_a_sync2_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_a_accepted_q <= mcu_counters_channels_1_filter_a_accepted_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_a_count_q <= mcu_counters_channels_1_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_b_sync1_q <= mcu_counters_channels_1_filter_b_sync1_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_b_sync2_q <= mcu_counters_channels_1_filter_b_sync2_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_b_accepted_q <= mcu_counters_channels_1_filter_b_accepted_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_b_count_q <= mcu_counters_channels_1_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_z_sync1_q <= mcu_counters_channels_1_filter_z_sync1_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_z_sync2_q <= mcu_counters_channels_1_filter_z_sync2_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_z_accepted_q <= mcu_counters_channels_1_filter_z_accepted_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_z_count_q <= mcu_counters_channels_1_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_1_a_prev_q <= mcu_counters_channels_1_a_prev_d;
+    always @(posedge clock) mcu_counters_channels_1_b_prev_q <= mcu_counters_channels_1_b_prev_d;
+    always @(posedge clock) mcu_counters_channels_1_zg_prev_q <= mcu_counters_channels_1_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_1_decoder_up_reg_q <= mcu_counters_channels_1_decoder_up_reg_d;
+    always @(posedge clock) mcu_counters_channels_1_decoder_down_reg_q <= mcu_counters_channels_1_decoder_down_reg_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_lo_q <= mcu_counters_channels_1_counter_lo_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_hi_q <= mcu_counters_channels_1_counter_hi_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_lo_max_q <= mcu_counters_channels_1_counter_lo_max_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_lo_nonzero_q <= mcu_counters_channels_1_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_1_load_q_q <= mcu_counters_channels_1_load_q_d;
+    always @(posedge clock) mcu_counters_channels_1_index_latch_q_q <= mcu_counters_channels_1_index_latch_q_d;
+    always @(posedge clock) mcu_counters_channels_1_index_clear_q_q <= mcu_counters_channels_1_index_clear_q_d;
+    always @(posedge clock) mcu_counters_channels_1_index_q <= mcu_counters_channels_1_index_d;
+    always @(posedge clock) mcu_counters_channels_1_err_q <= mcu_counters_channels_1_err_d;
+    always @(posedge clock) mcu_counters_channels_1_err_count_q <= mcu_counters_channels_1_err_count_d;
+    always @(posedge clock) mcu_counters_channels_1_seen_q <= mcu_counters_channels_1_seen_d;
+    always @(posedge clock) mcu_counters_channels_1_armed_q <= mcu_counters_channels_1_armed_d;
+    always @(posedge clock) mcu_counters_channels_1_ctrl_q <= mcu_counters_channels_1_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_1_snap_count_q <= mcu_counters_channels_1_snap_count_d;
+    always @(posedge clock) mcu_counters_channels_1_snap_index_q <= mcu_counters_channels_1_snap_index_d;
+    always @(posedge clock) mcu_counters_channels_1_snap_status_q <= mcu_counters_channels_1_snap_status_d;
+    always @(posedge clock) mcu_counters_channels_1_read_ctrl_q <= mcu_counters_channels_1_read_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_1_read_count_q <= mcu_counters_channels_1_read_count_d;
+    always @(posedge clock) mcu_counters_channels_1_read_index_q <= mcu_counters_channels_1_read_index_d;
+    always @(posedge clock) mcu_counters_channels_1_read_status_q <= mcu_counters_channels_1_read_status_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_a_sync1_q <= mcu_counters_channels_2_filter_a_sync1_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_a_sync2_q <= mcu_counters_channels_2_filter_a_sync2_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_a_accepted_q <= mcu_counters_channels_2_filter_a_accepted_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_a_count_q <= mcu_counters_channels_2_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_b_sync1_q <= mcu_counters_channels_2_filter_b_sync1_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_b_sync2_q <= mcu_counters_channels_2_filter_b_sync2_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_b_accepted_q <= mcu_counters_channels_2_filter_b_accepted_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_b_count_q <= mcu_counters_channels_2_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_z_sync1_q <= mcu_counters_channels_2_filter_z_sync1_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_z_sync2_q <= mcu_counters_channels_2_filter_z_sync2_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_z_accepted_q <= mcu_counters_channels_2_filter_z_accepted_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_z_count_q <= mcu_counters_channels_2_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_2_a_prev_q <= mcu_counters_channels_2_a_prev_d;
+    always @(posedge clock) mcu_counters_channels_2_b_prev_q <= mcu_counters_channels_2_b_prev_d;
+    always @(posedge clock) mcu_counters_channels_2_zg_prev_q <= mcu_counters_channels_2_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_2_decoder_up_reg_q <= mcu_counters_channels_2_decoder_up_reg_d;
+    always @(posedge clock) mcu_counters_channels_2_decoder_down_reg_q <= mcu_counters_channels_2_decoder_down_reg_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_lo_q <= mcu_counters_channels_2_counter_lo_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_hi_q <= mcu_counters_channels_2_counter_hi_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_lo_max_q <= mcu_counters_channels_2_counter_lo_max_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_lo_nonzero_q <= mcu_counters_channels_2_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_2_load_q_q <= mcu_counters_channels_2_load_q_d;
+    always @(posedge clock) mcu_counters_channels_2_index_latch_q_q <= mcu_counters_channels_2_index_latch_q_d;
+    always @(posedge clock) mcu_counters_channels_2_index_clear_q_q <= mcu_counters_channels_2_index_clear_q_d;
+    always @(posedge clock) mcu_counters_channels_2_index_q <= mcu_counters_channels_2_index_d;
+    always @(posedge clock) mcu_counters_channels_2_err_q <= mcu_counters_channels_2_err_d;
+    always @(posedge clock) mcu_counters_channels_2_err_count_q <= mcu_counters_channels_2_err_count_d;
+    always @(posedge clock) mcu_counters_channels_2_seen_q <= mcu_counters_channels_2_seen_d;
+    always @(posedge clock) mcu_counters_channels_2_armed_q <= mcu_counters_channels_2_armed_d;
+    always @(posedge clock) mcu_counters_channels_2_ctrl_q <= mcu_counters_channels_2_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_2_snap_count_q <= mcu_counters_channels_2_snap_count_d;
+    always @(posedge clock) mcu_counters_channels_2_snap_index_q <= mcu_counters_channels_2_snap_index_d;
+    always @(posedge clock) mcu_counters_channels_2_snap_status_q <= mcu_counters_channels_2_snap_status_d;
+    always @(posedge clock) mcu_counters_channels_2_read_ctrl_q <= mcu_counters_channels_2_read_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_2_read_count_q <= mcu_counters_channels_2_read_count_d;
+    always @(posedge clock) mcu_counters_channels_2_read_index_q <= mcu_counters_channels_2_read_index_d;
+    always @(posedge clock) mcu_counters_channels_2_read_status_q <= mcu_counters_channels_2_read_status_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_a_sync1_q <= mcu_counters_channels_3_filter_a_sync1_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_a_sync2_q <= mcu_counters_channels_3_filter_a_sync2_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_a_accepted_q <= mcu_counters_channels_3_filter_a_accepted_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_a_count_q <= mcu_counters_channels_3_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_b_sync1_q <= mcu_counters_channels_3_filter_b_sync1_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_b_sync2_q <= mcu_counters_channels_3_filter_b_sync2_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_b_accepted_q <= mcu_counters_channels_3_filter_b_accepted_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_b_count_q <= mcu_counters_channels_3_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_z_sync1_q <= mcu_counters_channels_3_filter_z_sync1_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_z_sync2_q <= mcu_counters_channels_3_filter_z_sync2_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_z_accepted_q <= mcu_counters_channels_3_filter_z_accepted_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_z_count_q <= mcu_counters_channels_3_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_3_a_prev_q <= mcu_counters_channels_3_a_prev_d;
+    always @(posedge clock) mcu_counters_channels_3_b_prev_q <= mcu_counters_channels_3_b_prev_d;
+    always @(posedge clock) mcu_counters_channels_3_zg_prev_q <= mcu_counters_channels_3_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_3_decoder_up_reg_q <= mcu_counters_channels_3_decoder_up_reg_d;
+    always @(posedge clock) mcu_counters_channels_3_decoder_down_reg_q <= mcu_counters_channels_3_decoder_down_reg_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_lo_q <= mcu_counters_channels_3_counter_lo_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_hi_q <= mcu_counters_channels_3_counter_hi_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_lo_max_q <= mcu_counters_channels_3_counter_lo_max_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_lo_nonzero_q <= mcu_counters_channels_3_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_3_load_q_q <= mcu_counters_channels_3_load_q_d;
+    always @(posedge clock) mcu_counters_channels_3_index_latch_q_q <= mcu_counters_channels_3_index_latch_q_d;
+    always @(posedge clock) mcu_counters_channels_3_index_clear_q_q <= mcu_counters_channels_3_index_clear_q_d;
+    always @(posedge clock) mcu_counters_channels_3_index_q <= mcu_counters_channels_3_index_d;
+    always @(posedge clock) mcu_counters_channels_3_err_q <= mcu_counters_channels_3_err_d;
+    always @(posedge clock) mcu_counters_channels_3_err_count_q <= mcu_counters_channels_3_err_count_d;
+    always @(posedge clock) mcu_counters_channels_3_seen_q <= mcu_counters_channels_3_seen_d;
+    always @(posedge clock) mcu_counters_channels_3_armed_q <= mcu_counters_channels_3_armed_d;
+    always @(posedge clock) mcu_counters_channels_3_ctrl_q <= mcu_counters_channels_3_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_3_snap_count_q <= mcu_counters_channels_3_snap_count_d;
+    always @(posedge clock) mcu_counters_channels_3_snap_index_q <= mcu_counters_channels_3_snap_index_d;
+    always @(posedge clock) mcu_counters_channels_3_snap_status_q <= mcu_counters_channels_3_snap_status_d;
+    always @(posedge clock) mcu_counters_channels_3_read_ctrl_q <= mcu_counters_channels_3_read_ctrl_d;
+    always @(posedge clock) mcu_counters_channels_3_read_count_q <= mcu_counters_channels_3_read_count_d;
+    always @(posedge clock) mcu_counters_channels_3_read_index_q <= mcu_counters_channels_3_read_index_d;
+    always @(posedge clock) mcu_counters_channels_3_read_status_q <= mcu_counters_channels_3_read_status_d;
+    always @(posedge clock) mcu_counters_preset_q <= mcu_counters_preset_d;
+    always @(posedge clock) mcu_counters_read_data_q <= mcu_counters_read_data_d;
+    always @(posedge clock) mcu_counters_preset_low_is_max_q <= mcu_counters_preset_low_is_max_d;
+    always @(posedge clock) mcu_counters_preset_low_is_nonzero_q <= mcu_counters_preset_low_is_nonzero_d;
+    always @(posedge clock) mcu_counters_read_pending_q <= mcu_counters_read_pending_d;
+    always @(posedge clock) mcu_counters_read_info_q <= mcu_counters_read_info_d;
+    always @(posedge clock) mcu_counters_read_preset_q <= mcu_counters_read_preset_d;
+    always @(posedge clock) mcu_read_from_id_q <= mcu_read_from_id_d;
+    always @(posedge clock) mcu_read_from_counters_q <= mcu_read_from_counters_d;
     always @(posedge clock) pc_bus_core_ior_s1_q <= pc_bus_core_ior_s1_d;
     always @(posedge clock) pc_bus_core_ior_s2_q <= pc_bus_core_ior_s2_d;
     always @(posedge clock) pc_bus_core_ior_s3_q <= pc_bus_core_ior_s3_d;
@@ -2932,166 +3125,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) pc_bus_core_pw_data_q <= pc_bus_core_pw_data_d;
     always @(posedge clock) pc_bus_core_data_q_q <= pc_bus_core_data_q_d;
     always @(posedge clock) pc_bus_core_fresh_q <= pc_bus_core_fresh_d;
-    always @(posedge clock) identity_read_addr_q <= identity_read_addr_d;
-    always @(posedge clock) identity_read_pending_q <= identity_read_pending_d;
-    always @(posedge clock) identity_read_data_q <= identity_read_data_d;
-    always @(posedge clock) counters_channels_0_filter_a_sync1_q <= counters_channels_0_filter_a_sync1_d;
-    always @(posedge clock) counters_channels_0_filter_a_sync2_q <= counters_channels_0_filter_a_sync2_d;
-    always @(posedge clock) counters_channels_0_filter_a_accepted_q <= counters_channels_0_filter_a_accepted_d;
-    always @(posedge clock) counters_channels_0_filter_a_count_q <= counters_channels_0_filter_a_count_d;
-    always @(posedge clock) counters_channels_0_filter_b_sync1_q <= counters_channels_0_filter_b_sync1_d;
-    always @(posedge clock) counters_channels_0_filter_b_sync2_q <= counters_channels_0_filter_b_sync2_d;
-    always @(posedge clock) counters_channels_0_filter_b_accepted_q <= counters_channels_0_filter_b_accepted_d;
-    always @(posedge clock) counters_channels_0_filter_b_count_q <= counters_channels_0_filter_b_count_d;
-    always @(posedge clock) counters_channels_0_filter_z_sync1_q <= counters_channels_0_filter_z_sync1_d;
-    always @(posedge clock) counters_channels_0_filter_z_sync2_q <= counters_channels_0_filter_z_sync2_d;
-    always @(posedge clock) counters_channels_0_filter_z_accepted_q <= counters_channels_0_filter_z_accepted_d;
-    always @(posedge clock) counters_channels_0_filter_z_count_q <= counters_channels_0_filter_z_count_d;
-    always @(posedge clock) counters_channels_0_a_prev_q <= counters_channels_0_a_prev_d;
-    always @(posedge clock) counters_channels_0_b_prev_q <= counters_channels_0_b_prev_d;
-    always @(posedge clock) counters_channels_0_zg_prev_q <= counters_channels_0_zg_prev_d;
-    always @(posedge clock) counters_channels_0_decoder_up_reg_q <= counters_channels_0_decoder_up_reg_d;
-    always @(posedge clock) counters_channels_0_decoder_down_reg_q <= counters_channels_0_decoder_down_reg_d;
-    always @(posedge clock) counters_channels_0_counter_lo_q <= counters_channels_0_counter_lo_d;
-    always @(posedge clock) counters_channels_0_counter_hi_q <= counters_channels_0_counter_hi_d;
-    always @(posedge clock) counters_channels_0_counter_lo_max_q <= counters_channels_0_counter_lo_max_d;
-    always @(posedge clock) counters_channels_0_counter_lo_nonzero_q <= counters_channels_0_counter_lo_nonzero_d;
-    always @(posedge clock) counters_channels_0_load_q_q <= counters_channels_0_load_q_d;
-    always @(posedge clock) counters_channels_0_index_latch_q_q <= counters_channels_0_index_latch_q_d;
-    always @(posedge clock) counters_channels_0_index_clear_q_q <= counters_channels_0_index_clear_q_d;
-    always @(posedge clock) counters_channels_0_index_q <= counters_channels_0_index_d;
-    always @(posedge clock) counters_channels_0_err_q <= counters_channels_0_err_d;
-    always @(posedge clock) counters_channels_0_err_count_q <= counters_channels_0_err_count_d;
-    always @(posedge clock) counters_channels_0_seen_q <= counters_channels_0_seen_d;
-    always @(posedge clock) counters_channels_0_armed_q <= counters_channels_0_armed_d;
-    always @(posedge clock) counters_channels_0_ctrl_q <= counters_channels_0_ctrl_d;
-    always @(posedge clock) counters_channels_0_snap_count_q <= counters_channels_0_snap_count_d;
-    always @(posedge clock) counters_channels_0_snap_index_q <= counters_channels_0_snap_index_d;
-    always @(posedge clock) counters_channels_0_snap_status_q <= counters_channels_0_snap_status_d;
-    always @(posedge clock) counters_channels_0_read_ctrl_q <= counters_channels_0_read_ctrl_d;
-    always @(posedge clock) counters_channels_0_read_count_q <= counters_channels_0_read_count_d;
-    always @(posedge clock) counters_channels_0_read_index_q <= counters_channels_0_read_index_d;
-    always @(posedge clock) counters_channels_0_read_status_q <= counters_channels_0_read_status_d;
-    always @(posedge clock) counters_channels_1_filter_a_sync1_q <= counters_channels_1_filter_a_sync1_d;
-    always @(posedge clock) counters_channels_1_filter_a_sync2_q <= counters_channels_1_filter_a_sync2_d;
-    always @(posedge clock) counters_channels_1_filter_a_accepted_q <= counters_channels_1_filter_a_accepted_d;
-    always @(posedge clock) counters_channels_1_filter_a_count_q <= counters_channels_1_filter_a_count_d;
-    always @(posedge clock) counters_channels_1_filter_b_sync1_q <= counters_channels_1_filter_b_sync1_d;
-    always @(posedge clock) counters_channels_1_filter_b_sync2_q <= counters_channels_1_filter_b_sync2_d;
-    always @(posedge clock) counters_channels_1_filter_b_accepted_q <= counters_channels_1_filter_b_accepted_d;
-    always @(posedge clock) counters_channels_1_filter_b_count_q <= counters_channels_1_filter_b_count_d;
-    always @(posedge clock) counters_channels_1_filter_z_sync1_q <= counters_channels_1_filter_z_sync1_d;
-    always @(posedge clock) counters_channels_1_filter_z_sync2_q <= counters_channels_1_filter_z_sync2_d;
-    always @(posedge clock) counters_channels_1_filter_z_accepted_q <= counters_channels_1_filter_z_accepted_d;
-    always @(posedge clock) counters_channels_1_filter_z_count_q <= counters_channels_1_filter_z_count_d;
-    always @(posedge clock) counters_channels_1_a_prev_q <= counters_channels_1_a_prev_d;
-    always @(posedge clock) counters_channels_1_b_prev_q <= counters_channels_1_b_prev_d;
-    always @(posedge clock) counters_channels_1_zg_prev_q <= counters_channels_1_zg_prev_d;
-    always @(posedge clock) counters_channels_1_decoder_up_reg_q <= counters_channels_1_decoder_up_reg_d;
-    always @(posedge clock) counters_channels_1_decoder_down_reg_q <= counters_channels_1_decoder_down_reg_d;
-    always @(posedge clock) counters_channels_1_counter_lo_q <= counters_channels_1_counter_lo_d;
-    always @(posedge clock) counters_channels_1_counter_hi_q <= counters_channels_1_counter_hi_d;
-    always @(posedge clock) counters_channels_1_counter_lo_max_q <= counters_channels_1_counter_lo_max_d;
-    always @(posedge clock) counters_channels_1_counter_lo_nonzero_q <= counters_channels_1_counter_lo_nonzero_d;
-    always @(posedge clock) counters_channels_1_load_q_q <= counters_channels_1_load_q_d;
-    always @(posedge clock) counters_channels_1_index_latch_q_q <= counters_channels_1_index_latch_q_d;
-    always @(posedge clock) counters_channels_1_index_clear_q_q <= counters_channels_1_index_clear_q_d;
-    always @(posedge clock) counters_channels_1_index_q <= counters_channels_1_index_d;
-    always @(posedge clock) counters_channels_1_err_q <= counters_channels_1_err_d;
-    always @(posedge clock) counters_channels_1_err_count_q <= counters_channels_1_err_count_d;
-    always @(posedge clock) counters_channels_1_seen_q <= counters_channels_1_seen_d;
-    always @(posedge clock) counters_channels_1_armed_q <= counters_channels_1_armed_d;
-    always @(posedge clock) counters_channels_1_ctrl_q <= counters_channels_1_ctrl_d;
-    always @(posedge clock) counters_channels_1_snap_count_q <= counters_channels_1_snap_count_d;
-    always @(posedge clock) counters_channels_1_snap_index_q <= counters_channels_1_snap_index_d;
-    always @(posedge clock) counters_channels_1_snap_status_q <= counters_channels_1_snap_status_d;
-    always @(posedge clock) counters_channels_1_read_ctrl_q <= counters_channels_1_read_ctrl_d;
-    always @(posedge clock) counters_channels_1_read_count_q <= counters_channels_1_read_count_d;
-    always @(posedge clock) counters_channels_1_read_index_q <= counters_channels_1_read_index_d;
-    always @(posedge clock) counters_channels_1_read_status_q <= counters_channels_1_read_status_d;
-    always @(posedge clock) counters_channels_2_filter_a_sync1_q <= counters_channels_2_filter_a_sync1_d;
-    always @(posedge clock) counters_channels_2_filter_a_sync2_q <= counters_channels_2_filter_a_sync2_d;
-    always @(posedge clock) counters_channels_2_filter_a_accepted_q <= counters_channels_2_filter_a_accepted_d;
-    always @(posedge clock) counters_channels_2_filter_a_count_q <= counters_channels_2_filter_a_count_d;
-    always @(posedge clock) counters_channels_2_filter_b_sync1_q <= counters_channels_2_filter_b_sync1_d;
-    always @(posedge clock) counters_channels_2_filter_b_sync2_q <= counters_channels_2_filter_b_sync2_d;
-    always @(posedge clock) counters_channels_2_filter_b_accepted_q <= counters_channels_2_filter_b_accepted_d;
-    always @(posedge clock) counters_channels_2_filter_b_count_q <= counters_channels_2_filter_b_count_d;
-    always @(posedge clock) counters_channels_2_filter_z_sync1_q <= counters_channels_2_filter_z_sync1_d;
-    always @(posedge clock) counters_channels_2_filter_z_sync2_q <= counters_channels_2_filter_z_sync2_d;
-    always @(posedge clock) counters_channels_2_filter_z_accepted_q <= counters_channels_2_filter_z_accepted_d;
-    always @(posedge clock) counters_channels_2_filter_z_count_q <= counters_channels_2_filter_z_count_d;
-    always @(posedge clock) counters_channels_2_a_prev_q <= counters_channels_2_a_prev_d;
-    always @(posedge clock) counters_channels_2_b_prev_q <= counters_channels_2_b_prev_d;
-    always @(posedge clock) counters_channels_2_zg_prev_q <= counters_channels_2_zg_prev_d;
-    always @(posedge clock) counters_channels_2_decoder_up_reg_q <= counters_channels_2_decoder_up_reg_d;
-    always @(posedge clock) counters_channels_2_decoder_down_reg_q <= counters_channels_2_decoder_down_reg_d;
-    always @(posedge clock) counters_channels_2_counter_lo_q <= counters_channels_2_counter_lo_d;
-    always @(posedge clock) counters_channels_2_counter_hi_q <= counters_channels_2_counter_hi_d;
-    always @(posedge clock) counters_channels_2_counter_lo_max_q <= counters_channels_2_counter_lo_max_d;
-    always @(posedge clock) counters_channels_2_counter_lo_nonzero_q <= counters_channels_2_counter_lo_nonzero_d;
-    always @(posedge clock) counters_channels_2_load_q_q <= counters_channels_2_load_q_d;
-    always @(posedge clock) counters_channels_2_index_latch_q_q <= counters_channels_2_index_latch_q_d;
-    always @(posedge clock) counters_channels_2_index_clear_q_q <= counters_channels_2_index_clear_q_d;
-    always @(posedge clock) counters_channels_2_index_q <= counters_channels_2_index_d;
-    always @(posedge clock) counters_channels_2_err_q <= counters_channels_2_err_d;
-    always @(posedge clock) counters_channels_2_err_count_q <= counters_channels_2_err_count_d;
-    always @(posedge clock) counters_channels_2_seen_q <= counters_channels_2_seen_d;
-    always @(posedge clock) counters_channels_2_armed_q <= counters_channels_2_armed_d;
-    always @(posedge clock) counters_channels_2_ctrl_q <= counters_channels_2_ctrl_d;
-    always @(posedge clock) counters_channels_2_snap_count_q <= counters_channels_2_snap_count_d;
-    always @(posedge clock) counters_channels_2_snap_index_q <= counters_channels_2_snap_index_d;
-    always @(posedge clock) counters_channels_2_snap_status_q <= counters_channels_2_snap_status_d;
-    always @(posedge clock) counters_channels_2_read_ctrl_q <= counters_channels_2_read_ctrl_d;
-    always @(posedge clock) counters_channels_2_read_count_q <= counters_channels_2_read_count_d;
-    always @(posedge clock) counters_channels_2_read_index_q <= counters_channels_2_read_index_d;
-    always @(posedge clock) counters_channels_2_read_status_q <= counters_channels_2_read_status_d;
-    always @(posedge clock) counters_channels_3_filter_a_sync1_q <= counters_channels_3_filter_a_sync1_d;
-    always @(posedge clock) counters_channels_3_filter_a_sync2_q <= counters_channels_3_filter_a_sync2_d;
-    always @(posedge clock) counters_channels_3_filter_a_accepted_q <= counters_channels_3_filter_a_accepted_d;
-    always @(posedge clock) counters_channels_3_filter_a_count_q <= counters_channels_3_filter_a_count_d;
-    always @(posedge clock) counters_channels_3_filter_b_sync1_q <= counters_channels_3_filter_b_sync1_d;
-    always @(posedge clock) counters_channels_3_filter_b_sync2_q <= counters_channels_3_filter_b_sync2_d;
-    always @(posedge clock) counters_channels_3_filter_b_accepted_q <= counters_channels_3_filter_b_accepted_d;
-    always @(posedge clock) counters_channels_3_filter_b_count_q <= counters_channels_3_filter_b_count_d;
-    always @(posedge clock) counters_channels_3_filter_z_sync1_q <= counters_channels_3_filter_z_sync1_d;
-    always @(posedge clock) counters_channels_3_filter_z_sync2_q <= counters_channels_3_filter_z_sync2_d;
-    always @(posedge clock) counters_channels_3_filter_z_accepted_q <= counters_channels_3_filter_z_accepted_d;
-    always @(posedge clock) counters_channels_3_filter_z_count_q <= counters_channels_3_filter_z_count_d;
-    always @(posedge clock) counters_channels_3_a_prev_q <= counters_channels_3_a_prev_d;
-    always @(posedge clock) counters_channels_3_b_prev_q <= counters_channels_3_b_prev_d;
-    always @(posedge clock) counters_channels_3_zg_prev_q <= counters_channels_3_zg_prev_d;
-    always @(posedge clock) counters_channels_3_decoder_up_reg_q <= counters_channels_3_decoder_up_reg_d;
-    always @(posedge clock) counters_channels_3_decoder_down_reg_q <= counters_channels_3_decoder_down_reg_d;
-    always @(posedge clock) counters_channels_3_counter_lo_q <= counters_channels_3_counter_lo_d;
-    always @(posedge clock) counters_channels_3_counter_hi_q <= counters_channels_3_counter_hi_d;
-    always @(posedge clock) counters_channels_3_counter_lo_max_q <= counters_channels_3_counter_lo_max_d;
-    always @(posedge clock) counters_channels_3_counter_lo_nonzero_q <= counters_channels_3_counter_lo_nonzero_d;
-    always @(posedge clock) counters_channels_3_load_q_q <= counters_channels_3_load_q_d;
-    always @(posedge clock) counters_channels_3_index_latch_q_q <= counters_channels_3_index_latch_q_d;
-    always @(posedge clock) counters_channels_3_index_clear_q_q <= counters_channels_3_index_clear_q_d;
-    always @(posedge clock) counters_channels_3_index_q <= counters_channels_3_index_d;
-    always @(posedge clock) counters_channels_3_err_q <= counters_channels_3_err_d;
-    always @(posedge clock) counters_channels_3_err_count_q <= counters_channels_3_err_count_d;
-    always @(posedge clock) counters_channels_3_seen_q <= counters_channels_3_seen_d;
-    always @(posedge clock) counters_channels_3_armed_q <= counters_channels_3_armed_d;
-    always @(posedge clock) counters_channels_3_ctrl_q <= counters_channels_3_ctrl_d;
-    always @(posedge clock) counters_channels_3_snap_count_q <= counters_channels_3_snap_count_d;
-    always @(posedge clock) counters_channels_3_snap_index_q <= counters_channels_3_snap_index_d;
-    always @(posedge clock) counters_channels_3_snap_status_q <= counters_channels_3_snap_status_d;
-    always @(posedge clock) counters_channels_3_read_ctrl_q <= counters_channels_3_read_ctrl_d;
-    always @(posedge clock) counters_channels_3_read_count_q <= counters_channels_3_read_count_d;
-    always @(posedge clock) counters_channels_3_read_index_q <= counters_channels_3_read_index_d;
-    always @(posedge clock) counters_channels_3_read_status_q <= counters_channels_3_read_status_d;
-    always @(posedge clock) counters_preset_q <= counters_preset_d;
-    always @(posedge clock) counters_read_data_q <= counters_read_data_d;
-    always @(posedge clock) counters_preset_low_is_max_q <= counters_preset_low_is_max_d;
-    always @(posedge clock) counters_preset_low_is_nonzero_q <= counters_preset_low_is_nonzero_d;
-    always @(posedge clock) counters_read_pending_q <= counters_read_pending_d;
-    always @(posedge clock) counters_read_info_q <= counters_read_info_d;
-    always @(posedge clock) counters_read_preset_q <= counters_read_preset_d;
-    always @(posedge clock) read_from_id_q <= read_from_id_d;
-    always @(posedge clock) read_from_counters_q <= read_from_counters_d;
 
     reg [15:0] pc_bus_ram_pc_mem [0:1023];
     integer pc_bus_ram_pc_mem_i;

@@ -2,7 +2,8 @@
 
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
-    MotionController, PulseModeSelector, PulseModeSelectorRegistered, QuadratureCore,
+    MotionController, MotionControllerExternal, PulseModeSelector, PulseModeSelectorRegistered,
+    QuadratureCore,
 };
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::Block;
@@ -126,24 +127,25 @@ pub fn fsmc_bridge() -> VerilogModule {
 }
 
 /// The top level for `config`: FSMC and ISA bridges, identity block and
-/// counter bank (docs/motion_controller.md). Only with the RAM inside the
-/// FPGA: with an external RAM the MCU reaches the RAM directly and this top
-/// is not built yet (`None`).
-pub fn motion_controller(config: &Config) -> Option<VerilogModule> {
+/// counter bank (docs/motion_controller.md), with the shared RAM inside the
+/// FPGA or the port of an external dual-port SRAM (the ports differ).
+pub fn motion_controller(config: &Config) -> VerilogModule {
     const SUMMARY: &str = "motion-controller top level: FSMC (MCU) and ISA (PC) bridges, \
                            identity block, counter bank, shared RAM (docs/motion_controller.md)";
-    if config.isa_ram() != IsaRam::Internal {
-        return None;
-    }
     macro_rules! top {
-        ($($n:literal)+) => {
+        ($top:ident, $($n:literal)+) => {
             match config.axes() {
-                $($n => module(MotionController::<$n>::new(config), "motion_controller", SUMMARY),)+
+                $($n => module($top::<$n>::new(config), "motion_controller", SUMMARY),)+
                 n => panic!("axes = {n} out of range 1..=16"),
             }
         };
     }
-    Some(top!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16))
+    match config.isa_ram() {
+        IsaRam::Internal => top!(MotionController, 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16),
+        IsaRam::External => {
+            top!(MotionControllerExternal, 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+        }
+    }
 }
 
 /// Every exported module for `config`.
@@ -157,8 +159,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         quadrature_core(config.counter_width()),
         isa_bridge(config.isa_ram()),
         fsmc_bridge(),
+        motion_controller(config),
     ]
-    .into_iter()
-    .chain(motion_controller(config))
-    .collect()
 }

@@ -1,15 +1,15 @@
 //! The top level: the MCU (FSMC) and the PC (ISA) reach the counter bank,
-//! the identity block and the shared RAM (docs/motion_controller.md).
+//! the identity block and the shared RAM (docs/motion_controller.md). Two
+//! builds, as the ISA bridge has two: the RAM inside the FPGA, or an
+//! external dual-port SRAM.
 
-use crate::{CounterBank, FsmcBridge, IdBlock, IsaBridge};
-use motionhdl_model::regmap;
+use crate::{IsaBridge, IsaBridgeExternal, McuSide};
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
-/// `N` axes of encoder input behind the MCU's register bus, with the
-/// ISA bridge's RAM inside the FPGA (its second port is the MCU's RAM
-/// window). Addresses come from `regmap::mcu_map`; a register address no
-/// block decodes reads 0 and ignores writes.
+/// `N` axes, the MCU's register bus ([`McuSide`]) and the PC's ISA bridge
+/// with the shared RAM in block RAM; the RAM's second port is the MCU's RAM
+/// window.
 #[derive(LogicBlock)]
 pub struct MotionController<const N: usize> {
     /// FPGA clock (50 MHz by default).
@@ -56,47 +56,17 @@ pub struct MotionController<const N: usize> {
     pub enc_b: Signal<In, Bits<N>>,
     /// Encoder index inputs.
     pub enc_z: Signal<In, Bits<N>>,
-    mcu_bus: FsmcBridge,
+    mcu: McuSide<N>,
     pc_bus: IsaBridge,
-    identity: IdBlock,
-    counters: CounterBank<N>,
-    // Which block the last read went to, so its `rdata` reaches the bridge.
-    read_from_id: DFF<Bit>,
-    read_from_counters: DFF<Bit>,
-    id_page: Constant<Bits<6>>,
-    counter_page: Constant<Bits<2>>,
-    select_id: Signal<Local, Bit>,
-    select_counters: Signal<Local, Bit>,
 }
 
 impl<const N: usize> MotionController<N> {
-    /// The top level for `config` (its axis count must be `N`; the RAM must
-    /// be internal).
+    /// The top level for `config` (axis count `N`, RAM inside).
     pub fn new(config: &Config) -> Self {
-        assert_eq!(
-            config.axes() as usize,
-            N,
-            "axes = {} but N = {N}",
-            config.axes()
-        );
         assert_eq!(
             config.isa_ram(),
             IsaRam::Internal,
             "this top has the RAM inside"
-        );
-        let map = regmap::mcu_map(config);
-        let id = map.block("ID");
-        let counter = map.block("COUNTER");
-        // The decode below compares reg_addr[9:4] with the ID page and
-        // reg_addr[9:8] with the counter page: the table must agree.
-        assert_eq!(id.address_bits, 4);
-        assert_eq!(counter.address_bits, 8);
-        assert_eq!(regmap::MCU_HALFWORD_ADDRESS_BITS, 12);
-        assert_eq!(map.memories.len(), 1);
-        assert_eq!(
-            map.memories[0].byte_offset,
-            1 << 12,
-            "RAM window is A11 = 1"
         );
         Self {
             clock: Default::default(),
@@ -121,75 +91,35 @@ impl<const N: usize> MotionController<N> {
             enc_a: Default::default(),
             enc_b: Default::default(),
             enc_z: Default::default(),
-            mcu_bus: FsmcBridge::new(),
+            mcu: McuSide::new(config),
             pc_bus: IsaBridge::new(),
-            identity: IdBlock::new(config),
-            counters: CounterBank::new(config.counter_width()),
-            read_from_id: Default::default(),
-            read_from_counters: Default::default(),
-            id_page: Constant::new(((id.base >> 4) as u64).into()),
-            counter_page: Constant::new(((counter.base >> 8) as u64).into()),
-            select_id: Default::default(),
-            select_counters: Default::default(),
         }
     }
 
-    /// The counter bank, for probing in traces.
-    pub fn counters(&self) -> &CounterBank<N> {
-        &self.counters
+    /// The MCU side, for probing in traces.
+    pub fn mcu(&self) -> &McuSide<N> {
+        &self.mcu
     }
 }
 
 impl<const N: usize> Logic for MotionController<N> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, read_from_id, read_from_counters);
-        self.mcu_bus.clock.next = self.clock.val();
-        self.mcu_bus.reset.next = self.reset.val();
+        self.mcu.clock.next = self.clock.val();
+        self.mcu.reset.next = self.reset.val();
         self.pc_bus.clock.next = self.clock.val();
         self.pc_bus.reset.next = self.reset.val();
-        self.identity.clock.next = self.clock.val();
-        self.identity.reset.next = self.reset.val();
-        self.counters.clock.next = self.clock.val();
-        self.counters.reset.next = self.reset.val();
         // MCU side.
-        self.mcu_bus.ne_n.next = self.fsmc_ne_n.val();
-        self.mcu_bus.noe_n.next = self.fsmc_noe_n.val();
-        self.mcu_bus.nwe_n.next = self.fsmc_nwe_n.val();
-        self.mcu_bus.a.next = self.fsmc_a.val();
-        self.mcu_bus.d_in.next = self.fsmc_d_in.val();
-        self.fsmc_d_out.next = self.mcu_bus.d_out.val();
-        self.fsmc_d_oe.next = self.mcu_bus.d_oe.val();
-        // Register decode from the map.
-        self.select_id.next = self.mcu_bus.reg_addr.val().get_bits::<6>(4) == self.id_page.val();
-        self.select_counters.next =
-            self.mcu_bus.reg_addr.val().get_bits::<2>(8) == self.counter_page.val();
-        self.identity.addr.next = self.mcu_bus.reg_addr.val().get_bits::<4>(0);
-        self.identity.re.next = self.mcu_bus.reg_re.val() & self.select_id.val();
-        self.counters.addr.next = self.mcu_bus.reg_addr.val().get_bits::<8>(0);
-        self.counters.wdata.next = self.mcu_bus.reg_wdata.val();
-        self.counters.we.next = self.mcu_bus.reg_we.val() & self.select_counters.val();
-        self.counters.re.next = self.mcu_bus.reg_re.val() & self.select_counters.val();
-        if self.mcu_bus.reg_re.val() {
-            self.read_from_id.d.next = self.select_id.val();
-            self.read_from_counters.d.next = self.select_counters.val();
-        }
-        self.mcu_bus.reg_rdata.next = 0.into();
-        if self.read_from_id.q.val() {
-            self.mcu_bus.reg_rdata.next = self.identity.rdata.val();
-        }
-        if self.read_from_counters.q.val() {
-            self.mcu_bus.reg_rdata.next = self.counters.rdata.val();
-        }
-        if self.reset.val() {
-            self.read_from_id.d.next = false;
-            self.read_from_counters.d.next = false;
-        }
-        // The shared RAM's second port is the MCU's RAM window.
-        self.pc_bus.dsp_addr.next = self.mcu_bus.ram_addr.val();
-        self.pc_bus.dsp_wdata.next = self.mcu_bus.ram_wdata.val();
-        self.pc_bus.dsp_we.next = self.mcu_bus.ram_we.val();
-        self.mcu_bus.ram_rdata.next = self.pc_bus.dsp_rdata.val();
+        self.mcu.fsmc_ne_n.next = self.fsmc_ne_n.val();
+        self.mcu.fsmc_noe_n.next = self.fsmc_noe_n.val();
+        self.mcu.fsmc_nwe_n.next = self.fsmc_nwe_n.val();
+        self.mcu.fsmc_a.next = self.fsmc_a.val();
+        self.mcu.fsmc_d_in.next = self.fsmc_d_in.val();
+        self.fsmc_d_out.next = self.mcu.fsmc_d_out.val();
+        self.fsmc_d_oe.next = self.mcu.fsmc_d_oe.val();
+        self.mcu.enc_a.next = self.enc_a.val();
+        self.mcu.enc_b.next = self.enc_b.val();
+        self.mcu.enc_z.next = self.enc_z.val();
         // PC side.
         self.pc_bus.sa.next = self.isa_sa.val();
         self.pc_bus.sd_in.next = self.isa_sd_in.val();
@@ -201,9 +131,169 @@ impl<const N: usize> Logic for MotionController<N> {
         self.pc_bus.bale.next = self.isa_bale.val();
         self.pc_bus.base.next = self.isa_base.val();
         self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
-        // Encoders.
-        self.counters.a.next = self.enc_a.val();
-        self.counters.b.next = self.enc_b.val();
-        self.counters.z.next = self.enc_z.val();
+        // The shared RAM's second port is the MCU's RAM window.
+        self.pc_bus.dsp_addr.next = self.mcu.ram_addr.val();
+        self.pc_bus.dsp_wdata.next = self.mcu.ram_wdata.val();
+        self.pc_bus.dsp_we.next = self.mcu.ram_we.val();
+        self.mcu.ram_rdata.next = self.pc_bus.dsp_rdata.val();
+    }
+}
+
+/// As [`MotionController`] with the shared RAM outside the FPGA: the ISA
+/// bridge drives the SRAM's left port, the MCU (or DSP) wires straight to
+/// its right port, and the MCU bus has no RAM window (A11 = 1 reads 0 and
+/// ignores writes).
+#[derive(LogicBlock)]
+pub struct MotionControllerExternal<const N: usize> {
+    /// FPGA clock (50 MHz by default).
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset, active high; hold at least 4 clocks.
+    pub reset: Signal<In, Bit>,
+    /// FSMC NE (chip select), asynchronous.
+    pub fsmc_ne_n: Signal<In, Bit>,
+    /// FSMC NOE (read strobe).
+    pub fsmc_noe_n: Signal<In, Bit>,
+    /// FSMC NWE (write strobe).
+    pub fsmc_nwe_n: Signal<In, Bit>,
+    /// FSMC A[11:0]: halfword address (byte address bits 12..1).
+    pub fsmc_a: Signal<In, Bits<12>>,
+    /// FSMC D[15:0] as the MCU drives it.
+    pub fsmc_d_in: Signal<In, Bits<16>>,
+    /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
+    pub fsmc_d_out: Signal<Out, Bits<16>>,
+    /// Drive FSMC D.
+    pub fsmc_d_oe: Signal<Out, Bit>,
+    /// ISA SA9..SA0.
+    pub isa_sa: Signal<In, Bits<10>>,
+    /// ISA SD15..SD0 as the bus drives it.
+    pub isa_sd_in: Signal<In, Bits<16>>,
+    /// Data the card drives on SD while `isa_sd_oe` is high.
+    pub isa_sd_out: Signal<Out, Bits<16>>,
+    /// Drive ISA SD.
+    pub isa_sd_oe: Signal<Out, Bit>,
+    /// ISA IOR#.
+    pub isa_ior_n: Signal<In, Bit>,
+    /// ISA IOW#.
+    pub isa_iow_n: Signal<In, Bit>,
+    /// ISA AEN (high in DMA cycles).
+    pub isa_aen: Signal<In, Bit>,
+    /// ISA BALE.
+    pub isa_bale: Signal<In, Bit>,
+    /// I/O base switches (SA9..SA2 of the card's first port).
+    pub isa_base: Signal<In, Bits<8>>,
+    /// ISA IOCS16#, for an open-collector pad.
+    pub isa_iocs16_n: Signal<Out, Bit>,
+    /// Encoder A inputs, one per axis.
+    pub enc_a: Signal<In, Bits<N>>,
+    /// Encoder B inputs.
+    pub enc_b: Signal<In, Bits<N>>,
+    /// Encoder index inputs.
+    pub enc_z: Signal<In, Bits<N>>,
+    /// External dual-port SRAM, left (PC) port: word address.
+    pub sram_addr: Signal<Out, Bits<10>>,
+    /// SRAM data as the chip drives it.
+    pub sram_d_in: Signal<In, Bits<16>>,
+    /// Data the FPGA drives on the SRAM's data pins while `sram_d_oe`.
+    pub sram_d_out: Signal<Out, Bits<16>>,
+    /// Drive the SRAM's data pins.
+    pub sram_d_oe: Signal<Out, Bit>,
+    /// SRAM CE#.
+    pub sram_ce_n: Signal<Out, Bit>,
+    /// SRAM OE#.
+    pub sram_oe_n: Signal<Out, Bit>,
+    /// SRAM R/W# (WE#).
+    pub sram_we_n: Signal<Out, Bit>,
+    mcu: McuSide<N>,
+    pc_bus: IsaBridgeExternal,
+}
+
+impl<const N: usize> MotionControllerExternal<N> {
+    /// The top level for `config` (axis count `N`, RAM external).
+    pub fn new(config: &Config) -> Self {
+        assert_eq!(
+            config.isa_ram(),
+            IsaRam::External,
+            "this top has the RAM outside"
+        );
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            fsmc_ne_n: Default::default(),
+            fsmc_noe_n: Default::default(),
+            fsmc_nwe_n: Default::default(),
+            fsmc_a: Default::default(),
+            fsmc_d_in: Default::default(),
+            fsmc_d_out: Default::default(),
+            fsmc_d_oe: Default::default(),
+            isa_sa: Default::default(),
+            isa_sd_in: Default::default(),
+            isa_sd_out: Default::default(),
+            isa_sd_oe: Default::default(),
+            isa_ior_n: Default::default(),
+            isa_iow_n: Default::default(),
+            isa_aen: Default::default(),
+            isa_bale: Default::default(),
+            isa_base: Default::default(),
+            isa_iocs16_n: Default::default(),
+            enc_a: Default::default(),
+            enc_b: Default::default(),
+            enc_z: Default::default(),
+            sram_addr: Default::default(),
+            sram_d_in: Default::default(),
+            sram_d_out: Default::default(),
+            sram_d_oe: Default::default(),
+            sram_ce_n: Default::default(),
+            sram_oe_n: Default::default(),
+            sram_we_n: Default::default(),
+            mcu: McuSide::new(config),
+            pc_bus: IsaBridgeExternal::new(),
+        }
+    }
+
+    /// The MCU side, for probing in traces.
+    pub fn mcu(&self) -> &McuSide<N> {
+        &self.mcu
+    }
+}
+
+impl<const N: usize> Logic for MotionControllerExternal<N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.mcu.clock.next = self.clock.val();
+        self.mcu.reset.next = self.reset.val();
+        self.pc_bus.clock.next = self.clock.val();
+        self.pc_bus.reset.next = self.reset.val();
+        // MCU side.
+        self.mcu.fsmc_ne_n.next = self.fsmc_ne_n.val();
+        self.mcu.fsmc_noe_n.next = self.fsmc_noe_n.val();
+        self.mcu.fsmc_nwe_n.next = self.fsmc_nwe_n.val();
+        self.mcu.fsmc_a.next = self.fsmc_a.val();
+        self.mcu.fsmc_d_in.next = self.fsmc_d_in.val();
+        self.fsmc_d_out.next = self.mcu.fsmc_d_out.val();
+        self.fsmc_d_oe.next = self.mcu.fsmc_d_oe.val();
+        self.mcu.enc_a.next = self.enc_a.val();
+        self.mcu.enc_b.next = self.enc_b.val();
+        self.mcu.enc_z.next = self.enc_z.val();
+        // PC side.
+        self.pc_bus.sa.next = self.isa_sa.val();
+        self.pc_bus.sd_in.next = self.isa_sd_in.val();
+        self.isa_sd_out.next = self.pc_bus.sd_out.val();
+        self.isa_sd_oe.next = self.pc_bus.sd_oe.val();
+        self.pc_bus.ior_n.next = self.isa_ior_n.val();
+        self.pc_bus.iow_n.next = self.isa_iow_n.val();
+        self.pc_bus.aen.next = self.isa_aen.val();
+        self.pc_bus.bale.next = self.isa_bale.val();
+        self.pc_bus.base.next = self.isa_base.val();
+        self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
+        // No RAM window on the MCU bus.
+        self.mcu.ram_rdata.next = 0.into();
+        // The SRAM's left port.
+        self.sram_addr.next = self.pc_bus.ram_addr.val();
+        self.pc_bus.ram_d_in.next = self.sram_d_in.val();
+        self.sram_d_out.next = self.pc_bus.ram_d_out.val();
+        self.sram_d_oe.next = self.pc_bus.ram_d_oe.val();
+        self.sram_ce_n.next = self.pc_bus.ram_ce_n.val();
+        self.sram_oe_n.next = self.pc_bus.ram_oe_n.val();
+        self.sram_we_n.next = self.pc_bus.ram_we_n.val();
     }
 }

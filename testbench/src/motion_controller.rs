@@ -10,11 +10,11 @@ use crate::fsmc_bridge::{
 };
 use crate::harness::{settle, CheckReport};
 use crate::verilog_sim::{build_and_run, Simulator};
-use motionhdl_hdl::{catalog, MotionController};
+use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
-use motionhdl_model::Config;
+use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 use std::fmt::Write as _;
 use std::fs;
@@ -202,6 +202,24 @@ pub fn plan(config: &Config) -> Plan {
     o.write32(snapshot, 0);
     read_all(&o, &mut ops, &mut expected);
     let ram_words = o.ram.len();
+    if ram_words == 0 {
+        // No RAM window on this bus: its addresses read 0, writes vanish.
+        let probes = [0u16, 1, 0x2aa, 0x3ff];
+        for (i, k) in probes.iter().enumerate() {
+            ops.push(Op::Write16 {
+                a: RAM_HALFWORD + k,
+                data: 0xA5A5 ^ i as u16,
+            });
+        }
+        for k in probes {
+            ops.push(Op::Read16 {
+                a: RAM_HALFWORD + k,
+            });
+            expected.push(0);
+        }
+        ops.push(Op::Read32 { a: RAM_HALFWORD });
+        expected.extend([0, 0]);
+    }
     for k in 0..ram_words {
         let data = pattern(k as u32, 0xC0DE_0000) as u16;
         ops.push(Op::Write16 {
@@ -239,24 +257,54 @@ pub fn plan(config: &Config) -> Plan {
     }
 }
 
-fn set_pins<const N: usize>(uut: &mut MotionController<N>, p: &FsmcPins, reset: bool) {
-    uut.reset.next = reset;
-    uut.fsmc_ne_n.next = p.ne_n;
-    uut.fsmc_noe_n.next = p.noe_n;
-    uut.fsmc_nwe_n.next = p.nwe_n;
-    uut.fsmc_a.next = u64::from(p.a).into();
-    uut.fsmc_d_in.next = u64::from(p.d_in).into();
-    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
-    uut.isa_ior_n.next = true;
-    uut.isa_iow_n.next = true;
-    uut.isa_aen.next = true;
+/// The pins both top-level builds share with the bench.
+pub trait McuTop: Block {
+    /// Drives the FSMC pins and reset; the PC side idles (no strobes, AEN
+    /// high: a DMA cycle, never ours) and the encoders stay low.
+    fn drive(&mut self, p: &FsmcPins, reset: bool);
+    /// `fsmc_d_oe` and `fsmc_d_out`.
+    fn data(&self) -> (bool, u16);
+    fn clock_input(&mut self) -> &mut Signal<In, Clock>;
 }
 
-/// Steps the rust-hdl top through `ops` under the FSMC BFM: what each read
-/// observed at the MCU's pins, and the clocks simulated.
+macro_rules! mcu_top {
+    ($top:ident) => {
+        impl<const N: usize> McuTop for $top<N> {
+            fn drive(&mut self, p: &FsmcPins, reset: bool) {
+                self.reset.next = reset;
+                self.fsmc_ne_n.next = p.ne_n;
+                self.fsmc_noe_n.next = p.noe_n;
+                self.fsmc_nwe_n.next = p.nwe_n;
+                self.fsmc_a.next = u64::from(p.a).into();
+                self.fsmc_d_in.next = u64::from(p.d_in).into();
+                self.isa_ior_n.next = true;
+                self.isa_iow_n.next = true;
+                self.isa_aen.next = true;
+            }
+            fn data(&self) -> (bool, u16) {
+                (self.fsmc_d_oe.val(), self.fsmc_d_out.val().index() as u16)
+            }
+            fn clock_input(&mut self) -> &mut Signal<In, Clock> {
+                &mut self.clock
+            }
+        }
+    };
+}
+mcu_top!(MotionController);
+mcu_top!(MotionControllerExternal);
+
+/// Steps the rust-hdl top for `config` (either build) through `ops`.
 pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation>, u64) {
+    match config.isa_ram() {
+        IsaRam::Internal => run_top(MotionController::<N>::new(config), ops),
+        IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops),
+    }
+}
+
+/// Steps a rust-hdl top through `ops` under the FSMC BFM: what each read
+/// observed at the MCU's pins, and the clocks simulated.
+pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op]) -> (Vec<Observation>, u64) {
     let (events, end) = timeline(ops, &documented_timing());
-    let mut uut = MotionController::<N>::new(config);
     uut.connect_all();
     let mut pins = FsmcPins::idle();
     let mut reset = false;
@@ -273,9 +321,9 @@ pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation
                     reset = r;
                 }
                 Event::ObserveSetup | Event::ObserveEnd => {
-                    set_pins(&mut uut, &pins, reset);
+                    uut.drive(&pins, reset);
                     settle(&mut uut);
-                    let now = (uut.fsmc_d_oe.val(), uut.fsmc_d_out.val().index() as u16);
+                    let now = uut.data();
                     if matches!(events[i].1, Event::ObserveSetup) {
                         pending = Some(now);
                     } else {
@@ -294,11 +342,11 @@ pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation
         if edge > end {
             break;
         }
-        set_pins(&mut uut, &pins, reset);
+        uut.drive(&pins, reset);
         settle(&mut uut);
-        uut.clock.next = Clock::from(true);
+        uut.clock_input().next = Clock::from(true);
         settle(&mut uut);
-        uut.clock.next = Clock::from(false);
+        uut.clock_input().next = Clock::from(false);
         settle(&mut uut);
         clocks += 1;
         edge += CLOCK_TICKS;
@@ -309,13 +357,27 @@ pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation
 /// The top and an idle PC side under the Verilog FSMC BFM.
 pub fn verilog_testbench(config: &Config, ops: usize) -> String {
     let n = config.axes();
+    let sram = match config.isa_ram() {
+        IsaRam::Internal => "",
+        IsaRam::External => {
+            ",\n        .sram_addr(sram_addr), .sram_d_in(16'h0), .sram_d_out(sram_d_out),\n        \
+             .sram_d_oe(sram_d_oe), .sram_ce_n(sram_ce_n), .sram_oe_n(sram_oe_n), .sram_we_n(sram_we_n)"
+        }
+    };
+    let sram_wires = match config.isa_ram() {
+        IsaRam::Internal => "",
+        IsaRam::External => {
+            "    wire [9:0] sram_addr;\n    wire [15:0] sram_d_out;\n    \
+             wire sram_d_oe, sram_ce_n, sram_oe_n, sram_we_n;\n"
+        }
+    };
     let dut = format!(
         r#"    wire [15:0] d_out;
     wire d_oe;
     wire [15:0] isa_sd_out;
     wire isa_sd_oe;
     wire isa_iocs16_n;
-    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
+{sram_wires}    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
     motion_controller dut (
         .clock(clock), .reset(reset),
         .fsmc_ne_n(ne_n), .fsmc_noe_n(noe_n), .fsmc_nwe_n(nwe_n), .fsmc_a(a),
@@ -323,7 +385,7 @@ pub fn verilog_testbench(config: &Config, ops: usize) -> String {
         .isa_sa(10'h0), .isa_sd_in(16'h0), .isa_sd_out(isa_sd_out), .isa_sd_oe(isa_sd_oe),
         .isa_ior_n(1'b1), .isa_iow_n(1'b1), .isa_aen(1'b1), .isa_bale(1'b0),
         .isa_base(8'h0), .isa_iocs16_n(isa_iocs16_n),
-        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0)
+        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0){sram}
     );
 
     // 50 MHz: rising edges at 10 ns + k * 20 ns.
@@ -348,7 +410,7 @@ pub fn run_verilog(
     ops: &[Op],
 ) -> Result<Vec<Observation>, String> {
     sim.available()?;
-    let top = catalog::motion_controller(config).ok_or("no top for this configuration")?;
+    let top = catalog::motion_controller(config);
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
     let mut hex = String::new();

@@ -17,14 +17,26 @@ fn config() -> Config {
     Config::default()
 }
 
+fn external() -> Config {
+    Config::default().with_isa_ram(IsaRam::External)
+}
+
 fn plan() -> &'static Plan {
     static PLAN: OnceLock<Plan> = OnceLock::new();
     PLAN.get_or_init(|| top::plan(&config()))
 }
 
+fn external_plan() -> &'static Plan {
+    static PLAN: OnceLock<Plan> = OnceLock::new();
+    PLAN.get_or_init(|| top::plan(&external()))
+}
+
 /// Halfword reads the plan makes: three passes over every register word
 /// (two halves each), every RAM word as 16-bit, 32 RAM pairs as 32-bit.
 const EXPECTED_READS: u64 = 3 * 1024 * 2 + 1024 + 32 * 2;
+/// Without a RAM window: the register passes, 4 halfword probes of the
+/// window and one 32-bit probe.
+const EXPECTED_READS_EXTERNAL: u64 = 3 * 1024 * 2 + 4 + 2;
 
 #[test]
 fn the_plan_covers_the_map() {
@@ -56,13 +68,14 @@ fn the_plan_covers_the_map() {
 
 fn check(
     name: &str,
+    plan: &Plan,
     got: Result<Vec<motionhdl_testbench::fsmc_bridge::Observation>, String>,
     sim: Option<Simulator>,
 ) -> CheckReport {
     match got {
-        Ok(obs) => top::compare(name, plan(), &obs),
+        Ok(obs) => top::compare(name, plan, &obs),
         Err(e) => {
-            let mut r = CheckReport::new("motion_controller", name, EXPECTED_READS);
+            let mut r = CheckReport::new("motion_controller", name, plan.expected.len() as u64);
             if sim.is_some_and(|s| s.available().is_err()) {
                 return r.skip(e);
             }
@@ -75,7 +88,12 @@ fn check(
 #[test]
 fn every_register_and_ram_word_through_fsmc_rust_hdl() {
     let (obs, clocks) = top::run_rust::<4>(&config(), &plan().ops);
-    let r = check("every register and RAM word, rust-hdl", Ok(obs), None);
+    let r = check(
+        "every register and RAM word, rust-hdl",
+        plan(),
+        Ok(obs),
+        None,
+    );
     assert!(clocks > 50_000, "{clocks} clocks");
     assert_eq!(r.expected, EXPECTED_READS);
     r.assert_passed();
@@ -87,6 +105,7 @@ fn every_register_and_ram_word_through_fsmc_icarus() {
     let sim = Simulator::Icarus;
     let r = check(
         "every register and RAM word, Icarus",
+        plan(),
         top::run_verilog(sim, &config(), &plan().ops),
         Some(sim),
     );
@@ -101,6 +120,7 @@ fn every_register_and_ram_word_through_fsmc_verilator() {
     let sim = Simulator::Verilator;
     let r = check(
         "every register and RAM word, Verilator",
+        plan(),
         top::run_verilog(sim, &config(), &plan().ops),
         Some(sim),
     );
@@ -129,8 +149,34 @@ fn a_wrong_register_value_is_caught() {
 }
 
 #[test]
-fn the_external_ram_build_has_no_top_yet() {
-    let c = config().with_isa_ram(IsaRam::External);
-    assert!(catalog::motion_controller(&c).is_none());
-    assert!(catalog::motion_controller(&config()).is_some());
+fn external_ram_build_registers_and_no_ram_window() {
+    let p = external_plan();
+    assert_eq!(p.expected.len() as u64, EXPECTED_READS_EXTERNAL);
+    let (obs, _) = top::run_rust::<4>(&external(), &p.ops);
+    let r = check("external RAM build, rust-hdl", p, Ok(obs), None);
+    r.assert_passed();
+    assert_eq!(r.covered, EXPECTED_READS_EXTERNAL);
+    for sim in [Simulator::Icarus, Simulator::Verilator] {
+        let r = check(
+            &format!("external RAM build, {}", sim.name()),
+            p,
+            top::run_verilog(sim, &external(), &p.ops),
+            Some(sim),
+        );
+        r.assert_passed();
+        if r.skipped.is_none() {
+            assert_eq!(r.covered, EXPECTED_READS_EXTERNAL);
+        }
+    }
+}
+
+#[test]
+fn both_builds_export_module_motion_controller() {
+    let internal = catalog::motion_controller(&config()).text;
+    let outside = catalog::motion_controller(&external()).text;
+    for text in [&internal, &outside] {
+        assert!(text.contains("module motion_controller("));
+    }
+    assert!(!internal.contains("sram_we_n"));
+    assert!(outside.contains("sram_we_n"));
 }

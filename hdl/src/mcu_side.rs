@@ -1,0 +1,169 @@
+//! The MCU's side of the top level: the FSMC bridge, its register decode,
+//! the identity block and the counter bank (docs/motion_controller.md).
+
+use crate::{CounterBank, FsmcBridge, IdBlock};
+use motionhdl_model::regmap;
+use motionhdl_model::Config;
+use rust_hdl::prelude::*;
+
+/// `N` axes of encoder input behind the MCU's register bus, and the RAM
+/// window's port for the shared RAM. Addresses come from `regmap::mcu_map`;
+/// a register address no block decodes reads 0 and ignores writes.
+#[derive(LogicBlock)]
+pub struct McuSide<const N: usize> {
+    /// FPGA clock (50 MHz by default).
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset, active high; hold at least 4 clocks.
+    pub reset: Signal<In, Bit>,
+    /// FSMC NE (chip select), asynchronous.
+    pub fsmc_ne_n: Signal<In, Bit>,
+    /// FSMC NOE (read strobe).
+    pub fsmc_noe_n: Signal<In, Bit>,
+    /// FSMC NWE (write strobe).
+    pub fsmc_nwe_n: Signal<In, Bit>,
+    /// FSMC A[11:0]: halfword address (byte address bits 12..1).
+    pub fsmc_a: Signal<In, Bits<12>>,
+    /// FSMC D[15:0] as the MCU drives it.
+    pub fsmc_d_in: Signal<In, Bits<16>>,
+    /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
+    pub fsmc_d_out: Signal<Out, Bits<16>>,
+    /// Drive FSMC D.
+    pub fsmc_d_oe: Signal<Out, Bit>,
+    /// Encoder A inputs, one per axis.
+    pub enc_a: Signal<In, Bits<N>>,
+    /// Encoder B inputs.
+    pub enc_b: Signal<In, Bits<N>>,
+    /// Encoder index inputs.
+    pub enc_z: Signal<In, Bits<N>>,
+    /// RAM window: word address (A[9:0] of an access with A11 = 1).
+    pub ram_addr: Signal<Out, Bits<10>>,
+    /// RAM window write data.
+    pub ram_wdata: Signal<Out, Bits<16>>,
+    /// RAM window write, at the edge where it is high.
+    pub ram_we: Signal<Out, Bit>,
+    /// The word at the previous edge's `ram_addr` (tie to 0 without a RAM).
+    pub ram_rdata: Signal<In, Bits<16>>,
+    mcu_bus: FsmcBridge,
+    identity: IdBlock,
+    counters: CounterBank<N>,
+    // Which block the last read went to, so its `rdata` reaches the bridge.
+    read_from_id: DFF<Bit>,
+    read_from_counters: DFF<Bit>,
+    id_page: Constant<Bits<6>>,
+    counter_page: Constant<Bits<2>>,
+    select_id: Signal<Local, Bit>,
+    select_counters: Signal<Local, Bit>,
+}
+
+impl<const N: usize> McuSide<N> {
+    /// The MCU side for `config` (its axis count must be `N`).
+    pub fn new(config: &Config) -> Self {
+        assert_eq!(
+            config.axes() as usize,
+            N,
+            "axes = {} but N = {N}",
+            config.axes()
+        );
+        let map = regmap::mcu_map(config);
+        let id = map.block("ID");
+        let counter = map.block("COUNTER");
+        // The decode below compares reg_addr[9:4] with the ID page and
+        // reg_addr[9:8] with the counter page: the table must agree.
+        assert_eq!(id.address_bits, 4);
+        assert_eq!(counter.address_bits, 8);
+        assert_eq!(regmap::MCU_HALFWORD_ADDRESS_BITS, 12);
+        // The bridge sends every A11 = 1 access to the RAM port.
+        assert!(map.memories.len() <= 1);
+        for m in &map.memories {
+            assert_eq!(m.byte_offset, 1 << 12, "RAM window is A11 = 1");
+            assert_eq!(m.words, 1 << 10);
+        }
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            fsmc_ne_n: Default::default(),
+            fsmc_noe_n: Default::default(),
+            fsmc_nwe_n: Default::default(),
+            fsmc_a: Default::default(),
+            fsmc_d_in: Default::default(),
+            fsmc_d_out: Default::default(),
+            fsmc_d_oe: Default::default(),
+            enc_a: Default::default(),
+            enc_b: Default::default(),
+            enc_z: Default::default(),
+            ram_addr: Default::default(),
+            ram_wdata: Default::default(),
+            ram_we: Default::default(),
+            ram_rdata: Default::default(),
+            mcu_bus: FsmcBridge::new(),
+            identity: IdBlock::new(config),
+            counters: CounterBank::new(config.counter_width()),
+            read_from_id: Default::default(),
+            read_from_counters: Default::default(),
+            id_page: Constant::new(((id.base >> 4) as u64).into()),
+            counter_page: Constant::new(((counter.base >> 8) as u64).into()),
+            select_id: Default::default(),
+            select_counters: Default::default(),
+        }
+    }
+
+    /// The counter bank, for probing in traces.
+    pub fn counters(&self) -> &CounterBank<N> {
+        &self.counters
+    }
+}
+
+impl<const N: usize> Logic for McuSide<N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, read_from_id, read_from_counters);
+        self.mcu_bus.clock.next = self.clock.val();
+        self.mcu_bus.reset.next = self.reset.val();
+        self.identity.clock.next = self.clock.val();
+        self.identity.reset.next = self.reset.val();
+        self.counters.clock.next = self.clock.val();
+        self.counters.reset.next = self.reset.val();
+        // MCU side.
+        self.mcu_bus.ne_n.next = self.fsmc_ne_n.val();
+        self.mcu_bus.noe_n.next = self.fsmc_noe_n.val();
+        self.mcu_bus.nwe_n.next = self.fsmc_nwe_n.val();
+        self.mcu_bus.a.next = self.fsmc_a.val();
+        self.mcu_bus.d_in.next = self.fsmc_d_in.val();
+        self.fsmc_d_out.next = self.mcu_bus.d_out.val();
+        self.fsmc_d_oe.next = self.mcu_bus.d_oe.val();
+        // Register decode from the map.
+        self.select_id.next = self.mcu_bus.reg_addr.val().get_bits::<6>(4) == self.id_page.val();
+        self.select_counters.next =
+            self.mcu_bus.reg_addr.val().get_bits::<2>(8) == self.counter_page.val();
+        self.identity.addr.next = self.mcu_bus.reg_addr.val().get_bits::<4>(0);
+        self.identity.re.next = self.mcu_bus.reg_re.val() & self.select_id.val();
+        self.counters.addr.next = self.mcu_bus.reg_addr.val().get_bits::<8>(0);
+        self.counters.wdata.next = self.mcu_bus.reg_wdata.val();
+        self.counters.we.next = self.mcu_bus.reg_we.val() & self.select_counters.val();
+        self.counters.re.next = self.mcu_bus.reg_re.val() & self.select_counters.val();
+        if self.mcu_bus.reg_re.val() {
+            self.read_from_id.d.next = self.select_id.val();
+            self.read_from_counters.d.next = self.select_counters.val();
+        }
+        self.mcu_bus.reg_rdata.next = 0.into();
+        if self.read_from_id.q.val() {
+            self.mcu_bus.reg_rdata.next = self.identity.rdata.val();
+        }
+        if self.read_from_counters.q.val() {
+            self.mcu_bus.reg_rdata.next = self.counters.rdata.val();
+        }
+        if self.reset.val() {
+            self.read_from_id.d.next = false;
+            self.read_from_counters.d.next = false;
+        }
+        // The RAM window.
+        self.ram_addr.next = self.mcu_bus.ram_addr.val();
+        self.ram_wdata.next = self.mcu_bus.ram_wdata.val();
+        self.ram_we.next = self.mcu_bus.ram_we.val();
+        self.mcu_bus.ram_rdata.next = self.ram_rdata.val();
+        // Encoders.
+        self.counters.a.next = self.enc_a.val();
+        self.counters.b.next = self.enc_b.val();
+        self.counters.z.next = self.enc_z.val();
+    }
+}
