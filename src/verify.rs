@@ -1,6 +1,9 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
-use motionhdl_testbench::{counter, isa_bridge, ls688, quadrature_core, selector, CheckReport};
+use motionhdl_testbench::{
+    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, quadrature_core, selector,
+    CheckReport,
+};
 
 /// Runs every check. `external` includes the generated-Verilog runs in
 /// Icarus Verilog and Verilator.
@@ -10,6 +13,8 @@ pub fn run(external: bool) -> Vec<CheckReport> {
     v.extend(quadrature_core::all(external));
     v.extend(ls688::all(external));
     v.extend(isa_bridge::all(external));
+    v.extend(fsmc_bridge::all(external));
+    v.extend(motion_controller::all(external));
     v
 }
 

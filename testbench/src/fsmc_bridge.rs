@@ -1228,3 +1228,17 @@ pub fn random_rust() -> CheckReport {
     let ops = random_ops(LONG_RANDOM.0, LONG_RANDOM.1);
     check_rust("random traffic", &ops, &documented_timing()).0
 }
+
+/// The checks `motionhdl verify` shows for the bridge: the phase sweep and
+/// the long random run in rust-hdl, and with `external` in Icarus and
+/// Verilator.
+pub fn all(external: bool) -> Vec<CheckReport> {
+    let mut v = vec![sweep_rust(&documented_timing()).0, random_rust()];
+    if external {
+        for sim in [Simulator::Icarus, Simulator::Verilator] {
+            v.push(sweep_verilog(sim));
+            v.push(random_verilog(sim));
+        }
+    }
+    v
+}

@@ -469,3 +469,47 @@ pub fn compare(name: &str, plan: &Plan, got: &[Observation]) -> CheckReport {
     }
     r
 }
+
+/// The checks `motionhdl verify` shows for the top (default 4 axes): every
+/// register and RAM word through the FSMC pins, both RAM builds, in
+/// rust-hdl and with `external` in Icarus and Verilator.
+pub fn all(external: bool) -> Vec<CheckReport> {
+    let mut v = Vec::new();
+    for ram in [IsaRam::Internal, IsaRam::External] {
+        let config = Config::default().with_isa_ram(ram);
+        let plan = plan(&config);
+        let name = |sim: &str| {
+            format!(
+                "every register word through FSMC, {} RAM, {sim}",
+                ram.name()
+            )
+        };
+        v.push(compare(
+            &name("rust-hdl"),
+            &plan,
+            &run_rust::<4>(&config, &plan.ops).0,
+        ));
+        if external {
+            for sim in [Simulator::Icarus, Simulator::Verilator] {
+                let r = match run_verilog(sim, &config, &plan.ops) {
+                    Ok(obs) => compare(&name(sim.name()), &plan, &obs),
+                    Err(e) => {
+                        let mut r = CheckReport::new(
+                            "motion_controller",
+                            &name(sim.name()),
+                            plan.expected.len() as u64,
+                        );
+                        if sim.available().is_err() {
+                            r = r.skip(e);
+                        } else {
+                            r.failures.push(e);
+                        }
+                        r
+                    }
+                };
+                v.push(r);
+            }
+        }
+    }
+    v
+}
