@@ -1,12 +1,13 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
 use motionhdl_testbench::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, quadrature_core, selector,
+    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, quadrature_core, selector,
     CheckReport,
 };
 
 /// Runs every check. `external` includes the generated-Verilog runs in
-/// Icarus Verilog and Verilator.
+/// Icarus Verilog and Verilator, and each block's check on its
+/// post-synthesis yosys netlist in Icarus.
 pub fn run(external: bool) -> Vec<CheckReport> {
     let mut v = selector::all(external);
     v.extend(counter::all(external));
@@ -15,6 +16,9 @@ pub fn run(external: bool) -> Vec<CheckReport> {
     v.extend(isa_bridge::all(external));
     v.extend(fsmc_bridge::all(external));
     v.extend(motion_controller::all(external));
+    if external {
+        v.extend(netlist::checks());
+    }
     v
 }
 

@@ -94,12 +94,26 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
     }
 }
 
-/// Every exported module of the default build, plus the ISA bridge's
-/// external-SRAM build (also module `isa_bridge`, so never loaded with the
-/// default one).
+/// The external-RAM configuration: its `isa_bridge` and `motion_controller`
+/// differ from the default build's (same module names, other ports).
+fn external_config() -> motionhdl_model::Config {
+    motionhdl_model::Config::default().with_isa_ram(motionhdl_model::IsaRam::External)
+}
+
+/// Every exported module of the default build, plus the modules of the
+/// external-RAM build that differ from it (same names, so never loaded
+/// together with the default ones).
 fn every_build() -> Vec<catalog::VerilogModule> {
-    let mut v = catalog::all(&Default::default());
-    v.push(catalog::isa_bridge(motionhdl_model::IsaRam::External));
+    let default = catalog::all(&Default::default());
+    let mut v = Vec::new();
+    for m in catalog::all(&external_config()) {
+        if !default.iter().any(|d| d.text == m.text) {
+            v.push(m);
+        }
+    }
+    let external: Vec<&str> = v.iter().map(|m| m.name).collect();
+    assert_eq!(external, ["isa_bridge", "motion_controller"]);
+    v.splice(0..0, default);
     v
 }
 
@@ -109,18 +123,22 @@ fn verilator_lint_wall_is_clean() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    for m in every_build() {
-        let f = dir.path().join(format!("{}.v", m.name));
+    // Every module is linted; the failures are reported together.
+    let mut failures = Vec::new();
+    for (k, m) in every_build().iter().enumerate() {
+        // Each in its own directory: both builds have a motion_controller.v.
+        let sub = dir.path().join(k.to_string());
+        fs::create_dir(&sub).unwrap();
+        let f = sub.join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
         let (ok, out, err) = run(Command::new("verilator")
             .args(["--lint-only", "-Wall"])
             .arg(&f));
-        assert!(
-            ok && err.trim().is_empty(),
-            "{}: verilator -Wall:\n{out}{err}",
-            m.name
-        );
+        if !(ok && err.trim().is_empty()) {
+            failures.push(format!("{}: verilator -Wall:\n{out}{err}", m.name));
+        }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
@@ -128,35 +146,46 @@ fn iverilog_wall_is_clean_and_all_files_load_together() {
     if require_tool("iverilog").is_none() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let mut all = Vec::new();
-    for m in catalog::all(&Default::default()) {
-        let f = dir.path().join(format!("{}.v", m.name));
-        fs::write(&f, &m.text).unwrap();
+    for (build, config) in [
+        ("default", motionhdl_model::Config::default()),
+        ("external RAM", external_config()),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut all = Vec::new();
+        for m in catalog::all(&config) {
+            let f = dir.path().join(format!("{}.v", m.name));
+            fs::write(&f, &m.text).unwrap();
+            let (ok, out, err) = run(Command::new("iverilog")
+                .args(["-g2005", "-Wall", "-o"])
+                .arg(dir.path().join("x"))
+                .arg(&f));
+            assert!(
+                ok && err.trim().is_empty() && out.trim().is_empty(),
+                "{build} build, {}: iverilog -Wall:\n{out}{err}",
+                m.name
+            );
+            all.push(f);
+        }
+        // Every file of the build in one compilation: no module name clashes.
         let (ok, out, err) = run(Command::new("iverilog")
             .args(["-g2005", "-Wall", "-o"])
-            .arg(dir.path().join("x"))
-            .arg(&f));
+            .arg(dir.path().join("all"))
+            .args(&all));
         assert!(
-            ok && err.trim().is_empty() && out.trim().is_empty(),
-            "{}: iverilog -Wall:\n{out}{err}",
-            m.name
+            ok && err.trim().is_empty(),
+            "{build} build, all files together:\n{out}{err}"
         );
-        all.push(f);
     }
-    // Every generated file in one compilation: no module name clashes.
-    let (ok, out, err) = run(Command::new("iverilog")
-        .args(["-g2005", "-Wall", "-o"])
-        .arg(dir.path().join("all"))
-        .args(&all));
-    assert!(
-        ok && err.trim().is_empty(),
-        "all files together:\n{out}{err}"
-    );
 }
 
-/// Latch cells yosys may leave after `synth` (generic) or `synth_ice40`.
-const LATCH_CELLS: &str = "t:$_DLATCH* t:$dlatch t:$adlatch t:$_SR_* t:$sr t:$dlatchsr";
+/// Latch cells, coarse-grain and fine-grain. They must be counted before
+/// technology mapping too: synth_ice40 and synth_ecp5 turn a latch into a
+/// LUT with a feedback loop that no later check sees.
+const LATCH_CELLS: &str =
+    "t:$_DLATCH* t:$dlatch t:$adlatch t:$_SR_* t:$sr t:$dlatchsr t:$_DLATCHSR_*";
+
+/// The synthesis flows every generated module goes through.
+const FLOWS: [&str; 3] = ["synth", "synth_ice40", "synth_ecp5"];
 
 /// True if a yosys log reports an inferred latch ("No latch inferred" is fine).
 fn latch_inferred(log: &str) -> bool {
@@ -164,29 +193,71 @@ fn latch_inferred(log: &str) -> bool {
         .any(|l| l.trim_start().starts_with("Latch inferred"))
 }
 
-#[test]
-fn latch_detection_catches_a_latch() {
-    if require_tool("yosys").is_none() {
-        return;
-    }
-    // The check below must be able to fail: a textbook latch trips both parts.
-    let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("l.v");
-    fs::write(&f, "module l(input wire e, input wire d, output reg q);\nalways @(*) if (e) q = d;\nendmodule\n").unwrap();
+/// Synthesises module `top` of `file` with `flow`; `Err(log)` on an
+/// inferred latch, a multiple driver or an undriven net. `check -assert`
+/// fails on "multiple conflicting drivers" and "used but has no driver";
+/// it runs after `proc` (synthesis would otherwise tie an undriven net to
+/// x and remove it before the last check) and after synthesis. The latch
+/// count is asserted zero at both points, and the log must not report a
+/// latch.
+fn synth_check(file: &std::path::Path, top: &str, flow: &str) -> Result<String, String> {
     let script = format!(
-        "read_verilog {}; synth -top l; select -assert-none {LATCH_CELLS}",
-        f.display()
+        "read_verilog {f}; hierarchy -check -top {top}; proc; check -assert; \
+         select -assert-count 0 {LATCH_CELLS}; \
+         {flow} -top {top}; check -assert; select -assert-count 0 {LATCH_CELLS}; stat",
+        f = file.display()
     );
     let (ok, out, err) = run(Command::new("yosys").args(["-p", &script]));
-    assert!(!ok, "latch cell not caught");
-    assert!(
-        latch_inferred(&format!("{out}{err}")),
-        "latch log line not caught"
-    );
+    let log = format!("{out}{err}");
+    if ok && !latch_inferred(&log) {
+        Ok(log)
+    } else {
+        Err(log)
+    }
 }
 
 #[test]
-fn yosys_synthesises_without_latches_or_multiple_drivers() {
+fn synthesis_checks_catch_a_latch_a_multiple_driver_and_an_undriven_net() {
+    if require_tool("yosys").is_none() {
+        return;
+    }
+    // The checks below must be able to fail, in every flow.
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.v");
+    fs::write(
+        &f,
+        "module latch(input wire e, input wire d, output reg q);\n\
+         always @(*) if (e) q = d;\nendmodule\n\
+         module multi(input wire a, input wire b, output wire q);\n\
+         assign q = a;\nassign q = b;\nendmodule\n\
+         module undriven(input wire a, output wire q);\n\
+         wire w;\nassign q = a & w;\nendmodule\n\
+         module good(input wire clock, input wire d, output reg q);\n\
+         always @(posedge clock) q <= d;\nendmodule\n",
+    )
+    .unwrap();
+    for flow in FLOWS {
+        let log = synth_check(&f, "latch", flow).expect_err("latch not caught");
+        assert!(
+            latch_inferred(&log) && log.contains("instead of the asserted 0"),
+            "{flow}: latch: {log}"
+        );
+        let log = synth_check(&f, "multi", flow).expect_err("multiple driver not caught");
+        assert!(
+            log.contains("multiple conflicting drivers"),
+            "{flow}: multiple drivers: {log}"
+        );
+        let log = synth_check(&f, "undriven", flow).expect_err("undriven net not caught");
+        assert!(
+            log.contains("is used but has no driver"),
+            "{flow}: undriven: {log}"
+        );
+        synth_check(&f, "good", flow).unwrap_or_else(|log| panic!("{flow}: good: {log}"));
+    }
+}
+
+/// Every module of both builds through `flow`.
+fn synthesises_cleanly(flow: &str) {
     if require_tool("yosys").is_none() {
         return;
     }
@@ -194,18 +265,25 @@ fn yosys_synthesises_without_latches_or_multiple_drivers() {
     for m in every_build() {
         let f = dir.path().join(format!("{}.v", m.name));
         fs::write(&f, &m.text).unwrap();
-        for synth in ["synth", "synth_ice40"] {
-            let script = format!(
-                "read_verilog {}; {synth} -top {}; check -assert; select -assert-none {LATCH_CELLS}; stat",
-                f.display(),
-                m.name
-            );
-            let (ok, out, err) = run(Command::new("yosys").args(["-p", &script]));
-            let log = format!("{out}{err}");
-            assert!(ok, "{}: yosys {synth}:\n{log}", m.name);
-            assert!(!latch_inferred(&log), "{}: latch inferred:\n{log}", m.name);
+        if let Err(log) = synth_check(&f, m.name, flow) {
+            panic!("{}: yosys {flow}:\n{log}", m.name);
         }
     }
+}
+
+#[test]
+fn generic_synth_has_no_latch_multiple_driver_or_undriven_net() {
+    synthesises_cleanly("synth");
+}
+
+#[test]
+fn synth_ice40_has_no_latch_multiple_driver_or_undriven_net() {
+    synthesises_cleanly("synth_ice40");
+}
+
+#[test]
+fn synth_ecp5_has_no_latch_multiple_driver_or_undriven_net() {
+    synthesises_cleanly("synth_ecp5");
 }
 
 #[test]

@@ -443,14 +443,23 @@ fn core_check_jobs() -> Vec<Job> {
 /// The long deterministic stimulus through the rust-hdl bank beside the
 /// model, every register compared every clock.
 pub fn long_stimulus_hdl(cycles: u64) -> CheckReport {
+    long_stimulus_hdl_seeded(cycles, 12345)
+}
+
+/// Seed of the generated-Verilog runs' stimulus ([`verilog_long_run`]).
+pub const VERILOG_SEED: u32 = 777;
+
+/// [`long_stimulus_hdl`] with another seed: with [`VERILOG_SEED`], the
+/// stimulus of the generated-Verilog runs, clock for clock.
+pub fn long_stimulus_hdl_seeded(cycles: u64, seed: u32) -> CheckReport {
     use crate::counter_stimulus::Stimulus;
     let (axes, width) = (4u32, 28u32);
     let mut r = CheckReport::new(
         "counter_bank",
-        "rust-hdl vs model, random encoder/bus stimulus, 4×28, clocks",
+        &format!("rust-hdl vs model, random encoder/bus stimulus (seed {seed}), 4×28, clocks"),
         cycles,
     );
-    let mut s = Stimulus::new(axes, width, 12345);
+    let mut s = Stimulus::new(axes, width, seed);
     let mut p = BankPair::<4>::new(width, regmap::ERR_COUNT_BITS);
     for n in 0..cycles {
         let c = s.clock();
@@ -463,25 +472,26 @@ pub fn long_stimulus_hdl(cycles: u64) -> CheckReport {
     r
 }
 
-/// The generated `counter_bank.v` (4×28) over `cycles` clocks of the long
-/// stimulus in `sim`, compared with the model through checksums of the
-/// stimulus and of every clock's read data.
-pub fn verilog_long_run(sim: crate::verilog_sim::Simulator, cycles: u64) -> CheckReport {
+/// The generated `counter_bank.v` (4×28), or its netlist, over `cycles`
+/// clocks of the long stimulus, compared with the model through checksums
+/// of the stimulus and of every clock's read data.
+pub fn verilog_long_run(target: impl Into<crate::verilog_sim::Target>, cycles: u64) -> CheckReport {
     use crate::counter_stimulus::{model_sums, verilog_sums};
-    let (axes, width, seed) = (4u32, 28u32, 777u32);
+    let t = target.into();
+    let (axes, width, seed) = (4u32, 28u32, VERILOG_SEED);
     let mut r = CheckReport::new(
         "counter_bank",
-        &format!(
-            "generated Verilog in {} vs model, random stimulus, clocks",
-            sim.name()
-        ),
+        &format!("{} vs model, random stimulus, clocks", t.describe()),
         cycles,
     );
-    if let Err(why) = sim.available() {
+    if let Err(why) = t.available() {
         return r.skip(why);
     }
     let m = motionhdl_hdl::catalog::counter_bank(axes, width);
-    match verilog_sums(sim, &m.text, axes, width, seed, cycles) {
+    match t
+        .text(&m)
+        .and_then(|text| verilog_sums(t.sim, &text, axes, width, seed, cycles))
+    {
         Err(e) => r.failures.push(e),
         Ok(got) => {
             let want = model_sums(axes, width, seed, cycles);

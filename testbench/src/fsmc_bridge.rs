@@ -17,7 +17,7 @@
 //! reads, register writes and RAM writes (nothing lost or doubled).
 
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{build_and_run, Simulator, Target};
 use motionhdl_hdl::{catalog, FsmcBridge};
 use motionhdl_model::fsmc_bridge::{
     self as m, FsmcBridgeModel, FsmcOutputs, FsmcPins, FsmcSlave, FsmcTiming, FsmcTransactions,
@@ -1128,11 +1128,13 @@ endmodule
 /// Runs `ops` with `timing` through the generated `fsmc_bridge.v` under the
 /// Verilog FSMC BFM: the observations and the slave's counts.
 pub fn run_verilog(
-    sim: Simulator,
+    target: impl Into<Target>,
     ops: &[Op],
     timing: &FsmcTiming,
 ) -> Result<(Vec<Observation>, Counts), String> {
-    sim.available()?;
+    let t = target.into();
+    t.available()?;
+    let text = t.text(&catalog::fsmc_bridge())?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
     let mut hex = String::new();
@@ -1141,9 +1143,9 @@ pub fn run_verilog(
     }
     let _ = writeln!(hex, "{:016x}", 0);
     fs::write(d.join("tb.v"), verilog_testbench(timing, ops.len())).map_err(|e| e.to_string())?;
-    fs::write(d.join("fsmc_bridge.v"), catalog::fsmc_bridge().text).map_err(|e| e.to_string())?;
+    fs::write(d.join("fsmc_bridge.v"), text).map_err(|e| e.to_string())?;
     fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
-    let (stdout, _) = build_and_run(sim, d, "fsmc_bfm_tb", &["tb.v", "fsmc_bridge.v"], true)?;
+    let (stdout, _) = build_and_run(t.sim, d, "fsmc_bfm_tb", &["tb.v", "fsmc_bridge.v"], true)?;
     if !stdout.lines().any(|l| l == "DONE") {
         return Err(format!("testbench did not finish:\n{stdout}"));
     }
@@ -1192,35 +1194,41 @@ pub fn parse_reads(stdout: &str) -> Result<Vec<Observation>, String> {
 }
 
 /// Runs `ops` in the generated Verilog against the transaction model.
-pub fn check_verilog(sim: Simulator, name: &str, ops: &[Op], timing: &FsmcTiming) -> CheckReport {
+pub fn check_verilog(
+    target: impl Into<Target>,
+    name: &str,
+    ops: &[Op],
+    timing: &FsmcTiming,
+) -> CheckReport {
+    let t = target.into();
     let (want, _) = expected(ops);
     let mut r = CheckReport::new(
         "fsmc_bridge",
         &format!(
-            "{name}: generated Verilog in {} under the Verilog FSMC BFM vs transaction model",
-            sim.name()
+            "{name}: {} under the Verilog FSMC BFM vs transaction model",
+            t.describe()
         ),
         want.len() as u64 + 1,
     );
-    match run_verilog(sim, ops, timing) {
+    match run_verilog(t, ops, timing) {
         Ok((got, counts)) => compare(&mut r, &got, counts, ops),
-        Err(e) if sim.available().is_err() => return r.skip(e),
+        Err(e) if t.available().is_err() => return r.skip(e),
         Err(e) => r.failures.push(e),
     }
     r
 }
 
 /// The phase sweep in the generated Verilog with the documented timing.
-pub fn sweep_verilog(sim: Simulator) -> CheckReport {
+pub fn sweep_verilog(target: impl Into<Target>) -> CheckReport {
     let (ops, cases) = phase_sweep_ops();
     assert_eq!(cases, SWEEP_CASES);
-    check_verilog(sim, "phase sweep", &ops, &documented_timing())
+    check_verilog(target, "phase sweep", &ops, &documented_timing())
 }
 
 /// The long random run in the generated Verilog.
-pub fn random_verilog(sim: Simulator) -> CheckReport {
+pub fn random_verilog(target: impl Into<Target>) -> CheckReport {
     let ops = random_ops(LONG_RANDOM.0, LONG_RANDOM.1);
-    check_verilog(sim, "random traffic", &ops, &documented_timing())
+    check_verilog(target, "random traffic", &ops, &documented_timing())
 }
 
 /// The long random run in rust-hdl.

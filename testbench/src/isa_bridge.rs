@@ -13,7 +13,7 @@
 //! transaction-level model ([`expected`]).
 
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{build_and_run, Simulator, Target};
 use motionhdl_hdl::{catalog, IsaBridge, IsaBridgeExternal};
 use motionhdl_model::isa_bridge::{
     self as m, reg, status, IsaBridgeExternalModel, IsaBridgeModel, IsaCard, IsaPins, SramPins,
@@ -960,12 +960,14 @@ const EXTERNAL_DUT: &str = r#"    wire [9:0] ram_addr;
 /// bus-functional model. The Verilog RAM starts undefined, so the DSP port
 /// first writes 0 to every word (the transaction model starts at 0).
 pub fn run_verilog(
-    sim: Simulator,
+    target: impl Into<Target>,
     ram: IsaRam,
     base: u8,
     ops: &[Op],
 ) -> Result<Vec<Observation>, String> {
-    sim.available()?;
+    let t = target.into();
+    t.available()?;
+    let text = t.text(&catalog::isa_bridge(ram))?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
     let mut all: Vec<Op> = vec![Op::Reset];
@@ -978,9 +980,9 @@ pub fn run_verilog(
     let _ = writeln!(hex, "{:016x}", 0);
     let tb = verilog_testbench(ram, base, all.len());
     fs::write(d.join("tb.v"), tb).map_err(|e| e.to_string())?;
-    fs::write(d.join("isa_bridge.v"), catalog::isa_bridge(ram).text).map_err(|e| e.to_string())?;
+    fs::write(d.join("isa_bridge.v"), text).map_err(|e| e.to_string())?;
     fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
-    let (stdout, _) = build_and_run(sim, d, "isa_bfm_tb", &["tb.v", "isa_bridge.v"], true)?;
+    let (stdout, _) = build_and_run(t.sim, d, "isa_bfm_tb", &["tb.v", "isa_bridge.v"], true)?;
     if !stdout.lines().any(|l| l == "DONE") {
         return Err(format!("testbench did not finish:\n{stdout}"));
     }
@@ -1221,26 +1223,27 @@ pub fn check_rust(ram: IsaRam, name: &str, ops: &[Op], cases: u64) -> (CheckRepo
 
 /// Runs `ops` in the generated Verilog against the transaction model.
 pub fn check_verilog(
-    sim: Simulator,
+    target: impl Into<Target>,
     ram: IsaRam,
     name: &str,
     ops: &[Op],
     cases: u64,
 ) -> CheckReport {
+    let t = target.into();
     let mut r = CheckReport::new(
         build_name(ram),
         &format!(
-            "{name}: generated Verilog in {} under the Verilog ISA BFM vs transaction model",
-            sim.name()
+            "{name}: {} under the Verilog ISA BFM vs transaction model",
+            t.describe()
         ),
         cases,
     );
-    match run_verilog(sim, ram, TEST_BASE, ops) {
+    match run_verilog(t, ram, TEST_BASE, ops) {
         Ok(got) => {
             compare(&mut r, &got, &expected(TEST_BASE, ops), ops);
             r.covered = cases;
         }
-        Err(e) if sim.available().is_err() => return r.skip(e),
+        Err(e) if t.available().is_err() => return r.skip(e),
         Err(e) => r.failures.push(e),
     }
     r
@@ -1257,10 +1260,10 @@ pub fn exhaustive_rust(ram: IsaRam) -> CheckReport {
 }
 
 /// The exhaustive case set in the generated Verilog.
-pub fn exhaustive_verilog(sim: Simulator, ram: IsaRam) -> CheckReport {
+pub fn exhaustive_verilog(target: impl Into<Target>, ram: IsaRam) -> CheckReport {
     let (ops, cases) = exhaustive_ops();
     assert_eq!(cases, EXHAUSTIVE_CASES);
-    check_verilog(sim, ram, EXHAUSTIVE_NAME, &ops, cases)
+    check_verilog(target, ram, EXHAUSTIVE_NAME, &ops, cases)
 }
 
 /// Words moved and checked by [`block_transfers`]: 2 runs × 3 × 1024.
@@ -1286,10 +1289,10 @@ pub fn block_transfer_rust(ram: IsaRam) -> CheckReport {
 }
 
 /// Block transfers in the generated Verilog.
-pub fn block_transfer_verilog(sim: Simulator, ram: IsaRam) -> CheckReport {
+pub fn block_transfer_verilog(target: impl Into<Target>, ram: IsaRam) -> CheckReport {
     let ops = block_transfers(0x3333);
     check_verilog(
-        sim,
+        target,
         ram,
         "2 KB block transfers both ways",
         &ops,
@@ -1314,7 +1317,7 @@ pub fn all(external: bool) -> Vec<CheckReport> {
                 v.push(block_transfer_verilog(sim, ram));
                 v.push(random_verilog(sim, ram));
             }
-            v.push(collision_check(Some(sim)));
+            v.push(collision_check(Some(sim.into())));
         }
     }
     v
@@ -1411,9 +1414,9 @@ pub fn random_rust(ram: IsaRam) -> CheckReport {
 }
 
 /// The long random run in the generated Verilog.
-pub fn random_verilog(sim: Simulator, ram: IsaRam) -> CheckReport {
+pub fn random_verilog(target: impl Into<Target>, ram: IsaRam) -> CheckReport {
     let ops = random_ops(LONG_RANDOM.0, LONG_RANDOM.1);
-    check_verilog(sim, ram, "random bus traffic", &ops, ops.len() as u64)
+    check_verilog(target, ram, "random bus traffic", &ops, ops.len() as u64)
 }
 
 /// The same-clock write rule, clock by clock: the PC writes DATA at word
@@ -1566,10 +1569,10 @@ pub fn collision_expected(same_word: bool) -> Result<Vec<m::IsaOutputs>, String>
 
 /// The same-clock rule: model vs the documented rule, then rust-hdl and
 /// (when `sim` is given) the generated Verilog vs the model every clock.
-pub fn collision_check(sim: Option<Simulator>) -> CheckReport {
+pub fn collision_check(sim: Option<Target>) -> CheckReport {
     let what = match sim {
         None => "rust-hdl".to_string(),
-        Some(s) => format!("generated Verilog in {}", s.name()),
+        Some(t) => t.describe(),
     };
     let mut r = CheckReport::new(
         build_name(IsaRam::Internal),
@@ -1604,18 +1607,26 @@ pub fn collision_check(sim: Option<Simulator>) -> CheckReport {
                     })
                     .collect()
             }
-            Some(sim) => {
+            Some(t) => {
                 let (inputs, outputs) = collision_ports();
                 let m = catalog::isa_bridge(IsaRam::Internal);
+                let text = match t.text(&m) {
+                    Ok(text) => text,
+                    Err(e) if t.available().is_err() => return r.skip(e),
+                    Err(e) => {
+                        r.failures.push(e);
+                        continue;
+                    }
+                };
                 let design = crate::verilog_sim::Design {
                     top: m.name,
-                    source: &m.text,
+                    source: &text,
                     inputs,
                     outputs,
                     clock: Some("clock"),
                 };
                 let enc: Vec<Vec<u64>> = vectors.iter().map(encode_vector).collect();
-                match crate::verilog_sim::run_vectors(sim, &design, &enc) {
+                match crate::verilog_sim::run_vectors(t.sim, &design, &enc) {
                     Ok(rows) => rows
                         .iter()
                         .map(|o| m::IsaOutputs {
@@ -1625,7 +1636,7 @@ pub fn collision_check(sim: Option<Simulator>) -> CheckReport {
                             dsp_rdata: o[3] as u16,
                         })
                         .collect(),
-                    Err(e) if sim.available().is_err() => return r.skip(e),
+                    Err(e) if t.available().is_err() => return r.skip(e),
                     Err(e) => {
                         r.failures.push(e);
                         continue;

@@ -4,6 +4,7 @@
 //!   check reports, and the rule for external tools under CI.
 //! * [`selector`]: exhaustive checks of the 74LS153 and the pulse-mode selector.
 //! * [`verilog_sim`]: runs the generated Verilog in Icarus Verilog and Verilator.
+//! * [`netlist`]: the post-synthesis yosys netlist of a generated module.
 //! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
 //! * [`scenarios`]: the named traces `motionhdl trace` writes.
 
@@ -16,6 +17,7 @@ pub mod harness;
 pub mod isa_bridge;
 pub mod ls688;
 pub mod motion_controller;
+pub mod netlist;
 pub mod quadrature_core;
 pub mod scenarios;
 pub mod selector;

@@ -3,8 +3,8 @@
 //! against the model.
 
 use crate::harness::{settle, CheckReport};
-use crate::selector::compare_vectors;
-use crate::verilog_sim::{Design, Port, Simulator};
+use crate::selector::{compare_vectors, sim_failure};
+use crate::verilog_sim::{Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, Ls688};
 use motionhdl_model::ls688::{self as m688, Ls688Inputs, INPUT_PINS};
 use rust_hdl::prelude::*;
@@ -29,17 +29,23 @@ pub fn ls688_hdl() -> CheckReport {
     r
 }
 
-/// Every input combination through the generated `ls688.v`.
-pub fn ls688_verilog(sim: Simulator) -> CheckReport {
+/// Every input combination through the generated `ls688.v` (or its
+/// netlist).
+pub fn ls688_verilog(target: impl Into<Target>) -> CheckReport {
+    let t = target.into();
     let r = CheckReport::new(
         "ls688",
-        &format!("generated Verilog in {} vs model", sim.name()),
+        &format!("{} vs model", t.describe()),
         1 << INPUT_PINS,
     );
     let m = catalog::ls688();
+    let text = match t.text(&m) {
+        Ok(text) => text,
+        Err(e) => return sim_failure(r, t, e),
+    };
     let design = Design {
         top: m.name,
-        source: &m.text,
+        source: &text,
         inputs: vec![Port::new("p", 8), Port::new("q", 8), Port::new("g_n", 1)],
         outputs: vec![Port::new("p_eq_q_n", 1)],
         clock: None,
@@ -47,7 +53,7 @@ pub fn ls688_verilog(sim: Simulator) -> CheckReport {
     let inputs: Vec<Ls688Inputs> = every_input().collect();
     compare_vectors(
         r,
-        sim,
+        t,
         &design,
         &inputs,
         |i| vec![u64::from(i.p), u64::from(i.q), u64::from(i.g_n)],

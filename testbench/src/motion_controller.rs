@@ -9,7 +9,7 @@ use crate::fsmc_bridge::{
     FIRST_EDGE_TICKS,
 };
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{build_and_run, Simulator, Source, Target};
 use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::fsmc_bridge::FsmcPins;
@@ -405,12 +405,13 @@ pub fn verilog_testbench(config: &Config, ops: usize) -> String {
 
 /// Runs `ops` through the generated `motion_controller.v` in `sim`.
 pub fn run_verilog(
-    sim: Simulator,
+    target: impl Into<Target>,
     config: &Config,
     ops: &[Op],
 ) -> Result<Vec<Observation>, String> {
-    sim.available()?;
-    let top = catalog::motion_controller(config);
+    let t = target.into();
+    t.available()?;
+    let text = t.text(&catalog::motion_controller(config))?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
     let mut hex = String::new();
@@ -419,10 +420,10 @@ pub fn run_verilog(
     }
     let _ = writeln!(hex, "{:016x}", 0);
     fs::write(d.join("tb.v"), verilog_testbench(config, ops.len())).map_err(|e| e.to_string())?;
-    fs::write(d.join("motion_controller.v"), top.text).map_err(|e| e.to_string())?;
+    fs::write(d.join("motion_controller.v"), text).map_err(|e| e.to_string())?;
     fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
     let (stdout, _) = build_and_run(
-        sim,
+        t.sim,
         d,
         "motion_controller_tb",
         &["tb.v", "motion_controller.v"],
@@ -470,6 +471,34 @@ pub fn compare(name: &str, plan: &Plan, got: &[Observation]) -> CheckReport {
     r
 }
 
+/// Every register and RAM word of `config`'s top through the Verilog FSMC
+/// BFM in `target` (the generated file or its netlist), against the plan.
+pub fn check_verilog(target: impl Into<Target>, config: &Config) -> CheckReport {
+    let t = target.into();
+    let plan = plan(config);
+    let label = match t.source {
+        Source::Generated => t.sim.name().to_string(),
+        _ => t.describe(),
+    };
+    let name = format!(
+        "every register word through FSMC, {} RAM, {label}",
+        config.isa_ram().name()
+    );
+    match run_verilog(t, config, &plan.ops) {
+        Ok(obs) => compare(&name, &plan, &obs),
+        Err(e) => {
+            let r = CheckReport::new("motion_controller", &name, plan.expected.len() as u64);
+            if t.available().is_err() {
+                r.skip(e)
+            } else {
+                let mut r = r;
+                r.failures.push(e);
+                r
+            }
+        }
+    }
+}
+
 /// The checks `motionhdl verify` shows for the top (default 4 axes): every
 /// register and RAM word through the FSMC pins, both RAM builds, in
 /// rust-hdl and with `external` in Icarus and Verilator.
@@ -478,36 +507,17 @@ pub fn all(external: bool) -> Vec<CheckReport> {
     for ram in [IsaRam::Internal, IsaRam::External] {
         let config = Config::default().with_isa_ram(ram);
         let plan = plan(&config);
-        let name = |sim: &str| {
-            format!(
-                "every register word through FSMC, {} RAM, {sim}",
-                ram.name()
-            )
-        };
         v.push(compare(
-            &name("rust-hdl"),
+            &format!(
+                "every register word through FSMC, {} RAM, rust-hdl",
+                ram.name()
+            ),
             &plan,
             &run_rust::<4>(&config, &plan.ops).0,
         ));
         if external {
             for sim in [Simulator::Icarus, Simulator::Verilator] {
-                let r = match run_verilog(sim, &config, &plan.ops) {
-                    Ok(obs) => compare(&name(sim.name()), &plan, &obs),
-                    Err(e) => {
-                        let mut r = CheckReport::new(
-                            "motion_controller",
-                            &name(sim.name()),
-                            plan.expected.len() as u64,
-                        );
-                        if sim.available().is_err() {
-                            r = r.skip(e);
-                        } else {
-                            r.failures.push(e);
-                        }
-                        r
-                    }
-                };
-                v.push(r);
+                v.push(check_verilog(sim, &config));
             }
         }
     }

@@ -3,7 +3,7 @@
 //! generated Verilog in Icarus and Verilator.
 
 use crate::harness::{cycle, settle, CheckReport};
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator};
+use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, QuadratureCore};
 use motionhdl_model::counter::{Channel, ChannelInputs, CounterParams};
 use rust_hdl::prelude::Block;
@@ -94,23 +94,37 @@ pub fn against_channel(width: u32, cycles: u64, seed: u64) -> CheckReport {
     r
 }
 
-/// The same stimulus through the generated `quadrature_core.v` in `sim`:
-/// the `count` port after every clock against the model channel.
-pub fn verilog_against_channel(sim: Simulator, width: u32, cycles: u64, seed: u64) -> CheckReport {
+/// The same stimulus through the generated `quadrature_core.v` (or its
+/// netlist): the `count` port after every clock against the model channel.
+pub fn verilog_against_channel(
+    target: impl Into<Target>,
+    width: u32,
+    cycles: u64,
+    seed: u64,
+) -> CheckReport {
+    let t = target.into();
     let mut r = CheckReport::new(
         "quadrature_core",
         &format!(
-            "W={width}, {cycles} random clocks, generated Verilog in {} vs model channel",
-            sim.name()
+            "W={width}, {cycles} random clocks, {} vs model channel",
+            t.describe()
         ),
         cycles,
     );
     let pins = stimulus(cycles, seed);
     let want = model_counts(width, &pins);
     let m = catalog::quadrature_core(width);
+    let text = match t.text(&m) {
+        Ok(text) => text,
+        Err(e) if t.available().is_err() => return r.skip(e),
+        Err(e) => {
+            r.failures.push(e);
+            return r;
+        }
+    };
     let design = Design {
         top: m.name,
-        source: &m.text,
+        source: &text,
         inputs: vec![Port::new("a", 1), Port::new("b", 1), Port::new("reset", 1)],
         outputs: vec![Port::new("count", 32)],
         clock: Some("clock"),
@@ -122,7 +136,7 @@ pub fn verilog_against_channel(sim: Simulator, width: u32, cycles: u64, seed: u6
         .map(|&(a, b, reset)| vec![u64::from(a), u64::from(b), u64::from(reset)])
         .collect();
     vectors.push(vec![0, 0, 0]);
-    match run_vectors(sim, &design, &vectors) {
+    match run_vectors(t.sim, &design, &vectors) {
         Ok(rows) => {
             for (n, (&(_, _, reset), &want)) in pins.iter().zip(&want).enumerate() {
                 if reset {
@@ -135,7 +149,7 @@ pub fn verilog_against_channel(sim: Simulator, width: u32, cycles: u64, seed: u6
                 );
             }
         }
-        Err(e) if sim.available().is_err() => return r.skip(e),
+        Err(e) if t.available().is_err() => return r.skip(e),
         Err(e) => r.failures.push(e),
     }
     r

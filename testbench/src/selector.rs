@@ -3,7 +3,7 @@
 //! model, and the generated Verilog against the model.
 
 use crate::harness::{cycle, settle, CheckReport};
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator};
+use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::ls153::{self as m153, Ls153Inputs, INPUT_PINS};
 use motionhdl_model::pulse_mode_selector::{self as msel, RegisteredSelector};
@@ -195,12 +195,14 @@ pub fn registered_hdl() -> CheckReport {
     check_registered("rust-hdl vs model, every state × input", &vectors, &outputs)
 }
 
-fn sim_failure(r: CheckReport, sim: Simulator, err: String) -> CheckReport {
-    match sim.available() {
+/// A run that failed: skipped when a tool is missing, else a failure.
+pub(crate) fn sim_failure(r: CheckReport, t: Target, err: String) -> CheckReport {
+    match t.available() {
         Err(why) => r.skip(why),
         Ok(()) => {
             let mut r = r;
-            r.failures.push(format!("{} run failed: {err}", sim.name()));
+            r.failures
+                .push(format!("{} run failed: {err}", t.describe()));
             r
         }
     }
@@ -210,17 +212,22 @@ fn pins(names: &[&str]) -> Vec<Port> {
     names.iter().map(|n| Port::new(n, 1)).collect()
 }
 
-/// All 4096 chip inputs through the generated `ls153.v`.
-pub fn ls153_verilog(sim: Simulator) -> CheckReport {
+/// All 4096 chip inputs through the generated `ls153.v` (or its netlist).
+pub fn ls153_verilog(target: impl Into<Target>) -> CheckReport {
+    let t = target.into();
     let r = CheckReport::new(
         "ls153",
-        &format!("generated Verilog in {} vs model", sim.name()),
+        &format!("{} vs model", t.describe()),
         1 << INPUT_PINS,
     );
     let m = catalog::ls153();
+    let text = match t.text(&m) {
+        Ok(text) => text,
+        Err(e) => return sim_failure(r, t, e),
+    };
     let design = Design {
         top: m.name,
-        source: &m.text,
+        source: &text,
         inputs: pins(&[
             "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2",
             "c2_3",
@@ -233,7 +240,7 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
         .collect();
     compare_vectors(
         r,
-        sim,
+        t,
         &design,
         &inputs,
         |i| {
@@ -259,15 +266,15 @@ pub fn ls153_verilog(sim: Simulator) -> CheckReport {
 /// difference from the model.
 pub(crate) fn compare_vectors<I>(
     r: CheckReport,
-    sim: Simulator,
+    t: Target,
     design: &Design,
     inputs: &[I],
     encode: impl Fn(&I) -> Vec<u64>,
     mismatch: impl Fn(&I, &[u64]) -> Option<String>,
 ) -> CheckReport {
     let vectors: Vec<Vec<u64>> = inputs.iter().map(encode).collect();
-    match run_vectors(sim, design, &vectors) {
-        Err(e) => sim_failure(r, sim, e),
+    match run_vectors(t.sim, design, &vectors) {
+        Err(e) => sim_failure(r, t, e),
         Ok(out) => {
             let mut r = r;
             for (i, o) in inputs.iter().zip(out) {
@@ -278,17 +285,23 @@ pub(crate) fn compare_vectors<I>(
     }
 }
 
-/// Every (K, S2, S1) through the generated `pulse_mode_selector.v`.
-pub fn selector_verilog(sim: Simulator) -> CheckReport {
+/// Every (K, S2, S1) through the generated `pulse_mode_selector.v` (or its
+/// netlist).
+pub fn selector_verilog(target: impl Into<Target>) -> CheckReport {
+    let t = target.into();
     let r = CheckReport::new(
         "pulse_mode_selector",
-        &format!("generated Verilog in {} vs seed table", sim.name()),
+        &format!("{} vs seed table", t.describe()),
         8,
     );
     let m = catalog::pulse_mode_selector();
+    let text = match t.text(&m) {
+        Ok(text) => text,
+        Err(e) => return sim_failure(r, t, e),
+    };
     let design = Design {
         top: m.name,
-        source: &m.text,
+        source: &text,
         inputs: pins(&["k", "s2", "s1"]),
         outputs: pins(&["f1", "f2"]),
         clock: None,
@@ -298,8 +311,8 @@ pub fn selector_verilog(sim: Simulator) -> CheckReport {
         .iter()
         .map(|&(k, s2, s1)| vec![k.into(), s2.into(), s1.into()])
         .collect();
-    match run_vectors(sim, &design, &vectors) {
-        Err(e) => sim_failure(r, sim, e),
+    match run_vectors(t.sim, &design, &vectors) {
+        Err(e) => sim_failure(r, t, e),
         Ok(out) => {
             let mut r = r;
             for (&(k, s2, s1), o) in inputs.iter().zip(out) {
@@ -315,16 +328,25 @@ pub fn selector_verilog(sim: Simulator) -> CheckReport {
     }
 }
 
-/// Every (state, input) pair through the generated `pulse_mode_selector_registered.v`.
-pub fn registered_verilog(sim: Simulator) -> CheckReport {
-    let check = format!(
-        "generated Verilog in {} vs model, every state × input",
-        sim.name()
-    );
+/// Every (state, input) pair through the generated
+/// `pulse_mode_selector_registered.v` (or its netlist).
+pub fn registered_verilog(target: impl Into<Target>) -> CheckReport {
+    let t = target.into();
+    let check = format!("{} vs model, every state × input", t.describe());
     let m = catalog::pulse_mode_selector_registered();
+    let text = match t.text(&m) {
+        Ok(text) => text,
+        Err(e) => {
+            return sim_failure(
+                CheckReport::new("pulse_mode_selector_registered", &check, 64),
+                t,
+                e,
+            )
+        }
+    };
     let design = Design {
         top: m.name,
-        source: &m.text,
+        source: &text,
         inputs: pins(&["reset", "k", "s2", "s1"]),
         outputs: pins(&["f1", "f2"]),
         clock: Some("clock"),
@@ -334,10 +356,10 @@ pub fn registered_verilog(sim: Simulator) -> CheckReport {
         .iter()
         .map(|&(r, k, s2, s1)| vec![r.into(), k.into(), s2.into(), s1.into()])
         .collect();
-    match run_vectors(sim, &design, &raw) {
+    match run_vectors(t.sim, &design, &raw) {
         Err(e) => sim_failure(
             CheckReport::new("pulse_mode_selector_registered", &check, 64),
-            sim,
+            t,
             e,
         ),
         Ok(out) => {

@@ -7,6 +7,7 @@
 //! The rust-hdl side does the same: set inputs, settle, read, clock.
 
 use crate::harness::tool;
+use motionhdl_hdl::catalog::VerilogModule;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -41,6 +42,88 @@ impl Simulator {
             tool(t)?;
         }
         Ok(())
+    }
+}
+
+/// Which Verilog text of a block a check simulates.
+#[derive(Clone, Copy, Debug)]
+pub enum Source {
+    /// The exporter's output, as `motionhdl generate` writes it.
+    Generated,
+    /// The post-synthesis yosys netlist of that text ([`crate::netlist`]).
+    Netlist,
+    /// The netlist after a text substitution: fault injection, to show that
+    /// a netlist comparison can fail.
+    MutatedNetlist(fn(&str) -> String),
+}
+
+impl Source {
+    pub fn name(self) -> &'static str {
+        match self {
+            Source::Generated => "generated Verilog",
+            Source::Netlist => "post-synthesis yosys netlist",
+            Source::MutatedNetlist(_) => "mutated post-synthesis netlist",
+        }
+    }
+
+    /// The Verilog text of `module` this source stands for.
+    pub fn text(self, module: &VerilogModule) -> Result<String, String> {
+        match self {
+            Source::Generated => Ok(module.text.clone()),
+            Source::Netlist => crate::netlist::netlist(module),
+            Source::MutatedNetlist(f) => crate::netlist::netlist(module).map(|t| f(&t)),
+        }
+    }
+
+    /// `Err(reason)` when a needed executable is missing.
+    pub fn available(self) -> Result<(), String> {
+        match self {
+            Source::Generated => Ok(()),
+            Source::Netlist | Source::MutatedNetlist(_) => tool("yosys").map(|_| ()),
+        }
+    }
+}
+
+/// A simulator and the Verilog it runs. A bare [`Simulator`] converts to
+/// the generated file in that simulator.
+#[derive(Clone, Copy, Debug)]
+pub struct Target {
+    pub sim: Simulator,
+    pub source: Source,
+}
+
+impl Target {
+    /// The post-synthesis netlist in `sim`.
+    pub fn netlist(sim: Simulator) -> Self {
+        Self {
+            sim,
+            source: Source::Netlist,
+        }
+    }
+
+    /// "generated Verilog in Icarus Verilog", for check names.
+    pub fn describe(self) -> String {
+        format!("{} in {}", self.source.name(), self.sim.name())
+    }
+
+    /// `Err(reason)` when a needed executable is missing.
+    pub fn available(self) -> Result<(), String> {
+        self.sim.available()?;
+        self.source.available()
+    }
+
+    /// The text to simulate for `module`.
+    pub fn text(self, module: &VerilogModule) -> Result<String, String> {
+        self.source.text(module)
+    }
+}
+
+impl From<Simulator> for Target {
+    fn from(sim: Simulator) -> Self {
+        Self {
+            sim,
+            source: Source::Generated,
+        }
     }
 }
 

@@ -68,8 +68,8 @@ fn same_clock_writes_follow_the_rule_everywhere() {
     let r = isa::collision_check(None);
     assert!(r.expected > 100);
     r.assert_passed();
-    isa::collision_check(Some(Simulator::Icarus)).assert_passed();
-    isa::collision_check(Some(Simulator::Verilator)).assert_passed();
+    isa::collision_check(Some(Simulator::Icarus.into())).assert_passed();
+    isa::collision_check(Some(Simulator::Verilator.into())).assert_passed();
 }
 
 #[test]

@@ -1,0 +1,186 @@
+//! The post-synthesis netlist of a generated module: yosys's generic
+//! synthesis (no vendor cells) down to single-bit gates and flip-flops,
+//! written back as Verilog that Icarus simulates without yosys's simlib.
+//!
+//! Memories stay arrays (no `memory_map`), so the ISA bridge's two 1 K × 16
+//! RAMs remain two `reg [15:0] mem [1023:0]` and the netlist stays small.
+//! Everything else is gates: `techmap` lowers the word-level cells to
+//! `$_AND_`/`$_OR_`/`$_XOR_`/`$_MUX_`/`$_NOT_` and `$_*DFF*_`, `abc`
+//! re-maps the combinational logic, and `write_verilog` prints gates as
+//! `assign` expressions and flip-flops as `always` blocks.
+//!
+//! Netlists are cached per module text within a process: each is made once
+//! however many checks run it.
+
+use crate::harness::tool;
+use motionhdl_hdl::catalog::VerilogModule;
+use std::collections::HashMap;
+use std::fs;
+use std::process::Command;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// The yosys script; `{top}` is the module name. The design is read from
+/// `in.v` and the netlist written to `net.v`.
+pub const SCRIPT: &str = "read_verilog in.v
+synth -top {top} -run begin:fine
+opt -fast -full
+techmap
+opt -fast
+abc
+opt_clean
+check -assert
+write_verilog -noattr net.v
+";
+
+type Entry = Arc<OnceLock<Result<String, String>>>;
+
+fn cache() -> &'static Mutex<HashMap<String, Entry>> {
+    static CACHE: OnceLock<Mutex<HashMap<String, Entry>>> = OnceLock::new();
+    CACHE.get_or_init(Default::default)
+}
+
+/// The post-synthesis netlist of `module` (module name unchanged, same
+/// ports), made by [`SCRIPT`]; cached by module text.
+pub fn netlist(module: &VerilogModule) -> Result<String, String> {
+    let entry = cache()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .entry(module.text.clone())
+        .or_default()
+        .clone();
+    entry
+        .get_or_init(|| synthesise(module.name, &module.text))
+        .clone()
+}
+
+/// Runs [`SCRIPT`] on `text` with top module `top`, uncached.
+pub fn synthesise(top: &str, text: &str) -> Result<String, String> {
+    tool("yosys")?;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let d = dir.path();
+    fs::write(d.join("in.v"), text).map_err(|e| e.to_string())?;
+    fs::write(d.join("script.ys"), SCRIPT.replace("{top}", top)).map_err(|e| e.to_string())?;
+    let out = Command::new("yosys")
+        .current_dir(d)
+        .args(["-q", "-l", "yosys.log", "-s", "script.ys"])
+        .output()
+        .map_err(|e| format!("yosys: cannot start: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "yosys netlist of {top} failed ({}):\n{}\n{}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+            fs::read_to_string(d.join("yosys.log")).unwrap_or_default()
+        ));
+    }
+    let net = fs::read_to_string(d.join("net.v")).map_err(|e| format!("net.v: {e}"))?;
+    check_plain(top, &net)?;
+    Ok(net)
+}
+
+/// A netlist must be plain Verilog: exactly the one module, and no instance
+/// of a yosys internal cell (those would need yosys's simlib).
+fn check_plain(top: &str, net: &str) -> Result<(), String> {
+    let modules: Vec<&str> = net
+        .lines()
+        .filter_map(|l| l.strip_prefix("module "))
+        .collect();
+    if modules.len() != 1 || !modules[0].starts_with(&format!("{top}(")) {
+        return Err(format!("netlist of {top}: modules {modules:?}"));
+    }
+    if let Some(l) = net.lines().find(|l| l.trim_start().starts_with("\\$")) {
+        return Err(format!(
+            "netlist of {top} instantiates a yosys cell (needs simlib): `{}`",
+            l.trim()
+        ));
+    }
+    Ok(())
+}
+
+/// Fault injection for the negative checks: `netlist` with the continuous
+/// assignment to `lhs` inverted (`assign lhs = ~(…);`). Panics if the
+/// netlist has no such assignment.
+pub fn invert_assign(netlist: &str, lhs: &str) -> String {
+    let prefix = format!("  assign {lhs} = ");
+    let mut done = false;
+    let out: Vec<String> = netlist
+        .lines()
+        .map(
+            |l| match l.strip_prefix(&prefix).and_then(|r| r.strip_suffix(';')) {
+                Some(rhs) if !done => {
+                    done = true;
+                    format!("{prefix}~({rhs});")
+                }
+                _ => l.to_string(),
+            },
+        )
+        .collect();
+    assert!(done, "no `assign {lhs} = …;` in the netlist");
+    out.join("\n") + "\n"
+}
+
+/// Size of a netlist: (gate assignments, flip-flop `always` blocks).
+pub fn size(netlist: &str) -> (usize, usize) {
+    let assigns = netlist
+        .lines()
+        .filter(|l| l.trim_start().starts_with("assign "))
+        .count();
+    let flops = netlist
+        .lines()
+        .filter(|l| l.trim_start().starts_with("always "))
+        .count();
+    (assigns, flops)
+}
+
+/// Clocks of the counter bank's random stimulus run on its netlist (the
+/// generated file runs 30 000 in Icarus and 10^7 in Verilator).
+pub const COUNTER_BANK_CLOCKS: u64 = 30_000;
+
+/// Clocks per width of the quadrature core's random run on its netlist (as
+/// on the generated file).
+pub const QUADRATURE_CLOCKS: u64 = 100_000;
+
+/// The quadrature core runs: (width, seed), as on the generated file.
+pub const QUADRATURE_RUNS: [(u32, u64); 2] = [(4, 0x9e37_79b9), (32, 0x2545_f491)];
+
+/// Every block's Verilog check run on the block's post-synthesis netlist in
+/// Icarus, with the vectors and expected results of the generated-file run
+/// (shorter for the counter bank; see [`COUNTER_BANK_CLOCKS`]).
+pub fn checks() -> Vec<crate::CheckReport> {
+    use crate::verilog_sim::{Simulator, Target};
+    use crate::{counter, fsmc_bridge, isa_bridge, ls688, motion_controller};
+    use crate::{quadrature_core, selector};
+    use motionhdl_model::{Config, IsaRam};
+    let t = Target::netlist(Simulator::Icarus);
+    let mut v = vec![
+        selector::ls153_verilog(t),
+        selector::selector_verilog(t),
+        selector::registered_verilog(t),
+        ls688::ls688_verilog(t),
+        counter::verilog_long_run(t, COUNTER_BANK_CLOCKS),
+    ];
+    for (w, seed) in QUADRATURE_RUNS {
+        v.push(quadrature_core::verilog_against_channel(
+            t,
+            w,
+            QUADRATURE_CLOCKS,
+            seed,
+        ));
+    }
+    for ram in [IsaRam::Internal, IsaRam::External] {
+        v.push(isa_bridge::exhaustive_verilog(t, ram));
+        v.push(isa_bridge::block_transfer_verilog(t, ram));
+        v.push(isa_bridge::random_verilog(t, ram));
+    }
+    v.push(isa_bridge::collision_check(Some(t)));
+    v.push(fsmc_bridge::sweep_verilog(t));
+    v.push(fsmc_bridge::random_verilog(t));
+    for ram in [IsaRam::Internal, IsaRam::External] {
+        v.push(motion_controller::check_verilog(
+            t,
+            &Config::default().with_isa_ram(ram),
+        ));
+    }
+    v
+}
