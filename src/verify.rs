@@ -1,8 +1,8 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
 use motionhdl_testbench::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, quadrature_core, selector,
-    CheckReport,
+    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, pulse_generator,
+    quadrature_core, selector, CheckReport,
 };
 
 /// Runs every check. `external` includes the generated-Verilog runs in
@@ -16,6 +16,7 @@ pub fn run(external: bool) -> Vec<CheckReport> {
     v.extend(isa_bridge::all(external));
     v.extend(fsmc_bridge::all(external));
     v.extend(motion_controller::all(external));
+    v.extend(pulse_generator::all(external));
     if external {
         v.extend(netlist::checks());
     }

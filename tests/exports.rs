@@ -57,7 +57,8 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
             "quadrature_core",
             "isa_bridge",
             "fsmc_bridge",
-            "motion_controller"
+            "motion_controller",
+            "pulse_generator"
         ]
     );
     for m in &modules {

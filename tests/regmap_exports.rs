@@ -173,10 +173,12 @@ fn table_counts(map: &BusMap) -> (usize, usize) {
 fn default_table_has_the_registers_the_issue_describes() {
     let map = default_map();
     let set = table_set(&map);
-    // ID: 8 registers; COUNTER: INFO, SNAPSHOT, PRESET + 4 x 5 CH
-    // registers; SHARED_RAM: 1024 words.
-    assert_eq!(table_counts(&map).0, 8 + 3 + 4 * 5);
-    assert_eq!(set.len(), 8 + 3 + 4 * 5 + 1024);
+    // ID: 9 registers; COUNTER: INFO, SNAPSHOT, PRESET + 4 x 5 CH
+    // registers; PULSE: INFO, RUN + 4 x 10 AX registers; SHARED_RAM: 1024
+    // words.
+    assert_eq!(table_counts(&map).0, 9 + 3 + 4 * 5 + 2 + 4 * 10);
+    assert_eq!(set.len(), 9 + 3 + 4 * 5 + 2 + 4 * 10 + 1024);
+    assert_eq!(set[&0x840].path, "PULSE.AX[0].CTRL");
     assert_eq!(set[&0x420].path, "COUNTER.CH[0].CTRL");
     assert_eq!(set[&0x1000].path, "SHARED_RAM[0]");
     let external = mcu_map(&Config::default().with_isa_ram(IsaRam::External));
@@ -441,14 +443,21 @@ fn check_header_numbers(map: &BusMap) -> usize {
 fn header_defines_every_number_of_the_table() {
     let map = default_map();
     let n = check_header_numbers(&map);
-    // 4 globals and 5 FSMC settings; ID: 2 + 8 registers x 2 + 12 fields x 4 + 2 enum values;
+    // 4 globals and 5 FSMC settings; ID: 2 + 9 registers x 2 + 13 fields x 4 + 2 enum values;
     // COUNTER: 2 + 3 x 2 + 4 fields x 4, CH: 2 + 5 x 2 + 23 fields x 4 +
-    // 5 enum values; SHARED_RAM: 4.
+    // 5 enum values; PULSE: 2 + 2 x 2 + 3 fields x 4, AX: 2 + 10 x 2 +
+    // 18 fields x 4 + 2 enum values; SHARED_RAM: 4.
     assert_eq!(
         n,
-        4 + 5 + (2 + 16 + 48 + 2) + (2 + 6 + 16) + (2 + 10 + 92 + 5) + 4
+        4 + 5
+            + (2 + 18 + 52 + 2)
+            + (2 + 6 + 16)
+            + (2 + 10 + 92 + 5)
+            + (2 + 4 + 12)
+            + (2 + 20 + 72 + 2)
+            + 4
     );
-    assert_eq!(n, 214);
+    assert_eq!(n, 334);
     for c in other_configs() {
         check_header_numbers(&mcu_map(&c));
     }
@@ -548,9 +557,9 @@ fn selftest_passes_in_c99_and_c11() {
         let want = expected_checks(&map);
         assert_eq!(selftest::checks(&map).len(), want, "config {k}: checks");
         if k == 0 {
-            // 214 macros, 4 OFFSET(n), 25 struct offsets and sizes,
-            // 2 x 31 register addresses and 2 RAM word addresses.
-            assert_eq!(want, 214 + 4 + 25 + 62 + 2);
+            // 334 macros, 8 OFFSET(n), 42 struct offsets and sizes,
+            // 2 x 74 register addresses and 2 RAM word addresses.
+            assert_eq!(want, 334 + 8 + 42 + 148 + 2);
         }
         let dir = tempfile::tempdir().unwrap();
         write_pair(dir.path(), &map, &c_header::header(&map));
@@ -821,8 +830,8 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
     assert_eq!(got, want);
     let fields: usize = got.values().map(|r| r.fields.len()).sum();
     assert_eq!(fields, table_counts(map).1);
-    // The CH array is one cluster with dim = axes.
-    assert_eq!(text.matches("<cluster>").count(), 1);
+    // The CH and AX arrays are one cluster each with dim = axes.
+    assert_eq!(text.matches("<cluster>").count(), 2);
     // Descriptions, escaped and parsed back.
     let id = dev.get_peripheral("ID").unwrap();
     let magic = id.get_register("MAGIC").unwrap();
@@ -836,9 +845,10 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
 #[test]
 fn svd_parses_back_to_the_table() {
     let (regs, fields) = check_svd(&default_map());
-    // 31 registers and 1024 RAM words; ID 12 fields, COUNTER 4 + 4 x 23.
-    assert_eq!(regs, 31 + 1024);
-    assert_eq!(fields, 12 + 4 + 4 * 23);
+    // 74 registers and 1024 RAM words; ID 13 fields, COUNTER 4 + 4 x 23,
+    // PULSE 3 + 4 x 18.
+    assert_eq!(regs, 74 + 1024);
+    assert_eq!(fields, 13 + 4 + 4 * 23 + 3 + 4 * 18);
     for c in other_configs() {
         check_svd(&mcu_map(&c));
     }
@@ -848,6 +858,8 @@ fn svd_parses_back_to_the_table() {
         "<dimIncrement>0x20</dimIncrement>",
         "<dimIndex>0-3</dimIndex>",
         "<name>CH[%s]</name>",
+        "<name>AX[%s]</name>",
+        "<dimIncrement>0x40</dimIncrement>",
         "<baseAddress>0x60000400</baseAddress>",
         "<baseAddress>0x60001000</baseAddress>",
         "<dim>1024</dim>",
@@ -1018,7 +1030,7 @@ fn check_json(map: &BusMap) -> usize {
 
 #[test]
 fn json_parses_back_to_the_table() {
-    assert_eq!(check_json(&default_map()), 31 + 1024);
+    assert_eq!(check_json(&default_map()), 74 + 1024);
     for c in other_configs() {
         check_json(&mcu_map(&c));
     }
@@ -1346,9 +1358,10 @@ fn rust_module_builds_no_std_and_every_constant_is_the_tables() {
         assert!(ok, "config {k}: constants differ:\n{out}");
         assert_eq!(out, format!("PASS {} FAIL 0\n", expected.len()));
         if k == 0 {
-            // 4 globals; ID 2 + 8 x 2 + 12 x 4 + 2; COUNTER 2 + 3 x 2 + 4 x 4,
-            // CH 3 + 4 + 5 x 2 + 23 x 4 + 5; SHARED_RAM 4.
-            assert_eq!(expected.len(), 4 + 68 + 24 + 114 + 4);
+            // 4 globals; ID 2 + 9 x 2 + 13 x 4 + 2; COUNTER 2 + 3 x 2 + 4 x 4,
+            // CH 3 + 4 + 5 x 2 + 23 x 4 + 5; PULSE 2 + 2 x 2 + 3 x 4, AX 3 +
+            // 4 + 10 x 2 + 18 x 4 + 2; SHARED_RAM 4.
+            assert_eq!(expected.len(), 4 + 74 + 24 + 114 + 18 + 101 + 4);
         }
     }
 }

@@ -2,8 +2,8 @@
 
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
-    MotionController, MotionControllerExternal, PulseModeSelector, PulseModeSelectorRegistered,
-    QuadratureCore,
+    MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
+    PulseModeSelectorRegistered, QuadratureCore,
 };
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::Block;
@@ -148,6 +148,16 @@ pub fn motion_controller(config: &Config) -> VerilogModule {
     }
 }
 
+/// The step/pulse generator of one axis (NCO, step queue, output timing).
+pub fn pulse_generator() -> VerilogModule {
+    module(
+        PulseGenerator::new(),
+        "pulse_generator",
+        "step/pulse generator of one axis: 32-bit NCO, signed step queue, step length/space and \
+         direction set-up/hold timing; S1/S2 for the pulse-mode selector (docs/pulse_generator.md)",
+    )
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -160,5 +170,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         isa_bridge(config.isa_ram()),
         fsmc_bridge(),
         motion_controller(config),
+        pulse_generator(),
     ]
 }

@@ -17,9 +17,13 @@ pub mod ls153;
 pub mod ls688;
 pub mod mcu_side;
 pub mod motion_controller;
+pub mod move_engine;
+pub mod pulse_bank;
+pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod quadrature_core;
 pub mod step_decoder;
+pub mod step_timer;
 pub mod up_down_counter;
 pub mod verilog;
 
@@ -35,9 +39,13 @@ pub use ls153::Ls153;
 pub use ls688::Ls688;
 pub use mcu_side::McuSide;
 pub use motion_controller::{MotionController, MotionControllerExternal};
+pub use move_engine::MoveEngine;
+pub use pulse_bank::PulseBank;
+pub use pulse_generator::PulseGenerator;
 pub use pulse_mode_selector::{PulseModeSelector, PulseModeSelectorRegistered};
 pub use quadrature_core::QuadratureCore;
 pub use step_decoder::StepDecoder;
+pub use step_timer::StepTimer;
 pub use up_down_counter::UpDownCounter;
 
 /// The version stamped into every generated file.

@@ -1,7 +1,7 @@
 //! The MCU's side of the top level: the FSMC bridge, its register decode,
 //! the identity block and the counter bank (docs/motion_controller.md).
 
-use crate::{CounterBank, FsmcBridge, IdBlock};
+use crate::{CounterBank, FsmcBridge, IdBlock, PulseBank};
 use motionhdl_model::regmap;
 use motionhdl_model::Config;
 use rust_hdl::prelude::*;
@@ -43,16 +43,25 @@ pub struct McuSide<const N: usize> {
     pub ram_we: Signal<Out, Bit>,
     /// The word at the previous edge's `ram_addr` (tie to 0 without a RAM).
     pub ram_rdata: Signal<In, Bits<16>>,
+    /// Pulse generator outputs F1 per axis (pulse, CW or quadrature A).
+    pub pulse_f1: Signal<Out, Bits<N>>,
+    /// Pulse generator outputs F2 per axis (direction, CCW or quadrature B).
+    pub pulse_f2: Signal<Out, Bits<N>>,
     mcu_bus: FsmcBridge,
     identity: IdBlock,
     counters: CounterBank<N>,
+    pulses: PulseBank<N>,
     // Which block the last read went to, so its `rdata` reaches the bridge.
     read_from_id: DFF<Bit>,
     read_from_counters: DFF<Bit>,
+    read_from_pulses: DFF<Bit>,
     id_page: Constant<Bits<6>>,
     counter_page: Constant<Bits<2>>,
+    pulse_page: Constant<Bits<1>>,
+    counter_snapshot: Constant<Bits<8>>,
     select_id: Signal<Local, Bit>,
     select_counters: Signal<Local, Bit>,
+    select_pulses: Signal<Local, Bit>,
 }
 
 impl<const N: usize> McuSide<N> {
@@ -67,10 +76,14 @@ impl<const N: usize> McuSide<N> {
         let map = regmap::mcu_map(config);
         let id = map.block("ID");
         let counter = map.block("COUNTER");
-        // The decode below compares reg_addr[9:4] with the ID page and
-        // reg_addr[9:8] with the counter page: the table must agree.
+        let pulse = map.block("PULSE");
+        // The decode below compares reg_addr[9:4] with the ID page,
+        // reg_addr[9:8] with the counter page and reg_addr[9] with the
+        // pulse page: the table must agree.
         assert_eq!(id.address_bits, 4);
         assert_eq!(counter.address_bits, 8);
+        assert_eq!(pulse.address_bits, 9);
+        assert_eq!(map.blocks.len(), 3, "a block the decode does not know");
         assert_eq!(regmap::MCU_HALFWORD_ADDRESS_BITS, 12);
         // The bridge sends every A11 = 1 access to the RAM port.
         assert!(map.memories.len() <= 1);
@@ -98,6 +111,13 @@ impl<const N: usize> McuSide<N> {
             mcu_bus: FsmcBridge::new(),
             identity: IdBlock::new(config),
             counters: CounterBank::new(config.counter_width()),
+            pulses: PulseBank::new(config.counter_width()),
+            pulse_f1: Default::default(),
+            pulse_f2: Default::default(),
+            read_from_pulses: Default::default(),
+            pulse_page: Constant::new(((pulse.base >> 9) as u64).into()),
+            counter_snapshot: Constant::new((counter.register("SNAPSHOT").offset as u64).into()),
+            select_pulses: Default::default(),
             read_from_id: Default::default(),
             read_from_counters: Default::default(),
             id_page: Constant::new(((id.base >> 4) as u64).into()),
@@ -116,7 +136,15 @@ impl<const N: usize> McuSide<N> {
 impl<const N: usize> Logic for McuSide<N> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, read_from_id, read_from_counters);
+        dff_setup!(
+            self,
+            clock,
+            read_from_id,
+            read_from_counters,
+            read_from_pulses
+        );
+        self.pulses.clock.next = self.clock.val();
+        self.pulses.reset.next = self.reset.val();
         self.mcu_bus.clock.next = self.clock.val();
         self.mcu_bus.reset.next = self.reset.val();
         self.identity.clock.next = self.clock.val();
@@ -141,9 +169,23 @@ impl<const N: usize> Logic for McuSide<N> {
         self.counters.wdata.next = self.mcu_bus.reg_wdata.val();
         self.counters.we.next = self.mcu_bus.reg_we.val() & self.select_counters.val();
         self.counters.re.next = self.mcu_bus.reg_re.val() & self.select_counters.val();
+        self.select_pulses.next =
+            self.mcu_bus.reg_addr.val().get_bits::<1>(9) == self.pulse_page.val();
+        self.pulses.addr.next = self.mcu_bus.reg_addr.val().get_bits::<9>(0);
+        self.pulses.wdata.next = self.mcu_bus.reg_wdata.val();
+        self.pulses.we.next = self.mcu_bus.reg_we.val() & self.select_pulses.val();
+        self.pulses.re.next = self.mcu_bus.reg_re.val() & self.select_pulses.val();
+        // The counter bank's SNAPSHOT also captures the pulse positions, so
+        // commanded and counted positions are read as one coherent set.
+        self.pulses.snapshot.next = self.mcu_bus.reg_we.val()
+            & self.select_counters.val()
+            & (self.mcu_bus.reg_addr.val().get_bits::<8>(0) == self.counter_snapshot.val());
+        self.pulse_f1.next = self.pulses.f1.val();
+        self.pulse_f2.next = self.pulses.f2.val();
         if self.mcu_bus.reg_re.val() {
             self.read_from_id.d.next = self.select_id.val();
             self.read_from_counters.d.next = self.select_counters.val();
+            self.read_from_pulses.d.next = self.select_pulses.val();
         }
         self.mcu_bus.reg_rdata.next = 0.into();
         if self.read_from_id.q.val() {
@@ -152,9 +194,13 @@ impl<const N: usize> Logic for McuSide<N> {
         if self.read_from_counters.q.val() {
             self.mcu_bus.reg_rdata.next = self.counters.rdata.val();
         }
+        if self.read_from_pulses.q.val() {
+            self.mcu_bus.reg_rdata.next = self.pulses.rdata.val();
+        }
         if self.reset.val() {
             self.read_from_id.d.next = false;
             self.read_from_counters.d.next = false;
+            self.read_from_pulses.d.next = false;
         }
         // The RAM window.
         self.ram_addr.next = self.mcu_bus.ram_addr.val();

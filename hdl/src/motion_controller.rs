@@ -56,6 +56,10 @@ pub struct MotionController<const N: usize> {
     pub enc_b: Signal<In, Bits<N>>,
     /// Encoder index inputs.
     pub enc_z: Signal<In, Bits<N>>,
+    /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
+    pub pulse_f1: Signal<Out, Bits<N>>,
+    /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
+    pub pulse_f2: Signal<Out, Bits<N>>,
     mcu: McuSide<N>,
     pc_bus: IsaBridge,
 }
@@ -91,6 +95,8 @@ impl<const N: usize> MotionController<N> {
             enc_a: Default::default(),
             enc_b: Default::default(),
             enc_z: Default::default(),
+            pulse_f1: Default::default(),
+            pulse_f2: Default::default(),
             mcu: McuSide::new(config),
             pc_bus: IsaBridge::new(),
         }
@@ -120,6 +126,8 @@ impl<const N: usize> Logic for MotionController<N> {
         self.mcu.enc_a.next = self.enc_a.val();
         self.mcu.enc_b.next = self.enc_b.val();
         self.mcu.enc_z.next = self.enc_z.val();
+        self.pulse_f1.next = self.mcu.pulse_f1.val();
+        self.pulse_f2.next = self.mcu.pulse_f2.val();
         // PC side.
         self.pc_bus.sa.next = self.isa_sa.val();
         self.pc_bus.sd_in.next = self.isa_sd_in.val();
@@ -140,9 +148,12 @@ impl<const N: usize> Logic for MotionController<N> {
 }
 
 /// As [`MotionController`] with the shared RAM outside the FPGA: the ISA
-/// bridge drives the SRAM's left port, the MCU (or DSP) wires straight to
-/// its right port, and the MCU bus has no RAM window (A11 = 1 reads 0 and
-/// ignores writes).
+/// bridge drives the SRAM's left port and the MCU (or DSP) wires straight to
+/// its right port. The MCU bus's A11 = 1 window (1 K x 16) then holds no
+/// RAM of the gateware's (ID.RAM_BASE and RAM_WORDS read 0); its port comes
+/// out as `window_*` for the board (a peripheral, or the SRAM's right port
+/// routed through the FPGA). With `window_rdata` tied to 0 the window reads
+/// 0 and writes go nowhere.
 #[derive(LogicBlock)]
 pub struct MotionControllerExternal<const N: usize> {
     /// FPGA clock (50 MHz by default).
@@ -189,6 +200,10 @@ pub struct MotionControllerExternal<const N: usize> {
     pub enc_b: Signal<In, Bits<N>>,
     /// Encoder index inputs.
     pub enc_z: Signal<In, Bits<N>>,
+    /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
+    pub pulse_f1: Signal<Out, Bits<N>>,
+    /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
+    pub pulse_f2: Signal<Out, Bits<N>>,
     /// External dual-port SRAM, left (PC) port: word address.
     pub sram_addr: Signal<Out, Bits<10>>,
     /// SRAM data as the chip drives it.
@@ -203,6 +218,14 @@ pub struct MotionControllerExternal<const N: usize> {
     pub sram_oe_n: Signal<Out, Bit>,
     /// SRAM R/W# (WE#).
     pub sram_we_n: Signal<Out, Bit>,
+    /// MCU window (A11 = 1): word address A[9:0].
+    pub window_addr: Signal<Out, Bits<10>>,
+    /// MCU window write data.
+    pub window_wdata: Signal<Out, Bits<16>>,
+    /// MCU window write, one clock, at the edge where it is high.
+    pub window_we: Signal<Out, Bit>,
+    /// The word at the previous edge's `window_addr` (tie to 0 if unused).
+    pub window_rdata: Signal<In, Bits<16>>,
     mcu: McuSide<N>,
     pc_bus: IsaBridgeExternal,
 }
@@ -238,6 +261,8 @@ impl<const N: usize> MotionControllerExternal<N> {
             enc_a: Default::default(),
             enc_b: Default::default(),
             enc_z: Default::default(),
+            pulse_f1: Default::default(),
+            pulse_f2: Default::default(),
             sram_addr: Default::default(),
             sram_d_in: Default::default(),
             sram_d_out: Default::default(),
@@ -245,6 +270,10 @@ impl<const N: usize> MotionControllerExternal<N> {
             sram_ce_n: Default::default(),
             sram_oe_n: Default::default(),
             sram_we_n: Default::default(),
+            window_addr: Default::default(),
+            window_wdata: Default::default(),
+            window_we: Default::default(),
+            window_rdata: Default::default(),
             mcu: McuSide::new(config),
             pc_bus: IsaBridgeExternal::new(),
         }
@@ -274,6 +303,8 @@ impl<const N: usize> Logic for MotionControllerExternal<N> {
         self.mcu.enc_a.next = self.enc_a.val();
         self.mcu.enc_b.next = self.enc_b.val();
         self.mcu.enc_z.next = self.enc_z.val();
+        self.pulse_f1.next = self.mcu.pulse_f1.val();
+        self.pulse_f2.next = self.mcu.pulse_f2.val();
         // PC side.
         self.pc_bus.sa.next = self.isa_sa.val();
         self.pc_bus.sd_in.next = self.isa_sd_in.val();
@@ -285,8 +316,11 @@ impl<const N: usize> Logic for MotionControllerExternal<N> {
         self.pc_bus.bale.next = self.isa_bale.val();
         self.pc_bus.base.next = self.isa_base.val();
         self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
-        // No RAM window on the MCU bus.
-        self.mcu.ram_rdata.next = 0.into();
+        // The MCU window goes to the board.
+        self.window_addr.next = self.mcu.ram_addr.val();
+        self.window_wdata.next = self.mcu.ram_wdata.val();
+        self.window_we.next = self.mcu.ram_we.val();
+        self.mcu.ram_rdata.next = self.window_rdata.val();
         // The SRAM's left port.
         self.sram_addr.next = self.pc_bus.ram_addr.val();
         self.pc_bus.ram_d_in.next = self.sram_d_in.val();

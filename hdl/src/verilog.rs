@@ -518,9 +518,53 @@ fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
     }
 }
 
+/// Output ports that the combinational blocks set exactly once, with one
+/// unconditional top-level `port = expr;`: those lines, taken out of the
+/// blocks, become continuous assignments. An output written from inside an
+/// `always @(*)` block that also reads an input breaks when the outside
+/// connects that output back to that input (a loopback in a testbench):
+/// Icarus merges the two port nets, the block changes its own input while
+/// it runs and never wakes for it, and Verilator reports the block as a
+/// combinational loop.
+fn hoist_output_assignments(root: &RawModule, flat: &Flat) -> (Vec<Vec<String>>, Vec<String>) {
+    let mut comb = flat.comb.clone();
+    let mut hoisted = Vec::new();
+    for arg in &root.args {
+        let Some((kind, _)) = flat.ports.get(arg) else {
+            continue;
+        };
+        if kind == "input wire" || kind == "inout wire" {
+            continue;
+        }
+        let prefix = format!("{arg} = ");
+        let writes: Vec<(usize, usize)> = comb
+            .iter()
+            .enumerate()
+            .flat_map(|(b, block)| {
+                block
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, l)| {
+                        let t = l.trim_start();
+                        t.starts_with(&prefix) || t.starts_with(&format!("{arg}["))
+                    })
+                    .map(move |(i, _)| (b, i))
+            })
+            .collect();
+        if let [(b, i)] = writes[..] {
+            let line = &comb[b][i];
+            if line.starts_with(&prefix) && line.ends_with(';') && !line.contains("?") {
+                hoisted.push(format!("assign {line}"));
+                comb[b].remove(i);
+            }
+        }
+    }
+    (comb, hoisted)
+}
+
 fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
-    let assigned: BTreeSet<String> = flat
-        .comb
+    let (comb, hoisted) = hoist_output_assignments(root, flat);
+    let assigned: BTreeSet<String> = comb
         .iter()
         .flatten()
         .filter_map(|l| l.trim().split(" = ").next().filter(|_| l.contains(" = ")))
@@ -580,7 +624,13 @@ fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
             ));
         }
     }
-    for block in &flat.comb {
+    if !hoisted.is_empty() {
+        t.push('\n');
+        for a in &hoisted {
+            t.push_str(&format!("    {}\n", size_literals(a, &flat.widths)));
+        }
+    }
+    for block in &comb {
         if block.iter().all(|l| l.trim().is_empty()) {
             continue;
         }

@@ -437,6 +437,190 @@ pub fn counter_bank(axes: u32, width: u32) -> Block {
     }
 }
 
+/// The pulse generators: per axis an NCO rate, step timing, output mode
+/// and the position of emitted steps; RUN starts and stops axes together.
+pub fn pulse_bank(axes: u32, width: u32) -> Block {
+    use Access::*;
+    assert!(
+        (1..=16).contains(&axes),
+        "axes = {axes} out of range 1..=16"
+    );
+    assert!(
+        (2..=32).contains(&width),
+        "width = {width} out of range 2..=32"
+    );
+    let mut info_axes = field("AXES", 0, 5, ReadOnly, "Number of pulse generators.");
+    info_axes.reset = axes;
+    let mut info_width = field("WIDTH", 8, 6, ReadOnly, "POSITION width in bits.");
+    info_width.reset = width;
+    let mut mode = field(
+        "MODE",
+        0,
+        1,
+        ReadWrite,
+        "Output mode: the pulse-mode selector's K input.",
+    );
+    mode.values = vec![
+        EnumValue {
+            name: "PULSE_DIR",
+            value: 0,
+            description: "F1 = step (S1), F2 = direction (S2, 1 = negative).",
+        },
+        EnumValue {
+            name: "CW_CCW",
+            value: 1,
+            description:
+                "F1 = steps in the positive direction, F2 = steps in the negative direction.",
+        },
+    ];
+    let timing = |lo: &'static str, hi: &'static str, lo_doc, hi_doc| {
+        vec![
+            field(lo, 0, 16, ReadWrite, lo_doc),
+            field(hi, 16, 16, ReadWrite, hi_doc),
+        ]
+    };
+    Block {
+        name: "PULSE",
+        description: "Step/pulse generators (docs/pulse_generator.md)",
+        base: 0,
+        address_bits: 9,
+        registers: vec![
+            reg("INFO", 0, ReadOnly, "Build parameters of the pulse generators.", "", vec![info_axes, info_width]),
+            reg(
+                "RUN",
+                1,
+                ReadWrite,
+                "Bit n runs axis n's NCO. One write starts (or stops) every axis it names in the same clock.",
+                "Stopping an axis stops new steps; steps already commanded still go out.",
+                vec![field("AXES", 0, axes, ReadWrite, "One bit per axis.")],
+            ),
+        ],
+        arrays: vec![RegisterArray {
+            name: "AX",
+            count: axes,
+            offset: 16,
+            stride: 16,
+            registers: vec![
+                reg(
+                    "CTRL",
+                    0,
+                    ReadWrite,
+                    "Output mode.",
+                    "",
+                    vec![
+                        mode,
+                        field(
+                            "QUADRATURE",
+                            1,
+                            1,
+                            ReadWrite,
+                            "F1/F2 = quadrature A/B instead of the selector: one A or B edge per step (count it x4).",
+                        ),
+                        field(
+                            "MOVES",
+                            2,
+                            1,
+                            ReadWrite,
+                            "The NCO runs the segment FIFO's moves instead of RATE.",
+                        ),
+                    ],
+                ),
+                reg(
+                    "RATE",
+                    1,
+                    ReadWrite,
+                    "Signed NCO rate: steps per clock = RATE / 2^32, up to half the clock.",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; the sign is the direction.")],
+                ),
+                reg(
+                    "STEP_TIMING",
+                    2,
+                    ReadWrite,
+                    "Minimum step pulse length and space, in clocks (0 counts as 1).",
+                    "",
+                    timing("STEP_LEN", "STEP_SPACE", "S1 high at least this long.", "S1 low at least this long between steps."),
+                ),
+                reg(
+                    "DIR_TIMING",
+                    3,
+                    ReadWrite,
+                    "Minimum direction set-up and hold, in clocks (0 counts as 1).",
+                    "",
+                    timing("DIR_SETUP", "DIR_HOLD", "S2 stable at least this long before S1 rises.", "S1 low at least this long before S2 changes."),
+                ),
+                reg(
+                    "POSITION",
+                    4,
+                    ReadOnly,
+                    "Steps emitted at the counter bank's last SNAPSHOT, sign-extended from WIDTH bits.",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadOnly, "Two's complement; wraps modulo 2^WIDTH.")],
+                ),
+                reg(
+                    "STATUS",
+                    5,
+                    ReadOnly,
+                    "Live state of the axis.",
+                    "",
+                    vec![
+                        field("PENDING", 0, 16, ReadOnly, "Steps commanded but not yet emitted, signed."),
+                        field("BUSY", 16, 1, ReadOnly, "Steps pending or S1 high."),
+                        field("MOVING", 17, 1, ReadOnly, "A segment is running."),
+                        field(
+                            "DONE",
+                            18,
+                            1,
+                            ReadOnly,
+                            "Sticky: every pushed segment has commanded all its steps (cleared by SEG_PUSH). DONE and not BUSY: the move is out.",
+                        ),
+                        field(
+                            "OVERFLOW",
+                            19,
+                            1,
+                            ReadOnly,
+                            "Sticky: a SEG_PUSH found the FIFO full and was dropped (cleared by writing CTRL).",
+                        ),
+                        field("FIFO_LEVEL", 20, 3, ReadOnly, "Segments waiting in the FIFO (0..=4)."),
+                    ],
+                ),
+                reg(
+                    "SEG_STEPS",
+                    6,
+                    ReadWrite,
+                    "Next segment: steps to command (unsigned).",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Steps.")],
+                ),
+                reg(
+                    "SEG_RATE",
+                    7,
+                    ReadWrite,
+                    "Next segment: starting NCO rate (signed, as RATE).",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; the sign is the direction.")],
+                ),
+                reg(
+                    "SEG_ACCEL",
+                    8,
+                    ReadWrite,
+                    "Next segment: added to the rate on every clock the NCO advances (signed).",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement.")],
+                ),
+                reg(
+                    "SEG_PUSH",
+                    9,
+                    WriteOnly,
+                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (4 deep).",
+                    "Any write pushes; the data is ignored. A push into a full FIFO is dropped and sets STATUS.OVERFLOW.",
+                    vec![],
+                ),
+            ],
+        }],
+    }
+}
+
 /// Words in the shared dual-port RAM behind the ISA bridge (2 KB).
 pub const ISA_RAM_WORDS: u32 = 1024;
 /// Bits of the ISA bridge's address counter.
@@ -576,6 +760,8 @@ pub const MCU_HALFWORD_ADDRESS_BITS: u32 = 12;
 pub const MCU_ID_WORD_BASE: u32 = 0x000;
 /// Word address of the counter bank on the MCU bus (byte 0x0400).
 pub const MCU_COUNTER_WORD_BASE: u32 = 0x100;
+/// Word address of the pulse generators on the MCU bus (byte 0x0800).
+pub const MCU_PULSE_WORD_BASE: u32 = 0x200;
 /// Byte offset of the shared RAM's MCU port (halfword address 0x800: pin A11).
 pub const MCU_RAM_BYTE_OFFSET: u32 = 0x1000;
 /// ID.MAGIC: "MHDL" in ASCII, most significant byte first.
@@ -653,6 +839,8 @@ pub fn id_block(config: &crate::Config, map_hash: u32) -> Block {
             ]),
             one("COUNTER_BASE", 4, "Byte offset of the COUNTER block from the bus window's base.",
                 ro_value("VALUE", 0, 32, MCU_COUNTER_WORD_BASE * 4, "Bytes.")),
+            one("PULSE_BASE", 8, "Byte offset of the PULSE block (pulse generators) from the bus window's base.",
+                ro_value("VALUE", 0, 32, MCU_PULSE_WORD_BASE * 4, "Bytes.")),
             one("RAM_BASE", 5, "Byte offset of the shared RAM window; 0 when the RAM is external.",
                 ro_value("VALUE", 0, 32, if ram_internal { MCU_RAM_BYTE_OFFSET } else { 0 }, "Bytes.")),
             one("RAM_WORDS", 6, "16-bit words in the shared RAM window; 0 when the RAM is external.",
@@ -664,12 +852,14 @@ pub fn id_block(config: &crate::Config, map_hash: u32) -> Block {
     }
 }
 
-/// The MCU's view of the gateware for `config`: ID, COUNTER and, with the
-/// internal RAM, the shared RAM window.
+/// The MCU's view of the gateware for `config`: ID, COUNTER, PULSE and,
+/// with the internal RAM, the shared RAM window.
 pub fn mcu_map(config: &crate::Config) -> BusMap {
     let build = |hash| {
         let mut counter = counter_bank(config.axes(), config.counter_width());
         counter.base = MCU_COUNTER_WORD_BASE;
+        let mut pulse = pulse_bank(config.axes(), config.counter_width());
+        pulse.base = MCU_PULSE_WORD_BASE;
         let mut memories = Vec::new();
         if config.isa_ram() == crate::IsaRam::Internal {
             memories.push(Memory {
@@ -684,7 +874,7 @@ pub fn mcu_map(config: &crate::Config) -> BusMap {
             name: "MOTIONHDL",
             description: "motionhdl motion-controller gateware, MCU bus (FSMC, 16-bit)",
             halfword_address_bits: MCU_HALFWORD_ADDRESS_BITS,
-            blocks: vec![id_block(config, hash), counter],
+            blocks: vec![id_block(config, hash), counter, pulse],
             memories,
         }
     };

@@ -13,6 +13,7 @@ use crate::verilog_sim::{build_and_run, Simulator, Source, Target};
 use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::fsmc_bridge::FsmcPins;
+use motionhdl_model::pulse_generator::PulseBank;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
@@ -32,6 +33,7 @@ const SETTLE_CLOCKS: u32 = 40;
 pub struct McuOracle {
     map: BusMap,
     bank: Bank,
+    pulses: PulseBank,
     axes: usize,
     ram: Vec<u16>,
 }
@@ -47,6 +49,7 @@ impl McuOracle {
         Self {
             map,
             bank,
+            pulses: PulseBank::new(config.axes(), config.counter_width()),
             axes: config.axes() as usize,
             ram: vec![0; words],
         }
@@ -56,9 +59,18 @@ impl McuOracle {
         &self.map
     }
 
-    fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {
+    /// One clock of the counter bank (bus `bus`) and the pulse bank (bus
+    /// `pulse_bus`); the counter's SNAPSHOT also captures the pulses.
+    fn clock_both(&mut self, reset: bool, bus: &BusCycle, pulse_bus: &BusCycle) {
         let pins = vec![(false, false, false); self.axes];
+        let counter = self.map.block("COUNTER");
+        let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
         self.bank.clock(&pins, reset, bus);
+        self.pulses.clock(reset, pulse_bus, snapshot);
+    }
+
+    fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {
+        self.clock_both(reset, bus, &BusCycle::default());
     }
 
     /// The synchronous reset: registers to their reset values, RAM kept.
@@ -83,9 +95,9 @@ impl McuOracle {
     /// Whether a write to `word` may change what any read returns.
     pub fn writable(&self, word: u32) -> bool {
         match self.decode(word) {
-            Some(("COUNTER", offset)) => self
+            Some((block @ ("COUNTER" | "PULSE"), offset)) => self
                 .map
-                .block("COUNTER")
+                .block(block)
                 .decoded()
                 .iter()
                 .any(|(o, r, _)| *o == offset && r.access != Access::ReadOnly),
@@ -95,11 +107,18 @@ impl McuOracle {
 
     /// A 32-bit write to register word `word`.
     pub fn write32(&mut self, word: u32, data: u32) {
-        if let Some(("COUNTER", offset)) = self.decode(word) {
-            self.clock_bank(false, &BusCycle::write(offset, data));
-            for _ in 0..SETTLE_CLOCKS {
-                self.clock_bank(false, &BusCycle::default());
+        let idle = BusCycle::default();
+        match self.decode(word) {
+            Some(("COUNTER", offset)) => {
+                self.clock_both(false, &BusCycle::write(offset, data), &idle)
             }
+            Some(("PULSE", offset)) => {
+                self.clock_both(false, &idle, &BusCycle::write(offset, data))
+            }
+            _ => return,
+        }
+        for _ in 0..SETTLE_CLOCKS {
+            self.clock_bank(false, &idle);
         }
     }
 
@@ -114,6 +133,7 @@ impl McuOracle {
                 .find(|r| r.offset == offset)
                 .map_or(0, |r| r.reset),
             Some(("COUNTER", offset)) => self.bank.read_value(offset),
+            Some(("PULSE", offset)) => self.pulses.read_value(offset),
             Some((other, _)) => panic!("oracle has no model of block {other}"),
             None => 0,
         }
@@ -144,8 +164,9 @@ fn pattern(word: u32, salt: u32) -> u32 {
 
 /// Every register word read after reset; a pattern written to every word
 /// that decodes to nothing writable (reserved, ID, read-only) and every word
-/// read again; PRESET, LOAD, CTRL and SNAPSHOT written for every channel and
-/// every word read again; every RAM word written and read back, as 16-bit
+/// read again; PRESET, LOAD, CTRL and SNAPSHOT written for every channel,
+/// every PULSE register but RUN for every axis (with 1..=5 segment pushes),
+/// and every word read again; every RAM word written and read back, as 16-bit
 /// and as 32-bit accesses.
 pub fn plan(config: &Config) -> Plan {
     let mut o = McuOracle::new(config);
@@ -186,6 +207,41 @@ pub fn plan(config: &Config) -> Plan {
             (word(ch.address(i, "CMD")), load),
             (word(ch.address(i, "CTRL")), pattern(i, 0x7654_3210)),
         ];
+        for (w, data) in writes {
+            ops.push(Op::Write32 {
+                a: (w * 2) as u16,
+                data,
+            });
+            o.write32(w, data);
+        }
+    }
+    // Every PULSE register but RUN (with RUN 0 nothing moves, so every
+    // read is predictable): modes, rates, timings, segment staging, and
+    // SEG_PUSH five times per axis (the fifth overflows the FIFO).
+    let pulse = o.map().block("PULSE").clone();
+    let pax = pulse.array("AX");
+    for i in 0..pax.count {
+        let mut writes: Vec<(u32, u32)> = [
+            "CTRL",
+            "RATE",
+            "STEP_TIMING",
+            "DIR_TIMING",
+            "SEG_STEPS",
+            "SEG_RATE",
+            "SEG_ACCEL",
+        ]
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            (
+                pulse.base + pax.address(i, r),
+                pattern(i * 16 + k as u32, 0x3c3c_c3c3),
+            )
+        })
+        .collect();
+        for _ in 0..=i.min(4) {
+            writes.push((pulse.base + pax.address(i, "SEG_PUSH"), 0));
+        }
         for (w, data) in writes {
             ops.push(Op::Write32 {
                 a: (w * 2) as u16,
@@ -265,6 +321,8 @@ pub trait McuTop: Block {
     /// `fsmc_d_oe` and `fsmc_d_out`.
     fn data(&self) -> (bool, u16);
     fn clock_input(&mut self) -> &mut Signal<In, Clock>;
+    /// The loopback wiring: encoder A/B inputs = pulse outputs F1/F2.
+    fn feed_back(&mut self);
 }
 
 macro_rules! mcu_top {
@@ -287,6 +345,10 @@ macro_rules! mcu_top {
             fn clock_input(&mut self) -> &mut Signal<In, Clock> {
                 &mut self.clock
             }
+            fn feed_back(&mut self) {
+                self.enc_a.next = self.pulse_f1.val();
+                self.enc_b.next = self.pulse_f2.val();
+            }
         }
     };
 }
@@ -296,14 +358,15 @@ mcu_top!(MotionControllerExternal);
 /// Steps the rust-hdl top for `config` (either build) through `ops`.
 pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation>, u64) {
     match config.isa_ram() {
-        IsaRam::Internal => run_top(MotionController::<N>::new(config), ops),
-        IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops),
+        IsaRam::Internal => run_top(MotionController::<N>::new(config), ops, false),
+        IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops, false),
     }
 }
 
 /// Steps a rust-hdl top through `ops` under the FSMC BFM: what each read
 /// observed at the MCU's pins, and the clocks simulated.
-pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op]) -> (Vec<Observation>, u64) {
+/// With `loopback`, the encoder inputs follow the pulse outputs.
+pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op], loopback: bool) -> (Vec<Observation>, u64) {
     let (events, end) = timeline(ops, &documented_timing());
     uut.connect_all();
     let mut pins = FsmcPins::idle();
@@ -344,6 +407,10 @@ pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op]) -> (Vec<Observation>, u64) {
         }
         uut.drive(&pins, reset);
         settle(&mut uut);
+        if loopback {
+            uut.feed_back();
+            settle(&mut uut);
+        }
         uut.clock_input().next = Clock::from(true);
         settle(&mut uut);
         uut.clock_input().next = Clock::from(false);
@@ -357,18 +424,22 @@ pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op]) -> (Vec<Observation>, u64) {
 /// The top and an idle PC side under the Verilog FSMC BFM.
 pub fn verilog_testbench(config: &Config, ops: usize) -> String {
     let n = config.axes();
+    let top = n - 1;
     let sram = match config.isa_ram() {
         IsaRam::Internal => "",
         IsaRam::External => {
             ",\n        .sram_addr(sram_addr), .sram_d_in(16'h0), .sram_d_out(sram_d_out),\n        \
-             .sram_d_oe(sram_d_oe), .sram_ce_n(sram_ce_n), .sram_oe_n(sram_oe_n), .sram_we_n(sram_we_n)"
+             .sram_d_oe(sram_d_oe), .sram_ce_n(sram_ce_n), .sram_oe_n(sram_oe_n), .sram_we_n(sram_we_n),\n        \
+             .window_addr(window_addr), .window_wdata(window_wdata), .window_we(window_we), \
+             .window_rdata(16'h0)"
         }
     };
     let sram_wires = match config.isa_ram() {
         IsaRam::Internal => "",
         IsaRam::External => {
             "    wire [9:0] sram_addr;\n    wire [15:0] sram_d_out;\n    \
-             wire sram_d_oe, sram_ce_n, sram_oe_n, sram_we_n;\n"
+             wire sram_d_oe, sram_ce_n, sram_oe_n, sram_we_n;\n    \
+             wire [9:0] window_addr;\n    wire [15:0] window_wdata;\n    wire window_we;\n"
         }
     };
     let dut = format!(
@@ -377,6 +448,8 @@ pub fn verilog_testbench(config: &Config, ops: usize) -> String {
     wire [15:0] isa_sd_out;
     wire isa_sd_oe;
     wire isa_iocs16_n;
+    wire [{top}:0] pulse_f1;
+    wire [{top}:0] pulse_f2;
 {sram_wires}    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
     motion_controller dut (
         .clock(clock), .reset(reset),
@@ -385,7 +458,8 @@ pub fn verilog_testbench(config: &Config, ops: usize) -> String {
         .isa_sa(10'h0), .isa_sd_in(16'h0), .isa_sd_out(isa_sd_out), .isa_sd_oe(isa_sd_oe),
         .isa_ior_n(1'b1), .isa_iow_n(1'b1), .isa_aen(1'b1), .isa_bale(1'b0),
         .isa_base(8'h0), .isa_iocs16_n(isa_iocs16_n),
-        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0){sram}
+        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0),
+        .pulse_f1(pulse_f1), .pulse_f2(pulse_f2){sram}
     );
 
     // 50 MHz: rising edges at 10 ns + k * 20 ns.
@@ -409,6 +483,16 @@ pub fn run_verilog(
     config: &Config,
     ops: &[Op],
 ) -> Result<Vec<Observation>, String> {
+    run_verilog_tb(target, config, ops, verilog_testbench(config, ops.len()))
+}
+
+/// As [`run_verilog`] with testbench text `tb` (module `motion_controller_tb`).
+pub fn run_verilog_tb(
+    target: impl Into<Target>,
+    config: &Config,
+    ops: &[Op],
+    tb: String,
+) -> Result<Vec<Observation>, String> {
     let t = target.into();
     t.available()?;
     let text = t.text(&catalog::motion_controller(config))?;
@@ -419,7 +503,7 @@ pub fn run_verilog(
         let _ = writeln!(hex, "{:016x}", crate::fsmc_bridge::encode(op));
     }
     let _ = writeln!(hex, "{:016x}", 0);
-    fs::write(d.join("tb.v"), verilog_testbench(config, ops.len())).map_err(|e| e.to_string())?;
+    fs::write(d.join("tb.v"), tb).map_err(|e| e.to_string())?;
     fs::write(d.join("motion_controller.v"), text).map_err(|e| e.to_string())?;
     fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
     let (stdout, _) = build_and_run(
@@ -522,4 +606,97 @@ pub fn all(external: bool) -> Vec<CheckReport> {
         }
     }
     v
+}
+
+/// The dual-CPU seed's closed loop on the whole top in the generated
+/// Verilog: every axis's pulse outputs wired back to its encoder inputs
+/// (A = F1, B = F2) in the testbench, configured and run through the FSMC
+/// BFM: axes 0 and 1 pulse+direction (counted PULSE_DIR), axis 2 CW/CCW
+/// (counted CW_CCW), axis 3 quadrature (counted X4), rates of both signs
+/// with a reversal; then RUN off, SNAPSHOT, and COUNT and POSITION of every
+/// axis read over the bus. Returns (COUNT, POSITION) per axis.
+pub fn loopback_verilog(
+    target: impl Into<Target>,
+    config: &Config,
+) -> Result<Vec<(i32, i32)>, String> {
+    let n = config.axes();
+    let ops = loopback_ops(config);
+    let tb = verilog_testbench(config, ops.len()).replace(
+        &format!(".enc_a({n}'h0), .enc_b({n}'h0)"),
+        ".enc_a(pulse_f1), .enc_b(pulse_f2)",
+    );
+    assert!(tb.contains(".enc_a(pulse_f1)"), "loopback wiring");
+    loopback_results(n, &run_verilog_tb(target, config, &ops, tb)?)
+}
+
+/// The same loop in rust-hdl (default 4 axes, internal RAM).
+pub fn loopback_rust(config: &Config) -> Result<Vec<(i32, i32)>, String> {
+    let ops = loopback_ops(config);
+    let (obs, _) = run_top(MotionController::<4>::new(config), &ops, true);
+    loopback_results(config.axes(), &obs)
+}
+
+fn loopback_results(n: u32, obs: &[Observation]) -> Result<Vec<(i32, i32)>, String> {
+    if obs.len() != 4 * n as usize {
+        return Err(format!("{} reads, expected {}", obs.len(), 4 * n));
+    }
+    let word =
+        |k: usize| (u32::from(obs[k].data_end) | u32::from(obs[k + 1].data_end) << 16) as i32;
+    Ok((0..n as usize)
+        .map(|i| (word(4 * i), word(4 * i + 2)))
+        .collect())
+}
+
+/// The loopback's FSMC ops: configure, run with a reversal per axis, stop,
+/// SNAPSHOT, then COUNT and POSITION of every axis.
+pub fn loopback_ops(config: &Config) -> Vec<Op> {
+    use motionhdl_model::regmap::mode;
+    let map = regmap::mcu_map(config);
+    let counter = map.block("COUNTER");
+    let pulse = map.block("PULSE");
+    let (ch, ax) = (counter.array("CH"), pulse.array("AX"));
+    let n = config.axes();
+    let w = |word: u32, data: u32| Op::Write32 {
+        a: (word * 2) as u16,
+        data,
+    };
+    let mut ops = vec![Op::Reset];
+    for i in 0..n {
+        let (counter_mode, pulse_ctrl) = match i % 4 {
+            0 | 1 => (mode::PULSE_DIR, 0),
+            2 => (mode::CW_CCW, 1),
+            _ => (mode::X4, 2),
+        };
+        ops.push(w(counter.base + ch.address(i, "CTRL"), counter_mode));
+        ops.push(w(pulse.base + ax.address(i, "CTRL"), pulse_ctrl));
+        ops.push(w(
+            pulse.base + ax.address(i, "STEP_TIMING"),
+            (1 + i % 3) | (1 + i % 2) << 16,
+        ));
+        ops.push(w(pulse.base + ax.address(i, "DIR_TIMING"), 2 | 2 << 16));
+        let rate = 0x1000_0000 * if i % 2 == 0 { 1 } else { -1 };
+        ops.push(w(pulse.base + ax.address(i, "RATE"), rate as u32));
+    }
+    let run = pulse.base + pulse.register("RUN").offset;
+    ops.push(w(run, (1 << n) - 1));
+    ops.push(Op::Idle { hclk: 3000 });
+    for i in 0..n {
+        // Reverse every axis at a different moment.
+        let rate = -0x0400_0000 * if i % 2 == 0 { 1 } else { -1 };
+        ops.push(w(pulse.base + ax.address(i, "RATE"), rate as u32));
+        ops.push(Op::Idle { hclk: 200 });
+    }
+    ops.push(Op::Idle { hclk: 3000 });
+    ops.push(w(run, 0));
+    ops.push(Op::Idle { hclk: 500 });
+    ops.push(w(counter.base + counter.register("SNAPSHOT").offset, 0));
+    for i in 0..n {
+        ops.push(Op::Read32 {
+            a: ((counter.base + ch.address(i, "COUNT")) * 2) as u16,
+        });
+        ops.push(Op::Read32 {
+            a: ((pulse.base + ax.address(i, "POSITION")) * 2) as u16,
+        });
+    }
+    ops
 }

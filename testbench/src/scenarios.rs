@@ -66,6 +66,21 @@ pub const SCENARIOS: &[Scenario] = &[
         build: cs::filter_glitch,
     },
     Scenario {
+        name: "pulse_acceleration",
+        summary: "pulse generator: the rate ramped by register writes every 20 clocks, then held",
+        build: crate::pulse_scenarios::acceleration,
+    },
+    Scenario {
+        name: "pulse_reversal",
+        summary: "pulse generator, pulse+direction: a reversal with direction hold and set-up visible",
+        build: crate::pulse_scenarios::reversal,
+    },
+    Scenario {
+        name: "pulse_cw_ccw",
+        summary: "pulse generator, CW/CCW: the same reversal, F1 then F2 pulses, no runt at the switch",
+        build: crate::pulse_scenarios::cw_ccw,
+    },
+    Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
         build: |_| crate::isa_bridge::block_write_trace(),

@@ -23,8 +23,8 @@ use motionhdl_model::{Config, IsaRam};
 use motionhdl_testbench::harness::require_tool;
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 use motionhdl_testbench::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, quadrature_core, selector,
-    CheckReport,
+    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, pulse_generator,
+    quadrature_core, selector, CheckReport,
 };
 
 fn tools() -> bool {
@@ -91,6 +91,15 @@ fn counter_bank_rust_hdl_on_the_verilog_runs_stimulus() {
     let r = counter::long_stimulus_hdl_seeded(30_000, counter::VERILOG_SEED);
     r.assert_passed();
     assert_eq!(r.covered, 30_000);
+}
+
+#[test]
+fn pulse_generator_netlist_random_clocks() {
+    // The same stimulus (seed) as the Icarus run of the generated file.
+    if tools() {
+        let r = pulse_generator::random_verilog(net(), 100_000, 0x5eed_0002);
+        passed(&r, 100_000);
+    }
 }
 
 #[test]

@@ -1,0 +1,383 @@
+//! N pulse generators behind the register bus, each feeding a registered
+//! pulse-mode selector (docs/pulse_generator.md).
+
+use crate::{MoveEngine, PulseGenerator, PulseModeSelectorRegistered};
+use motionhdl_model::counter::CounterParams;
+use motionhdl_model::regmap;
+use rust_hdl::prelude::*;
+
+/// The pulse generators of `N` axes and their registers
+/// (`regmap::pulse_bank`). Bus contract as the counter bank's: a write acts
+/// at the edge where `we` is high; the edge where `re` is high takes the
+/// address, the next edge loads `rdata`, which then holds.
+#[derive(LogicBlock)]
+pub struct PulseBank<const N: usize> {
+    /// FPGA clock.
+    pub clock: Signal<In, Clock>,
+    /// Synchronous reset, active high.
+    pub reset: Signal<In, Bit>,
+    /// Register bus word address.
+    pub addr: Signal<In, Bits<9>>,
+    /// Register bus write data.
+    pub wdata: Signal<In, Bits<32>>,
+    /// Write strobe.
+    pub we: Signal<In, Bit>,
+    /// Read strobe.
+    pub re: Signal<In, Bit>,
+    /// Read data, valid from the second clock edge after `re`.
+    pub rdata: Signal<Out, Bits<32>>,
+    /// The counter bank's SNAPSHOT strobe: POSITION captures in that clock.
+    pub snapshot: Signal<In, Bit>,
+    /// F1 per axis (pulse, or CW pulses), registered.
+    pub f1: Signal<Out, Bits<N>>,
+    /// F2 per axis (direction, or CCW pulses), registered.
+    pub f2: Signal<Out, Bits<N>>,
+    generators: Vec<PulseGenerator>,
+    engines: Vec<MoveEngine>,
+    seg_steps: Vec<DFF<Bits<32>>>,
+    seg_rate: Vec<DFF<Bits<32>>>,
+    seg_accel: Vec<DFF<Bits<32>>>,
+    selectors: Vec<PulseModeSelectorRegistered>,
+    run: DFF<Bits<N>>,
+    ctrl: Vec<DFF<Bits<3>>>,
+    rate: Vec<DFF<Bits<32>>>,
+    step_timing: Vec<DFF<Bits<32>>>,
+    dir_timing: Vec<DFF<Bits<32>>>,
+    snap: Vec<DFF<Bits<32>>>,
+    quadrature_a: Vec<DFF<Bit>>,
+    quadrature_b: Vec<DFF<Bit>>,
+    out_f1: Vec<DFF<Bit>>,
+    out_f2: Vec<DFF<Bit>>,
+    read_pending: DFF<Bit>,
+    read_addr: DFF<Bits<9>>,
+    read_data: DFF<Bits<32>>,
+    addr_info: Constant<Bits<9>>,
+    addr_run: Constant<Bits<9>>,
+    addr_ctrl: Vec<Constant<Bits<9>>>,
+    addr_rate: Vec<Constant<Bits<9>>>,
+    addr_step_timing: Vec<Constant<Bits<9>>>,
+    addr_dir_timing: Vec<Constant<Bits<9>>>,
+    addr_position: Vec<Constant<Bits<9>>>,
+    addr_status: Vec<Constant<Bits<9>>>,
+    addr_seg_steps: Vec<Constant<Bits<9>>>,
+    addr_seg_rate: Vec<Constant<Bits<9>>>,
+    addr_seg_accel: Vec<Constant<Bits<9>>>,
+    addr_seg_push: Vec<Constant<Bits<9>>>,
+    info: Constant<Bits<32>>,
+    width_mask: Constant<Bits<32>>,
+    sign_bit: Constant<Bits<32>>,
+    sign_extension: Constant<Bits<32>>,
+    one: Constant<Bits<32>>,
+    two: Constant<Bits<32>>,
+    four: Constant<Bits<32>>,
+    moving_bit: Constant<Bits<32>>,
+    done_bit: Constant<Bits<32>>,
+    overflow_bit: Constant<Bits<32>>,
+    level_bit0: Constant<Bits<32>>,
+    level_bit1: Constant<Bits<32>>,
+    level_bit2: Constant<Bits<32>>,
+    read_value: Signal<Local, Bits<32>>,
+    axis_bit: Vec<Constant<Bits<N>>>,
+    f1_bits: Signal<Local, Bits<N>>,
+    f2_bits: Signal<Local, Bits<N>>,
+}
+
+impl<const N: usize> PulseBank<N> {
+    /// `N` axes (1..=16) with `width`-bit POSITION (2..=32).
+    pub fn new(width: u32) -> Self {
+        assert!((1..=16).contains(&N), "axes = {N} out of range 1..=16");
+        let map = regmap::pulse_bank(N as u32, width);
+        let k9 = |v: u32| Constant::new((v as u64).into());
+        let k32 = |v: u32| Constant::new((v as u64).into());
+        let ax = map.array("AX");
+        let per_axis = |name: &str| (0..N as u32).map(|i| k9(ax.address(i, name))).collect();
+        let width_mask = CounterParams::new(width, 1).count_mask();
+        assert_eq!(map.address_bits, 9);
+        assert_eq!(ax.register("STATUS").field("BUSY").lsb, 16);
+        assert_eq!(ax.register("STATUS").field("MOVING").lsb, 17);
+        assert_eq!(ax.register("STATUS").field("DONE").lsb, 18);
+        assert_eq!(ax.register("STATUS").field("OVERFLOW").lsb, 19);
+        assert_eq!(ax.register("STATUS").field("FIFO_LEVEL").lsb, 20);
+        assert_eq!(ax.register("CTRL").writable_mask(), 0b111);
+        assert_eq!(ax.register("STATUS").field("PENDING").width, 16);
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            addr: Default::default(),
+            wdata: Default::default(),
+            we: Default::default(),
+            re: Default::default(),
+            rdata: Default::default(),
+            snapshot: Default::default(),
+            f1: Default::default(),
+            f2: Default::default(),
+            generators: (0..N).map(|_| PulseGenerator::new()).collect(),
+            engines: (0..N).map(|_| MoveEngine::new()).collect(),
+            seg_steps: (0..N).map(|_| Default::default()).collect(),
+            seg_rate: (0..N).map(|_| Default::default()).collect(),
+            seg_accel: (0..N).map(|_| Default::default()).collect(),
+            selectors: (0..N)
+                .map(|_| PulseModeSelectorRegistered::default())
+                .collect(),
+            run: Default::default(),
+            ctrl: (0..N).map(|_| Default::default()).collect(),
+            rate: (0..N).map(|_| Default::default()).collect(),
+            step_timing: (0..N).map(|_| Default::default()).collect(),
+            dir_timing: (0..N).map(|_| Default::default()).collect(),
+            snap: (0..N).map(|_| Default::default()).collect(),
+            quadrature_a: (0..N).map(|_| Default::default()).collect(),
+            quadrature_b: (0..N).map(|_| Default::default()).collect(),
+            out_f1: (0..N).map(|_| Default::default()).collect(),
+            out_f2: (0..N).map(|_| Default::default()).collect(),
+            read_pending: Default::default(),
+            read_addr: Default::default(),
+            read_data: Default::default(),
+            addr_info: k9(map.register("INFO").offset),
+            addr_run: k9(map.register("RUN").offset),
+            addr_ctrl: per_axis("CTRL"),
+            addr_rate: per_axis("RATE"),
+            addr_step_timing: per_axis("STEP_TIMING"),
+            addr_dir_timing: per_axis("DIR_TIMING"),
+            addr_position: per_axis("POSITION"),
+            addr_status: per_axis("STATUS"),
+            addr_seg_steps: per_axis("SEG_STEPS"),
+            addr_seg_rate: per_axis("SEG_RATE"),
+            addr_seg_accel: per_axis("SEG_ACCEL"),
+            addr_seg_push: per_axis("SEG_PUSH"),
+            info: k32(map.register("INFO").reset),
+            width_mask: k32(width_mask),
+            sign_bit: k32(1 << (width - 1)),
+            sign_extension: k32(!width_mask),
+            one: k32(1),
+            two: k32(2),
+            four: k32(4),
+            moving_bit: k32(1 << 17),
+            done_bit: k32(1 << 18),
+            overflow_bit: k32(1 << 19),
+            level_bit0: k32(1 << 20),
+            level_bit1: k32(1 << 21),
+            level_bit2: k32(1 << 22),
+            read_value: Default::default(),
+            axis_bit: (0..N).map(|i| Constant::new((1u64 << i).into())).collect(),
+            f1_bits: Default::default(),
+            f2_bits: Default::default(),
+        }
+    }
+
+    /// Axis `i`'s move engine, for probing.
+    pub fn engine(&self, i: usize) -> &MoveEngine {
+        &self.engines[i]
+    }
+
+    /// Axis `i`'s generator, for probing.
+    pub fn generator(&self, i: usize) -> &PulseGenerator {
+        &self.generators[i]
+    }
+}
+
+impl<const N: usize> Logic for PulseBank<N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, run, read_pending, read_addr, read_data);
+        self.f1_bits.next = 0.into();
+        self.f2_bits.next = 0.into();
+        // Reads, stage 1: the address.
+        self.read_pending.d.next = self.re.val();
+        if self.re.val() {
+            self.read_addr.d.next = self.addr.val();
+        }
+        // Stage 2: the addressed register into `rdata`.
+        self.read_value.next = 0.into();
+        if self.read_addr.q.val() == self.addr_info.val() {
+            self.read_value.next = self.info.val();
+        }
+        if self.read_addr.q.val() == self.addr_run.val() {
+            self.read_value.next = bit_cast::<32, N>(self.run.q.val());
+        }
+        if self.we.val() & (self.addr.val() == self.addr_run.val()) {
+            self.run.d.next = self.wdata.val().get_bits::<N>(0);
+        }
+        for i in 0..N {
+            self.ctrl[i].clock.next = self.clock.val();
+            self.quadrature_a[i].clock.next = self.clock.val();
+            self.quadrature_b[i].clock.next = self.clock.val();
+            self.out_f1[i].clock.next = self.clock.val();
+            self.out_f2[i].clock.next = self.clock.val();
+            // Quadrature A/B from the position's Gray phase, registered.
+            self.quadrature_a[i].d.next = self.generators[i].position.val().get_bit(0)
+                ^ self.generators[i].position.val().get_bit(1);
+            self.quadrature_b[i].d.next = self.generators[i].position.val().get_bit(1);
+            // The pins: one more register after the selector or quadrature.
+            if self.ctrl[i].q.val().get_bit(1) {
+                self.out_f1[i].d.next = self.quadrature_a[i].q.val();
+                self.out_f2[i].d.next = self.quadrature_b[i].q.val();
+            } else {
+                self.out_f1[i].d.next = self.selectors[i].f1.val();
+                self.out_f2[i].d.next = self.selectors[i].f2.val();
+            }
+            self.rate[i].clock.next = self.clock.val();
+            self.step_timing[i].clock.next = self.clock.val();
+            self.dir_timing[i].clock.next = self.clock.val();
+            self.snap[i].clock.next = self.clock.val();
+            self.seg_steps[i].clock.next = self.clock.val();
+            self.seg_rate[i].clock.next = self.clock.val();
+            self.seg_accel[i].clock.next = self.clock.val();
+            self.seg_steps[i].d.next = self.seg_steps[i].q.val();
+            self.seg_rate[i].d.next = self.seg_rate[i].q.val();
+            self.seg_accel[i].d.next = self.seg_accel[i].q.val();
+            // Moves: the engine sets the NCO's rate while CTRL.MOVES.
+            self.engines[i].clock.next = self.clock.val();
+            self.engines[i].reset.next = self.reset.val();
+            self.engines[i].run.next =
+                self.ctrl[i].q.val().get_bit(2) & self.run.q.val().get_bit(i);
+            self.engines[i].commanded.next =
+                self.ctrl[i].q.val().get_bit(2) & self.generators[i].commanded.val();
+            self.engines[i].advancing.next =
+                self.ctrl[i].q.val().get_bit(2) & self.generators[i].advancing.val();
+            self.engines[i].push.next =
+                self.we.val() & (self.addr.val() == self.addr_seg_push[i].val());
+            self.engines[i].seg_steps.next = self.seg_steps[i].q.val();
+            self.engines[i].seg_rate.next = self.seg_rate[i].q.val();
+            self.engines[i].seg_accel.next = self.seg_accel[i].q.val();
+            self.engines[i].clear_overflow.next =
+                self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
+            self.ctrl[i].d.next = self.ctrl[i].q.val();
+            self.rate[i].d.next = self.rate[i].q.val();
+            self.step_timing[i].d.next = self.step_timing[i].q.val();
+            self.dir_timing[i].d.next = self.dir_timing[i].q.val();
+            self.snap[i].d.next = self.snap[i].q.val();
+            self.generators[i].clock.next = self.clock.val();
+            self.generators[i].reset.next = self.reset.val();
+            self.generators[i].enable.next = self.run.q.val().get_bit(i);
+            self.generators[i].rate.next = self.rate[i].q.val();
+            if self.ctrl[i].q.val().get_bit(2) {
+                self.generators[i].rate.next = self.engines[i].rate.val();
+            }
+            self.generators[i].step_len.next = self.step_timing[i].q.val().get_bits::<16>(0);
+            self.generators[i].step_space.next = self.step_timing[i].q.val().get_bits::<16>(16);
+            self.generators[i].dir_setup.next = self.dir_timing[i].q.val().get_bits::<16>(0);
+            self.generators[i].dir_hold.next = self.dir_timing[i].q.val().get_bits::<16>(16);
+            self.selectors[i].clock.next = self.clock.val();
+            self.selectors[i].reset.next = self.reset.val();
+            self.selectors[i].k.next = self.ctrl[i].q.val().get_bit(0);
+            self.selectors[i].s1.next = self.generators[i].step.val();
+            self.selectors[i].s2.next = self.generators[i].dir.val();
+            // (replace_bit exports with 32-bit shifts: Verilator WIDTH.)
+            if self.out_f1[i].q.val() {
+                self.f1_bits.next = self.f1_bits.val() | self.axis_bit[i].val();
+            }
+            if self.out_f2[i].q.val() {
+                self.f2_bits.next = self.f2_bits.val() | self.axis_bit[i].val();
+            }
+            if self.snapshot.val() {
+                self.snap[i].d.next = self.generators[i].position.val() & self.width_mask.val();
+            }
+            if self.we.val() {
+                if self.addr.val() == self.addr_ctrl[i].val() {
+                    self.ctrl[i].d.next = self.wdata.val().get_bits::<3>(0);
+                }
+                if self.addr.val() == self.addr_rate[i].val() {
+                    self.rate[i].d.next = self.wdata.val();
+                }
+                if self.addr.val() == self.addr_step_timing[i].val() {
+                    self.step_timing[i].d.next = self.wdata.val();
+                }
+                if self.addr.val() == self.addr_dir_timing[i].val() {
+                    self.dir_timing[i].d.next = self.wdata.val();
+                }
+                if self.addr.val() == self.addr_seg_steps[i].val() {
+                    self.seg_steps[i].d.next = self.wdata.val();
+                }
+                if self.addr.val() == self.addr_seg_rate[i].val() {
+                    self.seg_rate[i].d.next = self.wdata.val();
+                }
+                if self.addr.val() == self.addr_seg_accel[i].val() {
+                    self.seg_accel[i].d.next = self.wdata.val();
+                }
+            }
+            if self.read_addr.q.val() == self.addr_ctrl[i].val() {
+                // (bit_cast cannot take a loop index in #[hdl_gen].)
+                if self.ctrl[i].q.val().get_bit(0) {
+                    self.read_value.next = self.one.val();
+                }
+                if self.ctrl[i].q.val().get_bit(1) {
+                    self.read_value.next = self.read_value.val() | self.two.val();
+                }
+                if self.ctrl[i].q.val().get_bit(2) {
+                    self.read_value.next = self.read_value.val() | self.four.val();
+                }
+            }
+            if self.read_addr.q.val() == self.addr_rate[i].val() {
+                self.read_value.next = self.rate[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_step_timing[i].val() {
+                self.read_value.next = self.step_timing[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_dir_timing[i].val() {
+                self.read_value.next = self.dir_timing[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_position[i].val() {
+                self.read_value.next = self.snap[i].q.val();
+                if (self.snap[i].q.val() & self.sign_bit.val()).any() {
+                    self.read_value.next = self.snap[i].q.val() | self.sign_extension.val();
+                }
+            }
+            if self.read_addr.q.val() == self.addr_status[i].val() {
+                self.read_value.next = self.generators[i].status.val();
+                if self.engines[i].active.val() {
+                    self.read_value.next = self.read_value.val() | self.moving_bit.val();
+                }
+                if self.engines[i].done.val() {
+                    self.read_value.next = self.read_value.val() | self.done_bit.val();
+                }
+                if self.engines[i].overflow.val() {
+                    self.read_value.next = self.read_value.val() | self.overflow_bit.val();
+                }
+                if self.engines[i].level.val().get_bit(0) {
+                    self.read_value.next = self.read_value.val() | self.level_bit0.val();
+                }
+                if self.engines[i].level.val().get_bit(1) {
+                    self.read_value.next = self.read_value.val() | self.level_bit1.val();
+                }
+                if self.engines[i].level.val().get_bit(2) {
+                    self.read_value.next = self.read_value.val() | self.level_bit2.val();
+                }
+            }
+            if self.read_addr.q.val() == self.addr_seg_steps[i].val() {
+                self.read_value.next = self.seg_steps[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_seg_rate[i].val() {
+                self.read_value.next = self.seg_rate[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_seg_accel[i].val() {
+                self.read_value.next = self.seg_accel[i].q.val();
+            }
+            if self.reset.val() {
+                self.ctrl[i].d.next = 0.into();
+                self.quadrature_a[i].d.next = false;
+                self.quadrature_b[i].d.next = false;
+                self.out_f1[i].d.next = false;
+                self.out_f2[i].d.next = false;
+                self.rate[i].d.next = 0.into();
+                self.step_timing[i].d.next = 0.into();
+                self.dir_timing[i].d.next = 0.into();
+                self.snap[i].d.next = 0.into();
+                self.seg_steps[i].d.next = 0.into();
+                self.seg_rate[i].d.next = 0.into();
+                self.seg_accel[i].d.next = 0.into();
+            }
+        }
+        if self.read_pending.q.val() {
+            self.read_data.d.next = self.read_value.val();
+        }
+        if self.reset.val() {
+            self.run.d.next = 0.into();
+            self.read_pending.d.next = false;
+            self.read_addr.d.next = 0.into();
+            self.read_data.d.next = 0.into();
+        }
+        self.rdata.next = self.read_data.q.val();
+        self.f1.next = self.f1_bits.val();
+        self.f2.next = self.f2_bits.val();
+    }
+}

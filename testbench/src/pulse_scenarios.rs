@@ -1,0 +1,178 @@
+//! Pulse generator scenario traces: the rust-hdl pulse bank (one axis)
+//! stepped beside its model (a mismatch aborts the trace), recording the
+//! register bus, S1/S2, F1/F2 and the axis's queue and position.
+
+use crate::harness::{cycle, settle};
+use crate::trace::{SignalId, Trace};
+use motionhdl_hdl::{banner_ascii, PulseBank};
+use motionhdl_model::counter::BusCycle;
+use motionhdl_model::pulse_generator as m;
+use motionhdl_model::regmap::{self, Block as RegisterBlock};
+use motionhdl_model::Config;
+use rust_hdl::prelude::*;
+
+struct Script {
+    uut: PulseBank<1>,
+    model: m::PulseBank,
+    map: RegisterBlock,
+    trace: Trace,
+    half_ns: u64,
+    t: u64,
+    ids: [SignalId; 12],
+}
+
+impl Script {
+    fn new(name: &str, config: &Config) -> Self {
+        let width = config.counter_width();
+        let mut trace = Trace::new(format!(
+            "{} | scenario {name} | clock {} Hz",
+            banner_ascii(),
+            config.clock_hz()
+        ));
+        let top = ["pulse_bank"];
+        let ax = ["pulse_bank", "ax0"];
+        let ids = [
+            trace.signal(&top, "clock", 1),
+            trace.signal(&top, "addr", 8),
+            trace.signal(&top, "wdata", 32),
+            trace.signal(&top, "we", 1),
+            trace.signal(&ax, "rate", 32),
+            trace.signal(&ax, "s1_step", 1),
+            trace.signal(&ax, "s2_dir", 1),
+            trace.signal(&ax, "f1", 1),
+            trace.signal(&ax, "f2", 1),
+            trace.signal(&ax, "pending", 16),
+            trace.signal(&ax, "position", 32),
+            trace.signal(&ax, "k_cw_ccw", 1),
+        ];
+        let mut uut = PulseBank::<1>::new(width);
+        uut.connect_all();
+        let half_ns = 500_000_000 / config.clock_hz();
+        let mut s = Self {
+            uut,
+            model: m::PulseBank::new(1, width),
+            map: regmap::pulse_bank(1, width),
+            trace,
+            half_ns: half_ns.max(1),
+            t: 0,
+            ids,
+        };
+        for _ in 0..4 {
+            s.clock(BusCycle::default(), true);
+        }
+        s
+    }
+
+    fn clock(&mut self, bus: BusCycle, reset: bool) {
+        let u = &mut self.uut;
+        u.reset.next = reset;
+        u.addr.next = u64::from(bus.addr).into();
+        u.wdata.next = u64::from(bus.wdata).into();
+        u.we.next = bus.we;
+        u.re.next = bus.re;
+        u.snapshot.next = false;
+        settle(u);
+        let t = self.t;
+        let ids = self.ids;
+        self.trace.set(t, ids[0], 0);
+        self.trace.set(t, ids[1], u64::from(bus.addr));
+        self.trace.set(t, ids[2], u64::from(bus.wdata));
+        self.trace.set(t, ids[3], u64::from(bus.we));
+        cycle(u, |u| &mut u.clock);
+        self.model.clock(reset, &bus, false);
+        let g = self.model.generator(0);
+        let (phase, position, timer) = u.generator(0).probe();
+        assert_eq!(
+            (phase, position, timer),
+            (g.phase, g.position, g.timer.state()),
+            "scenario: HDL and model disagree at {t} ns"
+        );
+        let (f1, f2) = (u.f1.val().get_bit(0), u.f2.val().get_bit(0));
+        assert_eq!((f1, f2), self.model.outputs(0));
+        let t1 = t + self.half_ns;
+        let rate = self
+            .model
+            .read_value(self.map.array("AX").address(0, "RATE"));
+        let k = self
+            .model
+            .read_value(self.map.array("AX").address(0, "CTRL"));
+        self.trace.set(t1, ids[0], 1);
+        self.trace.set(t1, ids[4], u64::from(rate));
+        self.trace.set(t1, ids[5], u64::from(timer.step));
+        self.trace.set(t1, ids[6], u64::from(timer.dir));
+        self.trace.set(t1, ids[7], u64::from(f1));
+        self.trace.set(t1, ids[8], u64::from(f2));
+        self.trace
+            .set(t1, ids[9], u64::from(timer.pending as u32 & 0xffff));
+        self.trace.set(t1, ids[10], u64::from(position));
+        self.trace.set(t1, ids[11], u64::from(k));
+        self.t += 2 * self.half_ns;
+    }
+
+    fn write(&mut self, name: &str, data: u32) {
+        let addr = match name {
+            "RUN" => self.map.register("RUN").offset,
+            r => self.map.array("AX").address(0, r),
+        };
+        self.clock(BusCycle::write(addr, data), false);
+    }
+
+    fn idle(&mut self, clocks: u32) {
+        for _ in 0..clocks {
+            self.clock(BusCycle::default(), false);
+        }
+    }
+
+    fn setup(&mut self, cw_ccw: bool) {
+        self.write("CTRL", u32::from(cw_ccw));
+        // STEP_LEN 2, STEP_SPACE 2; DIR_SETUP 3, DIR_HOLD 2 (clocks).
+        self.write("STEP_TIMING", 2 | 2 << 16);
+        self.write("DIR_TIMING", 3 | 2 << 16);
+    }
+}
+
+/// A linear ramp of the rate written every 20 clocks (what the MCU does to
+/// follow an S-curve, until the segment FIFO lands), then a hold.
+pub fn acceleration(config: &Config) -> Trace {
+    let mut s = Script::new("pulse_acceleration", config);
+    s.setup(false);
+    s.write("RUN", 1);
+    for k in 1..=16u32 {
+        s.write("RATE", k * (1 << 26));
+        s.idle(19);
+    }
+    s.idle(60);
+    s.write("RUN", 0);
+    s.idle(20);
+    s.trace
+}
+
+/// Forward, then a reversal: S2 changes only after DIR_HOLD clocks with S1
+/// low, and S1 rises again only after DIR_SETUP clocks.
+pub fn reversal(config: &Config) -> Trace {
+    let mut s = Script::new("pulse_reversal", config);
+    s.setup(false);
+    s.write("RATE", 1 << 29);
+    s.write("RUN", 1);
+    s.idle(80);
+    s.write("RATE", (-(1i32 << 29)) as u32);
+    s.idle(120);
+    s.write("RUN", 0);
+    s.idle(20);
+    s.trace
+}
+
+/// The same reversal with the selector in CW/CCW: F1 carries the forward
+/// pulses, F2 the reverse ones, with no runt at the switch.
+pub fn cw_ccw(config: &Config) -> Trace {
+    let mut s = Script::new("pulse_cw_ccw", config);
+    s.setup(true);
+    s.write("RATE", 1 << 29);
+    s.write("RUN", 1);
+    s.idle(80);
+    s.write("RATE", (-(1i32 << 29)) as u32);
+    s.idle(120);
+    s.write("RUN", 0);
+    s.idle(20);
+    s.trace
+}
