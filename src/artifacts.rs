@@ -36,6 +36,29 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         contents: crate::isa_header::isa_header().into_bytes(),
     });
     out.extend(regmap_exports(config));
+    out.extend(fpga_flow(config));
+    out
+}
+
+/// The FPGA flow's files: the board-level wrapper, its pin and timing
+/// constraints (for the boards whose pins suffice) and the FuseSoC core.
+pub fn fpga_flow(config: &Config) -> Vec<Artifact> {
+    let mut out = vec![Artifact {
+        path: PathBuf::from("verilog").join(format!("{}.v", crate::board::MODULE)),
+        contents: crate::board::wrapper(config).into_bytes(),
+    }];
+    let constraints = crate::constraints::files(config);
+    for f in &constraints {
+        out.push(Artifact {
+            path: PathBuf::from("constraints").join(&f.name),
+            contents: f.text.clone().into_bytes(),
+        });
+    }
+    let names: Vec<String> = constraints.iter().map(|f| f.name.clone()).collect();
+    out.push(Artifact {
+        path: PathBuf::from(crate::fusesoc::FILE_NAME),
+        contents: crate::fusesoc::core(config, &names).into_bytes(),
+    });
     out
 }
 

@@ -2,10 +2,14 @@
 //! commands behind the CLI.
 
 pub mod artifacts;
+pub mod board;
 pub mod config_file;
+pub mod constraints;
+pub mod fusesoc;
 pub mod isa_header;
 pub mod output;
 pub mod regmap_export;
+pub mod synth;
 pub mod verify;
 
 /// An error the CLI reports; `exit_code` 2 means bad input (nothing written).

@@ -1,0 +1,324 @@
+//! The board-level wrapper `motion_controller_board`: the top level with its
+//! split tri-state ports (`X_in`, `X_out`, `X_oe`) joined into `inout X`
+//! pins and the open-collector `isa_iocs16_n` driven low or released.
+//!
+//! The port list is read from the generated `motion_controller.v` itself
+//! (its port declarations), so the wrapper's and the constraints' names
+//! cannot drift from the top level's.
+
+use motionhdl_hdl::{banner, catalog};
+use motionhdl_model::Config;
+
+/// Module (and file stem) of the board-level wrapper.
+pub const MODULE: &str = "motion_controller_board";
+
+/// Ports of the top level that are open-collector outputs on the board:
+/// driven low when the core's output is 0, released (high impedance)
+/// when it is 1; the bus has the pull-up.
+pub const OPEN_COLLECTOR: &[&str] = &["isa_iocs16_n"];
+
+/// Direction of a port of the top level (`motion_controller`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dir {
+    Input,
+    Output,
+}
+
+/// One port declaration of the generated `motion_controller.v`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CorePort {
+    pub name: String,
+    pub dir: Dir,
+    pub width: u32,
+}
+
+/// What a board pin is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PinKind {
+    /// An input pin.
+    Input,
+    /// A push-pull output pin.
+    Output,
+    /// A bidirectional pin: `X_in`, `X_out`, `X_oe` of the top level.
+    Inout,
+    /// An open-collector output (drive low or float).
+    OpenCollector,
+}
+
+impl PinKind {
+    /// Whether the pad ever drives (needs an output-capable pin).
+    pub fn drives(self) -> bool {
+        !matches!(self, PinKind::Input)
+    }
+}
+
+/// One port of the board-level wrapper.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BoardPort {
+    pub name: String,
+    pub kind: PinKind,
+    pub width: u32,
+}
+
+impl BoardPort {
+    /// The port's bits as they are named in constraint files: `name` for a
+    /// one-bit port, else `name[i]` for i = 0..width.
+    pub fn bits(&self) -> Vec<String> {
+        if self.width == 1 {
+            vec![self.name.clone()]
+        } else {
+            (0..self.width)
+                .map(|i| format!("{}[{i}]", self.name))
+                .collect()
+        }
+    }
+
+    /// The interface the port belongs to, for grouping in constraint
+    /// files: the prefix before the first `_` (`fsmc`, `isa`, `enc`,
+    /// `sram`), or the name itself (`clock`, `reset`).
+    pub fn group(&self) -> &str {
+        self.name.split('_').next().unwrap_or(&self.name)
+    }
+}
+
+/// Parses the port declarations (`input wire [11:0] fsmc_a;`, `output reg
+/// x;`) of a generated module. Panics on a declaration it does not
+/// recognise: the exporter's format is fixed, and a silent miss would drop
+/// a pin.
+pub fn parse_ports(verilog: &str) -> Vec<CorePort> {
+    let mut ports = Vec::new();
+    for line in verilog.lines() {
+        let t = line.trim();
+        let dir = if let Some(rest) = t.strip_prefix("input ") {
+            (Dir::Input, rest)
+        } else if let Some(rest) = t.strip_prefix("output ") {
+            (Dir::Output, rest)
+        } else if t.starts_with("inout ") {
+            panic!("unexpected inout port in the top level: {t}");
+        } else {
+            continue;
+        };
+        let (dir, rest) = dir;
+        let rest = rest
+            .trim_start_matches("wire ")
+            .trim_start_matches("reg ")
+            .trim_end_matches(';')
+            .trim();
+        let (width, name) = match rest.strip_prefix('[') {
+            Some(r) => {
+                let (range, name) = r
+                    .split_once(']')
+                    .unwrap_or_else(|| panic!("bad port range: {t}"));
+                let (hi, lo) = range
+                    .split_once(':')
+                    .unwrap_or_else(|| panic!("bad port range: {t}"));
+                let hi: u32 = hi.trim().parse().expect("port msb");
+                let lo: u32 = lo.trim().parse().expect("port lsb");
+                assert_eq!(lo, 0, "port range must end at 0: {t}");
+                (hi + 1, name.trim())
+            }
+            None => (1, rest),
+        };
+        assert!(
+            !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
+            "bad port name in: {t}"
+        );
+        ports.push(CorePort {
+            name: name.to_string(),
+            dir,
+            width,
+        });
+    }
+    assert!(!ports.is_empty(), "no port declarations found");
+    ports
+}
+
+/// The board ports for a top level with `core` ports, in the core's order:
+/// every `X_in`/`X_out`/`X_oe` triple becomes one `inout X` at the position
+/// of `X_in`; [`OPEN_COLLECTOR`] outputs become open-collector pins.
+pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
+    let find = |name: &str| core.iter().find(|p| p.name == name);
+    let mut out = Vec::new();
+    for p in core {
+        if let Some(base) = p.name.strip_suffix("_in") {
+            if let (Some(o), Some(oe)) = (find(&format!("{base}_out")), find(&format!("{base}_oe")))
+            {
+                assert!(
+                    p.dir == Dir::Input && o.dir == Dir::Output && oe.dir == Dir::Output,
+                    "tri-state triple {base}_in/_out/_oe has wrong directions"
+                );
+                assert_eq!(p.width, o.width, "{base}_in and {base}_out widths differ");
+                assert_eq!(oe.width, 1, "{base}_oe must be one bit");
+                out.push(BoardPort {
+                    name: base.to_string(),
+                    kind: PinKind::Inout,
+                    width: p.width,
+                });
+                continue;
+            }
+        }
+        let part_of_triple = ["_out", "_oe"].iter().any(|s| {
+            p.name
+                .strip_suffix(s)
+                .is_some_and(|base| find(&format!("{base}_in")).is_some())
+        });
+        if part_of_triple {
+            continue;
+        }
+        let kind = match p.dir {
+            Dir::Input => PinKind::Input,
+            Dir::Output if OPEN_COLLECTOR.contains(&p.name.as_str()) => {
+                assert_eq!(p.width, 1, "open-collector port {} must be one bit", p.name);
+                PinKind::OpenCollector
+            }
+            Dir::Output => PinKind::Output,
+        };
+        out.push(BoardPort {
+            name: p.name.clone(),
+            kind,
+            width: p.width,
+        });
+    }
+    out
+}
+
+/// The board ports of the top level generated for `config`.
+pub fn ports(config: &Config) -> Vec<BoardPort> {
+    board_ports(&parse_ports(&catalog::motion_controller(config).text))
+}
+
+fn range(width: u32) -> String {
+    if width == 1 {
+        String::new()
+    } else {
+        format!("[{}:0] ", width - 1)
+    }
+}
+
+/// The wrapper's Verilog for a top level with ports `core`.
+pub fn wrapper_for(core: &[CorePort]) -> String {
+    let board = board_ports(core);
+    let mut s = String::new();
+    s.push_str(&format!("// {}\n", banner()));
+    s.push_str(&format!(
+        "// {MODULE}: board-level wrapper of motion_controller: tri-state pins as inout with\n\
+         // their output enables, the open-collector IOCS16# driven low or released.\n\
+         // Ports named as on the board; pin constraints in generated/constraints/.\n"
+    ));
+    s.push_str("`timescale 1ns / 1ps\n`default_nettype none\n\n");
+    let names: Vec<&str> = board.iter().map(|p| p.name.as_str()).collect();
+    s.push_str(&format!("module {MODULE}({});\n", names.join(", ")));
+    for p in &board {
+        let decl = match p.kind {
+            PinKind::Input => "input wire",
+            PinKind::Output | PinKind::OpenCollector => "output wire",
+            PinKind::Inout => "inout wire",
+        };
+        s.push_str(&format!("    {decl} {}{};\n", range(p.width), p.name));
+    }
+    s.push('\n');
+    for p in &board {
+        match p.kind {
+            PinKind::Inout => {
+                s.push_str(&format!("    wire {}{}_out;\n", range(p.width), p.name));
+                s.push_str(&format!("    wire {}_oe;\n", p.name));
+            }
+            PinKind::OpenCollector => {
+                s.push_str(&format!("    wire {}_drive;\n", p.name));
+            }
+            _ => {}
+        }
+    }
+    s.push_str("\n    motion_controller core(\n");
+    let conns: Vec<String> = core
+        .iter()
+        .map(|c| {
+            let b = board
+                .iter()
+                .find(|b| {
+                    b.name == c.name
+                        || (b.kind == PinKind::Inout
+                            && ["_in", "_out", "_oe"]
+                                .iter()
+                                .any(|s| c.name == format!("{}{s}", b.name)))
+                })
+                .expect("every core port maps to a board port");
+            let signal = match b.kind {
+                PinKind::Input | PinKind::Output => b.name.clone(),
+                PinKind::OpenCollector => format!("{}_drive", b.name),
+                PinKind::Inout if c.name.ends_with("_in") => b.name.clone(),
+                PinKind::Inout => c.name.clone(),
+            };
+            format!("        .{}({signal})", c.name)
+        })
+        .collect();
+    s.push_str(&conns.join(",\n"));
+    s.push_str("\n    );\n\n");
+    for p in &board {
+        match p.kind {
+            PinKind::Inout => s.push_str(&format!(
+                "    assign {n} = {n}_oe ? {n}_out : {w}'bz;\n",
+                n = p.name,
+                w = p.width
+            )),
+            PinKind::OpenCollector => s.push_str(&format!(
+                "    assign {n} = {n}_drive ? 1'bz : 1'b0;\n",
+                n = p.name
+            )),
+            _ => {}
+        }
+    }
+    s.push_str("endmodule\n\n`default_nettype wire\n");
+    s
+}
+
+/// The wrapper's Verilog for `config`.
+pub fn wrapper(config: &Config) -> String {
+    wrapper_for(&parse_ports(&catalog::motion_controller(config).text))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triples_join_and_open_collector_is_kept() {
+        let v = "    input wire clock;\n    input wire [15:0] d_in;\n    output reg [15:0] d_out;\n    output reg d_oe;\n    output reg isa_iocs16_n;\n";
+        let b = board_ports(&parse_ports(v));
+        assert_eq!(
+            b,
+            vec![
+                BoardPort {
+                    name: "clock".into(),
+                    kind: PinKind::Input,
+                    width: 1
+                },
+                BoardPort {
+                    name: "d".into(),
+                    kind: PinKind::Inout,
+                    width: 16
+                },
+                BoardPort {
+                    name: "isa_iocs16_n".into(),
+                    kind: PinKind::OpenCollector,
+                    width: 1
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn default_board_has_the_documented_pins() {
+        let ports = ports(&Config::default());
+        let bits: usize = ports.iter().map(|p| p.bits().len()).sum();
+        // clock, reset, FSMC 31, ISA 39, encoders 3 per axis, and whatever
+        // else the top grows (pulse outputs): at least the 84 of issue 6.
+        assert!(bits >= 84, "{bits}");
+        assert!(ports
+            .iter()
+            .any(|p| p.name == "fsmc_d" && p.kind == PinKind::Inout));
+        assert!(ports
+            .iter()
+            .any(|p| p.name == "isa_sd" && p.kind == PinKind::Inout));
+    }
+}

