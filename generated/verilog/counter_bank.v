@@ -14,7 +14,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     input wire [31:0] wdata;
     input wire we;
     input wire re;
-    output reg [31:0] rdata;
+    output wire [31:0] rdata;
 
     localparam addr_info = 8'h0;
     localparam addr_snapshot = 8'h1;
@@ -787,6 +787,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_3_counter_hi_carry_in;
     reg [31:0] channels_3_counter_load_lo;
 
+    assign rdata = read_data_q;
+
     always @(*) begin
         preset_d = preset_q;
         read_data_d = read_data_q;
@@ -881,7 +883,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             read_info_d = 1'b0;
             read_preset_d = 1'b0;
         end
-        rdata = read_data_q;
     end
 
     always @(*) begin

@@ -12,16 +12,16 @@ module fsmc_bridge(clock, reset, ne_n, noe_n, nwe_n, a, d_in, d_out, d_oe, reg_a
     input wire nwe_n;
     input wire [11:0] a;
     input wire [15:0] d_in;
-    output reg [15:0] d_out;
-    output reg d_oe;
-    output reg [9:0] reg_addr;
-    output reg [31:0] reg_wdata;
-    output reg reg_we;
-    output reg reg_re;
+    output wire [15:0] d_out;
+    output wire d_oe;
+    output wire [9:0] reg_addr;
+    output wire [31:0] reg_wdata;
+    output wire reg_we;
+    output wire reg_re;
     input wire [31:0] reg_rdata;
-    output reg [9:0] ram_addr;
-    output reg [15:0] ram_wdata;
-    output reg ram_we;
+    output wire [9:0] ram_addr;
+    output wire [15:0] ram_wdata;
+    output wire ram_we;
     input wire [15:0] ram_rdata;
 
     localparam src_ram = 2'b0;
@@ -82,6 +82,16 @@ module fsmc_bridge(clock, reset, ne_n, noe_n, nwe_n, a, d_in, d_out, d_oe, reg_a
     reg use_hold;
     reg [1:0] src;
 
+    assign d_out = d_q_q;
+    assign d_oe = ~ne_n & ~noe_n;
+    assign reg_addr = cyc_a_q[10:1];
+    assign reg_wdata = ({16'h0, wdata_q} << half_shift) | {16'h0, hold_lo_q};
+    assign reg_we = wr_end & cyc_reg & cyc_high;
+    assign reg_re = rd_start & cyc_reg & ~use_hold;
+    assign ram_addr = cyc_a_q[9:0];
+    assign ram_wdata = wdata_q;
+    assign ram_we = wr_end & ~cyc_reg;
+
     always @(*) begin
         ne_s1_d = ne_s1_q;
         noe_s1_d = noe_s1_q;
@@ -127,13 +137,6 @@ module fsmc_bridge(clock, reset, ne_n, noe_n, nwe_n, a, d_in, d_out, d_oe, reg_a
         cyc_reg = ~cyc_a_q[ram_bit];
         cyc_high = cyc_a_q[0];
         use_hold = cyc_high & hold_valid_q & (hold_word_q == cyc_a_q[10:1]);
-        reg_addr = cyc_a_q[10:1];
-        reg_wdata = ({16'h0, wdata_q} << half_shift) | {16'h0, hold_lo_q};
-        reg_we = wr_end & cyc_reg & cyc_high;
-        reg_re = rd_start & cyc_reg & ~use_hold;
-        ram_addr = cyc_a_q[9:0];
-        ram_wdata = wdata_q;
-        ram_we = wr_end & ~cyc_reg;
         if (wr_end & cyc_reg & ~cyc_high) begin
             hold_lo_d = wdata_q;
         end
@@ -173,8 +176,6 @@ module fsmc_bridge(clock, reset, ne_n, noe_n, nwe_n, a, d_in, d_out, d_oe, reg_a
                 d_q_d = hold_hi_q;
             end
         end
-        d_out = d_q_q;
-        d_oe = ~ne_n & ~noe_n;
         if (reset) begin
             ne_s1_d = 1'b1;
             noe_s1_d = 1'b1;

@@ -9,18 +9,18 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     input wire reset;
     input wire [9:0] sa;
     input wire [15:0] sd_in;
-    output reg [15:0] sd_out;
-    output reg sd_oe;
+    output wire [15:0] sd_out;
+    output wire sd_oe;
     input wire ior_n;
     input wire iow_n;
     input wire aen;
     input wire bale;
     input wire [7:0] base;
-    output reg iocs16_n;
+    output wire iocs16_n;
     input wire [9:0] dsp_addr;
     input wire [15:0] dsp_wdata;
     input wire dsp_we;
-    output reg [15:0] dsp_rdata;
+    output wire [15:0] dsp_rdata;
 
     localparam core_reg_data = 2'b0;
     localparam core_reg_addr_clear = 2'b1;
@@ -125,6 +125,11 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     reg core_advance;
     reg core_frozen;
 
+    assign sd_out = core_sd_out;
+    assign sd_oe = core_sd_oe;
+    assign iocs16_n = core_iocs16_n;
+    assign dsp_rdata = ram_dsp_read_data;
+
     always @(*) begin
         core_reset = reset;
         core_sa = sa;
@@ -134,9 +139,6 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         core_aen = aen;
         core_bale = bale;
         core_base = base;
-        sd_out = core_sd_out;
-        sd_oe = core_sd_oe;
-        iocs16_n = core_iocs16_n;
         core_ram_word = ram_pc_read_data;
         core_ram_word_valid = 1'b1;
         core_write_done = core_write_valid & ~dsp_we;
@@ -155,7 +157,6 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         end
         ram_pc_read_address = core_counter;
         ram_dsp_read_address = dsp_addr;
-        dsp_rdata = ram_dsp_read_data;
     end
 
     always @(*) begin

@@ -8,11 +8,9 @@ module ls688(p, q, g_n, p_eq_q_n);
     input wire [7:0] p;
     input wire [7:0] q;
     input wire g_n;
-    output reg p_eq_q_n;
+    output wire p_eq_q_n;
 
-    always @(*) begin
-        p_eq_q_n = ~((p == q) & ~g_n);
-    end
+    assign p_eq_q_n = ~((p == q) & ~g_n);
 endmodule // ls688
 
 `default_nettype wire

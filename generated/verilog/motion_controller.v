@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z);
+module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -12,24 +12,28 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     input wire fsmc_nwe_n;
     input wire [11:0] fsmc_a;
     input wire [15:0] fsmc_d_in;
-    output reg [15:0] fsmc_d_out;
-    output reg fsmc_d_oe;
+    output wire [15:0] fsmc_d_out;
+    output wire fsmc_d_oe;
     input wire [9:0] isa_sa;
     input wire [15:0] isa_sd_in;
-    output reg [15:0] isa_sd_out;
-    output reg isa_sd_oe;
+    output wire [15:0] isa_sd_out;
+    output wire isa_sd_oe;
     input wire isa_ior_n;
     input wire isa_iow_n;
     input wire isa_aen;
     input wire isa_bale;
     input wire [7:0] isa_base;
-    output reg isa_iocs16_n;
+    output wire isa_iocs16_n;
     input wire [3:0] enc_a;
     input wire [3:0] enc_b;
     input wire [3:0] enc_z;
+    output wire [3:0] pulse_f1;
+    output wire [3:0] pulse_f2;
 
     localparam mcu_id_page = 6'b0;
     localparam mcu_counter_page = 2'b1;
+    localparam mcu_pulse_page = 1'b1;
+    localparam mcu_counter_snapshot = 8'h1;
     localparam mcu_mcu_bus_src_ram = 2'b0;
     localparam mcu_mcu_bus_src_reg_low = 2'b1;
     localparam mcu_mcu_bus_src_reg_high = 2'b10;
@@ -59,8 +63,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'hb73363b0;
-    localparam mcu_identity_values_8 = 32'h0;
+    localparam mcu_identity_values_7 = 32'h8ff5c740;
+    localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
     localparam mcu_identity_values_11 = 32'h0;
@@ -240,6 +244,137 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_3_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_3_counter_lo_bits = 5'b1110;
     localparam mcu_counters_channels_3_counter_one = 32'h1;
+    localparam mcu_pulses_addr_info = 9'b0;
+    localparam mcu_pulses_addr_run = 9'b1;
+    localparam mcu_pulses_addr_ctrl_0 = 9'b10000;
+    localparam mcu_pulses_addr_ctrl_1 = 9'b100000;
+    localparam mcu_pulses_addr_ctrl_2 = 9'b110000;
+    localparam mcu_pulses_addr_ctrl_3 = 9'b1000000;
+    localparam mcu_pulses_addr_rate_0 = 9'b10001;
+    localparam mcu_pulses_addr_rate_1 = 9'b100001;
+    localparam mcu_pulses_addr_rate_2 = 9'b110001;
+    localparam mcu_pulses_addr_rate_3 = 9'b1000001;
+    localparam mcu_pulses_addr_step_timing_0 = 9'b10010;
+    localparam mcu_pulses_addr_step_timing_1 = 9'b100010;
+    localparam mcu_pulses_addr_step_timing_2 = 9'b110010;
+    localparam mcu_pulses_addr_step_timing_3 = 9'b1000010;
+    localparam mcu_pulses_addr_dir_timing_0 = 9'b10011;
+    localparam mcu_pulses_addr_dir_timing_1 = 9'b100011;
+    localparam mcu_pulses_addr_dir_timing_2 = 9'b110011;
+    localparam mcu_pulses_addr_dir_timing_3 = 9'b1000011;
+    localparam mcu_pulses_addr_position_0 = 9'b10100;
+    localparam mcu_pulses_addr_position_1 = 9'b100100;
+    localparam mcu_pulses_addr_position_2 = 9'b110100;
+    localparam mcu_pulses_addr_position_3 = 9'b1000100;
+    localparam mcu_pulses_addr_status_0 = 9'b10101;
+    localparam mcu_pulses_addr_status_1 = 9'b100101;
+    localparam mcu_pulses_addr_status_2 = 9'b110101;
+    localparam mcu_pulses_addr_status_3 = 9'b1000101;
+    localparam mcu_pulses_addr_seg_steps_0 = 9'b10110;
+    localparam mcu_pulses_addr_seg_steps_1 = 9'b100110;
+    localparam mcu_pulses_addr_seg_steps_2 = 9'b110110;
+    localparam mcu_pulses_addr_seg_steps_3 = 9'b1000110;
+    localparam mcu_pulses_addr_seg_rate_0 = 9'b10111;
+    localparam mcu_pulses_addr_seg_rate_1 = 9'b100111;
+    localparam mcu_pulses_addr_seg_rate_2 = 9'b110111;
+    localparam mcu_pulses_addr_seg_rate_3 = 9'b1000111;
+    localparam mcu_pulses_addr_seg_accel_0 = 9'b11000;
+    localparam mcu_pulses_addr_seg_accel_1 = 9'b101000;
+    localparam mcu_pulses_addr_seg_accel_2 = 9'b111000;
+    localparam mcu_pulses_addr_seg_accel_3 = 9'b1001000;
+    localparam mcu_pulses_addr_seg_push_0 = 9'b11001;
+    localparam mcu_pulses_addr_seg_push_1 = 9'b101001;
+    localparam mcu_pulses_addr_seg_push_2 = 9'b111001;
+    localparam mcu_pulses_addr_seg_push_3 = 9'b1001001;
+    localparam mcu_pulses_info = 32'h1c04;
+    localparam mcu_pulses_width_mask = 32'hfffffff;
+    localparam mcu_pulses_sign_bit = 32'h8000000;
+    localparam mcu_pulses_sign_extension = 32'hf0000000;
+    localparam mcu_pulses_one = 32'h1;
+    localparam mcu_pulses_two = 32'h2;
+    localparam mcu_pulses_four = 32'h4;
+    localparam mcu_pulses_moving_bit = 32'h20000;
+    localparam mcu_pulses_done_bit = 32'h40000;
+    localparam mcu_pulses_overflow_bit = 32'h80000;
+    localparam mcu_pulses_level_bit0 = 32'h100000;
+    localparam mcu_pulses_level_bit1 = 32'h200000;
+    localparam mcu_pulses_level_bit2 = 32'h400000;
+    localparam mcu_pulses_axis_bit_0 = 4'h1;
+    localparam mcu_pulses_axis_bit_1 = 4'h2;
+    localparam mcu_pulses_axis_bit_2 = 4'h4;
+    localparam mcu_pulses_axis_bit_3 = 4'h8;
+    localparam mcu_pulses_generators_0_one = 32'h1;
+    localparam mcu_pulses_generators_0_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_0_busy_bit = 32'h10000;
+    localparam mcu_pulses_generators_0_timer_sign_mask = 16'h8000;
+    localparam mcu_pulses_generators_0_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_0_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_0_timer_one = 16'h1;
+    localparam mcu_pulses_generators_0_timer_minus_one = 16'hffff;
+    localparam mcu_pulses_generators_0_timer_two = 16'h2;
+    localparam mcu_pulses_generators_0_timer_minus_two = 16'hfffe;
+    localparam mcu_pulses_generators_0_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_0_timer_timer_max = 16'hffff;
+    localparam mcu_pulses_generators_1_one = 32'h1;
+    localparam mcu_pulses_generators_1_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_1_busy_bit = 32'h10000;
+    localparam mcu_pulses_generators_1_timer_sign_mask = 16'h8000;
+    localparam mcu_pulses_generators_1_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_1_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_1_timer_one = 16'h1;
+    localparam mcu_pulses_generators_1_timer_minus_one = 16'hffff;
+    localparam mcu_pulses_generators_1_timer_two = 16'h2;
+    localparam mcu_pulses_generators_1_timer_minus_two = 16'hfffe;
+    localparam mcu_pulses_generators_1_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_1_timer_timer_max = 16'hffff;
+    localparam mcu_pulses_generators_2_one = 32'h1;
+    localparam mcu_pulses_generators_2_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_2_busy_bit = 32'h10000;
+    localparam mcu_pulses_generators_2_timer_sign_mask = 16'h8000;
+    localparam mcu_pulses_generators_2_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_2_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_2_timer_one = 16'h1;
+    localparam mcu_pulses_generators_2_timer_minus_one = 16'hffff;
+    localparam mcu_pulses_generators_2_timer_two = 16'h2;
+    localparam mcu_pulses_generators_2_timer_minus_two = 16'hfffe;
+    localparam mcu_pulses_generators_2_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_2_timer_timer_max = 16'hffff;
+    localparam mcu_pulses_generators_3_one = 32'h1;
+    localparam mcu_pulses_generators_3_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_3_busy_bit = 32'h10000;
+    localparam mcu_pulses_generators_3_timer_sign_mask = 16'h8000;
+    localparam mcu_pulses_generators_3_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_3_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_3_timer_one = 16'h1;
+    localparam mcu_pulses_generators_3_timer_minus_one = 16'hffff;
+    localparam mcu_pulses_generators_3_timer_two = 16'h2;
+    localparam mcu_pulses_generators_3_timer_minus_two = 16'hfffe;
+    localparam mcu_pulses_generators_3_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_3_timer_timer_max = 16'hffff;
+    localparam mcu_pulses_engines_0_slot_0 = 2'b0;
+    localparam mcu_pulses_engines_0_slot_1 = 2'b1;
+    localparam mcu_pulses_engines_0_slot_2 = 2'b10;
+    localparam mcu_pulses_engines_0_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_0_one = 32'h1;
+    localparam mcu_pulses_engines_0_full = 3'b100;
+    localparam mcu_pulses_engines_1_slot_0 = 2'b0;
+    localparam mcu_pulses_engines_1_slot_1 = 2'b1;
+    localparam mcu_pulses_engines_1_slot_2 = 2'b10;
+    localparam mcu_pulses_engines_1_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_1_one = 32'h1;
+    localparam mcu_pulses_engines_1_full = 3'b100;
+    localparam mcu_pulses_engines_2_slot_0 = 2'b0;
+    localparam mcu_pulses_engines_2_slot_1 = 2'b1;
+    localparam mcu_pulses_engines_2_slot_2 = 2'b10;
+    localparam mcu_pulses_engines_2_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_2_one = 32'h1;
+    localparam mcu_pulses_engines_2_full = 3'b100;
+    localparam mcu_pulses_engines_3_slot_0 = 2'b0;
+    localparam mcu_pulses_engines_3_slot_1 = 2'b1;
+    localparam mcu_pulses_engines_3_slot_2 = 2'b10;
+    localparam mcu_pulses_engines_3_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_3_one = 32'h1;
+    localparam mcu_pulses_engines_3_full = 3'b100;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -267,6 +402,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_ram_wdata;
     reg mcu_ram_we;
     reg [15:0] mcu_ram_rdata;
+    reg [3:0] mcu_pulse_f1;
+    reg [3:0] mcu_pulse_f2;
     reg pc_bus_reset;
     reg [9:0] pc_bus_sa;
     reg [15:0] pc_bus_sd_in;
@@ -312,12 +449,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_we;
     reg mcu_counters_re;
     reg [31:0] mcu_counters_rdata;
+    reg mcu_pulses_reset;
+    reg [8:0] mcu_pulses_addr;
+    reg [31:0] mcu_pulses_wdata;
+    reg mcu_pulses_we;
+    reg mcu_pulses_re;
+    reg [31:0] mcu_pulses_rdata;
+    reg mcu_pulses_snapshot;
+    reg [3:0] mcu_pulses_f1;
+    reg [3:0] mcu_pulses_f2;
     reg mcu_read_from_id_d;
     reg mcu_read_from_id_q = 1'h0;
     reg mcu_read_from_counters_d;
     reg mcu_read_from_counters_q = 1'h0;
+    reg mcu_read_from_pulses_d;
+    reg mcu_read_from_pulses_q = 1'h0;
     reg mcu_select_id;
     reg mcu_select_counters;
+    reg mcu_select_pulses;
     reg mcu_mcu_bus_ne_s1_d;
     reg mcu_mcu_bus_ne_s1_q = 1'h0;
     reg mcu_mcu_bus_noe_s1_d;
@@ -972,6 +1121,677 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_3_counter_lo_carry_in;
     reg [31:0] mcu_counters_channels_3_counter_hi_carry_in;
     reg [31:0] mcu_counters_channels_3_counter_load_lo;
+    reg mcu_pulses_generators_0_reset;
+    reg mcu_pulses_generators_0_enable;
+    reg [31:0] mcu_pulses_generators_0_rate;
+    reg [15:0] mcu_pulses_generators_0_step_len;
+    reg [15:0] mcu_pulses_generators_0_step_space;
+    reg [15:0] mcu_pulses_generators_0_dir_setup;
+    reg [15:0] mcu_pulses_generators_0_dir_hold;
+    reg mcu_pulses_generators_0_step;
+    reg mcu_pulses_generators_0_dir;
+    reg [31:0] mcu_pulses_generators_0_position;
+    reg mcu_pulses_generators_0_commanded;
+    reg mcu_pulses_generators_0_advancing;
+    reg [31:0] mcu_pulses_generators_0_status;
+    reg mcu_pulses_generators_1_reset;
+    reg mcu_pulses_generators_1_enable;
+    reg [31:0] mcu_pulses_generators_1_rate;
+    reg [15:0] mcu_pulses_generators_1_step_len;
+    reg [15:0] mcu_pulses_generators_1_step_space;
+    reg [15:0] mcu_pulses_generators_1_dir_setup;
+    reg [15:0] mcu_pulses_generators_1_dir_hold;
+    reg mcu_pulses_generators_1_step;
+    reg mcu_pulses_generators_1_dir;
+    reg [31:0] mcu_pulses_generators_1_position;
+    reg mcu_pulses_generators_1_commanded;
+    reg mcu_pulses_generators_1_advancing;
+    reg [31:0] mcu_pulses_generators_1_status;
+    reg mcu_pulses_generators_2_reset;
+    reg mcu_pulses_generators_2_enable;
+    reg [31:0] mcu_pulses_generators_2_rate;
+    reg [15:0] mcu_pulses_generators_2_step_len;
+    reg [15:0] mcu_pulses_generators_2_step_space;
+    reg [15:0] mcu_pulses_generators_2_dir_setup;
+    reg [15:0] mcu_pulses_generators_2_dir_hold;
+    reg mcu_pulses_generators_2_step;
+    reg mcu_pulses_generators_2_dir;
+    reg [31:0] mcu_pulses_generators_2_position;
+    reg mcu_pulses_generators_2_commanded;
+    reg mcu_pulses_generators_2_advancing;
+    reg [31:0] mcu_pulses_generators_2_status;
+    reg mcu_pulses_generators_3_reset;
+    reg mcu_pulses_generators_3_enable;
+    reg [31:0] mcu_pulses_generators_3_rate;
+    reg [15:0] mcu_pulses_generators_3_step_len;
+    reg [15:0] mcu_pulses_generators_3_step_space;
+    reg [15:0] mcu_pulses_generators_3_dir_setup;
+    reg [15:0] mcu_pulses_generators_3_dir_hold;
+    reg mcu_pulses_generators_3_step;
+    reg mcu_pulses_generators_3_dir;
+    reg [31:0] mcu_pulses_generators_3_position;
+    reg mcu_pulses_generators_3_commanded;
+    reg mcu_pulses_generators_3_advancing;
+    reg [31:0] mcu_pulses_generators_3_status;
+    reg mcu_pulses_engines_0_reset;
+    reg mcu_pulses_engines_0_run;
+    reg mcu_pulses_engines_0_commanded;
+    reg mcu_pulses_engines_0_advancing;
+    reg mcu_pulses_engines_0_push;
+    reg [31:0] mcu_pulses_engines_0_seg_steps;
+    reg [31:0] mcu_pulses_engines_0_seg_rate;
+    reg [31:0] mcu_pulses_engines_0_seg_accel;
+    reg mcu_pulses_engines_0_clear_overflow;
+    reg [31:0] mcu_pulses_engines_0_rate;
+    reg mcu_pulses_engines_0_active;
+    reg mcu_pulses_engines_0_done;
+    reg mcu_pulses_engines_0_overflow;
+    reg [2:0] mcu_pulses_engines_0_level;
+    reg mcu_pulses_engines_1_reset;
+    reg mcu_pulses_engines_1_run;
+    reg mcu_pulses_engines_1_commanded;
+    reg mcu_pulses_engines_1_advancing;
+    reg mcu_pulses_engines_1_push;
+    reg [31:0] mcu_pulses_engines_1_seg_steps;
+    reg [31:0] mcu_pulses_engines_1_seg_rate;
+    reg [31:0] mcu_pulses_engines_1_seg_accel;
+    reg mcu_pulses_engines_1_clear_overflow;
+    reg [31:0] mcu_pulses_engines_1_rate;
+    reg mcu_pulses_engines_1_active;
+    reg mcu_pulses_engines_1_done;
+    reg mcu_pulses_engines_1_overflow;
+    reg [2:0] mcu_pulses_engines_1_level;
+    reg mcu_pulses_engines_2_reset;
+    reg mcu_pulses_engines_2_run;
+    reg mcu_pulses_engines_2_commanded;
+    reg mcu_pulses_engines_2_advancing;
+    reg mcu_pulses_engines_2_push;
+    reg [31:0] mcu_pulses_engines_2_seg_steps;
+    reg [31:0] mcu_pulses_engines_2_seg_rate;
+    reg [31:0] mcu_pulses_engines_2_seg_accel;
+    reg mcu_pulses_engines_2_clear_overflow;
+    reg [31:0] mcu_pulses_engines_2_rate;
+    reg mcu_pulses_engines_2_active;
+    reg mcu_pulses_engines_2_done;
+    reg mcu_pulses_engines_2_overflow;
+    reg [2:0] mcu_pulses_engines_2_level;
+    reg mcu_pulses_engines_3_reset;
+    reg mcu_pulses_engines_3_run;
+    reg mcu_pulses_engines_3_commanded;
+    reg mcu_pulses_engines_3_advancing;
+    reg mcu_pulses_engines_3_push;
+    reg [31:0] mcu_pulses_engines_3_seg_steps;
+    reg [31:0] mcu_pulses_engines_3_seg_rate;
+    reg [31:0] mcu_pulses_engines_3_seg_accel;
+    reg mcu_pulses_engines_3_clear_overflow;
+    reg [31:0] mcu_pulses_engines_3_rate;
+    reg mcu_pulses_engines_3_active;
+    reg mcu_pulses_engines_3_done;
+    reg mcu_pulses_engines_3_overflow;
+    reg [2:0] mcu_pulses_engines_3_level;
+    reg [31:0] mcu_pulses_seg_steps_0_d;
+    reg [31:0] mcu_pulses_seg_steps_0_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_steps_1_d;
+    reg [31:0] mcu_pulses_seg_steps_1_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_steps_2_d;
+    reg [31:0] mcu_pulses_seg_steps_2_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_steps_3_d;
+    reg [31:0] mcu_pulses_seg_steps_3_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_rate_0_d;
+    reg [31:0] mcu_pulses_seg_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_rate_1_d;
+    reg [31:0] mcu_pulses_seg_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_rate_2_d;
+    reg [31:0] mcu_pulses_seg_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_rate_3_d;
+    reg [31:0] mcu_pulses_seg_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_accel_0_d;
+    reg [31:0] mcu_pulses_seg_accel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_accel_1_d;
+    reg [31:0] mcu_pulses_seg_accel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_accel_2_d;
+    reg [31:0] mcu_pulses_seg_accel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_seg_accel_3_d;
+    reg [31:0] mcu_pulses_seg_accel_3_q = 32'h0;
+    reg mcu_pulses_selectors_0_reset;
+    reg mcu_pulses_selectors_0_k;
+    reg mcu_pulses_selectors_0_s1;
+    reg mcu_pulses_selectors_0_s2;
+    reg mcu_pulses_selectors_0_f1;
+    reg mcu_pulses_selectors_0_f2;
+    reg mcu_pulses_selectors_1_reset;
+    reg mcu_pulses_selectors_1_k;
+    reg mcu_pulses_selectors_1_s1;
+    reg mcu_pulses_selectors_1_s2;
+    reg mcu_pulses_selectors_1_f1;
+    reg mcu_pulses_selectors_1_f2;
+    reg mcu_pulses_selectors_2_reset;
+    reg mcu_pulses_selectors_2_k;
+    reg mcu_pulses_selectors_2_s1;
+    reg mcu_pulses_selectors_2_s2;
+    reg mcu_pulses_selectors_2_f1;
+    reg mcu_pulses_selectors_2_f2;
+    reg mcu_pulses_selectors_3_reset;
+    reg mcu_pulses_selectors_3_k;
+    reg mcu_pulses_selectors_3_s1;
+    reg mcu_pulses_selectors_3_s2;
+    reg mcu_pulses_selectors_3_f1;
+    reg mcu_pulses_selectors_3_f2;
+    reg [3:0] mcu_pulses_run_d;
+    reg [3:0] mcu_pulses_run_q = 4'h0;
+    reg [2:0] mcu_pulses_ctrl_0_d;
+    reg [2:0] mcu_pulses_ctrl_0_q = 3'h0;
+    reg [2:0] mcu_pulses_ctrl_1_d;
+    reg [2:0] mcu_pulses_ctrl_1_q = 3'h0;
+    reg [2:0] mcu_pulses_ctrl_2_d;
+    reg [2:0] mcu_pulses_ctrl_2_q = 3'h0;
+    reg [2:0] mcu_pulses_ctrl_3_d;
+    reg [2:0] mcu_pulses_ctrl_3_q = 3'h0;
+    reg [31:0] mcu_pulses_rate_0_d;
+    reg [31:0] mcu_pulses_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_rate_1_d;
+    reg [31:0] mcu_pulses_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_rate_2_d;
+    reg [31:0] mcu_pulses_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_rate_3_d;
+    reg [31:0] mcu_pulses_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_step_timing_0_d;
+    reg [31:0] mcu_pulses_step_timing_0_q = 32'h0;
+    reg [31:0] mcu_pulses_step_timing_1_d;
+    reg [31:0] mcu_pulses_step_timing_1_q = 32'h0;
+    reg [31:0] mcu_pulses_step_timing_2_d;
+    reg [31:0] mcu_pulses_step_timing_2_q = 32'h0;
+    reg [31:0] mcu_pulses_step_timing_3_d;
+    reg [31:0] mcu_pulses_step_timing_3_q = 32'h0;
+    reg [31:0] mcu_pulses_dir_timing_0_d;
+    reg [31:0] mcu_pulses_dir_timing_0_q = 32'h0;
+    reg [31:0] mcu_pulses_dir_timing_1_d;
+    reg [31:0] mcu_pulses_dir_timing_1_q = 32'h0;
+    reg [31:0] mcu_pulses_dir_timing_2_d;
+    reg [31:0] mcu_pulses_dir_timing_2_q = 32'h0;
+    reg [31:0] mcu_pulses_dir_timing_3_d;
+    reg [31:0] mcu_pulses_dir_timing_3_q = 32'h0;
+    reg [31:0] mcu_pulses_snap_0_d;
+    reg [31:0] mcu_pulses_snap_0_q = 32'h0;
+    reg [31:0] mcu_pulses_snap_1_d;
+    reg [31:0] mcu_pulses_snap_1_q = 32'h0;
+    reg [31:0] mcu_pulses_snap_2_d;
+    reg [31:0] mcu_pulses_snap_2_q = 32'h0;
+    reg [31:0] mcu_pulses_snap_3_d;
+    reg [31:0] mcu_pulses_snap_3_q = 32'h0;
+    reg mcu_pulses_quadrature_a_0_d;
+    reg mcu_pulses_quadrature_a_0_q = 1'h0;
+    reg mcu_pulses_quadrature_a_1_d;
+    reg mcu_pulses_quadrature_a_1_q = 1'h0;
+    reg mcu_pulses_quadrature_a_2_d;
+    reg mcu_pulses_quadrature_a_2_q = 1'h0;
+    reg mcu_pulses_quadrature_a_3_d;
+    reg mcu_pulses_quadrature_a_3_q = 1'h0;
+    reg mcu_pulses_quadrature_b_0_d;
+    reg mcu_pulses_quadrature_b_0_q = 1'h0;
+    reg mcu_pulses_quadrature_b_1_d;
+    reg mcu_pulses_quadrature_b_1_q = 1'h0;
+    reg mcu_pulses_quadrature_b_2_d;
+    reg mcu_pulses_quadrature_b_2_q = 1'h0;
+    reg mcu_pulses_quadrature_b_3_d;
+    reg mcu_pulses_quadrature_b_3_q = 1'h0;
+    reg mcu_pulses_out_f1_0_d;
+    reg mcu_pulses_out_f1_0_q = 1'h0;
+    reg mcu_pulses_out_f1_1_d;
+    reg mcu_pulses_out_f1_1_q = 1'h0;
+    reg mcu_pulses_out_f1_2_d;
+    reg mcu_pulses_out_f1_2_q = 1'h0;
+    reg mcu_pulses_out_f1_3_d;
+    reg mcu_pulses_out_f1_3_q = 1'h0;
+    reg mcu_pulses_out_f2_0_d;
+    reg mcu_pulses_out_f2_0_q = 1'h0;
+    reg mcu_pulses_out_f2_1_d;
+    reg mcu_pulses_out_f2_1_q = 1'h0;
+    reg mcu_pulses_out_f2_2_d;
+    reg mcu_pulses_out_f2_2_q = 1'h0;
+    reg mcu_pulses_out_f2_3_d;
+    reg mcu_pulses_out_f2_3_q = 1'h0;
+    reg mcu_pulses_read_pending_d;
+    reg mcu_pulses_read_pending_q = 1'h0;
+    reg [8:0] mcu_pulses_read_addr_d;
+    reg [8:0] mcu_pulses_read_addr_q = 9'h0;
+    reg [31:0] mcu_pulses_read_data_d;
+    reg [31:0] mcu_pulses_read_data_q = 32'h0;
+    reg [31:0] mcu_pulses_read_value;
+    reg [3:0] mcu_pulses_f1_bits;
+    reg [3:0] mcu_pulses_f2_bits;
+    reg mcu_pulses_generators_0_timer_reset;
+    reg mcu_pulses_generators_0_timer_request_up;
+    reg mcu_pulses_generators_0_timer_request_down;
+    reg [15:0] mcu_pulses_generators_0_timer_step_len;
+    reg [15:0] mcu_pulses_generators_0_timer_step_space;
+    reg [15:0] mcu_pulses_generators_0_timer_dir_setup;
+    reg [15:0] mcu_pulses_generators_0_timer_dir_hold;
+    reg mcu_pulses_generators_0_timer_step;
+    reg mcu_pulses_generators_0_timer_dir;
+    reg mcu_pulses_generators_0_timer_emit_up;
+    reg mcu_pulses_generators_0_timer_emit_down;
+    reg mcu_pulses_generators_0_timer_accept_up;
+    reg mcu_pulses_generators_0_timer_accept_down;
+    reg [15:0] mcu_pulses_generators_0_timer_pending;
+    reg [31:0] mcu_pulses_generators_0_phase_d;
+    reg [31:0] mcu_pulses_generators_0_phase_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_0_position_q_d;
+    reg [31:0] mcu_pulses_generators_0_position_q_q = 32'h0;
+    reg mcu_pulses_generators_0_negative;
+    reg [31:0] mcu_pulses_generators_0_magnitude;
+    reg [32:0] mcu_pulses_generators_0_sum;
+    reg mcu_pulses_generators_0_blocked;
+    reg mcu_pulses_generators_0_request_up;
+    reg mcu_pulses_generators_0_request_down;
+    reg [31:0] mcu_pulses_generators_0_position_step;
+    reg [15:0] mcu_pulses_generators_0_timer_pending_q_d;
+    reg [15:0] mcu_pulses_generators_0_timer_pending_q_q = 16'h0;
+    reg mcu_pulses_generators_0_timer_step_q_d;
+    reg mcu_pulses_generators_0_timer_step_q_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_dir_q_d;
+    reg mcu_pulses_generators_0_timer_dir_q_q = 1'h0;
+    reg [15:0] mcu_pulses_generators_0_timer_t_step_d;
+    reg [15:0] mcu_pulses_generators_0_timer_t_step_q = 16'h0;
+    reg [15:0] mcu_pulses_generators_0_timer_t_dir_d;
+    reg [15:0] mcu_pulses_generators_0_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_0_timer_want_negative;
+    reg mcu_pulses_generators_0_timer_emit;
+    reg [15:0] mcu_pulses_generators_0_timer_delta;
+    reg mcu_pulses_generators_1_timer_reset;
+    reg mcu_pulses_generators_1_timer_request_up;
+    reg mcu_pulses_generators_1_timer_request_down;
+    reg [15:0] mcu_pulses_generators_1_timer_step_len;
+    reg [15:0] mcu_pulses_generators_1_timer_step_space;
+    reg [15:0] mcu_pulses_generators_1_timer_dir_setup;
+    reg [15:0] mcu_pulses_generators_1_timer_dir_hold;
+    reg mcu_pulses_generators_1_timer_step;
+    reg mcu_pulses_generators_1_timer_dir;
+    reg mcu_pulses_generators_1_timer_emit_up;
+    reg mcu_pulses_generators_1_timer_emit_down;
+    reg mcu_pulses_generators_1_timer_accept_up;
+    reg mcu_pulses_generators_1_timer_accept_down;
+    reg [15:0] mcu_pulses_generators_1_timer_pending;
+    reg [31:0] mcu_pulses_generators_1_phase_d;
+    reg [31:0] mcu_pulses_generators_1_phase_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_1_position_q_d;
+    reg [31:0] mcu_pulses_generators_1_position_q_q = 32'h0;
+    reg mcu_pulses_generators_1_negative;
+    reg [31:0] mcu_pulses_generators_1_magnitude;
+    reg [32:0] mcu_pulses_generators_1_sum;
+    reg mcu_pulses_generators_1_blocked;
+    reg mcu_pulses_generators_1_request_up;
+    reg mcu_pulses_generators_1_request_down;
+    reg [31:0] mcu_pulses_generators_1_position_step;
+    reg [15:0] mcu_pulses_generators_1_timer_pending_q_d;
+    reg [15:0] mcu_pulses_generators_1_timer_pending_q_q = 16'h0;
+    reg mcu_pulses_generators_1_timer_step_q_d;
+    reg mcu_pulses_generators_1_timer_step_q_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_dir_q_d;
+    reg mcu_pulses_generators_1_timer_dir_q_q = 1'h0;
+    reg [15:0] mcu_pulses_generators_1_timer_t_step_d;
+    reg [15:0] mcu_pulses_generators_1_timer_t_step_q = 16'h0;
+    reg [15:0] mcu_pulses_generators_1_timer_t_dir_d;
+    reg [15:0] mcu_pulses_generators_1_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_1_timer_want_negative;
+    reg mcu_pulses_generators_1_timer_emit;
+    reg [15:0] mcu_pulses_generators_1_timer_delta;
+    reg mcu_pulses_generators_2_timer_reset;
+    reg mcu_pulses_generators_2_timer_request_up;
+    reg mcu_pulses_generators_2_timer_request_down;
+    reg [15:0] mcu_pulses_generators_2_timer_step_len;
+    reg [15:0] mcu_pulses_generators_2_timer_step_space;
+    reg [15:0] mcu_pulses_generators_2_timer_dir_setup;
+    reg [15:0] mcu_pulses_generators_2_timer_dir_hold;
+    reg mcu_pulses_generators_2_timer_step;
+    reg mcu_pulses_generators_2_timer_dir;
+    reg mcu_pulses_generators_2_timer_emit_up;
+    reg mcu_pulses_generators_2_timer_emit_down;
+    reg mcu_pulses_generators_2_timer_accept_up;
+    reg mcu_pulses_generators_2_timer_accept_down;
+    reg [15:0] mcu_pulses_generators_2_timer_pending;
+    reg [31:0] mcu_pulses_generators_2_phase_d;
+    reg [31:0] mcu_pulses_generators_2_phase_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_2_position_q_d;
+    reg [31:0] mcu_pulses_generators_2_position_q_q = 32'h0;
+    reg mcu_pulses_generators_2_negative;
+    reg [31:0] mcu_pulses_generators_2_magnitude;
+    reg [32:0] mcu_pulses_generators_2_sum;
+    reg mcu_pulses_generators_2_blocked;
+    reg mcu_pulses_generators_2_request_up;
+    reg mcu_pulses_generators_2_request_down;
+    reg [31:0] mcu_pulses_generators_2_position_step;
+    reg [15:0] mcu_pulses_generators_2_timer_pending_q_d;
+    reg [15:0] mcu_pulses_generators_2_timer_pending_q_q = 16'h0;
+    reg mcu_pulses_generators_2_timer_step_q_d;
+    reg mcu_pulses_generators_2_timer_step_q_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_dir_q_d;
+    reg mcu_pulses_generators_2_timer_dir_q_q = 1'h0;
+    reg [15:0] mcu_pulses_generators_2_timer_t_step_d;
+    reg [15:0] mcu_pulses_generators_2_timer_t_step_q = 16'h0;
+    reg [15:0] mcu_pulses_generators_2_timer_t_dir_d;
+    reg [15:0] mcu_pulses_generators_2_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_2_timer_want_negative;
+    reg mcu_pulses_generators_2_timer_emit;
+    reg [15:0] mcu_pulses_generators_2_timer_delta;
+    reg mcu_pulses_generators_3_timer_reset;
+    reg mcu_pulses_generators_3_timer_request_up;
+    reg mcu_pulses_generators_3_timer_request_down;
+    reg [15:0] mcu_pulses_generators_3_timer_step_len;
+    reg [15:0] mcu_pulses_generators_3_timer_step_space;
+    reg [15:0] mcu_pulses_generators_3_timer_dir_setup;
+    reg [15:0] mcu_pulses_generators_3_timer_dir_hold;
+    reg mcu_pulses_generators_3_timer_step;
+    reg mcu_pulses_generators_3_timer_dir;
+    reg mcu_pulses_generators_3_timer_emit_up;
+    reg mcu_pulses_generators_3_timer_emit_down;
+    reg mcu_pulses_generators_3_timer_accept_up;
+    reg mcu_pulses_generators_3_timer_accept_down;
+    reg [15:0] mcu_pulses_generators_3_timer_pending;
+    reg [31:0] mcu_pulses_generators_3_phase_d;
+    reg [31:0] mcu_pulses_generators_3_phase_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_3_position_q_d;
+    reg [31:0] mcu_pulses_generators_3_position_q_q = 32'h0;
+    reg mcu_pulses_generators_3_negative;
+    reg [31:0] mcu_pulses_generators_3_magnitude;
+    reg [32:0] mcu_pulses_generators_3_sum;
+    reg mcu_pulses_generators_3_blocked;
+    reg mcu_pulses_generators_3_request_up;
+    reg mcu_pulses_generators_3_request_down;
+    reg [31:0] mcu_pulses_generators_3_position_step;
+    reg [15:0] mcu_pulses_generators_3_timer_pending_q_d;
+    reg [15:0] mcu_pulses_generators_3_timer_pending_q_q = 16'h0;
+    reg mcu_pulses_generators_3_timer_step_q_d;
+    reg mcu_pulses_generators_3_timer_step_q_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_dir_q_d;
+    reg mcu_pulses_generators_3_timer_dir_q_q = 1'h0;
+    reg [15:0] mcu_pulses_generators_3_timer_t_step_d;
+    reg [15:0] mcu_pulses_generators_3_timer_t_step_q = 16'h0;
+    reg [15:0] mcu_pulses_generators_3_timer_t_dir_d;
+    reg [15:0] mcu_pulses_generators_3_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_3_timer_want_negative;
+    reg mcu_pulses_generators_3_timer_emit;
+    reg [15:0] mcu_pulses_generators_3_timer_delta;
+    reg mcu_pulses_engines_0_active_q_d;
+    reg mcu_pulses_engines_0_active_q_q = 1'h0;
+    reg [31:0] mcu_pulses_engines_0_rate_q_d;
+    reg [31:0] mcu_pulses_engines_0_rate_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_accel_q_d;
+    reg [31:0] mcu_pulses_engines_0_accel_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_remaining_d;
+    reg [31:0] mcu_pulses_engines_0_remaining_q = 32'h0;
+    reg mcu_pulses_engines_0_done_q_d;
+    reg mcu_pulses_engines_0_done_q_q = 1'h0;
+    reg mcu_pulses_engines_0_overflow_q_d;
+    reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_0_head_d;
+    reg [1:0] mcu_pulses_engines_0_head_q = 2'h0;
+    reg [2:0] mcu_pulses_engines_0_count_d;
+    reg [2:0] mcu_pulses_engines_0_count_q = 3'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_0_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_1_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_2_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_3_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_steps_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_0_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_1_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_2_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_3_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_0_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_1_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_2_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_3_d;
+    reg [31:0] mcu_pulses_engines_0_fifo_accel_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_head_steps;
+    reg [31:0] mcu_pulses_engines_0_head_rate;
+    reg [31:0] mcu_pulses_engines_0_head_accel;
+    reg [1:0] mcu_pulses_engines_0_tail;
+    reg mcu_pulses_engines_0_popped;
+    reg mcu_pulses_engines_0_ended;
+    reg [2:0] mcu_pulses_engines_0_count_after_pop;
+    reg mcu_pulses_engines_1_active_q_d;
+    reg mcu_pulses_engines_1_active_q_q = 1'h0;
+    reg [31:0] mcu_pulses_engines_1_rate_q_d;
+    reg [31:0] mcu_pulses_engines_1_rate_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_accel_q_d;
+    reg [31:0] mcu_pulses_engines_1_accel_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_remaining_d;
+    reg [31:0] mcu_pulses_engines_1_remaining_q = 32'h0;
+    reg mcu_pulses_engines_1_done_q_d;
+    reg mcu_pulses_engines_1_done_q_q = 1'h0;
+    reg mcu_pulses_engines_1_overflow_q_d;
+    reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_1_head_d;
+    reg [1:0] mcu_pulses_engines_1_head_q = 2'h0;
+    reg [2:0] mcu_pulses_engines_1_count_d;
+    reg [2:0] mcu_pulses_engines_1_count_q = 3'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_0_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_1_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_2_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_3_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_steps_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_0_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_1_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_2_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_3_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_0_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_1_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_2_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_3_d;
+    reg [31:0] mcu_pulses_engines_1_fifo_accel_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_head_steps;
+    reg [31:0] mcu_pulses_engines_1_head_rate;
+    reg [31:0] mcu_pulses_engines_1_head_accel;
+    reg [1:0] mcu_pulses_engines_1_tail;
+    reg mcu_pulses_engines_1_popped;
+    reg mcu_pulses_engines_1_ended;
+    reg [2:0] mcu_pulses_engines_1_count_after_pop;
+    reg mcu_pulses_engines_2_active_q_d;
+    reg mcu_pulses_engines_2_active_q_q = 1'h0;
+    reg [31:0] mcu_pulses_engines_2_rate_q_d;
+    reg [31:0] mcu_pulses_engines_2_rate_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_accel_q_d;
+    reg [31:0] mcu_pulses_engines_2_accel_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_remaining_d;
+    reg [31:0] mcu_pulses_engines_2_remaining_q = 32'h0;
+    reg mcu_pulses_engines_2_done_q_d;
+    reg mcu_pulses_engines_2_done_q_q = 1'h0;
+    reg mcu_pulses_engines_2_overflow_q_d;
+    reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_2_head_d;
+    reg [1:0] mcu_pulses_engines_2_head_q = 2'h0;
+    reg [2:0] mcu_pulses_engines_2_count_d;
+    reg [2:0] mcu_pulses_engines_2_count_q = 3'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_0_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_1_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_2_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_3_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_steps_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_0_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_1_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_2_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_3_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_0_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_1_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_2_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_3_d;
+    reg [31:0] mcu_pulses_engines_2_fifo_accel_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_head_steps;
+    reg [31:0] mcu_pulses_engines_2_head_rate;
+    reg [31:0] mcu_pulses_engines_2_head_accel;
+    reg [1:0] mcu_pulses_engines_2_tail;
+    reg mcu_pulses_engines_2_popped;
+    reg mcu_pulses_engines_2_ended;
+    reg [2:0] mcu_pulses_engines_2_count_after_pop;
+    reg mcu_pulses_engines_3_active_q_d;
+    reg mcu_pulses_engines_3_active_q_q = 1'h0;
+    reg [31:0] mcu_pulses_engines_3_rate_q_d;
+    reg [31:0] mcu_pulses_engines_3_rate_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_accel_q_d;
+    reg [31:0] mcu_pulses_engines_3_accel_q_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_remaining_d;
+    reg [31:0] mcu_pulses_engines_3_remaining_q = 32'h0;
+    reg mcu_pulses_engines_3_done_q_d;
+    reg mcu_pulses_engines_3_done_q_q = 1'h0;
+    reg mcu_pulses_engines_3_overflow_q_d;
+    reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_3_head_d;
+    reg [1:0] mcu_pulses_engines_3_head_q = 2'h0;
+    reg [2:0] mcu_pulses_engines_3_count_d;
+    reg [2:0] mcu_pulses_engines_3_count_q = 3'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_0_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_1_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_2_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_3_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_steps_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_0_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_1_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_2_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_3_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_rate_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_0_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_1_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_2_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_3_d;
+    reg [31:0] mcu_pulses_engines_3_fifo_accel_3_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_head_steps;
+    reg [31:0] mcu_pulses_engines_3_head_rate;
+    reg [31:0] mcu_pulses_engines_3_head_accel;
+    reg [1:0] mcu_pulses_engines_3_tail;
+    reg mcu_pulses_engines_3_popped;
+    reg mcu_pulses_engines_3_ended;
+    reg [2:0] mcu_pulses_engines_3_count_after_pop;
+    reg mcu_pulses_selectors_0_selector_k;
+    reg mcu_pulses_selectors_0_selector_s1;
+    reg mcu_pulses_selectors_0_selector_s2;
+    reg mcu_pulses_selectors_0_selector_f1;
+    reg mcu_pulses_selectors_0_selector_f2;
+    reg mcu_pulses_selectors_0_f1_reg_d;
+    reg mcu_pulses_selectors_0_f1_reg_q = 1'h0;
+    reg mcu_pulses_selectors_0_f2_reg_d;
+    reg mcu_pulses_selectors_0_f2_reg_q = 1'h0;
+    reg mcu_pulses_selectors_0_selector_chip_a;
+    reg mcu_pulses_selectors_0_selector_chip_b;
+    reg mcu_pulses_selectors_0_selector_chip_g1_n;
+    reg mcu_pulses_selectors_0_selector_chip_g2_n;
+    reg mcu_pulses_selectors_0_selector_chip_c1_0;
+    reg mcu_pulses_selectors_0_selector_chip_c1_1;
+    reg mcu_pulses_selectors_0_selector_chip_c1_2;
+    reg mcu_pulses_selectors_0_selector_chip_c1_3;
+    reg mcu_pulses_selectors_0_selector_chip_c2_0;
+    reg mcu_pulses_selectors_0_selector_chip_c2_1;
+    reg mcu_pulses_selectors_0_selector_chip_c2_2;
+    reg mcu_pulses_selectors_0_selector_chip_c2_3;
+    reg mcu_pulses_selectors_0_selector_chip_y1;
+    reg mcu_pulses_selectors_0_selector_chip_y2;
+    reg mcu_pulses_selectors_1_selector_k;
+    reg mcu_pulses_selectors_1_selector_s1;
+    reg mcu_pulses_selectors_1_selector_s2;
+    reg mcu_pulses_selectors_1_selector_f1;
+    reg mcu_pulses_selectors_1_selector_f2;
+    reg mcu_pulses_selectors_1_f1_reg_d;
+    reg mcu_pulses_selectors_1_f1_reg_q = 1'h0;
+    reg mcu_pulses_selectors_1_f2_reg_d;
+    reg mcu_pulses_selectors_1_f2_reg_q = 1'h0;
+    reg mcu_pulses_selectors_1_selector_chip_a;
+    reg mcu_pulses_selectors_1_selector_chip_b;
+    reg mcu_pulses_selectors_1_selector_chip_g1_n;
+    reg mcu_pulses_selectors_1_selector_chip_g2_n;
+    reg mcu_pulses_selectors_1_selector_chip_c1_0;
+    reg mcu_pulses_selectors_1_selector_chip_c1_1;
+    reg mcu_pulses_selectors_1_selector_chip_c1_2;
+    reg mcu_pulses_selectors_1_selector_chip_c1_3;
+    reg mcu_pulses_selectors_1_selector_chip_c2_0;
+    reg mcu_pulses_selectors_1_selector_chip_c2_1;
+    reg mcu_pulses_selectors_1_selector_chip_c2_2;
+    reg mcu_pulses_selectors_1_selector_chip_c2_3;
+    reg mcu_pulses_selectors_1_selector_chip_y1;
+    reg mcu_pulses_selectors_1_selector_chip_y2;
+    reg mcu_pulses_selectors_2_selector_k;
+    reg mcu_pulses_selectors_2_selector_s1;
+    reg mcu_pulses_selectors_2_selector_s2;
+    reg mcu_pulses_selectors_2_selector_f1;
+    reg mcu_pulses_selectors_2_selector_f2;
+    reg mcu_pulses_selectors_2_f1_reg_d;
+    reg mcu_pulses_selectors_2_f1_reg_q = 1'h0;
+    reg mcu_pulses_selectors_2_f2_reg_d;
+    reg mcu_pulses_selectors_2_f2_reg_q = 1'h0;
+    reg mcu_pulses_selectors_2_selector_chip_a;
+    reg mcu_pulses_selectors_2_selector_chip_b;
+    reg mcu_pulses_selectors_2_selector_chip_g1_n;
+    reg mcu_pulses_selectors_2_selector_chip_g2_n;
+    reg mcu_pulses_selectors_2_selector_chip_c1_0;
+    reg mcu_pulses_selectors_2_selector_chip_c1_1;
+    reg mcu_pulses_selectors_2_selector_chip_c1_2;
+    reg mcu_pulses_selectors_2_selector_chip_c1_3;
+    reg mcu_pulses_selectors_2_selector_chip_c2_0;
+    reg mcu_pulses_selectors_2_selector_chip_c2_1;
+    reg mcu_pulses_selectors_2_selector_chip_c2_2;
+    reg mcu_pulses_selectors_2_selector_chip_c2_3;
+    reg mcu_pulses_selectors_2_selector_chip_y1;
+    reg mcu_pulses_selectors_2_selector_chip_y2;
+    reg mcu_pulses_selectors_3_selector_k;
+    reg mcu_pulses_selectors_3_selector_s1;
+    reg mcu_pulses_selectors_3_selector_s2;
+    reg mcu_pulses_selectors_3_selector_f1;
+    reg mcu_pulses_selectors_3_selector_f2;
+    reg mcu_pulses_selectors_3_f1_reg_d;
+    reg mcu_pulses_selectors_3_f1_reg_q = 1'h0;
+    reg mcu_pulses_selectors_3_f2_reg_d;
+    reg mcu_pulses_selectors_3_f2_reg_q = 1'h0;
+    reg mcu_pulses_selectors_3_selector_chip_a;
+    reg mcu_pulses_selectors_3_selector_chip_b;
+    reg mcu_pulses_selectors_3_selector_chip_g1_n;
+    reg mcu_pulses_selectors_3_selector_chip_g2_n;
+    reg mcu_pulses_selectors_3_selector_chip_c1_0;
+    reg mcu_pulses_selectors_3_selector_chip_c1_1;
+    reg mcu_pulses_selectors_3_selector_chip_c1_2;
+    reg mcu_pulses_selectors_3_selector_chip_c1_3;
+    reg mcu_pulses_selectors_3_selector_chip_c2_0;
+    reg mcu_pulses_selectors_3_selector_chip_c2_1;
+    reg mcu_pulses_selectors_3_selector_chip_c2_2;
+    reg mcu_pulses_selectors_3_selector_chip_c2_3;
+    reg mcu_pulses_selectors_3_selector_chip_y1;
+    reg mcu_pulses_selectors_3_selector_chip_y2;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -1063,6 +1883,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg pc_bus_core_advance;
     reg pc_bus_core_frozen;
 
+    assign fsmc_d_out = mcu_fsmc_d_out;
+    assign fsmc_d_oe = mcu_fsmc_d_oe;
+    assign isa_sd_out = pc_bus_sd_out;
+    assign isa_sd_oe = pc_bus_sd_oe;
+    assign isa_iocs16_n = pc_bus_iocs16_n;
+    assign pulse_f1 = mcu_pulse_f1;
+    assign pulse_f2 = mcu_pulse_f2;
+
     always @(*) begin
         mcu_reset = reset;
         pc_bus_reset = reset;
@@ -1071,21 +1899,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_fsmc_nwe_n = fsmc_nwe_n;
         mcu_fsmc_a = fsmc_a;
         mcu_fsmc_d_in = fsmc_d_in;
-        fsmc_d_out = mcu_fsmc_d_out;
-        fsmc_d_oe = mcu_fsmc_d_oe;
         mcu_enc_a = enc_a;
         mcu_enc_b = enc_b;
         mcu_enc_z = enc_z;
         pc_bus_sa = isa_sa;
         pc_bus_sd_in = isa_sd_in;
-        isa_sd_out = pc_bus_sd_out;
-        isa_sd_oe = pc_bus_sd_oe;
         pc_bus_ior_n = isa_ior_n;
         pc_bus_iow_n = isa_iow_n;
         pc_bus_aen = isa_aen;
         pc_bus_bale = isa_bale;
         pc_bus_base = isa_base;
-        isa_iocs16_n = pc_bus_iocs16_n;
         pc_bus_dsp_addr = mcu_ram_addr;
         pc_bus_dsp_wdata = mcu_ram_wdata;
         pc_bus_dsp_we = mcu_ram_we;
@@ -1095,6 +1918,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(*) begin
         mcu_read_from_id_d = mcu_read_from_id_q;
         mcu_read_from_counters_d = mcu_read_from_counters_q;
+        mcu_read_from_pulses_d = mcu_read_from_pulses_q;
+        mcu_pulses_reset = mcu_reset;
         mcu_mcu_bus_reset = mcu_reset;
         mcu_identity_reset = mcu_reset;
         mcu_counters_reset = mcu_reset;
@@ -1113,9 +1938,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_wdata = mcu_mcu_bus_reg_wdata;
         mcu_counters_we = mcu_mcu_bus_reg_we & mcu_select_counters;
         mcu_counters_re = mcu_mcu_bus_reg_re & mcu_select_counters;
+        mcu_select_pulses = mcu_mcu_bus_reg_addr[9:9] == mcu_pulse_page;
+        mcu_pulses_addr = mcu_mcu_bus_reg_addr[8:0];
+        mcu_pulses_wdata = mcu_mcu_bus_reg_wdata;
+        mcu_pulses_we = mcu_mcu_bus_reg_we & mcu_select_pulses;
+        mcu_pulses_re = mcu_mcu_bus_reg_re & mcu_select_pulses;
+        mcu_pulses_snapshot = mcu_mcu_bus_reg_we & mcu_select_counters & (mcu_mcu_bus_reg_addr[7:0] == mcu_counter_snapshot);
+        mcu_pulse_f1 = mcu_pulses_f1;
+        mcu_pulse_f2 = mcu_pulses_f2;
         if (mcu_mcu_bus_reg_re) begin
             mcu_read_from_id_d = mcu_select_id;
             mcu_read_from_counters_d = mcu_select_counters;
+            mcu_read_from_pulses_d = mcu_select_pulses;
         end
         mcu_mcu_bus_reg_rdata = 32'h0;
         if (mcu_read_from_id_q) begin
@@ -1124,9 +1958,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_read_from_counters_q) begin
             mcu_mcu_bus_reg_rdata = mcu_counters_rdata;
         end
+        if (mcu_read_from_pulses_q) begin
+            mcu_mcu_bus_reg_rdata = mcu_pulses_rdata;
+        end
         if (mcu_reset) begin
             mcu_read_from_id_d = 1'b0;
             mcu_read_from_counters_d = 1'b0;
+            mcu_read_from_pulses_d = 1'b0;
         end
         mcu_ram_addr = mcu_mcu_bus_ram_addr;
         mcu_ram_wdata = mcu_mcu_bus_ram_wdata;
@@ -2751,6 +3589,1877 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     end
 
     always @(*) begin
+        mcu_pulses_run_d = mcu_pulses_run_q;
+        mcu_pulses_read_pending_d = mcu_pulses_read_pending_q;
+        mcu_pulses_read_addr_d = mcu_pulses_read_addr_q;
+        mcu_pulses_read_data_d = mcu_pulses_read_data_q;
+        mcu_pulses_f1_bits = 4'h0;
+        mcu_pulses_f2_bits = 4'h0;
+        mcu_pulses_read_pending_d = mcu_pulses_re;
+        if (mcu_pulses_re) begin
+            mcu_pulses_read_addr_d = mcu_pulses_addr;
+        end
+        mcu_pulses_read_value = 32'h0;
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_info) begin
+            mcu_pulses_read_value = mcu_pulses_info;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_run) begin
+            mcu_pulses_read_value = {28'h0, mcu_pulses_run_q};
+        end
+        if (mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_run)) begin
+            mcu_pulses_run_d = mcu_pulses_wdata[3:0];
+        end
+        mcu_pulses_quadrature_a_0_d = mcu_pulses_generators_0_position[0] ^ mcu_pulses_generators_0_position[1];
+        mcu_pulses_quadrature_b_0_d = mcu_pulses_generators_0_position[1];
+        if (mcu_pulses_ctrl_0_q[1]) begin
+            mcu_pulses_out_f1_0_d = mcu_pulses_quadrature_a_0_q;
+            mcu_pulses_out_f2_0_d = mcu_pulses_quadrature_b_0_q;
+        end
+        else begin
+            mcu_pulses_out_f1_0_d = mcu_pulses_selectors_0_f1;
+            mcu_pulses_out_f2_0_d = mcu_pulses_selectors_0_f2;
+        end
+        mcu_pulses_seg_steps_0_d = mcu_pulses_seg_steps_0_q;
+        mcu_pulses_seg_rate_0_d = mcu_pulses_seg_rate_0_q;
+        mcu_pulses_seg_accel_0_d = mcu_pulses_seg_accel_0_q;
+        mcu_pulses_engines_0_reset = mcu_pulses_reset;
+        mcu_pulses_engines_0_run = mcu_pulses_ctrl_0_q[2] & mcu_pulses_run_q[0];
+        mcu_pulses_engines_0_commanded = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_commanded;
+        mcu_pulses_engines_0_advancing = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_advancing;
+        mcu_pulses_engines_0_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_0);
+        mcu_pulses_engines_0_seg_steps = mcu_pulses_seg_steps_0_q;
+        mcu_pulses_engines_0_seg_rate = mcu_pulses_seg_rate_0_q;
+        mcu_pulses_engines_0_seg_accel = mcu_pulses_seg_accel_0_q;
+        mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
+        mcu_pulses_ctrl_0_d = mcu_pulses_ctrl_0_q;
+        mcu_pulses_rate_0_d = mcu_pulses_rate_0_q;
+        mcu_pulses_step_timing_0_d = mcu_pulses_step_timing_0_q;
+        mcu_pulses_dir_timing_0_d = mcu_pulses_dir_timing_0_q;
+        mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
+        mcu_pulses_generators_0_reset = mcu_pulses_reset;
+        mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
+        mcu_pulses_generators_0_rate = mcu_pulses_rate_0_q;
+        if (mcu_pulses_ctrl_0_q[2]) begin
+            mcu_pulses_generators_0_rate = mcu_pulses_engines_0_rate;
+        end
+        mcu_pulses_generators_0_step_len = mcu_pulses_step_timing_0_q[15:0];
+        mcu_pulses_generators_0_step_space = mcu_pulses_step_timing_0_q[31:16];
+        mcu_pulses_generators_0_dir_setup = mcu_pulses_dir_timing_0_q[15:0];
+        mcu_pulses_generators_0_dir_hold = mcu_pulses_dir_timing_0_q[31:16];
+        mcu_pulses_selectors_0_reset = mcu_pulses_reset;
+        mcu_pulses_selectors_0_k = mcu_pulses_ctrl_0_q[0];
+        mcu_pulses_selectors_0_s1 = mcu_pulses_generators_0_step;
+        mcu_pulses_selectors_0_s2 = mcu_pulses_generators_0_dir;
+        if (mcu_pulses_out_f1_0_q) begin
+            mcu_pulses_f1_bits = mcu_pulses_f1_bits | mcu_pulses_axis_bit_0;
+        end
+        if (mcu_pulses_out_f2_0_q) begin
+            mcu_pulses_f2_bits = mcu_pulses_f2_bits | mcu_pulses_axis_bit_0;
+        end
+        if (mcu_pulses_snapshot) begin
+            mcu_pulses_snap_0_d = mcu_pulses_generators_0_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_we) begin
+            if (mcu_pulses_addr == mcu_pulses_addr_ctrl_0) begin
+                mcu_pulses_ctrl_0_d = mcu_pulses_wdata[2:0];
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_rate_0) begin
+                mcu_pulses_rate_0_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_step_timing_0) begin
+                mcu_pulses_step_timing_0_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_0) begin
+                mcu_pulses_dir_timing_0_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_0) begin
+                mcu_pulses_seg_steps_0_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_0) begin
+                mcu_pulses_seg_rate_0_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_0) begin
+                mcu_pulses_seg_accel_0_d = mcu_pulses_wdata;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_0) begin
+            if (mcu_pulses_ctrl_0_q[0]) begin
+                mcu_pulses_read_value = mcu_pulses_one;
+            end
+            if (mcu_pulses_ctrl_0_q[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_two;
+            end
+            if (mcu_pulses_ctrl_0_q[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_four;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_rate_0) begin
+            mcu_pulses_read_value = mcu_pulses_rate_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_step_timing_0) begin
+            mcu_pulses_read_value = mcu_pulses_step_timing_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_0) begin
+            mcu_pulses_read_value = mcu_pulses_dir_timing_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_0) begin
+            mcu_pulses_read_value = mcu_pulses_snap_0_q;
+            if (|(mcu_pulses_snap_0_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_snap_0_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_0) begin
+            mcu_pulses_read_value = mcu_pulses_generators_0_status;
+            if (mcu_pulses_engines_0_active) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
+            end
+            if (mcu_pulses_engines_0_done) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
+            end
+            if (mcu_pulses_engines_0_overflow) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
+            end
+            if (mcu_pulses_engines_0_level[0]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
+            end
+            if (mcu_pulses_engines_0_level[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
+            end
+            if (mcu_pulses_engines_0_level[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_0) begin
+            mcu_pulses_read_value = mcu_pulses_seg_steps_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_0) begin
+            mcu_pulses_read_value = mcu_pulses_seg_rate_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_0) begin
+            mcu_pulses_read_value = mcu_pulses_seg_accel_0_q;
+        end
+        if (mcu_pulses_reset) begin
+            mcu_pulses_ctrl_0_d = 3'h0;
+            mcu_pulses_quadrature_a_0_d = 1'b0;
+            mcu_pulses_quadrature_b_0_d = 1'b0;
+            mcu_pulses_out_f1_0_d = 1'b0;
+            mcu_pulses_out_f2_0_d = 1'b0;
+            mcu_pulses_rate_0_d = 32'h0;
+            mcu_pulses_step_timing_0_d = 32'h0;
+            mcu_pulses_dir_timing_0_d = 32'h0;
+            mcu_pulses_snap_0_d = 32'h0;
+            mcu_pulses_seg_steps_0_d = 32'h0;
+            mcu_pulses_seg_rate_0_d = 32'h0;
+            mcu_pulses_seg_accel_0_d = 32'h0;
+        end
+        mcu_pulses_quadrature_a_1_d = mcu_pulses_generators_1_position[0] ^ mcu_pulses_generators_1_position[1];
+        mcu_pulses_quadrature_b_1_d = mcu_pulses_generators_1_position[1];
+        if (mcu_pulses_ctrl_1_q[1]) begin
+            mcu_pulses_out_f1_1_d = mcu_pulses_quadrature_a_1_q;
+            mcu_pulses_out_f2_1_d = mcu_pulses_quadrature_b_1_q;
+        end
+        else begin
+            mcu_pulses_out_f1_1_d = mcu_pulses_selectors_1_f1;
+            mcu_pulses_out_f2_1_d = mcu_pulses_selectors_1_f2;
+        end
+        mcu_pulses_seg_steps_1_d = mcu_pulses_seg_steps_1_q;
+        mcu_pulses_seg_rate_1_d = mcu_pulses_seg_rate_1_q;
+        mcu_pulses_seg_accel_1_d = mcu_pulses_seg_accel_1_q;
+        mcu_pulses_engines_1_reset = mcu_pulses_reset;
+        mcu_pulses_engines_1_run = mcu_pulses_ctrl_1_q[2] & mcu_pulses_run_q[1];
+        mcu_pulses_engines_1_commanded = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_commanded;
+        mcu_pulses_engines_1_advancing = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_advancing;
+        mcu_pulses_engines_1_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_1);
+        mcu_pulses_engines_1_seg_steps = mcu_pulses_seg_steps_1_q;
+        mcu_pulses_engines_1_seg_rate = mcu_pulses_seg_rate_1_q;
+        mcu_pulses_engines_1_seg_accel = mcu_pulses_seg_accel_1_q;
+        mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
+        mcu_pulses_ctrl_1_d = mcu_pulses_ctrl_1_q;
+        mcu_pulses_rate_1_d = mcu_pulses_rate_1_q;
+        mcu_pulses_step_timing_1_d = mcu_pulses_step_timing_1_q;
+        mcu_pulses_dir_timing_1_d = mcu_pulses_dir_timing_1_q;
+        mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
+        mcu_pulses_generators_1_reset = mcu_pulses_reset;
+        mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
+        mcu_pulses_generators_1_rate = mcu_pulses_rate_1_q;
+        if (mcu_pulses_ctrl_1_q[2]) begin
+            mcu_pulses_generators_1_rate = mcu_pulses_engines_1_rate;
+        end
+        mcu_pulses_generators_1_step_len = mcu_pulses_step_timing_1_q[15:0];
+        mcu_pulses_generators_1_step_space = mcu_pulses_step_timing_1_q[31:16];
+        mcu_pulses_generators_1_dir_setup = mcu_pulses_dir_timing_1_q[15:0];
+        mcu_pulses_generators_1_dir_hold = mcu_pulses_dir_timing_1_q[31:16];
+        mcu_pulses_selectors_1_reset = mcu_pulses_reset;
+        mcu_pulses_selectors_1_k = mcu_pulses_ctrl_1_q[0];
+        mcu_pulses_selectors_1_s1 = mcu_pulses_generators_1_step;
+        mcu_pulses_selectors_1_s2 = mcu_pulses_generators_1_dir;
+        if (mcu_pulses_out_f1_1_q) begin
+            mcu_pulses_f1_bits = mcu_pulses_f1_bits | mcu_pulses_axis_bit_1;
+        end
+        if (mcu_pulses_out_f2_1_q) begin
+            mcu_pulses_f2_bits = mcu_pulses_f2_bits | mcu_pulses_axis_bit_1;
+        end
+        if (mcu_pulses_snapshot) begin
+            mcu_pulses_snap_1_d = mcu_pulses_generators_1_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_we) begin
+            if (mcu_pulses_addr == mcu_pulses_addr_ctrl_1) begin
+                mcu_pulses_ctrl_1_d = mcu_pulses_wdata[2:0];
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_rate_1) begin
+                mcu_pulses_rate_1_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_step_timing_1) begin
+                mcu_pulses_step_timing_1_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_1) begin
+                mcu_pulses_dir_timing_1_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_1) begin
+                mcu_pulses_seg_steps_1_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_1) begin
+                mcu_pulses_seg_rate_1_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_1) begin
+                mcu_pulses_seg_accel_1_d = mcu_pulses_wdata;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_1) begin
+            if (mcu_pulses_ctrl_1_q[0]) begin
+                mcu_pulses_read_value = mcu_pulses_one;
+            end
+            if (mcu_pulses_ctrl_1_q[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_two;
+            end
+            if (mcu_pulses_ctrl_1_q[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_four;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_rate_1) begin
+            mcu_pulses_read_value = mcu_pulses_rate_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_step_timing_1) begin
+            mcu_pulses_read_value = mcu_pulses_step_timing_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_1) begin
+            mcu_pulses_read_value = mcu_pulses_dir_timing_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_1) begin
+            mcu_pulses_read_value = mcu_pulses_snap_1_q;
+            if (|(mcu_pulses_snap_1_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_snap_1_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_1) begin
+            mcu_pulses_read_value = mcu_pulses_generators_1_status;
+            if (mcu_pulses_engines_1_active) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
+            end
+            if (mcu_pulses_engines_1_done) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
+            end
+            if (mcu_pulses_engines_1_overflow) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
+            end
+            if (mcu_pulses_engines_1_level[0]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
+            end
+            if (mcu_pulses_engines_1_level[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
+            end
+            if (mcu_pulses_engines_1_level[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_1) begin
+            mcu_pulses_read_value = mcu_pulses_seg_steps_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_1) begin
+            mcu_pulses_read_value = mcu_pulses_seg_rate_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_1) begin
+            mcu_pulses_read_value = mcu_pulses_seg_accel_1_q;
+        end
+        if (mcu_pulses_reset) begin
+            mcu_pulses_ctrl_1_d = 3'h0;
+            mcu_pulses_quadrature_a_1_d = 1'b0;
+            mcu_pulses_quadrature_b_1_d = 1'b0;
+            mcu_pulses_out_f1_1_d = 1'b0;
+            mcu_pulses_out_f2_1_d = 1'b0;
+            mcu_pulses_rate_1_d = 32'h0;
+            mcu_pulses_step_timing_1_d = 32'h0;
+            mcu_pulses_dir_timing_1_d = 32'h0;
+            mcu_pulses_snap_1_d = 32'h0;
+            mcu_pulses_seg_steps_1_d = 32'h0;
+            mcu_pulses_seg_rate_1_d = 32'h0;
+            mcu_pulses_seg_accel_1_d = 32'h0;
+        end
+        mcu_pulses_quadrature_a_2_d = mcu_pulses_generators_2_position[0] ^ mcu_pulses_generators_2_position[1];
+        mcu_pulses_quadrature_b_2_d = mcu_pulses_generators_2_position[1];
+        if (mcu_pulses_ctrl_2_q[1]) begin
+            mcu_pulses_out_f1_2_d = mcu_pulses_quadrature_a_2_q;
+            mcu_pulses_out_f2_2_d = mcu_pulses_quadrature_b_2_q;
+        end
+        else begin
+            mcu_pulses_out_f1_2_d = mcu_pulses_selectors_2_f1;
+            mcu_pulses_out_f2_2_d = mcu_pulses_selectors_2_f2;
+        end
+        mcu_pulses_seg_steps_2_d = mcu_pulses_seg_steps_2_q;
+        mcu_pulses_seg_rate_2_d = mcu_pulses_seg_rate_2_q;
+        mcu_pulses_seg_accel_2_d = mcu_pulses_seg_accel_2_q;
+        mcu_pulses_engines_2_reset = mcu_pulses_reset;
+        mcu_pulses_engines_2_run = mcu_pulses_ctrl_2_q[2] & mcu_pulses_run_q[2];
+        mcu_pulses_engines_2_commanded = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_commanded;
+        mcu_pulses_engines_2_advancing = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_advancing;
+        mcu_pulses_engines_2_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_2);
+        mcu_pulses_engines_2_seg_steps = mcu_pulses_seg_steps_2_q;
+        mcu_pulses_engines_2_seg_rate = mcu_pulses_seg_rate_2_q;
+        mcu_pulses_engines_2_seg_accel = mcu_pulses_seg_accel_2_q;
+        mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
+        mcu_pulses_ctrl_2_d = mcu_pulses_ctrl_2_q;
+        mcu_pulses_rate_2_d = mcu_pulses_rate_2_q;
+        mcu_pulses_step_timing_2_d = mcu_pulses_step_timing_2_q;
+        mcu_pulses_dir_timing_2_d = mcu_pulses_dir_timing_2_q;
+        mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
+        mcu_pulses_generators_2_reset = mcu_pulses_reset;
+        mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
+        mcu_pulses_generators_2_rate = mcu_pulses_rate_2_q;
+        if (mcu_pulses_ctrl_2_q[2]) begin
+            mcu_pulses_generators_2_rate = mcu_pulses_engines_2_rate;
+        end
+        mcu_pulses_generators_2_step_len = mcu_pulses_step_timing_2_q[15:0];
+        mcu_pulses_generators_2_step_space = mcu_pulses_step_timing_2_q[31:16];
+        mcu_pulses_generators_2_dir_setup = mcu_pulses_dir_timing_2_q[15:0];
+        mcu_pulses_generators_2_dir_hold = mcu_pulses_dir_timing_2_q[31:16];
+        mcu_pulses_selectors_2_reset = mcu_pulses_reset;
+        mcu_pulses_selectors_2_k = mcu_pulses_ctrl_2_q[0];
+        mcu_pulses_selectors_2_s1 = mcu_pulses_generators_2_step;
+        mcu_pulses_selectors_2_s2 = mcu_pulses_generators_2_dir;
+        if (mcu_pulses_out_f1_2_q) begin
+            mcu_pulses_f1_bits = mcu_pulses_f1_bits | mcu_pulses_axis_bit_2;
+        end
+        if (mcu_pulses_out_f2_2_q) begin
+            mcu_pulses_f2_bits = mcu_pulses_f2_bits | mcu_pulses_axis_bit_2;
+        end
+        if (mcu_pulses_snapshot) begin
+            mcu_pulses_snap_2_d = mcu_pulses_generators_2_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_we) begin
+            if (mcu_pulses_addr == mcu_pulses_addr_ctrl_2) begin
+                mcu_pulses_ctrl_2_d = mcu_pulses_wdata[2:0];
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_rate_2) begin
+                mcu_pulses_rate_2_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_step_timing_2) begin
+                mcu_pulses_step_timing_2_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_2) begin
+                mcu_pulses_dir_timing_2_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_2) begin
+                mcu_pulses_seg_steps_2_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_2) begin
+                mcu_pulses_seg_rate_2_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_2) begin
+                mcu_pulses_seg_accel_2_d = mcu_pulses_wdata;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_2) begin
+            if (mcu_pulses_ctrl_2_q[0]) begin
+                mcu_pulses_read_value = mcu_pulses_one;
+            end
+            if (mcu_pulses_ctrl_2_q[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_two;
+            end
+            if (mcu_pulses_ctrl_2_q[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_four;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_rate_2) begin
+            mcu_pulses_read_value = mcu_pulses_rate_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_step_timing_2) begin
+            mcu_pulses_read_value = mcu_pulses_step_timing_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_2) begin
+            mcu_pulses_read_value = mcu_pulses_dir_timing_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_2) begin
+            mcu_pulses_read_value = mcu_pulses_snap_2_q;
+            if (|(mcu_pulses_snap_2_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_snap_2_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_2) begin
+            mcu_pulses_read_value = mcu_pulses_generators_2_status;
+            if (mcu_pulses_engines_2_active) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
+            end
+            if (mcu_pulses_engines_2_done) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
+            end
+            if (mcu_pulses_engines_2_overflow) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
+            end
+            if (mcu_pulses_engines_2_level[0]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
+            end
+            if (mcu_pulses_engines_2_level[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
+            end
+            if (mcu_pulses_engines_2_level[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_2) begin
+            mcu_pulses_read_value = mcu_pulses_seg_steps_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_2) begin
+            mcu_pulses_read_value = mcu_pulses_seg_rate_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_2) begin
+            mcu_pulses_read_value = mcu_pulses_seg_accel_2_q;
+        end
+        if (mcu_pulses_reset) begin
+            mcu_pulses_ctrl_2_d = 3'h0;
+            mcu_pulses_quadrature_a_2_d = 1'b0;
+            mcu_pulses_quadrature_b_2_d = 1'b0;
+            mcu_pulses_out_f1_2_d = 1'b0;
+            mcu_pulses_out_f2_2_d = 1'b0;
+            mcu_pulses_rate_2_d = 32'h0;
+            mcu_pulses_step_timing_2_d = 32'h0;
+            mcu_pulses_dir_timing_2_d = 32'h0;
+            mcu_pulses_snap_2_d = 32'h0;
+            mcu_pulses_seg_steps_2_d = 32'h0;
+            mcu_pulses_seg_rate_2_d = 32'h0;
+            mcu_pulses_seg_accel_2_d = 32'h0;
+        end
+        mcu_pulses_quadrature_a_3_d = mcu_pulses_generators_3_position[0] ^ mcu_pulses_generators_3_position[1];
+        mcu_pulses_quadrature_b_3_d = mcu_pulses_generators_3_position[1];
+        if (mcu_pulses_ctrl_3_q[1]) begin
+            mcu_pulses_out_f1_3_d = mcu_pulses_quadrature_a_3_q;
+            mcu_pulses_out_f2_3_d = mcu_pulses_quadrature_b_3_q;
+        end
+        else begin
+            mcu_pulses_out_f1_3_d = mcu_pulses_selectors_3_f1;
+            mcu_pulses_out_f2_3_d = mcu_pulses_selectors_3_f2;
+        end
+        mcu_pulses_seg_steps_3_d = mcu_pulses_seg_steps_3_q;
+        mcu_pulses_seg_rate_3_d = mcu_pulses_seg_rate_3_q;
+        mcu_pulses_seg_accel_3_d = mcu_pulses_seg_accel_3_q;
+        mcu_pulses_engines_3_reset = mcu_pulses_reset;
+        mcu_pulses_engines_3_run = mcu_pulses_ctrl_3_q[2] & mcu_pulses_run_q[3];
+        mcu_pulses_engines_3_commanded = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_commanded;
+        mcu_pulses_engines_3_advancing = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_advancing;
+        mcu_pulses_engines_3_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_3);
+        mcu_pulses_engines_3_seg_steps = mcu_pulses_seg_steps_3_q;
+        mcu_pulses_engines_3_seg_rate = mcu_pulses_seg_rate_3_q;
+        mcu_pulses_engines_3_seg_accel = mcu_pulses_seg_accel_3_q;
+        mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
+        mcu_pulses_ctrl_3_d = mcu_pulses_ctrl_3_q;
+        mcu_pulses_rate_3_d = mcu_pulses_rate_3_q;
+        mcu_pulses_step_timing_3_d = mcu_pulses_step_timing_3_q;
+        mcu_pulses_dir_timing_3_d = mcu_pulses_dir_timing_3_q;
+        mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
+        mcu_pulses_generators_3_reset = mcu_pulses_reset;
+        mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
+        mcu_pulses_generators_3_rate = mcu_pulses_rate_3_q;
+        if (mcu_pulses_ctrl_3_q[2]) begin
+            mcu_pulses_generators_3_rate = mcu_pulses_engines_3_rate;
+        end
+        mcu_pulses_generators_3_step_len = mcu_pulses_step_timing_3_q[15:0];
+        mcu_pulses_generators_3_step_space = mcu_pulses_step_timing_3_q[31:16];
+        mcu_pulses_generators_3_dir_setup = mcu_pulses_dir_timing_3_q[15:0];
+        mcu_pulses_generators_3_dir_hold = mcu_pulses_dir_timing_3_q[31:16];
+        mcu_pulses_selectors_3_reset = mcu_pulses_reset;
+        mcu_pulses_selectors_3_k = mcu_pulses_ctrl_3_q[0];
+        mcu_pulses_selectors_3_s1 = mcu_pulses_generators_3_step;
+        mcu_pulses_selectors_3_s2 = mcu_pulses_generators_3_dir;
+        if (mcu_pulses_out_f1_3_q) begin
+            mcu_pulses_f1_bits = mcu_pulses_f1_bits | mcu_pulses_axis_bit_3;
+        end
+        if (mcu_pulses_out_f2_3_q) begin
+            mcu_pulses_f2_bits = mcu_pulses_f2_bits | mcu_pulses_axis_bit_3;
+        end
+        if (mcu_pulses_snapshot) begin
+            mcu_pulses_snap_3_d = mcu_pulses_generators_3_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_we) begin
+            if (mcu_pulses_addr == mcu_pulses_addr_ctrl_3) begin
+                mcu_pulses_ctrl_3_d = mcu_pulses_wdata[2:0];
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_rate_3) begin
+                mcu_pulses_rate_3_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_step_timing_3) begin
+                mcu_pulses_step_timing_3_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_3) begin
+                mcu_pulses_dir_timing_3_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_3) begin
+                mcu_pulses_seg_steps_3_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_3) begin
+                mcu_pulses_seg_rate_3_d = mcu_pulses_wdata;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_3) begin
+                mcu_pulses_seg_accel_3_d = mcu_pulses_wdata;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_3) begin
+            if (mcu_pulses_ctrl_3_q[0]) begin
+                mcu_pulses_read_value = mcu_pulses_one;
+            end
+            if (mcu_pulses_ctrl_3_q[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_two;
+            end
+            if (mcu_pulses_ctrl_3_q[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_four;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_rate_3) begin
+            mcu_pulses_read_value = mcu_pulses_rate_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_step_timing_3) begin
+            mcu_pulses_read_value = mcu_pulses_step_timing_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_3) begin
+            mcu_pulses_read_value = mcu_pulses_dir_timing_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_3) begin
+            mcu_pulses_read_value = mcu_pulses_snap_3_q;
+            if (|(mcu_pulses_snap_3_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_snap_3_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_3) begin
+            mcu_pulses_read_value = mcu_pulses_generators_3_status;
+            if (mcu_pulses_engines_3_active) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
+            end
+            if (mcu_pulses_engines_3_done) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
+            end
+            if (mcu_pulses_engines_3_overflow) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
+            end
+            if (mcu_pulses_engines_3_level[0]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
+            end
+            if (mcu_pulses_engines_3_level[1]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
+            end
+            if (mcu_pulses_engines_3_level[2]) begin
+                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_3) begin
+            mcu_pulses_read_value = mcu_pulses_seg_steps_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_3) begin
+            mcu_pulses_read_value = mcu_pulses_seg_rate_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_3) begin
+            mcu_pulses_read_value = mcu_pulses_seg_accel_3_q;
+        end
+        if (mcu_pulses_reset) begin
+            mcu_pulses_ctrl_3_d = 3'h0;
+            mcu_pulses_quadrature_a_3_d = 1'b0;
+            mcu_pulses_quadrature_b_3_d = 1'b0;
+            mcu_pulses_out_f1_3_d = 1'b0;
+            mcu_pulses_out_f2_3_d = 1'b0;
+            mcu_pulses_rate_3_d = 32'h0;
+            mcu_pulses_step_timing_3_d = 32'h0;
+            mcu_pulses_dir_timing_3_d = 32'h0;
+            mcu_pulses_snap_3_d = 32'h0;
+            mcu_pulses_seg_steps_3_d = 32'h0;
+            mcu_pulses_seg_rate_3_d = 32'h0;
+            mcu_pulses_seg_accel_3_d = 32'h0;
+        end
+        if (mcu_pulses_read_pending_q) begin
+            mcu_pulses_read_data_d = mcu_pulses_read_value;
+        end
+        if (mcu_pulses_reset) begin
+            mcu_pulses_run_d = 4'h0;
+            mcu_pulses_read_pending_d = 1'b0;
+            mcu_pulses_read_addr_d = 9'h0;
+            mcu_pulses_read_data_d = 32'h0;
+        end
+        mcu_pulses_rdata = mcu_pulses_read_data_q;
+        mcu_pulses_f1 = mcu_pulses_f1_bits;
+        mcu_pulses_f2 = mcu_pulses_f2_bits;
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_phase_q;
+        mcu_pulses_generators_0_position_q_d = mcu_pulses_generators_0_position_q_q;
+        mcu_pulses_generators_0_timer_reset = mcu_pulses_generators_0_reset;
+        mcu_pulses_generators_0_timer_step_len = mcu_pulses_generators_0_step_len;
+        mcu_pulses_generators_0_timer_step_space = mcu_pulses_generators_0_step_space;
+        mcu_pulses_generators_0_timer_dir_setup = mcu_pulses_generators_0_dir_setup;
+        mcu_pulses_generators_0_timer_dir_hold = mcu_pulses_generators_0_dir_hold;
+        mcu_pulses_generators_0_negative = mcu_pulses_generators_0_rate[31];
+        mcu_pulses_generators_0_magnitude = mcu_pulses_generators_0_rate;
+        if (mcu_pulses_generators_0_negative) begin
+            mcu_pulses_generators_0_magnitude = ~mcu_pulses_generators_0_rate + mcu_pulses_generators_0_one;
+        end
+        mcu_pulses_generators_0_sum = {1'h0, mcu_pulses_generators_0_phase_q} + {1'h0, mcu_pulses_generators_0_magnitude};
+        mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_accept_up;
+        if (mcu_pulses_generators_0_negative) begin
+            mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_accept_down;
+        end
+        mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_sum[32] & ~mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_sum[32] & mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_timer_request_up = mcu_pulses_generators_0_request_up;
+        mcu_pulses_generators_0_timer_request_down = mcu_pulses_generators_0_request_down;
+        mcu_pulses_generators_0_commanded = mcu_pulses_generators_0_request_up | mcu_pulses_generators_0_request_down;
+        mcu_pulses_generators_0_advancing = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked;
+        if (mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked) begin
+            mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_sum[31:0];
+        end
+        mcu_pulses_generators_0_position_step = 32'h0;
+        if (mcu_pulses_generators_0_timer_emit_up) begin
+            mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_one;
+        end
+        if (mcu_pulses_generators_0_timer_emit_down) begin
+            mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_minus_one;
+        end
+        mcu_pulses_generators_0_position_q_d = mcu_pulses_generators_0_position_q_q + mcu_pulses_generators_0_position_step;
+        if (mcu_pulses_generators_0_reset) begin
+            mcu_pulses_generators_0_phase_d = 32'h0;
+            mcu_pulses_generators_0_position_q_d = 32'h0;
+        end
+        mcu_pulses_generators_0_step = mcu_pulses_generators_0_timer_step;
+        mcu_pulses_generators_0_dir = mcu_pulses_generators_0_timer_dir;
+        mcu_pulses_generators_0_position = mcu_pulses_generators_0_position_q_q;
+        mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending};
+        if (|mcu_pulses_generators_0_timer_pending | mcu_pulses_generators_0_timer_step) begin
+            mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending} | mcu_pulses_generators_0_busy_bit;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_0_timer_pending_q_d = mcu_pulses_generators_0_timer_pending_q_q;
+        mcu_pulses_generators_0_timer_step_q_d = mcu_pulses_generators_0_timer_step_q_q;
+        mcu_pulses_generators_0_timer_dir_q_d = mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_t_step_q;
+        mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_t_dir_q;
+        mcu_pulses_generators_0_timer_want_negative = |(mcu_pulses_generators_0_timer_pending_q_q & mcu_pulses_generators_0_timer_sign_mask);
+        mcu_pulses_generators_0_timer_emit = ~mcu_pulses_generators_0_timer_step_q_q & |mcu_pulses_generators_0_timer_pending_q_q & (mcu_pulses_generators_0_timer_dir_q_q == mcu_pulses_generators_0_timer_want_negative) & (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_space) & (mcu_pulses_generators_0_timer_t_dir_q >= mcu_pulses_generators_0_timer_dir_setup);
+        if (mcu_pulses_generators_0_timer_t_step_q != mcu_pulses_generators_0_timer_timer_max) begin
+            mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_t_step_q + mcu_pulses_generators_0_timer_timer_one;
+        end
+        if (mcu_pulses_generators_0_timer_t_dir_q != mcu_pulses_generators_0_timer_timer_max) begin
+            mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_t_dir_q + mcu_pulses_generators_0_timer_timer_one;
+        end
+        if (mcu_pulses_generators_0_timer_step_q_q) begin
+            if (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_len) begin
+                mcu_pulses_generators_0_timer_step_q_d = 1'b0;
+                mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_one;
+            end
+        end
+        else if (mcu_pulses_generators_0_timer_emit) begin
+            mcu_pulses_generators_0_timer_step_q_d = 1'b1;
+            mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_one;
+        end
+        else if (|mcu_pulses_generators_0_timer_pending_q_q & (mcu_pulses_generators_0_timer_dir_q_q != mcu_pulses_generators_0_timer_want_negative) & (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_dir_hold)) begin
+            mcu_pulses_generators_0_timer_dir_q_d = ~mcu_pulses_generators_0_timer_dir_q_q;
+            mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_timer_one;
+        end
+        mcu_pulses_generators_0_timer_delta = 16'h0;
+        if (mcu_pulses_generators_0_timer_emit) begin
+            if (mcu_pulses_generators_0_timer_dir_q_q) begin
+                mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_one;
+                if (mcu_pulses_generators_0_timer_request_up) begin
+                    mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_two;
+                end
+                if (mcu_pulses_generators_0_timer_request_down) begin
+                    mcu_pulses_generators_0_timer_delta = 16'h0;
+                end
+            end
+            else begin
+                mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_minus_one;
+                if (mcu_pulses_generators_0_timer_request_up) begin
+                    mcu_pulses_generators_0_timer_delta = 16'h0;
+                end
+                if (mcu_pulses_generators_0_timer_request_down) begin
+                    mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_minus_two;
+                end
+            end
+        end
+        else begin
+            if (mcu_pulses_generators_0_timer_request_up) begin
+                mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_one;
+            end
+            if (mcu_pulses_generators_0_timer_request_down) begin
+                mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_minus_one;
+            end
+        end
+        mcu_pulses_generators_0_timer_pending_q_d = mcu_pulses_generators_0_timer_pending_q_q + mcu_pulses_generators_0_timer_delta;
+        if (mcu_pulses_generators_0_timer_reset) begin
+            mcu_pulses_generators_0_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_0_timer_step_q_d = 1'b0;
+            mcu_pulses_generators_0_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_max;
+            mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_timer_max;
+        end
+        mcu_pulses_generators_0_timer_step = mcu_pulses_generators_0_timer_step_q_q;
+        mcu_pulses_generators_0_timer_dir = mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_emit_up = mcu_pulses_generators_0_timer_emit & ~mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_emit_down = mcu_pulses_generators_0_timer_emit & mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_accept_up = mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_max;
+        mcu_pulses_generators_0_timer_accept_down = mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_min;
+        mcu_pulses_generators_0_timer_pending = mcu_pulses_generators_0_timer_pending_q_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_phase_q;
+        mcu_pulses_generators_1_position_q_d = mcu_pulses_generators_1_position_q_q;
+        mcu_pulses_generators_1_timer_reset = mcu_pulses_generators_1_reset;
+        mcu_pulses_generators_1_timer_step_len = mcu_pulses_generators_1_step_len;
+        mcu_pulses_generators_1_timer_step_space = mcu_pulses_generators_1_step_space;
+        mcu_pulses_generators_1_timer_dir_setup = mcu_pulses_generators_1_dir_setup;
+        mcu_pulses_generators_1_timer_dir_hold = mcu_pulses_generators_1_dir_hold;
+        mcu_pulses_generators_1_negative = mcu_pulses_generators_1_rate[31];
+        mcu_pulses_generators_1_magnitude = mcu_pulses_generators_1_rate;
+        if (mcu_pulses_generators_1_negative) begin
+            mcu_pulses_generators_1_magnitude = ~mcu_pulses_generators_1_rate + mcu_pulses_generators_1_one;
+        end
+        mcu_pulses_generators_1_sum = {1'h0, mcu_pulses_generators_1_phase_q} + {1'h0, mcu_pulses_generators_1_magnitude};
+        mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_accept_up;
+        if (mcu_pulses_generators_1_negative) begin
+            mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_accept_down;
+        end
+        mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_sum[32] & ~mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_sum[32] & mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_timer_request_up = mcu_pulses_generators_1_request_up;
+        mcu_pulses_generators_1_timer_request_down = mcu_pulses_generators_1_request_down;
+        mcu_pulses_generators_1_commanded = mcu_pulses_generators_1_request_up | mcu_pulses_generators_1_request_down;
+        mcu_pulses_generators_1_advancing = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked;
+        if (mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked) begin
+            mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_sum[31:0];
+        end
+        mcu_pulses_generators_1_position_step = 32'h0;
+        if (mcu_pulses_generators_1_timer_emit_up) begin
+            mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_one;
+        end
+        if (mcu_pulses_generators_1_timer_emit_down) begin
+            mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_minus_one;
+        end
+        mcu_pulses_generators_1_position_q_d = mcu_pulses_generators_1_position_q_q + mcu_pulses_generators_1_position_step;
+        if (mcu_pulses_generators_1_reset) begin
+            mcu_pulses_generators_1_phase_d = 32'h0;
+            mcu_pulses_generators_1_position_q_d = 32'h0;
+        end
+        mcu_pulses_generators_1_step = mcu_pulses_generators_1_timer_step;
+        mcu_pulses_generators_1_dir = mcu_pulses_generators_1_timer_dir;
+        mcu_pulses_generators_1_position = mcu_pulses_generators_1_position_q_q;
+        mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending};
+        if (|mcu_pulses_generators_1_timer_pending | mcu_pulses_generators_1_timer_step) begin
+            mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending} | mcu_pulses_generators_1_busy_bit;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_1_timer_pending_q_d = mcu_pulses_generators_1_timer_pending_q_q;
+        mcu_pulses_generators_1_timer_step_q_d = mcu_pulses_generators_1_timer_step_q_q;
+        mcu_pulses_generators_1_timer_dir_q_d = mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_t_step_q;
+        mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_t_dir_q;
+        mcu_pulses_generators_1_timer_want_negative = |(mcu_pulses_generators_1_timer_pending_q_q & mcu_pulses_generators_1_timer_sign_mask);
+        mcu_pulses_generators_1_timer_emit = ~mcu_pulses_generators_1_timer_step_q_q & |mcu_pulses_generators_1_timer_pending_q_q & (mcu_pulses_generators_1_timer_dir_q_q == mcu_pulses_generators_1_timer_want_negative) & (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_space) & (mcu_pulses_generators_1_timer_t_dir_q >= mcu_pulses_generators_1_timer_dir_setup);
+        if (mcu_pulses_generators_1_timer_t_step_q != mcu_pulses_generators_1_timer_timer_max) begin
+            mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_t_step_q + mcu_pulses_generators_1_timer_timer_one;
+        end
+        if (mcu_pulses_generators_1_timer_t_dir_q != mcu_pulses_generators_1_timer_timer_max) begin
+            mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_t_dir_q + mcu_pulses_generators_1_timer_timer_one;
+        end
+        if (mcu_pulses_generators_1_timer_step_q_q) begin
+            if (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_len) begin
+                mcu_pulses_generators_1_timer_step_q_d = 1'b0;
+                mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_one;
+            end
+        end
+        else if (mcu_pulses_generators_1_timer_emit) begin
+            mcu_pulses_generators_1_timer_step_q_d = 1'b1;
+            mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_one;
+        end
+        else if (|mcu_pulses_generators_1_timer_pending_q_q & (mcu_pulses_generators_1_timer_dir_q_q != mcu_pulses_generators_1_timer_want_negative) & (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_dir_hold)) begin
+            mcu_pulses_generators_1_timer_dir_q_d = ~mcu_pulses_generators_1_timer_dir_q_q;
+            mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_timer_one;
+        end
+        mcu_pulses_generators_1_timer_delta = 16'h0;
+        if (mcu_pulses_generators_1_timer_emit) begin
+            if (mcu_pulses_generators_1_timer_dir_q_q) begin
+                mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_one;
+                if (mcu_pulses_generators_1_timer_request_up) begin
+                    mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_two;
+                end
+                if (mcu_pulses_generators_1_timer_request_down) begin
+                    mcu_pulses_generators_1_timer_delta = 16'h0;
+                end
+            end
+            else begin
+                mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_minus_one;
+                if (mcu_pulses_generators_1_timer_request_up) begin
+                    mcu_pulses_generators_1_timer_delta = 16'h0;
+                end
+                if (mcu_pulses_generators_1_timer_request_down) begin
+                    mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_minus_two;
+                end
+            end
+        end
+        else begin
+            if (mcu_pulses_generators_1_timer_request_up) begin
+                mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_one;
+            end
+            if (mcu_pulses_generators_1_timer_request_down) begin
+                mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_minus_one;
+            end
+        end
+        mcu_pulses_generators_1_timer_pending_q_d = mcu_pulses_generators_1_timer_pending_q_q + mcu_pulses_generators_1_timer_delta;
+        if (mcu_pulses_generators_1_timer_reset) begin
+            mcu_pulses_generators_1_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_1_timer_step_q_d = 1'b0;
+            mcu_pulses_generators_1_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_max;
+            mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_timer_max;
+        end
+        mcu_pulses_generators_1_timer_step = mcu_pulses_generators_1_timer_step_q_q;
+        mcu_pulses_generators_1_timer_dir = mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_emit_up = mcu_pulses_generators_1_timer_emit & ~mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_emit_down = mcu_pulses_generators_1_timer_emit & mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_accept_up = mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_max;
+        mcu_pulses_generators_1_timer_accept_down = mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_min;
+        mcu_pulses_generators_1_timer_pending = mcu_pulses_generators_1_timer_pending_q_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_phase_q;
+        mcu_pulses_generators_2_position_q_d = mcu_pulses_generators_2_position_q_q;
+        mcu_pulses_generators_2_timer_reset = mcu_pulses_generators_2_reset;
+        mcu_pulses_generators_2_timer_step_len = mcu_pulses_generators_2_step_len;
+        mcu_pulses_generators_2_timer_step_space = mcu_pulses_generators_2_step_space;
+        mcu_pulses_generators_2_timer_dir_setup = mcu_pulses_generators_2_dir_setup;
+        mcu_pulses_generators_2_timer_dir_hold = mcu_pulses_generators_2_dir_hold;
+        mcu_pulses_generators_2_negative = mcu_pulses_generators_2_rate[31];
+        mcu_pulses_generators_2_magnitude = mcu_pulses_generators_2_rate;
+        if (mcu_pulses_generators_2_negative) begin
+            mcu_pulses_generators_2_magnitude = ~mcu_pulses_generators_2_rate + mcu_pulses_generators_2_one;
+        end
+        mcu_pulses_generators_2_sum = {1'h0, mcu_pulses_generators_2_phase_q} + {1'h0, mcu_pulses_generators_2_magnitude};
+        mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_accept_up;
+        if (mcu_pulses_generators_2_negative) begin
+            mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_accept_down;
+        end
+        mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_sum[32] & ~mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_sum[32] & mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_timer_request_up = mcu_pulses_generators_2_request_up;
+        mcu_pulses_generators_2_timer_request_down = mcu_pulses_generators_2_request_down;
+        mcu_pulses_generators_2_commanded = mcu_pulses_generators_2_request_up | mcu_pulses_generators_2_request_down;
+        mcu_pulses_generators_2_advancing = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked;
+        if (mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked) begin
+            mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_sum[31:0];
+        end
+        mcu_pulses_generators_2_position_step = 32'h0;
+        if (mcu_pulses_generators_2_timer_emit_up) begin
+            mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_one;
+        end
+        if (mcu_pulses_generators_2_timer_emit_down) begin
+            mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_minus_one;
+        end
+        mcu_pulses_generators_2_position_q_d = mcu_pulses_generators_2_position_q_q + mcu_pulses_generators_2_position_step;
+        if (mcu_pulses_generators_2_reset) begin
+            mcu_pulses_generators_2_phase_d = 32'h0;
+            mcu_pulses_generators_2_position_q_d = 32'h0;
+        end
+        mcu_pulses_generators_2_step = mcu_pulses_generators_2_timer_step;
+        mcu_pulses_generators_2_dir = mcu_pulses_generators_2_timer_dir;
+        mcu_pulses_generators_2_position = mcu_pulses_generators_2_position_q_q;
+        mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending};
+        if (|mcu_pulses_generators_2_timer_pending | mcu_pulses_generators_2_timer_step) begin
+            mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending} | mcu_pulses_generators_2_busy_bit;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_2_timer_pending_q_d = mcu_pulses_generators_2_timer_pending_q_q;
+        mcu_pulses_generators_2_timer_step_q_d = mcu_pulses_generators_2_timer_step_q_q;
+        mcu_pulses_generators_2_timer_dir_q_d = mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_t_step_q;
+        mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_t_dir_q;
+        mcu_pulses_generators_2_timer_want_negative = |(mcu_pulses_generators_2_timer_pending_q_q & mcu_pulses_generators_2_timer_sign_mask);
+        mcu_pulses_generators_2_timer_emit = ~mcu_pulses_generators_2_timer_step_q_q & |mcu_pulses_generators_2_timer_pending_q_q & (mcu_pulses_generators_2_timer_dir_q_q == mcu_pulses_generators_2_timer_want_negative) & (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_space) & (mcu_pulses_generators_2_timer_t_dir_q >= mcu_pulses_generators_2_timer_dir_setup);
+        if (mcu_pulses_generators_2_timer_t_step_q != mcu_pulses_generators_2_timer_timer_max) begin
+            mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_t_step_q + mcu_pulses_generators_2_timer_timer_one;
+        end
+        if (mcu_pulses_generators_2_timer_t_dir_q != mcu_pulses_generators_2_timer_timer_max) begin
+            mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_t_dir_q + mcu_pulses_generators_2_timer_timer_one;
+        end
+        if (mcu_pulses_generators_2_timer_step_q_q) begin
+            if (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_len) begin
+                mcu_pulses_generators_2_timer_step_q_d = 1'b0;
+                mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_one;
+            end
+        end
+        else if (mcu_pulses_generators_2_timer_emit) begin
+            mcu_pulses_generators_2_timer_step_q_d = 1'b1;
+            mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_one;
+        end
+        else if (|mcu_pulses_generators_2_timer_pending_q_q & (mcu_pulses_generators_2_timer_dir_q_q != mcu_pulses_generators_2_timer_want_negative) & (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_dir_hold)) begin
+            mcu_pulses_generators_2_timer_dir_q_d = ~mcu_pulses_generators_2_timer_dir_q_q;
+            mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_timer_one;
+        end
+        mcu_pulses_generators_2_timer_delta = 16'h0;
+        if (mcu_pulses_generators_2_timer_emit) begin
+            if (mcu_pulses_generators_2_timer_dir_q_q) begin
+                mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_one;
+                if (mcu_pulses_generators_2_timer_request_up) begin
+                    mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_two;
+                end
+                if (mcu_pulses_generators_2_timer_request_down) begin
+                    mcu_pulses_generators_2_timer_delta = 16'h0;
+                end
+            end
+            else begin
+                mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_minus_one;
+                if (mcu_pulses_generators_2_timer_request_up) begin
+                    mcu_pulses_generators_2_timer_delta = 16'h0;
+                end
+                if (mcu_pulses_generators_2_timer_request_down) begin
+                    mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_minus_two;
+                end
+            end
+        end
+        else begin
+            if (mcu_pulses_generators_2_timer_request_up) begin
+                mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_one;
+            end
+            if (mcu_pulses_generators_2_timer_request_down) begin
+                mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_minus_one;
+            end
+        end
+        mcu_pulses_generators_2_timer_pending_q_d = mcu_pulses_generators_2_timer_pending_q_q + mcu_pulses_generators_2_timer_delta;
+        if (mcu_pulses_generators_2_timer_reset) begin
+            mcu_pulses_generators_2_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_2_timer_step_q_d = 1'b0;
+            mcu_pulses_generators_2_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_max;
+            mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_timer_max;
+        end
+        mcu_pulses_generators_2_timer_step = mcu_pulses_generators_2_timer_step_q_q;
+        mcu_pulses_generators_2_timer_dir = mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_emit_up = mcu_pulses_generators_2_timer_emit & ~mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_emit_down = mcu_pulses_generators_2_timer_emit & mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_accept_up = mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_max;
+        mcu_pulses_generators_2_timer_accept_down = mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_min;
+        mcu_pulses_generators_2_timer_pending = mcu_pulses_generators_2_timer_pending_q_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_phase_q;
+        mcu_pulses_generators_3_position_q_d = mcu_pulses_generators_3_position_q_q;
+        mcu_pulses_generators_3_timer_reset = mcu_pulses_generators_3_reset;
+        mcu_pulses_generators_3_timer_step_len = mcu_pulses_generators_3_step_len;
+        mcu_pulses_generators_3_timer_step_space = mcu_pulses_generators_3_step_space;
+        mcu_pulses_generators_3_timer_dir_setup = mcu_pulses_generators_3_dir_setup;
+        mcu_pulses_generators_3_timer_dir_hold = mcu_pulses_generators_3_dir_hold;
+        mcu_pulses_generators_3_negative = mcu_pulses_generators_3_rate[31];
+        mcu_pulses_generators_3_magnitude = mcu_pulses_generators_3_rate;
+        if (mcu_pulses_generators_3_negative) begin
+            mcu_pulses_generators_3_magnitude = ~mcu_pulses_generators_3_rate + mcu_pulses_generators_3_one;
+        end
+        mcu_pulses_generators_3_sum = {1'h0, mcu_pulses_generators_3_phase_q} + {1'h0, mcu_pulses_generators_3_magnitude};
+        mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_accept_up;
+        if (mcu_pulses_generators_3_negative) begin
+            mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_accept_down;
+        end
+        mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_sum[32] & ~mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_sum[32] & mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_timer_request_up = mcu_pulses_generators_3_request_up;
+        mcu_pulses_generators_3_timer_request_down = mcu_pulses_generators_3_request_down;
+        mcu_pulses_generators_3_commanded = mcu_pulses_generators_3_request_up | mcu_pulses_generators_3_request_down;
+        mcu_pulses_generators_3_advancing = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked;
+        if (mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked) begin
+            mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_sum[31:0];
+        end
+        mcu_pulses_generators_3_position_step = 32'h0;
+        if (mcu_pulses_generators_3_timer_emit_up) begin
+            mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_one;
+        end
+        if (mcu_pulses_generators_3_timer_emit_down) begin
+            mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_minus_one;
+        end
+        mcu_pulses_generators_3_position_q_d = mcu_pulses_generators_3_position_q_q + mcu_pulses_generators_3_position_step;
+        if (mcu_pulses_generators_3_reset) begin
+            mcu_pulses_generators_3_phase_d = 32'h0;
+            mcu_pulses_generators_3_position_q_d = 32'h0;
+        end
+        mcu_pulses_generators_3_step = mcu_pulses_generators_3_timer_step;
+        mcu_pulses_generators_3_dir = mcu_pulses_generators_3_timer_dir;
+        mcu_pulses_generators_3_position = mcu_pulses_generators_3_position_q_q;
+        mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending};
+        if (|mcu_pulses_generators_3_timer_pending | mcu_pulses_generators_3_timer_step) begin
+            mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending} | mcu_pulses_generators_3_busy_bit;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_generators_3_timer_pending_q_d = mcu_pulses_generators_3_timer_pending_q_q;
+        mcu_pulses_generators_3_timer_step_q_d = mcu_pulses_generators_3_timer_step_q_q;
+        mcu_pulses_generators_3_timer_dir_q_d = mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_t_step_q;
+        mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_t_dir_q;
+        mcu_pulses_generators_3_timer_want_negative = |(mcu_pulses_generators_3_timer_pending_q_q & mcu_pulses_generators_3_timer_sign_mask);
+        mcu_pulses_generators_3_timer_emit = ~mcu_pulses_generators_3_timer_step_q_q & |mcu_pulses_generators_3_timer_pending_q_q & (mcu_pulses_generators_3_timer_dir_q_q == mcu_pulses_generators_3_timer_want_negative) & (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_space) & (mcu_pulses_generators_3_timer_t_dir_q >= mcu_pulses_generators_3_timer_dir_setup);
+        if (mcu_pulses_generators_3_timer_t_step_q != mcu_pulses_generators_3_timer_timer_max) begin
+            mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_t_step_q + mcu_pulses_generators_3_timer_timer_one;
+        end
+        if (mcu_pulses_generators_3_timer_t_dir_q != mcu_pulses_generators_3_timer_timer_max) begin
+            mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_t_dir_q + mcu_pulses_generators_3_timer_timer_one;
+        end
+        if (mcu_pulses_generators_3_timer_step_q_q) begin
+            if (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_len) begin
+                mcu_pulses_generators_3_timer_step_q_d = 1'b0;
+                mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_one;
+            end
+        end
+        else if (mcu_pulses_generators_3_timer_emit) begin
+            mcu_pulses_generators_3_timer_step_q_d = 1'b1;
+            mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_one;
+        end
+        else if (|mcu_pulses_generators_3_timer_pending_q_q & (mcu_pulses_generators_3_timer_dir_q_q != mcu_pulses_generators_3_timer_want_negative) & (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_dir_hold)) begin
+            mcu_pulses_generators_3_timer_dir_q_d = ~mcu_pulses_generators_3_timer_dir_q_q;
+            mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_timer_one;
+        end
+        mcu_pulses_generators_3_timer_delta = 16'h0;
+        if (mcu_pulses_generators_3_timer_emit) begin
+            if (mcu_pulses_generators_3_timer_dir_q_q) begin
+                mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_one;
+                if (mcu_pulses_generators_3_timer_request_up) begin
+                    mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_two;
+                end
+                if (mcu_pulses_generators_3_timer_request_down) begin
+                    mcu_pulses_generators_3_timer_delta = 16'h0;
+                end
+            end
+            else begin
+                mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_minus_one;
+                if (mcu_pulses_generators_3_timer_request_up) begin
+                    mcu_pulses_generators_3_timer_delta = 16'h0;
+                end
+                if (mcu_pulses_generators_3_timer_request_down) begin
+                    mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_minus_two;
+                end
+            end
+        end
+        else begin
+            if (mcu_pulses_generators_3_timer_request_up) begin
+                mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_one;
+            end
+            if (mcu_pulses_generators_3_timer_request_down) begin
+                mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_minus_one;
+            end
+        end
+        mcu_pulses_generators_3_timer_pending_q_d = mcu_pulses_generators_3_timer_pending_q_q + mcu_pulses_generators_3_timer_delta;
+        if (mcu_pulses_generators_3_timer_reset) begin
+            mcu_pulses_generators_3_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_3_timer_step_q_d = 1'b0;
+            mcu_pulses_generators_3_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_max;
+            mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_timer_max;
+        end
+        mcu_pulses_generators_3_timer_step = mcu_pulses_generators_3_timer_step_q_q;
+        mcu_pulses_generators_3_timer_dir = mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_emit_up = mcu_pulses_generators_3_timer_emit & ~mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_emit_down = mcu_pulses_generators_3_timer_emit & mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_accept_up = mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_max;
+        mcu_pulses_generators_3_timer_accept_down = mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_min;
+        mcu_pulses_generators_3_timer_pending = mcu_pulses_generators_3_timer_pending_q_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_engines_0_active_q_d = mcu_pulses_engines_0_active_q_q;
+        mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q;
+        mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_accel_q_q;
+        mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_remaining_q;
+        mcu_pulses_engines_0_done_q_d = mcu_pulses_engines_0_done_q_q;
+        mcu_pulses_engines_0_overflow_q_d = mcu_pulses_engines_0_overflow_q_q;
+        mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q;
+        mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_q;
+        mcu_pulses_engines_0_head_steps = 32'h0;
+        mcu_pulses_engines_0_head_rate = 32'h0;
+        mcu_pulses_engines_0_head_accel = 32'h0;
+        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[1:0];
+        mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_fifo_steps_0_q;
+        mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_fifo_rate_0_q;
+        mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_fifo_accel_0_q;
+        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_0) begin
+            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_0_q;
+            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_0_q;
+            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_0_q;
+        end
+        mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_fifo_steps_1_q;
+        mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_fifo_rate_1_q;
+        mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_fifo_accel_1_q;
+        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_1) begin
+            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_1_q;
+            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_1_q;
+            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_1_q;
+        end
+        mcu_pulses_engines_0_fifo_steps_2_d = mcu_pulses_engines_0_fifo_steps_2_q;
+        mcu_pulses_engines_0_fifo_rate_2_d = mcu_pulses_engines_0_fifo_rate_2_q;
+        mcu_pulses_engines_0_fifo_accel_2_d = mcu_pulses_engines_0_fifo_accel_2_q;
+        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_2) begin
+            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_2_q;
+            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_2_q;
+            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_2_q;
+        end
+        mcu_pulses_engines_0_fifo_steps_3_d = mcu_pulses_engines_0_fifo_steps_3_q;
+        mcu_pulses_engines_0_fifo_rate_3_d = mcu_pulses_engines_0_fifo_rate_3_q;
+        mcu_pulses_engines_0_fifo_accel_3_d = mcu_pulses_engines_0_fifo_accel_3_q;
+        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_3) begin
+            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_3_q;
+            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_3_q;
+            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_3_q;
+        end
+        mcu_pulses_engines_0_popped = 1'b0;
+        mcu_pulses_engines_0_ended = 1'b0;
+        if (mcu_pulses_engines_0_active_q_q) begin
+            if (mcu_pulses_engines_0_commanded) begin
+                mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_remaining_q - mcu_pulses_engines_0_one;
+                if (mcu_pulses_engines_0_remaining_q == mcu_pulses_engines_0_one) begin
+                    mcu_pulses_engines_0_active_q_d = 1'b0;
+                    mcu_pulses_engines_0_ended = 1'b1;
+                end
+            end
+            if (mcu_pulses_engines_0_advancing) begin
+                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_q_q;
+            end
+        end
+        else if (mcu_pulses_engines_0_run & |mcu_pulses_engines_0_count_q) begin
+            mcu_pulses_engines_0_popped = 1'b1;
+            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 2'h1;
+            mcu_pulses_engines_0_active_q_d = |mcu_pulses_engines_0_head_steps;
+            mcu_pulses_engines_0_ended = ~|mcu_pulses_engines_0_head_steps;
+            mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_head_rate;
+            mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_head_accel;
+            mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_head_steps;
+        end
+        mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q;
+        if (mcu_pulses_engines_0_popped) begin
+            mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q - 3'h1;
+        end
+        if (mcu_pulses_engines_0_ended & ~|mcu_pulses_engines_0_count_after_pop) begin
+            mcu_pulses_engines_0_done_q_d = 1'b1;
+        end
+        mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop;
+        if (mcu_pulses_engines_0_push) begin
+            if (mcu_pulses_engines_0_count_after_pop == mcu_pulses_engines_0_full) begin
+                mcu_pulses_engines_0_overflow_q_d = 1'b1;
+            end
+            else begin
+                mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop + 3'h1;
+                mcu_pulses_engines_0_done_q_d = 1'b0;
+                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_0) begin
+                    mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_seg_steps;
+                    mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_seg_rate;
+                    mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_seg_accel;
+                end
+                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_1) begin
+                    mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_seg_steps;
+                    mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_seg_rate;
+                    mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_seg_accel;
+                end
+                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_2) begin
+                    mcu_pulses_engines_0_fifo_steps_2_d = mcu_pulses_engines_0_seg_steps;
+                    mcu_pulses_engines_0_fifo_rate_2_d = mcu_pulses_engines_0_seg_rate;
+                    mcu_pulses_engines_0_fifo_accel_2_d = mcu_pulses_engines_0_seg_accel;
+                end
+                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_3) begin
+                    mcu_pulses_engines_0_fifo_steps_3_d = mcu_pulses_engines_0_seg_steps;
+                    mcu_pulses_engines_0_fifo_rate_3_d = mcu_pulses_engines_0_seg_rate;
+                    mcu_pulses_engines_0_fifo_accel_3_d = mcu_pulses_engines_0_seg_accel;
+                end
+            end
+        end
+        if (mcu_pulses_engines_0_clear_overflow) begin
+            mcu_pulses_engines_0_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_0_reset) begin
+            mcu_pulses_engines_0_active_q_d = 1'b0;
+            mcu_pulses_engines_0_rate_q_d = 32'h0;
+            mcu_pulses_engines_0_accel_q_d = 32'h0;
+            mcu_pulses_engines_0_remaining_d = 32'h0;
+            mcu_pulses_engines_0_done_q_d = 1'b0;
+            mcu_pulses_engines_0_overflow_q_d = 1'b0;
+            mcu_pulses_engines_0_head_d = 2'h0;
+            mcu_pulses_engines_0_count_d = 3'h0;
+            mcu_pulses_engines_0_fifo_steps_0_d = 32'h0;
+            mcu_pulses_engines_0_fifo_rate_0_d = 32'h0;
+            mcu_pulses_engines_0_fifo_accel_0_d = 32'h0;
+            mcu_pulses_engines_0_fifo_steps_1_d = 32'h0;
+            mcu_pulses_engines_0_fifo_rate_1_d = 32'h0;
+            mcu_pulses_engines_0_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_0_fifo_steps_2_d = 32'h0;
+            mcu_pulses_engines_0_fifo_rate_2_d = 32'h0;
+            mcu_pulses_engines_0_fifo_accel_2_d = 32'h0;
+            mcu_pulses_engines_0_fifo_steps_3_d = 32'h0;
+            mcu_pulses_engines_0_fifo_rate_3_d = 32'h0;
+            mcu_pulses_engines_0_fifo_accel_3_d = 32'h0;
+        end
+        mcu_pulses_engines_0_rate = 32'h0;
+        if (mcu_pulses_engines_0_active_q_q) begin
+            mcu_pulses_engines_0_rate = mcu_pulses_engines_0_rate_q_q;
+        end
+        mcu_pulses_engines_0_active = mcu_pulses_engines_0_active_q_q;
+        mcu_pulses_engines_0_done = mcu_pulses_engines_0_done_q_q;
+        mcu_pulses_engines_0_overflow = mcu_pulses_engines_0_overflow_q_q;
+        mcu_pulses_engines_0_level = mcu_pulses_engines_0_count_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_engines_1_active_q_d = mcu_pulses_engines_1_active_q_q;
+        mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q;
+        mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_accel_q_q;
+        mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_remaining_q;
+        mcu_pulses_engines_1_done_q_d = mcu_pulses_engines_1_done_q_q;
+        mcu_pulses_engines_1_overflow_q_d = mcu_pulses_engines_1_overflow_q_q;
+        mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q;
+        mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_q;
+        mcu_pulses_engines_1_head_steps = 32'h0;
+        mcu_pulses_engines_1_head_rate = 32'h0;
+        mcu_pulses_engines_1_head_accel = 32'h0;
+        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[1:0];
+        mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_fifo_steps_0_q;
+        mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_fifo_rate_0_q;
+        mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_fifo_accel_0_q;
+        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_0) begin
+            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_0_q;
+            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_0_q;
+            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_0_q;
+        end
+        mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_fifo_steps_1_q;
+        mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_fifo_rate_1_q;
+        mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_fifo_accel_1_q;
+        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_1) begin
+            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_1_q;
+            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_1_q;
+            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_1_q;
+        end
+        mcu_pulses_engines_1_fifo_steps_2_d = mcu_pulses_engines_1_fifo_steps_2_q;
+        mcu_pulses_engines_1_fifo_rate_2_d = mcu_pulses_engines_1_fifo_rate_2_q;
+        mcu_pulses_engines_1_fifo_accel_2_d = mcu_pulses_engines_1_fifo_accel_2_q;
+        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_2) begin
+            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_2_q;
+            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_2_q;
+            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_2_q;
+        end
+        mcu_pulses_engines_1_fifo_steps_3_d = mcu_pulses_engines_1_fifo_steps_3_q;
+        mcu_pulses_engines_1_fifo_rate_3_d = mcu_pulses_engines_1_fifo_rate_3_q;
+        mcu_pulses_engines_1_fifo_accel_3_d = mcu_pulses_engines_1_fifo_accel_3_q;
+        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_3) begin
+            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_3_q;
+            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_3_q;
+            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_3_q;
+        end
+        mcu_pulses_engines_1_popped = 1'b0;
+        mcu_pulses_engines_1_ended = 1'b0;
+        if (mcu_pulses_engines_1_active_q_q) begin
+            if (mcu_pulses_engines_1_commanded) begin
+                mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_remaining_q - mcu_pulses_engines_1_one;
+                if (mcu_pulses_engines_1_remaining_q == mcu_pulses_engines_1_one) begin
+                    mcu_pulses_engines_1_active_q_d = 1'b0;
+                    mcu_pulses_engines_1_ended = 1'b1;
+                end
+            end
+            if (mcu_pulses_engines_1_advancing) begin
+                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_q_q;
+            end
+        end
+        else if (mcu_pulses_engines_1_run & |mcu_pulses_engines_1_count_q) begin
+            mcu_pulses_engines_1_popped = 1'b1;
+            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 2'h1;
+            mcu_pulses_engines_1_active_q_d = |mcu_pulses_engines_1_head_steps;
+            mcu_pulses_engines_1_ended = ~|mcu_pulses_engines_1_head_steps;
+            mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_head_rate;
+            mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_head_accel;
+            mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_head_steps;
+        end
+        mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q;
+        if (mcu_pulses_engines_1_popped) begin
+            mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q - 3'h1;
+        end
+        if (mcu_pulses_engines_1_ended & ~|mcu_pulses_engines_1_count_after_pop) begin
+            mcu_pulses_engines_1_done_q_d = 1'b1;
+        end
+        mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop;
+        if (mcu_pulses_engines_1_push) begin
+            if (mcu_pulses_engines_1_count_after_pop == mcu_pulses_engines_1_full) begin
+                mcu_pulses_engines_1_overflow_q_d = 1'b1;
+            end
+            else begin
+                mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop + 3'h1;
+                mcu_pulses_engines_1_done_q_d = 1'b0;
+                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_0) begin
+                    mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_seg_steps;
+                    mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_seg_rate;
+                    mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_seg_accel;
+                end
+                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_1) begin
+                    mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_seg_steps;
+                    mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_seg_rate;
+                    mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_seg_accel;
+                end
+                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_2) begin
+                    mcu_pulses_engines_1_fifo_steps_2_d = mcu_pulses_engines_1_seg_steps;
+                    mcu_pulses_engines_1_fifo_rate_2_d = mcu_pulses_engines_1_seg_rate;
+                    mcu_pulses_engines_1_fifo_accel_2_d = mcu_pulses_engines_1_seg_accel;
+                end
+                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_3) begin
+                    mcu_pulses_engines_1_fifo_steps_3_d = mcu_pulses_engines_1_seg_steps;
+                    mcu_pulses_engines_1_fifo_rate_3_d = mcu_pulses_engines_1_seg_rate;
+                    mcu_pulses_engines_1_fifo_accel_3_d = mcu_pulses_engines_1_seg_accel;
+                end
+            end
+        end
+        if (mcu_pulses_engines_1_clear_overflow) begin
+            mcu_pulses_engines_1_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_1_reset) begin
+            mcu_pulses_engines_1_active_q_d = 1'b0;
+            mcu_pulses_engines_1_rate_q_d = 32'h0;
+            mcu_pulses_engines_1_accel_q_d = 32'h0;
+            mcu_pulses_engines_1_remaining_d = 32'h0;
+            mcu_pulses_engines_1_done_q_d = 1'b0;
+            mcu_pulses_engines_1_overflow_q_d = 1'b0;
+            mcu_pulses_engines_1_head_d = 2'h0;
+            mcu_pulses_engines_1_count_d = 3'h0;
+            mcu_pulses_engines_1_fifo_steps_0_d = 32'h0;
+            mcu_pulses_engines_1_fifo_rate_0_d = 32'h0;
+            mcu_pulses_engines_1_fifo_accel_0_d = 32'h0;
+            mcu_pulses_engines_1_fifo_steps_1_d = 32'h0;
+            mcu_pulses_engines_1_fifo_rate_1_d = 32'h0;
+            mcu_pulses_engines_1_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_1_fifo_steps_2_d = 32'h0;
+            mcu_pulses_engines_1_fifo_rate_2_d = 32'h0;
+            mcu_pulses_engines_1_fifo_accel_2_d = 32'h0;
+            mcu_pulses_engines_1_fifo_steps_3_d = 32'h0;
+            mcu_pulses_engines_1_fifo_rate_3_d = 32'h0;
+            mcu_pulses_engines_1_fifo_accel_3_d = 32'h0;
+        end
+        mcu_pulses_engines_1_rate = 32'h0;
+        if (mcu_pulses_engines_1_active_q_q) begin
+            mcu_pulses_engines_1_rate = mcu_pulses_engines_1_rate_q_q;
+        end
+        mcu_pulses_engines_1_active = mcu_pulses_engines_1_active_q_q;
+        mcu_pulses_engines_1_done = mcu_pulses_engines_1_done_q_q;
+        mcu_pulses_engines_1_overflow = mcu_pulses_engines_1_overflow_q_q;
+        mcu_pulses_engines_1_level = mcu_pulses_engines_1_count_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_engines_2_active_q_d = mcu_pulses_engines_2_active_q_q;
+        mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q;
+        mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_accel_q_q;
+        mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_remaining_q;
+        mcu_pulses_engines_2_done_q_d = mcu_pulses_engines_2_done_q_q;
+        mcu_pulses_engines_2_overflow_q_d = mcu_pulses_engines_2_overflow_q_q;
+        mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q;
+        mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_q;
+        mcu_pulses_engines_2_head_steps = 32'h0;
+        mcu_pulses_engines_2_head_rate = 32'h0;
+        mcu_pulses_engines_2_head_accel = 32'h0;
+        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[1:0];
+        mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_fifo_steps_0_q;
+        mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_fifo_rate_0_q;
+        mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_fifo_accel_0_q;
+        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_0) begin
+            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_0_q;
+            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_0_q;
+            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_0_q;
+        end
+        mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_fifo_steps_1_q;
+        mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_fifo_rate_1_q;
+        mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_fifo_accel_1_q;
+        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_1) begin
+            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_1_q;
+            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_1_q;
+            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_1_q;
+        end
+        mcu_pulses_engines_2_fifo_steps_2_d = mcu_pulses_engines_2_fifo_steps_2_q;
+        mcu_pulses_engines_2_fifo_rate_2_d = mcu_pulses_engines_2_fifo_rate_2_q;
+        mcu_pulses_engines_2_fifo_accel_2_d = mcu_pulses_engines_2_fifo_accel_2_q;
+        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_2) begin
+            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_2_q;
+            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_2_q;
+            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_2_q;
+        end
+        mcu_pulses_engines_2_fifo_steps_3_d = mcu_pulses_engines_2_fifo_steps_3_q;
+        mcu_pulses_engines_2_fifo_rate_3_d = mcu_pulses_engines_2_fifo_rate_3_q;
+        mcu_pulses_engines_2_fifo_accel_3_d = mcu_pulses_engines_2_fifo_accel_3_q;
+        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_3) begin
+            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_3_q;
+            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_3_q;
+            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_3_q;
+        end
+        mcu_pulses_engines_2_popped = 1'b0;
+        mcu_pulses_engines_2_ended = 1'b0;
+        if (mcu_pulses_engines_2_active_q_q) begin
+            if (mcu_pulses_engines_2_commanded) begin
+                mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_remaining_q - mcu_pulses_engines_2_one;
+                if (mcu_pulses_engines_2_remaining_q == mcu_pulses_engines_2_one) begin
+                    mcu_pulses_engines_2_active_q_d = 1'b0;
+                    mcu_pulses_engines_2_ended = 1'b1;
+                end
+            end
+            if (mcu_pulses_engines_2_advancing) begin
+                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_q_q;
+            end
+        end
+        else if (mcu_pulses_engines_2_run & |mcu_pulses_engines_2_count_q) begin
+            mcu_pulses_engines_2_popped = 1'b1;
+            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 2'h1;
+            mcu_pulses_engines_2_active_q_d = |mcu_pulses_engines_2_head_steps;
+            mcu_pulses_engines_2_ended = ~|mcu_pulses_engines_2_head_steps;
+            mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_head_rate;
+            mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_head_accel;
+            mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_head_steps;
+        end
+        mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q;
+        if (mcu_pulses_engines_2_popped) begin
+            mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q - 3'h1;
+        end
+        if (mcu_pulses_engines_2_ended & ~|mcu_pulses_engines_2_count_after_pop) begin
+            mcu_pulses_engines_2_done_q_d = 1'b1;
+        end
+        mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop;
+        if (mcu_pulses_engines_2_push) begin
+            if (mcu_pulses_engines_2_count_after_pop == mcu_pulses_engines_2_full) begin
+                mcu_pulses_engines_2_overflow_q_d = 1'b1;
+            end
+            else begin
+                mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop + 3'h1;
+                mcu_pulses_engines_2_done_q_d = 1'b0;
+                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_0) begin
+                    mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_seg_steps;
+                    mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_seg_rate;
+                    mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_seg_accel;
+                end
+                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_1) begin
+                    mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_seg_steps;
+                    mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_seg_rate;
+                    mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_seg_accel;
+                end
+                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_2) begin
+                    mcu_pulses_engines_2_fifo_steps_2_d = mcu_pulses_engines_2_seg_steps;
+                    mcu_pulses_engines_2_fifo_rate_2_d = mcu_pulses_engines_2_seg_rate;
+                    mcu_pulses_engines_2_fifo_accel_2_d = mcu_pulses_engines_2_seg_accel;
+                end
+                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_3) begin
+                    mcu_pulses_engines_2_fifo_steps_3_d = mcu_pulses_engines_2_seg_steps;
+                    mcu_pulses_engines_2_fifo_rate_3_d = mcu_pulses_engines_2_seg_rate;
+                    mcu_pulses_engines_2_fifo_accel_3_d = mcu_pulses_engines_2_seg_accel;
+                end
+            end
+        end
+        if (mcu_pulses_engines_2_clear_overflow) begin
+            mcu_pulses_engines_2_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_2_reset) begin
+            mcu_pulses_engines_2_active_q_d = 1'b0;
+            mcu_pulses_engines_2_rate_q_d = 32'h0;
+            mcu_pulses_engines_2_accel_q_d = 32'h0;
+            mcu_pulses_engines_2_remaining_d = 32'h0;
+            mcu_pulses_engines_2_done_q_d = 1'b0;
+            mcu_pulses_engines_2_overflow_q_d = 1'b0;
+            mcu_pulses_engines_2_head_d = 2'h0;
+            mcu_pulses_engines_2_count_d = 3'h0;
+            mcu_pulses_engines_2_fifo_steps_0_d = 32'h0;
+            mcu_pulses_engines_2_fifo_rate_0_d = 32'h0;
+            mcu_pulses_engines_2_fifo_accel_0_d = 32'h0;
+            mcu_pulses_engines_2_fifo_steps_1_d = 32'h0;
+            mcu_pulses_engines_2_fifo_rate_1_d = 32'h0;
+            mcu_pulses_engines_2_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_2_fifo_steps_2_d = 32'h0;
+            mcu_pulses_engines_2_fifo_rate_2_d = 32'h0;
+            mcu_pulses_engines_2_fifo_accel_2_d = 32'h0;
+            mcu_pulses_engines_2_fifo_steps_3_d = 32'h0;
+            mcu_pulses_engines_2_fifo_rate_3_d = 32'h0;
+            mcu_pulses_engines_2_fifo_accel_3_d = 32'h0;
+        end
+        mcu_pulses_engines_2_rate = 32'h0;
+        if (mcu_pulses_engines_2_active_q_q) begin
+            mcu_pulses_engines_2_rate = mcu_pulses_engines_2_rate_q_q;
+        end
+        mcu_pulses_engines_2_active = mcu_pulses_engines_2_active_q_q;
+        mcu_pulses_engines_2_done = mcu_pulses_engines_2_done_q_q;
+        mcu_pulses_engines_2_overflow = mcu_pulses_engines_2_overflow_q_q;
+        mcu_pulses_engines_2_level = mcu_pulses_engines_2_count_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_engines_3_active_q_d = mcu_pulses_engines_3_active_q_q;
+        mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q;
+        mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_accel_q_q;
+        mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_remaining_q;
+        mcu_pulses_engines_3_done_q_d = mcu_pulses_engines_3_done_q_q;
+        mcu_pulses_engines_3_overflow_q_d = mcu_pulses_engines_3_overflow_q_q;
+        mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q;
+        mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_q;
+        mcu_pulses_engines_3_head_steps = 32'h0;
+        mcu_pulses_engines_3_head_rate = 32'h0;
+        mcu_pulses_engines_3_head_accel = 32'h0;
+        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[1:0];
+        mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_fifo_steps_0_q;
+        mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_fifo_rate_0_q;
+        mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_fifo_accel_0_q;
+        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_0) begin
+            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_0_q;
+            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_0_q;
+            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_0_q;
+        end
+        mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_fifo_steps_1_q;
+        mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_fifo_rate_1_q;
+        mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_fifo_accel_1_q;
+        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_1) begin
+            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_1_q;
+            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_1_q;
+            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_1_q;
+        end
+        mcu_pulses_engines_3_fifo_steps_2_d = mcu_pulses_engines_3_fifo_steps_2_q;
+        mcu_pulses_engines_3_fifo_rate_2_d = mcu_pulses_engines_3_fifo_rate_2_q;
+        mcu_pulses_engines_3_fifo_accel_2_d = mcu_pulses_engines_3_fifo_accel_2_q;
+        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_2) begin
+            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_2_q;
+            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_2_q;
+            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_2_q;
+        end
+        mcu_pulses_engines_3_fifo_steps_3_d = mcu_pulses_engines_3_fifo_steps_3_q;
+        mcu_pulses_engines_3_fifo_rate_3_d = mcu_pulses_engines_3_fifo_rate_3_q;
+        mcu_pulses_engines_3_fifo_accel_3_d = mcu_pulses_engines_3_fifo_accel_3_q;
+        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_3) begin
+            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_3_q;
+            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_3_q;
+            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_3_q;
+        end
+        mcu_pulses_engines_3_popped = 1'b0;
+        mcu_pulses_engines_3_ended = 1'b0;
+        if (mcu_pulses_engines_3_active_q_q) begin
+            if (mcu_pulses_engines_3_commanded) begin
+                mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_remaining_q - mcu_pulses_engines_3_one;
+                if (mcu_pulses_engines_3_remaining_q == mcu_pulses_engines_3_one) begin
+                    mcu_pulses_engines_3_active_q_d = 1'b0;
+                    mcu_pulses_engines_3_ended = 1'b1;
+                end
+            end
+            if (mcu_pulses_engines_3_advancing) begin
+                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_q_q;
+            end
+        end
+        else if (mcu_pulses_engines_3_run & |mcu_pulses_engines_3_count_q) begin
+            mcu_pulses_engines_3_popped = 1'b1;
+            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 2'h1;
+            mcu_pulses_engines_3_active_q_d = |mcu_pulses_engines_3_head_steps;
+            mcu_pulses_engines_3_ended = ~|mcu_pulses_engines_3_head_steps;
+            mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_head_rate;
+            mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_head_accel;
+            mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_head_steps;
+        end
+        mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q;
+        if (mcu_pulses_engines_3_popped) begin
+            mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q - 3'h1;
+        end
+        if (mcu_pulses_engines_3_ended & ~|mcu_pulses_engines_3_count_after_pop) begin
+            mcu_pulses_engines_3_done_q_d = 1'b1;
+        end
+        mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop;
+        if (mcu_pulses_engines_3_push) begin
+            if (mcu_pulses_engines_3_count_after_pop == mcu_pulses_engines_3_full) begin
+                mcu_pulses_engines_3_overflow_q_d = 1'b1;
+            end
+            else begin
+                mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop + 3'h1;
+                mcu_pulses_engines_3_done_q_d = 1'b0;
+                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_0) begin
+                    mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_seg_steps;
+                    mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_seg_rate;
+                    mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_seg_accel;
+                end
+                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_1) begin
+                    mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_seg_steps;
+                    mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_seg_rate;
+                    mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_seg_accel;
+                end
+                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_2) begin
+                    mcu_pulses_engines_3_fifo_steps_2_d = mcu_pulses_engines_3_seg_steps;
+                    mcu_pulses_engines_3_fifo_rate_2_d = mcu_pulses_engines_3_seg_rate;
+                    mcu_pulses_engines_3_fifo_accel_2_d = mcu_pulses_engines_3_seg_accel;
+                end
+                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_3) begin
+                    mcu_pulses_engines_3_fifo_steps_3_d = mcu_pulses_engines_3_seg_steps;
+                    mcu_pulses_engines_3_fifo_rate_3_d = mcu_pulses_engines_3_seg_rate;
+                    mcu_pulses_engines_3_fifo_accel_3_d = mcu_pulses_engines_3_seg_accel;
+                end
+            end
+        end
+        if (mcu_pulses_engines_3_clear_overflow) begin
+            mcu_pulses_engines_3_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_3_reset) begin
+            mcu_pulses_engines_3_active_q_d = 1'b0;
+            mcu_pulses_engines_3_rate_q_d = 32'h0;
+            mcu_pulses_engines_3_accel_q_d = 32'h0;
+            mcu_pulses_engines_3_remaining_d = 32'h0;
+            mcu_pulses_engines_3_done_q_d = 1'b0;
+            mcu_pulses_engines_3_overflow_q_d = 1'b0;
+            mcu_pulses_engines_3_head_d = 2'h0;
+            mcu_pulses_engines_3_count_d = 3'h0;
+            mcu_pulses_engines_3_fifo_steps_0_d = 32'h0;
+            mcu_pulses_engines_3_fifo_rate_0_d = 32'h0;
+            mcu_pulses_engines_3_fifo_accel_0_d = 32'h0;
+            mcu_pulses_engines_3_fifo_steps_1_d = 32'h0;
+            mcu_pulses_engines_3_fifo_rate_1_d = 32'h0;
+            mcu_pulses_engines_3_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_3_fifo_steps_2_d = 32'h0;
+            mcu_pulses_engines_3_fifo_rate_2_d = 32'h0;
+            mcu_pulses_engines_3_fifo_accel_2_d = 32'h0;
+            mcu_pulses_engines_3_fifo_steps_3_d = 32'h0;
+            mcu_pulses_engines_3_fifo_rate_3_d = 32'h0;
+            mcu_pulses_engines_3_fifo_accel_3_d = 32'h0;
+        end
+        mcu_pulses_engines_3_rate = 32'h0;
+        if (mcu_pulses_engines_3_active_q_q) begin
+            mcu_pulses_engines_3_rate = mcu_pulses_engines_3_rate_q_q;
+        end
+        mcu_pulses_engines_3_active = mcu_pulses_engines_3_active_q_q;
+        mcu_pulses_engines_3_done = mcu_pulses_engines_3_done_q_q;
+        mcu_pulses_engines_3_overflow = mcu_pulses_engines_3_overflow_q_q;
+        mcu_pulses_engines_3_level = mcu_pulses_engines_3_count_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_0_f1_reg_d = mcu_pulses_selectors_0_f1_reg_q;
+        mcu_pulses_selectors_0_f2_reg_d = mcu_pulses_selectors_0_f2_reg_q;
+        mcu_pulses_selectors_0_selector_k = mcu_pulses_selectors_0_k;
+        mcu_pulses_selectors_0_selector_s1 = mcu_pulses_selectors_0_s1;
+        mcu_pulses_selectors_0_selector_s2 = mcu_pulses_selectors_0_s2;
+        mcu_pulses_selectors_0_f1_reg_d = mcu_pulses_selectors_0_selector_f1;
+        mcu_pulses_selectors_0_f2_reg_d = mcu_pulses_selectors_0_selector_f2;
+        if (mcu_pulses_selectors_0_reset) begin
+            mcu_pulses_selectors_0_f1_reg_d = 1'b0;
+            mcu_pulses_selectors_0_f2_reg_d = 1'b0;
+        end
+        mcu_pulses_selectors_0_f1 = mcu_pulses_selectors_0_f1_reg_q;
+        mcu_pulses_selectors_0_f2 = mcu_pulses_selectors_0_f2_reg_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_0_selector_chip_b = mcu_pulses_selectors_0_selector_k;
+        mcu_pulses_selectors_0_selector_chip_a = mcu_pulses_selectors_0_selector_s2;
+        mcu_pulses_selectors_0_selector_chip_g1_n = 1'b0;
+        mcu_pulses_selectors_0_selector_chip_g2_n = 1'b0;
+        mcu_pulses_selectors_0_selector_chip_c1_0 = mcu_pulses_selectors_0_selector_s1;
+        mcu_pulses_selectors_0_selector_chip_c1_1 = mcu_pulses_selectors_0_selector_s1;
+        mcu_pulses_selectors_0_selector_chip_c1_2 = mcu_pulses_selectors_0_selector_s1;
+        mcu_pulses_selectors_0_selector_chip_c1_3 = 1'b0;
+        mcu_pulses_selectors_0_selector_chip_c2_0 = 1'b0;
+        mcu_pulses_selectors_0_selector_chip_c2_1 = 1'b1;
+        mcu_pulses_selectors_0_selector_chip_c2_2 = 1'b0;
+        mcu_pulses_selectors_0_selector_chip_c2_3 = mcu_pulses_selectors_0_selector_s1;
+        mcu_pulses_selectors_0_selector_f1 = mcu_pulses_selectors_0_selector_chip_y1;
+        mcu_pulses_selectors_0_selector_f2 = mcu_pulses_selectors_0_selector_chip_y2;
+    end
+
+    always @(*) begin
+        if (mcu_pulses_selectors_0_selector_chip_b) begin
+            if (mcu_pulses_selectors_0_selector_chip_a) begin
+                mcu_pulses_selectors_0_selector_chip_y1 = mcu_pulses_selectors_0_selector_chip_c1_3 & ~mcu_pulses_selectors_0_selector_chip_g1_n;
+                mcu_pulses_selectors_0_selector_chip_y2 = mcu_pulses_selectors_0_selector_chip_c2_3 & ~mcu_pulses_selectors_0_selector_chip_g2_n;
+            end
+            else begin
+                mcu_pulses_selectors_0_selector_chip_y1 = mcu_pulses_selectors_0_selector_chip_c1_2 & ~mcu_pulses_selectors_0_selector_chip_g1_n;
+                mcu_pulses_selectors_0_selector_chip_y2 = mcu_pulses_selectors_0_selector_chip_c2_2 & ~mcu_pulses_selectors_0_selector_chip_g2_n;
+            end
+        end
+        else if (mcu_pulses_selectors_0_selector_chip_a) begin
+            mcu_pulses_selectors_0_selector_chip_y1 = mcu_pulses_selectors_0_selector_chip_c1_1 & ~mcu_pulses_selectors_0_selector_chip_g1_n;
+            mcu_pulses_selectors_0_selector_chip_y2 = mcu_pulses_selectors_0_selector_chip_c2_1 & ~mcu_pulses_selectors_0_selector_chip_g2_n;
+        end
+        else begin
+            mcu_pulses_selectors_0_selector_chip_y1 = mcu_pulses_selectors_0_selector_chip_c1_0 & ~mcu_pulses_selectors_0_selector_chip_g1_n;
+            mcu_pulses_selectors_0_selector_chip_y2 = mcu_pulses_selectors_0_selector_chip_c2_0 & ~mcu_pulses_selectors_0_selector_chip_g2_n;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_1_f1_reg_d = mcu_pulses_selectors_1_f1_reg_q;
+        mcu_pulses_selectors_1_f2_reg_d = mcu_pulses_selectors_1_f2_reg_q;
+        mcu_pulses_selectors_1_selector_k = mcu_pulses_selectors_1_k;
+        mcu_pulses_selectors_1_selector_s1 = mcu_pulses_selectors_1_s1;
+        mcu_pulses_selectors_1_selector_s2 = mcu_pulses_selectors_1_s2;
+        mcu_pulses_selectors_1_f1_reg_d = mcu_pulses_selectors_1_selector_f1;
+        mcu_pulses_selectors_1_f2_reg_d = mcu_pulses_selectors_1_selector_f2;
+        if (mcu_pulses_selectors_1_reset) begin
+            mcu_pulses_selectors_1_f1_reg_d = 1'b0;
+            mcu_pulses_selectors_1_f2_reg_d = 1'b0;
+        end
+        mcu_pulses_selectors_1_f1 = mcu_pulses_selectors_1_f1_reg_q;
+        mcu_pulses_selectors_1_f2 = mcu_pulses_selectors_1_f2_reg_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_1_selector_chip_b = mcu_pulses_selectors_1_selector_k;
+        mcu_pulses_selectors_1_selector_chip_a = mcu_pulses_selectors_1_selector_s2;
+        mcu_pulses_selectors_1_selector_chip_g1_n = 1'b0;
+        mcu_pulses_selectors_1_selector_chip_g2_n = 1'b0;
+        mcu_pulses_selectors_1_selector_chip_c1_0 = mcu_pulses_selectors_1_selector_s1;
+        mcu_pulses_selectors_1_selector_chip_c1_1 = mcu_pulses_selectors_1_selector_s1;
+        mcu_pulses_selectors_1_selector_chip_c1_2 = mcu_pulses_selectors_1_selector_s1;
+        mcu_pulses_selectors_1_selector_chip_c1_3 = 1'b0;
+        mcu_pulses_selectors_1_selector_chip_c2_0 = 1'b0;
+        mcu_pulses_selectors_1_selector_chip_c2_1 = 1'b1;
+        mcu_pulses_selectors_1_selector_chip_c2_2 = 1'b0;
+        mcu_pulses_selectors_1_selector_chip_c2_3 = mcu_pulses_selectors_1_selector_s1;
+        mcu_pulses_selectors_1_selector_f1 = mcu_pulses_selectors_1_selector_chip_y1;
+        mcu_pulses_selectors_1_selector_f2 = mcu_pulses_selectors_1_selector_chip_y2;
+    end
+
+    always @(*) begin
+        if (mcu_pulses_selectors_1_selector_chip_b) begin
+            if (mcu_pulses_selectors_1_selector_chip_a) begin
+                mcu_pulses_selectors_1_selector_chip_y1 = mcu_pulses_selectors_1_selector_chip_c1_3 & ~mcu_pulses_selectors_1_selector_chip_g1_n;
+                mcu_pulses_selectors_1_selector_chip_y2 = mcu_pulses_selectors_1_selector_chip_c2_3 & ~mcu_pulses_selectors_1_selector_chip_g2_n;
+            end
+            else begin
+                mcu_pulses_selectors_1_selector_chip_y1 = mcu_pulses_selectors_1_selector_chip_c1_2 & ~mcu_pulses_selectors_1_selector_chip_g1_n;
+                mcu_pulses_selectors_1_selector_chip_y2 = mcu_pulses_selectors_1_selector_chip_c2_2 & ~mcu_pulses_selectors_1_selector_chip_g2_n;
+            end
+        end
+        else if (mcu_pulses_selectors_1_selector_chip_a) begin
+            mcu_pulses_selectors_1_selector_chip_y1 = mcu_pulses_selectors_1_selector_chip_c1_1 & ~mcu_pulses_selectors_1_selector_chip_g1_n;
+            mcu_pulses_selectors_1_selector_chip_y2 = mcu_pulses_selectors_1_selector_chip_c2_1 & ~mcu_pulses_selectors_1_selector_chip_g2_n;
+        end
+        else begin
+            mcu_pulses_selectors_1_selector_chip_y1 = mcu_pulses_selectors_1_selector_chip_c1_0 & ~mcu_pulses_selectors_1_selector_chip_g1_n;
+            mcu_pulses_selectors_1_selector_chip_y2 = mcu_pulses_selectors_1_selector_chip_c2_0 & ~mcu_pulses_selectors_1_selector_chip_g2_n;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_2_f1_reg_d = mcu_pulses_selectors_2_f1_reg_q;
+        mcu_pulses_selectors_2_f2_reg_d = mcu_pulses_selectors_2_f2_reg_q;
+        mcu_pulses_selectors_2_selector_k = mcu_pulses_selectors_2_k;
+        mcu_pulses_selectors_2_selector_s1 = mcu_pulses_selectors_2_s1;
+        mcu_pulses_selectors_2_selector_s2 = mcu_pulses_selectors_2_s2;
+        mcu_pulses_selectors_2_f1_reg_d = mcu_pulses_selectors_2_selector_f1;
+        mcu_pulses_selectors_2_f2_reg_d = mcu_pulses_selectors_2_selector_f2;
+        if (mcu_pulses_selectors_2_reset) begin
+            mcu_pulses_selectors_2_f1_reg_d = 1'b0;
+            mcu_pulses_selectors_2_f2_reg_d = 1'b0;
+        end
+        mcu_pulses_selectors_2_f1 = mcu_pulses_selectors_2_f1_reg_q;
+        mcu_pulses_selectors_2_f2 = mcu_pulses_selectors_2_f2_reg_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_2_selector_chip_b = mcu_pulses_selectors_2_selector_k;
+        mcu_pulses_selectors_2_selector_chip_a = mcu_pulses_selectors_2_selector_s2;
+        mcu_pulses_selectors_2_selector_chip_g1_n = 1'b0;
+        mcu_pulses_selectors_2_selector_chip_g2_n = 1'b0;
+        mcu_pulses_selectors_2_selector_chip_c1_0 = mcu_pulses_selectors_2_selector_s1;
+        mcu_pulses_selectors_2_selector_chip_c1_1 = mcu_pulses_selectors_2_selector_s1;
+        mcu_pulses_selectors_2_selector_chip_c1_2 = mcu_pulses_selectors_2_selector_s1;
+        mcu_pulses_selectors_2_selector_chip_c1_3 = 1'b0;
+        mcu_pulses_selectors_2_selector_chip_c2_0 = 1'b0;
+        mcu_pulses_selectors_2_selector_chip_c2_1 = 1'b1;
+        mcu_pulses_selectors_2_selector_chip_c2_2 = 1'b0;
+        mcu_pulses_selectors_2_selector_chip_c2_3 = mcu_pulses_selectors_2_selector_s1;
+        mcu_pulses_selectors_2_selector_f1 = mcu_pulses_selectors_2_selector_chip_y1;
+        mcu_pulses_selectors_2_selector_f2 = mcu_pulses_selectors_2_selector_chip_y2;
+    end
+
+    always @(*) begin
+        if (mcu_pulses_selectors_2_selector_chip_b) begin
+            if (mcu_pulses_selectors_2_selector_chip_a) begin
+                mcu_pulses_selectors_2_selector_chip_y1 = mcu_pulses_selectors_2_selector_chip_c1_3 & ~mcu_pulses_selectors_2_selector_chip_g1_n;
+                mcu_pulses_selectors_2_selector_chip_y2 = mcu_pulses_selectors_2_selector_chip_c2_3 & ~mcu_pulses_selectors_2_selector_chip_g2_n;
+            end
+            else begin
+                mcu_pulses_selectors_2_selector_chip_y1 = mcu_pulses_selectors_2_selector_chip_c1_2 & ~mcu_pulses_selectors_2_selector_chip_g1_n;
+                mcu_pulses_selectors_2_selector_chip_y2 = mcu_pulses_selectors_2_selector_chip_c2_2 & ~mcu_pulses_selectors_2_selector_chip_g2_n;
+            end
+        end
+        else if (mcu_pulses_selectors_2_selector_chip_a) begin
+            mcu_pulses_selectors_2_selector_chip_y1 = mcu_pulses_selectors_2_selector_chip_c1_1 & ~mcu_pulses_selectors_2_selector_chip_g1_n;
+            mcu_pulses_selectors_2_selector_chip_y2 = mcu_pulses_selectors_2_selector_chip_c2_1 & ~mcu_pulses_selectors_2_selector_chip_g2_n;
+        end
+        else begin
+            mcu_pulses_selectors_2_selector_chip_y1 = mcu_pulses_selectors_2_selector_chip_c1_0 & ~mcu_pulses_selectors_2_selector_chip_g1_n;
+            mcu_pulses_selectors_2_selector_chip_y2 = mcu_pulses_selectors_2_selector_chip_c2_0 & ~mcu_pulses_selectors_2_selector_chip_g2_n;
+        end
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_3_f1_reg_d = mcu_pulses_selectors_3_f1_reg_q;
+        mcu_pulses_selectors_3_f2_reg_d = mcu_pulses_selectors_3_f2_reg_q;
+        mcu_pulses_selectors_3_selector_k = mcu_pulses_selectors_3_k;
+        mcu_pulses_selectors_3_selector_s1 = mcu_pulses_selectors_3_s1;
+        mcu_pulses_selectors_3_selector_s2 = mcu_pulses_selectors_3_s2;
+        mcu_pulses_selectors_3_f1_reg_d = mcu_pulses_selectors_3_selector_f1;
+        mcu_pulses_selectors_3_f2_reg_d = mcu_pulses_selectors_3_selector_f2;
+        if (mcu_pulses_selectors_3_reset) begin
+            mcu_pulses_selectors_3_f1_reg_d = 1'b0;
+            mcu_pulses_selectors_3_f2_reg_d = 1'b0;
+        end
+        mcu_pulses_selectors_3_f1 = mcu_pulses_selectors_3_f1_reg_q;
+        mcu_pulses_selectors_3_f2 = mcu_pulses_selectors_3_f2_reg_q;
+    end
+
+    always @(*) begin
+        mcu_pulses_selectors_3_selector_chip_b = mcu_pulses_selectors_3_selector_k;
+        mcu_pulses_selectors_3_selector_chip_a = mcu_pulses_selectors_3_selector_s2;
+        mcu_pulses_selectors_3_selector_chip_g1_n = 1'b0;
+        mcu_pulses_selectors_3_selector_chip_g2_n = 1'b0;
+        mcu_pulses_selectors_3_selector_chip_c1_0 = mcu_pulses_selectors_3_selector_s1;
+        mcu_pulses_selectors_3_selector_chip_c1_1 = mcu_pulses_selectors_3_selector_s1;
+        mcu_pulses_selectors_3_selector_chip_c1_2 = mcu_pulses_selectors_3_selector_s1;
+        mcu_pulses_selectors_3_selector_chip_c1_3 = 1'b0;
+        mcu_pulses_selectors_3_selector_chip_c2_0 = 1'b0;
+        mcu_pulses_selectors_3_selector_chip_c2_1 = 1'b1;
+        mcu_pulses_selectors_3_selector_chip_c2_2 = 1'b0;
+        mcu_pulses_selectors_3_selector_chip_c2_3 = mcu_pulses_selectors_3_selector_s1;
+        mcu_pulses_selectors_3_selector_f1 = mcu_pulses_selectors_3_selector_chip_y1;
+        mcu_pulses_selectors_3_selector_f2 = mcu_pulses_selectors_3_selector_chip_y2;
+    end
+
+    always @(*) begin
+        if (mcu_pulses_selectors_3_selector_chip_b) begin
+            if (mcu_pulses_selectors_3_selector_chip_a) begin
+                mcu_pulses_selectors_3_selector_chip_y1 = mcu_pulses_selectors_3_selector_chip_c1_3 & ~mcu_pulses_selectors_3_selector_chip_g1_n;
+                mcu_pulses_selectors_3_selector_chip_y2 = mcu_pulses_selectors_3_selector_chip_c2_3 & ~mcu_pulses_selectors_3_selector_chip_g2_n;
+            end
+            else begin
+                mcu_pulses_selectors_3_selector_chip_y1 = mcu_pulses_selectors_3_selector_chip_c1_2 & ~mcu_pulses_selectors_3_selector_chip_g1_n;
+                mcu_pulses_selectors_3_selector_chip_y2 = mcu_pulses_selectors_3_selector_chip_c2_2 & ~mcu_pulses_selectors_3_selector_chip_g2_n;
+            end
+        end
+        else if (mcu_pulses_selectors_3_selector_chip_a) begin
+            mcu_pulses_selectors_3_selector_chip_y1 = mcu_pulses_selectors_3_selector_chip_c1_1 & ~mcu_pulses_selectors_3_selector_chip_g1_n;
+            mcu_pulses_selectors_3_selector_chip_y2 = mcu_pulses_selectors_3_selector_chip_c2_1 & ~mcu_pulses_selectors_3_selector_chip_g2_n;
+        end
+        else begin
+            mcu_pulses_selectors_3_selector_chip_y1 = mcu_pulses_selectors_3_selector_chip_c1_0 & ~mcu_pulses_selectors_3_selector_chip_g1_n;
+            mcu_pulses_selectors_3_selector_chip_y2 = mcu_pulses_selectors_3_selector_chip_c2_0 & ~mcu_pulses_selectors_3_selector_chip_g2_n;
+        end
+    end
+
+    always @(*) begin
         pc_bus_core_reset = pc_bus_reset;
         pc_bus_core_sa = pc_bus_sa;
         pc_bus_core_sd_in = pc_bus_sd_in;
@@ -3098,8 +5807,177 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_read_pending_q <= mcu_counters_read_pending_d;
     always @(posedge clock) mcu_counters_read_info_q <= mcu_counters_read_info_d;
     always @(posedge clock) mcu_counters_read_preset_q <= mcu_counters_read_preset_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_pending_q_q <= mcu_pulses_generators_0_timer_pending_q_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_step_q_q <= mcu_pulses_generators_0_timer_step_q_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_dir_q_q <= mcu_pulses_generators_0_timer_dir_q_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_t_step_q <= mcu_pulses_generators_0_timer_t_step_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_t_dir_q <= mcu_pulses_generators_0_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_0_phase_q <= mcu_pulses_generators_0_phase_d;
+    always @(posedge clock) mcu_pulses_generators_0_position_q_q <= mcu_pulses_generators_0_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_pending_q_q <= mcu_pulses_generators_1_timer_pending_q_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_step_q_q <= mcu_pulses_generators_1_timer_step_q_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_dir_q_q <= mcu_pulses_generators_1_timer_dir_q_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_t_step_q <= mcu_pulses_generators_1_timer_t_step_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_t_dir_q <= mcu_pulses_generators_1_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_1_phase_q <= mcu_pulses_generators_1_phase_d;
+    always @(posedge clock) mcu_pulses_generators_1_position_q_q <= mcu_pulses_generators_1_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_pending_q_q <= mcu_pulses_generators_2_timer_pending_q_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_step_q_q <= mcu_pulses_generators_2_timer_step_q_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_dir_q_q <= mcu_pulses_generators_2_timer_dir_q_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_t_step_q <= mcu_pulses_generators_2_timer_t_step_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_t_dir_q <= mcu_pulses_generators_2_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_2_phase_q <= mcu_pulses_generators_2_phase_d;
+    always @(posedge clock) mcu_pulses_generators_2_position_q_q <= mcu_pulses_generators_2_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_pending_q_q <= mcu_pulses_generators_3_timer_pending_q_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_step_q_q <= mcu_pulses_generators_3_timer_step_q_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_dir_q_q <= mcu_pulses_generators_3_timer_dir_q_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_t_step_q <= mcu_pulses_generators_3_timer_t_step_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_t_dir_q <= mcu_pulses_generators_3_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_3_phase_q <= mcu_pulses_generators_3_phase_d;
+    always @(posedge clock) mcu_pulses_generators_3_position_q_q <= mcu_pulses_generators_3_position_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_active_q_q <= mcu_pulses_engines_0_active_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_rate_q_q <= mcu_pulses_engines_0_rate_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_accel_q_q <= mcu_pulses_engines_0_accel_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_remaining_q <= mcu_pulses_engines_0_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_0_done_q_q <= mcu_pulses_engines_0_done_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_overflow_q_q <= mcu_pulses_engines_0_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_head_q <= mcu_pulses_engines_0_head_d;
+    always @(posedge clock) mcu_pulses_engines_0_count_q <= mcu_pulses_engines_0_count_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_0_q <= mcu_pulses_engines_0_fifo_steps_0_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_1_q <= mcu_pulses_engines_0_fifo_steps_1_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_2_q <= mcu_pulses_engines_0_fifo_steps_2_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_3_q <= mcu_pulses_engines_0_fifo_steps_3_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_0_q <= mcu_pulses_engines_0_fifo_rate_0_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_1_q <= mcu_pulses_engines_0_fifo_rate_1_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_2_q <= mcu_pulses_engines_0_fifo_rate_2_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_3_q <= mcu_pulses_engines_0_fifo_rate_3_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_0_q <= mcu_pulses_engines_0_fifo_accel_0_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_1_q <= mcu_pulses_engines_0_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_2_q <= mcu_pulses_engines_0_fifo_accel_2_d;
+    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_3_q <= mcu_pulses_engines_0_fifo_accel_3_d;
+    always @(posedge clock) mcu_pulses_engines_1_active_q_q <= mcu_pulses_engines_1_active_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_rate_q_q <= mcu_pulses_engines_1_rate_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_accel_q_q <= mcu_pulses_engines_1_accel_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_remaining_q <= mcu_pulses_engines_1_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_1_done_q_q <= mcu_pulses_engines_1_done_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_overflow_q_q <= mcu_pulses_engines_1_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_head_q <= mcu_pulses_engines_1_head_d;
+    always @(posedge clock) mcu_pulses_engines_1_count_q <= mcu_pulses_engines_1_count_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_0_q <= mcu_pulses_engines_1_fifo_steps_0_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_1_q <= mcu_pulses_engines_1_fifo_steps_1_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_2_q <= mcu_pulses_engines_1_fifo_steps_2_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_3_q <= mcu_pulses_engines_1_fifo_steps_3_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_0_q <= mcu_pulses_engines_1_fifo_rate_0_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_1_q <= mcu_pulses_engines_1_fifo_rate_1_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_2_q <= mcu_pulses_engines_1_fifo_rate_2_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_3_q <= mcu_pulses_engines_1_fifo_rate_3_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_0_q <= mcu_pulses_engines_1_fifo_accel_0_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_1_q <= mcu_pulses_engines_1_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_2_q <= mcu_pulses_engines_1_fifo_accel_2_d;
+    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_3_q <= mcu_pulses_engines_1_fifo_accel_3_d;
+    always @(posedge clock) mcu_pulses_engines_2_active_q_q <= mcu_pulses_engines_2_active_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_rate_q_q <= mcu_pulses_engines_2_rate_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_accel_q_q <= mcu_pulses_engines_2_accel_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_remaining_q <= mcu_pulses_engines_2_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_2_done_q_q <= mcu_pulses_engines_2_done_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_overflow_q_q <= mcu_pulses_engines_2_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_head_q <= mcu_pulses_engines_2_head_d;
+    always @(posedge clock) mcu_pulses_engines_2_count_q <= mcu_pulses_engines_2_count_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_0_q <= mcu_pulses_engines_2_fifo_steps_0_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_1_q <= mcu_pulses_engines_2_fifo_steps_1_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_2_q <= mcu_pulses_engines_2_fifo_steps_2_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_3_q <= mcu_pulses_engines_2_fifo_steps_3_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_0_q <= mcu_pulses_engines_2_fifo_rate_0_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_1_q <= mcu_pulses_engines_2_fifo_rate_1_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_2_q <= mcu_pulses_engines_2_fifo_rate_2_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_3_q <= mcu_pulses_engines_2_fifo_rate_3_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_0_q <= mcu_pulses_engines_2_fifo_accel_0_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_1_q <= mcu_pulses_engines_2_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_2_q <= mcu_pulses_engines_2_fifo_accel_2_d;
+    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_3_q <= mcu_pulses_engines_2_fifo_accel_3_d;
+    always @(posedge clock) mcu_pulses_engines_3_active_q_q <= mcu_pulses_engines_3_active_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_rate_q_q <= mcu_pulses_engines_3_rate_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_accel_q_q <= mcu_pulses_engines_3_accel_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_remaining_q <= mcu_pulses_engines_3_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_3_done_q_q <= mcu_pulses_engines_3_done_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_overflow_q_q <= mcu_pulses_engines_3_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_head_q <= mcu_pulses_engines_3_head_d;
+    always @(posedge clock) mcu_pulses_engines_3_count_q <= mcu_pulses_engines_3_count_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_0_q <= mcu_pulses_engines_3_fifo_steps_0_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_1_q <= mcu_pulses_engines_3_fifo_steps_1_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_2_q <= mcu_pulses_engines_3_fifo_steps_2_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_3_q <= mcu_pulses_engines_3_fifo_steps_3_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_0_q <= mcu_pulses_engines_3_fifo_rate_0_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_1_q <= mcu_pulses_engines_3_fifo_rate_1_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_2_q <= mcu_pulses_engines_3_fifo_rate_2_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_3_q <= mcu_pulses_engines_3_fifo_rate_3_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_0_q <= mcu_pulses_engines_3_fifo_accel_0_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_1_q <= mcu_pulses_engines_3_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_2_q <= mcu_pulses_engines_3_fifo_accel_2_d;
+    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_3_q <= mcu_pulses_engines_3_fifo_accel_3_d;
+    always @(posedge clock) mcu_pulses_seg_steps_0_q <= mcu_pulses_seg_steps_0_d;
+    always @(posedge clock) mcu_pulses_seg_steps_1_q <= mcu_pulses_seg_steps_1_d;
+    always @(posedge clock) mcu_pulses_seg_steps_2_q <= mcu_pulses_seg_steps_2_d;
+    always @(posedge clock) mcu_pulses_seg_steps_3_q <= mcu_pulses_seg_steps_3_d;
+    always @(posedge clock) mcu_pulses_seg_rate_0_q <= mcu_pulses_seg_rate_0_d;
+    always @(posedge clock) mcu_pulses_seg_rate_1_q <= mcu_pulses_seg_rate_1_d;
+    always @(posedge clock) mcu_pulses_seg_rate_2_q <= mcu_pulses_seg_rate_2_d;
+    always @(posedge clock) mcu_pulses_seg_rate_3_q <= mcu_pulses_seg_rate_3_d;
+    always @(posedge clock) mcu_pulses_seg_accel_0_q <= mcu_pulses_seg_accel_0_d;
+    always @(posedge clock) mcu_pulses_seg_accel_1_q <= mcu_pulses_seg_accel_1_d;
+    always @(posedge clock) mcu_pulses_seg_accel_2_q <= mcu_pulses_seg_accel_2_d;
+    always @(posedge clock) mcu_pulses_seg_accel_3_q <= mcu_pulses_seg_accel_3_d;
+    always @(posedge clock) mcu_pulses_selectors_0_f1_reg_q <= mcu_pulses_selectors_0_f1_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_0_f2_reg_q <= mcu_pulses_selectors_0_f2_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_1_f1_reg_q <= mcu_pulses_selectors_1_f1_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_1_f2_reg_q <= mcu_pulses_selectors_1_f2_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_2_f1_reg_q <= mcu_pulses_selectors_2_f1_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_2_f2_reg_q <= mcu_pulses_selectors_2_f2_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_3_f1_reg_q <= mcu_pulses_selectors_3_f1_reg_d;
+    always @(posedge clock) mcu_pulses_selectors_3_f2_reg_q <= mcu_pulses_selectors_3_f2_reg_d;
+    always @(posedge clock) mcu_pulses_run_q <= mcu_pulses_run_d;
+    always @(posedge clock) mcu_pulses_ctrl_0_q <= mcu_pulses_ctrl_0_d;
+    always @(posedge clock) mcu_pulses_ctrl_1_q <= mcu_pulses_ctrl_1_d;
+    always @(posedge clock) mcu_pulses_ctrl_2_q <= mcu_pulses_ctrl_2_d;
+    always @(posedge clock) mcu_pulses_ctrl_3_q <= mcu_pulses_ctrl_3_d;
+    always @(posedge clock) mcu_pulses_rate_0_q <= mcu_pulses_rate_0_d;
+    always @(posedge clock) mcu_pulses_rate_1_q <= mcu_pulses_rate_1_d;
+    always @(posedge clock) mcu_pulses_rate_2_q <= mcu_pulses_rate_2_d;
+    always @(posedge clock) mcu_pulses_rate_3_q <= mcu_pulses_rate_3_d;
+    always @(posedge clock) mcu_pulses_step_timing_0_q <= mcu_pulses_step_timing_0_d;
+    always @(posedge clock) mcu_pulses_step_timing_1_q <= mcu_pulses_step_timing_1_d;
+    always @(posedge clock) mcu_pulses_step_timing_2_q <= mcu_pulses_step_timing_2_d;
+    always @(posedge clock) mcu_pulses_step_timing_3_q <= mcu_pulses_step_timing_3_d;
+    always @(posedge clock) mcu_pulses_dir_timing_0_q <= mcu_pulses_dir_timing_0_d;
+    always @(posedge clock) mcu_pulses_dir_timing_1_q <= mcu_pulses_dir_timing_1_d;
+    always @(posedge clock) mcu_pulses_dir_timing_2_q <= mcu_pulses_dir_timing_2_d;
+    always @(posedge clock) mcu_pulses_dir_timing_3_q <= mcu_pulses_dir_timing_3_d;
+    always @(posedge clock) mcu_pulses_snap_0_q <= mcu_pulses_snap_0_d;
+    always @(posedge clock) mcu_pulses_snap_1_q <= mcu_pulses_snap_1_d;
+    always @(posedge clock) mcu_pulses_snap_2_q <= mcu_pulses_snap_2_d;
+    always @(posedge clock) mcu_pulses_snap_3_q <= mcu_pulses_snap_3_d;
+    always @(posedge clock) mcu_pulses_quadrature_a_0_q <= mcu_pulses_quadrature_a_0_d;
+    always @(posedge clock) mcu_pulses_quadrature_a_1_q <= mcu_pulses_quadrature_a_1_d;
+    always @(posedge clock) mcu_pulses_quadrature_a_2_q <= mcu_pulses_quadrature_a_2_d;
+    always @(posedge clock) mcu_pulses_quadrature_a_3_q <= mcu_pulses_quadrature_a_3_d;
+    always @(posedge clock) mcu_pulses_quadrature_b_0_q <= mcu_pulses_quadrature_b_0_d;
+    always @(posedge clock) mcu_pulses_quadrature_b_1_q <= mcu_pulses_quadrature_b_1_d;
+    always @(posedge clock) mcu_pulses_quadrature_b_2_q <= mcu_pulses_quadrature_b_2_d;
+    always @(posedge clock) mcu_pulses_quadrature_b_3_q <= mcu_pulses_quadrature_b_3_d;
+    always @(posedge clock) mcu_pulses_out_f1_0_q <= mcu_pulses_out_f1_0_d;
+    always @(posedge clock) mcu_pulses_out_f1_1_q <= mcu_pulses_out_f1_1_d;
+    always @(posedge clock) mcu_pulses_out_f1_2_q <= mcu_pulses_out_f1_2_d;
+    always @(posedge clock) mcu_pulses_out_f1_3_q <= mcu_pulses_out_f1_3_d;
+    always @(posedge clock) mcu_pulses_out_f2_0_q <= mcu_pulses_out_f2_0_d;
+    always @(posedge clock) mcu_pulses_out_f2_1_q <= mcu_pulses_out_f2_1_d;
+    always @(posedge clock) mcu_pulses_out_f2_2_q <= mcu_pulses_out_f2_2_d;
+    always @(posedge clock) mcu_pulses_out_f2_3_q <= mcu_pulses_out_f2_3_d;
+    always @(posedge clock) mcu_pulses_read_pending_q <= mcu_pulses_read_pending_d;
+    always @(posedge clock) mcu_pulses_read_addr_q <= mcu_pulses_read_addr_d;
+    always @(posedge clock) mcu_pulses_read_data_q <= mcu_pulses_read_data_d;
     always @(posedge clock) mcu_read_from_id_q <= mcu_read_from_id_d;
     always @(posedge clock) mcu_read_from_counters_q <= mcu_read_from_counters_d;
+    always @(posedge clock) mcu_read_from_pulses_q <= mcu_read_from_pulses_d;
     always @(posedge clock) pc_bus_core_ior_s1_q <= pc_bus_core_ior_s1_d;
     always @(posedge clock) pc_bus_core_ior_s2_q <= pc_bus_core_ior_s2_d;
     always @(posedge clock) pc_bus_core_ior_s3_q <= pc_bus_core_ior_s3_d;

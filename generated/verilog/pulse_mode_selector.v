@@ -8,8 +8,8 @@ module pulse_mode_selector(k, s1, s2, f1, f2);
     input wire k;
     input wire s1;
     input wire s2;
-    output reg f1;
-    output reg f2;
+    output wire f1;
+    output wire f2;
 
     reg chip_a;
     reg chip_b;
@@ -26,6 +26,9 @@ module pulse_mode_selector(k, s1, s2, f1, f2);
     reg chip_y1;
     reg chip_y2;
 
+    assign f1 = chip_y1;
+    assign f2 = chip_y2;
+
     always @(*) begin
         chip_b = k;
         chip_a = s2;
@@ -39,8 +42,6 @@ module pulse_mode_selector(k, s1, s2, f1, f2);
         chip_c2_1 = 1'b1;
         chip_c2_2 = 1'b0;
         chip_c2_3 = s1;
-        f1 = chip_y1;
-        f2 = chip_y2;
     end
 
     always @(*) begin

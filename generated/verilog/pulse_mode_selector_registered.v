@@ -10,8 +10,8 @@ module pulse_mode_selector_registered(clock, reset, k, s1, s2, f1, f2);
     input wire k;
     input wire s1;
     input wire s2;
-    output reg f1;
-    output reg f2;
+    output wire f1;
+    output wire f2;
 
     reg selector_k;
     reg selector_s1;
@@ -37,6 +37,9 @@ module pulse_mode_selector_registered(clock, reset, k, s1, s2, f1, f2);
     reg selector_chip_y1;
     reg selector_chip_y2;
 
+    assign f1 = f1_reg_q;
+    assign f2 = f2_reg_q;
+
     always @(*) begin
         f1_reg_d = f1_reg_q;
         f2_reg_d = f2_reg_q;
@@ -49,8 +52,6 @@ module pulse_mode_selector_registered(clock, reset, k, s1, s2, f1, f2);
             f1_reg_d = 1'b0;
             f2_reg_d = 1'b0;
         end
-        f1 = f1_reg_q;
-        f2 = f2_reg_q;
     end
 
     always @(*) begin

@@ -9,7 +9,7 @@ module quadrature_core(clock, reset, a, b, count);
     input wire reset;
     input wire a;
     input wire b;
-    output reg [31:0] count;
+    output wire [31:0] count;
 
     localparam mode_x4 = 3'b0;
     localparam decoder_mode_x4 = 3'b0;
@@ -84,6 +84,8 @@ module quadrature_core(clock, reset, a, b, count);
     reg [31:0] counter_hi_carry_in;
     reg [31:0] counter_load_lo;
 
+    assign count = counter_count;
+
     always @(*) begin
         sync1_a_d = sync1_a_q;
         sync2_a_d = sync2_a_q;
@@ -115,7 +117,6 @@ module quadrature_core(clock, reset, a, b, count);
         counter_load_value = 32'h0;
         counter_load_low_is_max = 1'b0;
         counter_load_low_is_nonzero = 1'b0;
-        count = counter_count;
     end
 
     always @(*) begin

@@ -700,3 +700,81 @@ pub fn loopback_ops(config: &Config) -> Vec<Op> {
     }
     ops
 }
+
+/// Segments of [`moves_ops`]: accelerate, cruise, decelerate, and one
+/// back (steps, start rate, rate increment per clock).
+pub const MOVE_SEGMENTS: [(u32, i32, i32); 4] = [
+    (30, 1 << 24, 1 << 20),
+    (60, 1 << 28, 0),
+    (30, 1 << 28, -(1 << 18)),
+    (25, -(1 << 27), 0),
+];
+
+/// A position move through axis 0's segment FIFO (MOVES mode), counted by
+/// channel 0 in pulse+direction through the pin loopback: push the four
+/// [`MOVE_SEGMENTS`], RUN, wait, then STATUS, SNAPSHOT, COUNT and POSITION.
+pub fn moves_ops(config: &Config) -> Vec<Op> {
+    use motionhdl_model::regmap::mode;
+    let map = regmap::mcu_map(config);
+    let counter = map.block("COUNTER");
+    let pulse = map.block("PULSE");
+    let (ch, ax) = (counter.array("CH"), pulse.array("AX"));
+    let w = |word: u32, data: u32| Op::Write32 {
+        a: (word * 2) as u16,
+        data,
+    };
+    let r = |word: u32| Op::Read32 {
+        a: (word * 2) as u16,
+    };
+    let mut ops = vec![
+        Op::Reset,
+        w(counter.base + ch.address(0, "CTRL"), mode::PULSE_DIR),
+        w(pulse.base + ax.address(0, "CTRL"), 0b100),
+        w(pulse.base + ax.address(0, "STEP_TIMING"), 2 | 2 << 16),
+        w(pulse.base + ax.address(0, "DIR_TIMING"), 3 | 3 << 16),
+    ];
+    for (steps, rate, accel) in MOVE_SEGMENTS {
+        ops.push(w(pulse.base + ax.address(0, "SEG_STEPS"), steps));
+        ops.push(w(pulse.base + ax.address(0, "SEG_RATE"), rate as u32));
+        ops.push(w(pulse.base + ax.address(0, "SEG_ACCEL"), accel as u32));
+        ops.push(w(pulse.base + ax.address(0, "SEG_PUSH"), 0));
+    }
+    ops.push(w(pulse.base + pulse.register("RUN").offset, 1));
+    for _ in 0..8 {
+        ops.push(Op::Idle { hclk: 4000 });
+    }
+    ops.push(r(pulse.base + ax.address(0, "STATUS")));
+    ops.push(w(counter.base + counter.register("SNAPSHOT").offset, 0));
+    ops.push(r(counter.base + ch.address(0, "COUNT")));
+    ops.push(r(pulse.base + ax.address(0, "POSITION")));
+    ops
+}
+
+/// (STATUS, COUNT, POSITION) the reads of [`moves_ops`] returned.
+fn moves_results(obs: &[Observation]) -> Result<(u32, i32, i32), String> {
+    if obs.len() != 6 {
+        return Err(format!("{} reads, expected 6", obs.len()));
+    }
+    let word = |k: usize| u32::from(obs[k].data_end) | u32::from(obs[k + 1].data_end) << 16;
+    Ok((word(0), word(2) as i32, word(4) as i32))
+}
+
+/// [`moves_ops`] in rust-hdl with the pin loopback.
+pub fn moves_rust(config: &Config) -> Result<(u32, i32, i32), String> {
+    let (obs, _) = run_top(MotionController::<4>::new(config), &moves_ops(config), true);
+    moves_results(&obs)
+}
+
+/// [`moves_ops`] in the generated Verilog with the pin loopback.
+pub fn moves_verilog(
+    target: impl Into<Target>,
+    config: &Config,
+) -> Result<(u32, i32, i32), String> {
+    let n = config.axes();
+    let ops = moves_ops(config);
+    let tb = verilog_testbench(config, ops.len()).replace(
+        &format!(".enc_a({n}'h0), .enc_b({n}'h0)"),
+        ".enc_a(pulse_f1), .enc_b(pulse_f2)",
+    );
+    moves_results(&run_verilog_tb(target, config, &ops, tb)?)
+}

@@ -18,7 +18,7 @@ struct Script {
     trace: Trace,
     half_ns: u64,
     t: u64,
-    ids: [SignalId; 12],
+    ids: [SignalId; 14],
 }
 
 impl Script {
@@ -43,7 +43,9 @@ impl Script {
             trace.signal(&ax, "f2", 1),
             trace.signal(&ax, "pending", 16),
             trace.signal(&ax, "position", 32),
-            trace.signal(&ax, "k_cw_ccw", 1),
+            trace.signal(&ax, "ctrl", 3),
+            trace.signal(&ax, "moving", 1),
+            trace.signal(&ax, "done", 1),
         ];
         let mut uut = PulseBank::<1>::new(width);
         uut.connect_all();
@@ -105,7 +107,12 @@ impl Script {
         self.trace
             .set(t1, ids[9], u64::from(timer.pending as u32 & 0xffff));
         self.trace.set(t1, ids[10], u64::from(position));
+        let status = self
+            .model
+            .read_value(self.map.array("AX").address(0, "STATUS"));
         self.trace.set(t1, ids[11], u64::from(k));
+        self.trace.set(t1, ids[12], u64::from(status >> 17 & 1));
+        self.trace.set(t1, ids[13], u64::from(status >> 18 & 1));
         self.t += 2 * self.half_ns;
     }
 
@@ -131,17 +138,21 @@ impl Script {
     }
 }
 
-/// A linear ramp of the rate written every 20 clocks (what the MCU does to
-/// follow an S-curve, until the segment FIFO lands), then a hold.
+/// A move through the segment FIFO: accelerate (the rate grows by
+/// SEG_ACCEL every clock), cruise, decelerate, then STATUS.DONE.
 pub fn acceleration(config: &Config) -> Trace {
     let mut s = Script::new("pulse_acceleration", config);
     s.setup(false);
-    s.write("RUN", 1);
-    for k in 1..=16u32 {
-        s.write("RATE", k * (1 << 26));
-        s.idle(19);
+    s.write("CTRL", 0b100);
+    let k = 1 << 24;
+    for (steps, rate, accel) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))] {
+        s.write("SEG_STEPS", steps);
+        s.write("SEG_RATE", rate as u32);
+        s.write("SEG_ACCEL", accel as u32);
+        s.write("SEG_PUSH", 0);
     }
-    s.idle(60);
+    s.write("RUN", 1);
+    s.idle(700);
     s.write("RUN", 0);
     s.idle(20);
     s.trace
@@ -152,6 +163,22 @@ pub fn acceleration(config: &Config) -> Trace {
 pub fn reversal(config: &Config) -> Trace {
     let mut s = Script::new("pulse_reversal", config);
     s.setup(false);
+    s.write("RATE", 1 << 29);
+    s.write("RUN", 1);
+    s.idle(80);
+    s.write("RATE", (-(1i32 << 29)) as u32);
+    s.idle(120);
+    s.write("RUN", 0);
+    s.idle(20);
+    s.trace
+}
+
+/// Quadrature output (CTRL.QUADRATURE): F1/F2 = A/B, one edge per step,
+/// A leading B forward and B leading A after the reversal.
+pub fn quadrature(config: &Config) -> Trace {
+    let mut s = Script::new("pulse_quadrature", config);
+    s.setup(false);
+    s.write("CTRL", 0b010);
     s.write("RATE", 1 << 29);
     s.write("RUN", 1);
     s.idle(80);

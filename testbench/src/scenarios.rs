@@ -67,7 +67,7 @@ pub const SCENARIOS: &[Scenario] = &[
     },
     Scenario {
         name: "pulse_acceleration",
-        summary: "pulse generator: the rate ramped by register writes every 20 clocks, then held",
+        summary: "pulse generator: a move through the segment FIFO: accelerate, cruise, decelerate, DONE",
         build: crate::pulse_scenarios::acceleration,
     },
     Scenario {
@@ -79,6 +79,11 @@ pub const SCENARIOS: &[Scenario] = &[
         name: "pulse_cw_ccw",
         summary: "pulse generator, CW/CCW: the same reversal, F1 then F2 pulses, no runt at the switch",
         build: crate::pulse_scenarios::cw_ccw,
+    },
+    Scenario {
+        name: "pulse_quadrature",
+        summary: "pulse generator, quadrature output: A leads B forward, B leads A after the reversal",
+        build: crate::pulse_scenarios::quadrature,
     },
     Scenario {
         name: "isa_block_write",
