@@ -130,8 +130,8 @@ impl Script {
         }
     }
 
-    fn setup(&mut self, cw_ccw: bool) {
-        self.write("CTRL", u32::from(cw_ccw));
+    fn setup(&mut self, ctrl: u32) {
+        self.write("CTRL", ctrl);
         // STEP_LEN 2, STEP_SPACE 2; DIR_SETUP 3, DIR_HOLD 2 (clocks).
         self.write("STEP_TIMING", 2 | 2 << 16);
         self.write("DIR_TIMING", 3 | 2 << 16);
@@ -142,8 +142,7 @@ impl Script {
 /// SEG_ACCEL every clock), cruise, decelerate, then STATUS.DONE.
 pub fn acceleration(config: &Config) -> Trace {
     let mut s = Script::new("pulse_acceleration", config);
-    s.setup(false);
-    s.write("CTRL", 0b100);
+    s.setup(0b100);
     let k = 1 << 24;
     for (steps, rate, accel) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))] {
         s.write("SEG_STEPS", steps);
@@ -158,11 +157,11 @@ pub fn acceleration(config: &Config) -> Trace {
     s.trace
 }
 
-/// Forward, then a reversal: S2 changes only after DIR_HOLD clocks with S1
-/// low, and S1 rises again only after DIR_SETUP clocks.
-pub fn reversal(config: &Config) -> Trace {
-    let mut s = Script::new("pulse_reversal", config);
-    s.setup(false);
+/// Forward at f/8, then reversed, with CTRL = `ctrl` (0 pulse+direction,
+/// 1 CW/CCW, 2 quadrature).
+fn reversal_with(name: &str, config: &Config, ctrl: u32) -> Trace {
+    let mut s = Script::new(name, config);
+    s.setup(ctrl);
     s.write("RATE", 1 << 29);
     s.write("RUN", 1);
     s.idle(80);
@@ -171,35 +170,22 @@ pub fn reversal(config: &Config) -> Trace {
     s.write("RUN", 0);
     s.idle(20);
     s.trace
+}
+
+/// Forward, then a reversal: S2 changes only after DIR_HOLD clocks with S1
+/// low, and S1 rises again only after DIR_SETUP clocks.
+pub fn reversal(config: &Config) -> Trace {
+    reversal_with("pulse_reversal", config, 0)
 }
 
 /// Quadrature output (CTRL.QUADRATURE): F1/F2 = A/B, one edge per step,
 /// A leading B forward and B leading A after the reversal.
 pub fn quadrature(config: &Config) -> Trace {
-    let mut s = Script::new("pulse_quadrature", config);
-    s.setup(false);
-    s.write("CTRL", 0b010);
-    s.write("RATE", 1 << 29);
-    s.write("RUN", 1);
-    s.idle(80);
-    s.write("RATE", (-(1i32 << 29)) as u32);
-    s.idle(120);
-    s.write("RUN", 0);
-    s.idle(20);
-    s.trace
+    reversal_with("pulse_quadrature", config, 0b010)
 }
 
 /// The same reversal with the selector in CW/CCW: F1 carries the forward
 /// pulses, F2 the reverse ones, with no runt at the switch.
 pub fn cw_ccw(config: &Config) -> Trace {
-    let mut s = Script::new("pulse_cw_ccw", config);
-    s.setup(true);
-    s.write("RATE", 1 << 29);
-    s.write("RUN", 1);
-    s.idle(80);
-    s.write("RATE", (-(1i32 << 29)) as u32);
-    s.idle(120);
-    s.write("RUN", 0);
-    s.idle(20);
-    s.trace
+    reversal_with("pulse_cw_ccw", config, 1)
 }
