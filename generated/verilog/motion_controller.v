@@ -1124,6 +1124,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_0_reset;
     reg mcu_pulses_generators_0_enable;
     reg [31:0] mcu_pulses_generators_0_rate;
+    reg [31:0] mcu_pulses_generators_0_move_rate;
+    reg mcu_pulses_generators_0_moves;
     reg [15:0] mcu_pulses_generators_0_step_len;
     reg [15:0] mcu_pulses_generators_0_step_space;
     reg [15:0] mcu_pulses_generators_0_dir_setup;
@@ -1137,6 +1139,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_1_reset;
     reg mcu_pulses_generators_1_enable;
     reg [31:0] mcu_pulses_generators_1_rate;
+    reg [31:0] mcu_pulses_generators_1_move_rate;
+    reg mcu_pulses_generators_1_moves;
     reg [15:0] mcu_pulses_generators_1_step_len;
     reg [15:0] mcu_pulses_generators_1_step_space;
     reg [15:0] mcu_pulses_generators_1_dir_setup;
@@ -1150,6 +1154,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_2_reset;
     reg mcu_pulses_generators_2_enable;
     reg [31:0] mcu_pulses_generators_2_rate;
+    reg [31:0] mcu_pulses_generators_2_move_rate;
+    reg mcu_pulses_generators_2_moves;
     reg [15:0] mcu_pulses_generators_2_step_len;
     reg [15:0] mcu_pulses_generators_2_step_space;
     reg [15:0] mcu_pulses_generators_2_dir_setup;
@@ -1163,6 +1169,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_3_reset;
     reg mcu_pulses_generators_3_enable;
     reg [31:0] mcu_pulses_generators_3_rate;
+    reg [31:0] mcu_pulses_generators_3_move_rate;
+    reg mcu_pulses_generators_3_moves;
     reg [15:0] mcu_pulses_generators_3_step_len;
     reg [15:0] mcu_pulses_generators_3_step_space;
     reg [15:0] mcu_pulses_generators_3_dir_setup;
@@ -1378,6 +1386,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_0_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_0_position_q_d;
     reg [31:0] mcu_pulses_generators_0_position_q_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_0_rate_selected;
+    reg [31:0] mcu_pulses_generators_0_busy_mask;
     reg mcu_pulses_generators_0_negative;
     reg [31:0] mcu_pulses_generators_0_magnitude;
     reg [32:0] mcu_pulses_generators_0_sum;
@@ -1416,6 +1426,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_1_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_1_position_q_d;
     reg [31:0] mcu_pulses_generators_1_position_q_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_1_rate_selected;
+    reg [31:0] mcu_pulses_generators_1_busy_mask;
     reg mcu_pulses_generators_1_negative;
     reg [31:0] mcu_pulses_generators_1_magnitude;
     reg [32:0] mcu_pulses_generators_1_sum;
@@ -1454,6 +1466,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_2_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_2_position_q_d;
     reg [31:0] mcu_pulses_generators_2_position_q_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_2_rate_selected;
+    reg [31:0] mcu_pulses_generators_2_busy_mask;
     reg mcu_pulses_generators_2_negative;
     reg [31:0] mcu_pulses_generators_2_magnitude;
     reg [32:0] mcu_pulses_generators_2_sum;
@@ -1492,6 +1506,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_3_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_3_position_q_d;
     reg [31:0] mcu_pulses_generators_3_position_q_q = 32'h0;
+    reg [31:0] mcu_pulses_generators_3_rate_selected;
+    reg [31:0] mcu_pulses_generators_3_busy_mask;
     reg mcu_pulses_generators_3_negative;
     reg [31:0] mcu_pulses_generators_3_magnitude;
     reg [32:0] mcu_pulses_generators_3_sum;
@@ -1559,6 +1575,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_popped;
     reg mcu_pulses_engines_0_ended;
     reg [2:0] mcu_pulses_engines_0_count_after_pop;
+    reg [31:0] mcu_pulses_engines_0_rate_out;
     reg mcu_pulses_engines_1_active_q_d;
     reg mcu_pulses_engines_1_active_q_q = 1'h0;
     reg [31:0] mcu_pulses_engines_1_rate_q_d;
@@ -1606,6 +1623,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_popped;
     reg mcu_pulses_engines_1_ended;
     reg [2:0] mcu_pulses_engines_1_count_after_pop;
+    reg [31:0] mcu_pulses_engines_1_rate_out;
     reg mcu_pulses_engines_2_active_q_d;
     reg mcu_pulses_engines_2_active_q_q = 1'h0;
     reg [31:0] mcu_pulses_engines_2_rate_q_d;
@@ -1653,6 +1671,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_popped;
     reg mcu_pulses_engines_2_ended;
     reg [2:0] mcu_pulses_engines_2_count_after_pop;
+    reg [31:0] mcu_pulses_engines_2_rate_out;
     reg mcu_pulses_engines_3_active_q_d;
     reg mcu_pulses_engines_3_active_q_q = 1'h0;
     reg [31:0] mcu_pulses_engines_3_rate_q_d;
@@ -1700,6 +1719,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_popped;
     reg mcu_pulses_engines_3_ended;
     reg [2:0] mcu_pulses_engines_3_count_after_pop;
+    reg [31:0] mcu_pulses_engines_3_rate_out;
     reg mcu_pulses_selectors_0_selector_k;
     reg mcu_pulses_selectors_0_selector_s1;
     reg mcu_pulses_selectors_0_selector_s2;
@@ -3639,9 +3659,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
         mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
         mcu_pulses_generators_0_rate = mcu_pulses_rate_0_q;
-        if (mcu_pulses_ctrl_0_q[2]) begin
-            mcu_pulses_generators_0_rate = mcu_pulses_engines_0_rate;
-        end
+        mcu_pulses_generators_0_move_rate = mcu_pulses_engines_0_rate;
+        mcu_pulses_generators_0_moves = mcu_pulses_ctrl_0_q[2];
         mcu_pulses_generators_0_step_len = mcu_pulses_step_timing_0_q[15:0];
         mcu_pulses_generators_0_step_space = mcu_pulses_step_timing_0_q[31:16];
         mcu_pulses_generators_0_dir_setup = mcu_pulses_dir_timing_0_q[15:0];
@@ -3782,9 +3801,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
         mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
         mcu_pulses_generators_1_rate = mcu_pulses_rate_1_q;
-        if (mcu_pulses_ctrl_1_q[2]) begin
-            mcu_pulses_generators_1_rate = mcu_pulses_engines_1_rate;
-        end
+        mcu_pulses_generators_1_move_rate = mcu_pulses_engines_1_rate;
+        mcu_pulses_generators_1_moves = mcu_pulses_ctrl_1_q[2];
         mcu_pulses_generators_1_step_len = mcu_pulses_step_timing_1_q[15:0];
         mcu_pulses_generators_1_step_space = mcu_pulses_step_timing_1_q[31:16];
         mcu_pulses_generators_1_dir_setup = mcu_pulses_dir_timing_1_q[15:0];
@@ -3925,9 +3943,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
         mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
         mcu_pulses_generators_2_rate = mcu_pulses_rate_2_q;
-        if (mcu_pulses_ctrl_2_q[2]) begin
-            mcu_pulses_generators_2_rate = mcu_pulses_engines_2_rate;
-        end
+        mcu_pulses_generators_2_move_rate = mcu_pulses_engines_2_rate;
+        mcu_pulses_generators_2_moves = mcu_pulses_ctrl_2_q[2];
         mcu_pulses_generators_2_step_len = mcu_pulses_step_timing_2_q[15:0];
         mcu_pulses_generators_2_step_space = mcu_pulses_step_timing_2_q[31:16];
         mcu_pulses_generators_2_dir_setup = mcu_pulses_dir_timing_2_q[15:0];
@@ -4068,9 +4085,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
         mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
         mcu_pulses_generators_3_rate = mcu_pulses_rate_3_q;
-        if (mcu_pulses_ctrl_3_q[2]) begin
-            mcu_pulses_generators_3_rate = mcu_pulses_engines_3_rate;
-        end
+        mcu_pulses_generators_3_move_rate = mcu_pulses_engines_3_rate;
+        mcu_pulses_generators_3_moves = mcu_pulses_ctrl_3_q[2];
         mcu_pulses_generators_3_step_len = mcu_pulses_step_timing_3_q[15:0];
         mcu_pulses_generators_3_step_space = mcu_pulses_step_timing_3_q[31:16];
         mcu_pulses_generators_3_dir_setup = mcu_pulses_dir_timing_3_q[15:0];
@@ -4203,10 +4219,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_timer_step_space = mcu_pulses_generators_0_step_space;
         mcu_pulses_generators_0_timer_dir_setup = mcu_pulses_generators_0_dir_setup;
         mcu_pulses_generators_0_timer_dir_hold = mcu_pulses_generators_0_dir_hold;
-        mcu_pulses_generators_0_negative = mcu_pulses_generators_0_rate[31];
-        mcu_pulses_generators_0_magnitude = mcu_pulses_generators_0_rate;
+        mcu_pulses_generators_0_rate_selected = mcu_pulses_generators_0_rate;
+        if (mcu_pulses_generators_0_moves) begin
+            mcu_pulses_generators_0_rate_selected = mcu_pulses_generators_0_move_rate;
+        end
+        mcu_pulses_generators_0_negative = mcu_pulses_generators_0_rate_selected[31];
+        mcu_pulses_generators_0_magnitude = mcu_pulses_generators_0_rate_selected;
         if (mcu_pulses_generators_0_negative) begin
-            mcu_pulses_generators_0_magnitude = ~mcu_pulses_generators_0_rate + mcu_pulses_generators_0_one;
+            mcu_pulses_generators_0_magnitude = ~mcu_pulses_generators_0_rate_selected + mcu_pulses_generators_0_one;
         end
         mcu_pulses_generators_0_sum = {1'h0, mcu_pulses_generators_0_phase_q} + {1'h0, mcu_pulses_generators_0_magnitude};
         mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_accept_up;
@@ -4237,10 +4257,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_step = mcu_pulses_generators_0_timer_step;
         mcu_pulses_generators_0_dir = mcu_pulses_generators_0_timer_dir;
         mcu_pulses_generators_0_position = mcu_pulses_generators_0_position_q_q;
-        mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending};
+        mcu_pulses_generators_0_busy_mask = 32'h0;
         if (|mcu_pulses_generators_0_timer_pending | mcu_pulses_generators_0_timer_step) begin
-            mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending} | mcu_pulses_generators_0_busy_bit;
+            mcu_pulses_generators_0_busy_mask = mcu_pulses_generators_0_busy_bit;
         end
+        mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending} | mcu_pulses_generators_0_busy_mask;
     end
 
     always @(*) begin
@@ -4325,10 +4346,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_timer_step_space = mcu_pulses_generators_1_step_space;
         mcu_pulses_generators_1_timer_dir_setup = mcu_pulses_generators_1_dir_setup;
         mcu_pulses_generators_1_timer_dir_hold = mcu_pulses_generators_1_dir_hold;
-        mcu_pulses_generators_1_negative = mcu_pulses_generators_1_rate[31];
-        mcu_pulses_generators_1_magnitude = mcu_pulses_generators_1_rate;
+        mcu_pulses_generators_1_rate_selected = mcu_pulses_generators_1_rate;
+        if (mcu_pulses_generators_1_moves) begin
+            mcu_pulses_generators_1_rate_selected = mcu_pulses_generators_1_move_rate;
+        end
+        mcu_pulses_generators_1_negative = mcu_pulses_generators_1_rate_selected[31];
+        mcu_pulses_generators_1_magnitude = mcu_pulses_generators_1_rate_selected;
         if (mcu_pulses_generators_1_negative) begin
-            mcu_pulses_generators_1_magnitude = ~mcu_pulses_generators_1_rate + mcu_pulses_generators_1_one;
+            mcu_pulses_generators_1_magnitude = ~mcu_pulses_generators_1_rate_selected + mcu_pulses_generators_1_one;
         end
         mcu_pulses_generators_1_sum = {1'h0, mcu_pulses_generators_1_phase_q} + {1'h0, mcu_pulses_generators_1_magnitude};
         mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_accept_up;
@@ -4359,10 +4384,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_step = mcu_pulses_generators_1_timer_step;
         mcu_pulses_generators_1_dir = mcu_pulses_generators_1_timer_dir;
         mcu_pulses_generators_1_position = mcu_pulses_generators_1_position_q_q;
-        mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending};
+        mcu_pulses_generators_1_busy_mask = 32'h0;
         if (|mcu_pulses_generators_1_timer_pending | mcu_pulses_generators_1_timer_step) begin
-            mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending} | mcu_pulses_generators_1_busy_bit;
+            mcu_pulses_generators_1_busy_mask = mcu_pulses_generators_1_busy_bit;
         end
+        mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending} | mcu_pulses_generators_1_busy_mask;
     end
 
     always @(*) begin
@@ -4447,10 +4473,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_timer_step_space = mcu_pulses_generators_2_step_space;
         mcu_pulses_generators_2_timer_dir_setup = mcu_pulses_generators_2_dir_setup;
         mcu_pulses_generators_2_timer_dir_hold = mcu_pulses_generators_2_dir_hold;
-        mcu_pulses_generators_2_negative = mcu_pulses_generators_2_rate[31];
-        mcu_pulses_generators_2_magnitude = mcu_pulses_generators_2_rate;
+        mcu_pulses_generators_2_rate_selected = mcu_pulses_generators_2_rate;
+        if (mcu_pulses_generators_2_moves) begin
+            mcu_pulses_generators_2_rate_selected = mcu_pulses_generators_2_move_rate;
+        end
+        mcu_pulses_generators_2_negative = mcu_pulses_generators_2_rate_selected[31];
+        mcu_pulses_generators_2_magnitude = mcu_pulses_generators_2_rate_selected;
         if (mcu_pulses_generators_2_negative) begin
-            mcu_pulses_generators_2_magnitude = ~mcu_pulses_generators_2_rate + mcu_pulses_generators_2_one;
+            mcu_pulses_generators_2_magnitude = ~mcu_pulses_generators_2_rate_selected + mcu_pulses_generators_2_one;
         end
         mcu_pulses_generators_2_sum = {1'h0, mcu_pulses_generators_2_phase_q} + {1'h0, mcu_pulses_generators_2_magnitude};
         mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_accept_up;
@@ -4481,10 +4511,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_step = mcu_pulses_generators_2_timer_step;
         mcu_pulses_generators_2_dir = mcu_pulses_generators_2_timer_dir;
         mcu_pulses_generators_2_position = mcu_pulses_generators_2_position_q_q;
-        mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending};
+        mcu_pulses_generators_2_busy_mask = 32'h0;
         if (|mcu_pulses_generators_2_timer_pending | mcu_pulses_generators_2_timer_step) begin
-            mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending} | mcu_pulses_generators_2_busy_bit;
+            mcu_pulses_generators_2_busy_mask = mcu_pulses_generators_2_busy_bit;
         end
+        mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending} | mcu_pulses_generators_2_busy_mask;
     end
 
     always @(*) begin
@@ -4569,10 +4600,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_timer_step_space = mcu_pulses_generators_3_step_space;
         mcu_pulses_generators_3_timer_dir_setup = mcu_pulses_generators_3_dir_setup;
         mcu_pulses_generators_3_timer_dir_hold = mcu_pulses_generators_3_dir_hold;
-        mcu_pulses_generators_3_negative = mcu_pulses_generators_3_rate[31];
-        mcu_pulses_generators_3_magnitude = mcu_pulses_generators_3_rate;
+        mcu_pulses_generators_3_rate_selected = mcu_pulses_generators_3_rate;
+        if (mcu_pulses_generators_3_moves) begin
+            mcu_pulses_generators_3_rate_selected = mcu_pulses_generators_3_move_rate;
+        end
+        mcu_pulses_generators_3_negative = mcu_pulses_generators_3_rate_selected[31];
+        mcu_pulses_generators_3_magnitude = mcu_pulses_generators_3_rate_selected;
         if (mcu_pulses_generators_3_negative) begin
-            mcu_pulses_generators_3_magnitude = ~mcu_pulses_generators_3_rate + mcu_pulses_generators_3_one;
+            mcu_pulses_generators_3_magnitude = ~mcu_pulses_generators_3_rate_selected + mcu_pulses_generators_3_one;
         end
         mcu_pulses_generators_3_sum = {1'h0, mcu_pulses_generators_3_phase_q} + {1'h0, mcu_pulses_generators_3_magnitude};
         mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_accept_up;
@@ -4603,10 +4638,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_step = mcu_pulses_generators_3_timer_step;
         mcu_pulses_generators_3_dir = mcu_pulses_generators_3_timer_dir;
         mcu_pulses_generators_3_position = mcu_pulses_generators_3_position_q_q;
-        mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending};
+        mcu_pulses_generators_3_busy_mask = 32'h0;
         if (|mcu_pulses_generators_3_timer_pending | mcu_pulses_generators_3_timer_step) begin
-            mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending} | mcu_pulses_generators_3_busy_bit;
+            mcu_pulses_generators_3_busy_mask = mcu_pulses_generators_3_busy_bit;
         end
+        mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending} | mcu_pulses_generators_3_busy_mask;
     end
 
     always @(*) begin
@@ -4813,10 +4849,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_fifo_rate_3_d = 32'h0;
             mcu_pulses_engines_0_fifo_accel_3_d = 32'h0;
         end
-        mcu_pulses_engines_0_rate = 32'h0;
+        mcu_pulses_engines_0_rate_out = 32'h0;
         if (mcu_pulses_engines_0_active_q_q) begin
-            mcu_pulses_engines_0_rate = mcu_pulses_engines_0_rate_q_q;
+            mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q;
         end
+        mcu_pulses_engines_0_rate = mcu_pulses_engines_0_rate_out;
         mcu_pulses_engines_0_active = mcu_pulses_engines_0_active_q_q;
         mcu_pulses_engines_0_done = mcu_pulses_engines_0_done_q_q;
         mcu_pulses_engines_0_overflow = mcu_pulses_engines_0_overflow_q_q;
@@ -4953,10 +4990,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_fifo_rate_3_d = 32'h0;
             mcu_pulses_engines_1_fifo_accel_3_d = 32'h0;
         end
-        mcu_pulses_engines_1_rate = 32'h0;
+        mcu_pulses_engines_1_rate_out = 32'h0;
         if (mcu_pulses_engines_1_active_q_q) begin
-            mcu_pulses_engines_1_rate = mcu_pulses_engines_1_rate_q_q;
+            mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q;
         end
+        mcu_pulses_engines_1_rate = mcu_pulses_engines_1_rate_out;
         mcu_pulses_engines_1_active = mcu_pulses_engines_1_active_q_q;
         mcu_pulses_engines_1_done = mcu_pulses_engines_1_done_q_q;
         mcu_pulses_engines_1_overflow = mcu_pulses_engines_1_overflow_q_q;
@@ -5093,10 +5131,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_fifo_rate_3_d = 32'h0;
             mcu_pulses_engines_2_fifo_accel_3_d = 32'h0;
         end
-        mcu_pulses_engines_2_rate = 32'h0;
+        mcu_pulses_engines_2_rate_out = 32'h0;
         if (mcu_pulses_engines_2_active_q_q) begin
-            mcu_pulses_engines_2_rate = mcu_pulses_engines_2_rate_q_q;
+            mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q;
         end
+        mcu_pulses_engines_2_rate = mcu_pulses_engines_2_rate_out;
         mcu_pulses_engines_2_active = mcu_pulses_engines_2_active_q_q;
         mcu_pulses_engines_2_done = mcu_pulses_engines_2_done_q_q;
         mcu_pulses_engines_2_overflow = mcu_pulses_engines_2_overflow_q_q;
@@ -5233,10 +5272,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_fifo_rate_3_d = 32'h0;
             mcu_pulses_engines_3_fifo_accel_3_d = 32'h0;
         end
-        mcu_pulses_engines_3_rate = 32'h0;
+        mcu_pulses_engines_3_rate_out = 32'h0;
         if (mcu_pulses_engines_3_active_q_q) begin
-            mcu_pulses_engines_3_rate = mcu_pulses_engines_3_rate_q_q;
+            mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q;
         end
+        mcu_pulses_engines_3_rate = mcu_pulses_engines_3_rate_out;
         mcu_pulses_engines_3_active = mcu_pulses_engines_3_active_q_q;
         mcu_pulses_engines_3_done = mcu_pulses_engines_3_done_q_q;
         mcu_pulses_engines_3_overflow = mcu_pulses_engines_3_overflow_q_q;

@@ -4,11 +4,13 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_setup, dir_hold, step, dir, position, commanded, advancing, status);
+module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, step_space, dir_setup, dir_hold, step, dir, position, commanded, advancing, status);
     input wire clock;
     input wire reset;
     input wire enable;
     input wire [31:0] rate;
+    input wire [31:0] move_rate;
+    input wire moves;
     input wire [15:0] step_len;
     input wire [15:0] step_space;
     input wire [15:0] dir_setup;
@@ -18,7 +20,7 @@ module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_set
     output wire [31:0] position;
     output wire commanded;
     output wire advancing;
-    output reg [31:0] status;
+    output wire [31:0] status;
 
     localparam one = 32'h1;
     localparam minus_one = 32'hffffffff;
@@ -51,6 +53,8 @@ module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_set
     reg [31:0] phase_q = 32'h0;
     reg [31:0] position_q_d;
     reg [31:0] position_q_q = 32'h0;
+    reg [31:0] rate_selected;
+    reg [31:0] busy_mask;
     reg negative;
     reg [31:0] magnitude;
     reg [32:0] sum;
@@ -77,6 +81,7 @@ module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_set
     assign position = position_q_q;
     assign commanded = request_up | request_down;
     assign advancing = enable & ~blocked;
+    assign status = {16'h0, timer_pending} | busy_mask;
 
     always @(*) begin
         phase_d = phase_q;
@@ -86,10 +91,14 @@ module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_set
         timer_step_space = step_space;
         timer_dir_setup = dir_setup;
         timer_dir_hold = dir_hold;
-        negative = rate[31];
-        magnitude = rate;
+        rate_selected = rate;
+        if (moves) begin
+            rate_selected = move_rate;
+        end
+        negative = rate_selected[31];
+        magnitude = rate_selected;
         if (negative) begin
-            magnitude = ~rate + one;
+            magnitude = ~rate_selected + one;
         end
         sum = {1'h0, phase_q} + {1'h0, magnitude};
         blocked = ~timer_accept_up;
@@ -115,9 +124,9 @@ module pulse_generator(clock, reset, enable, rate, step_len, step_space, dir_set
             phase_d = 32'h0;
             position_q_d = 32'h0;
         end
-        status = {16'h0, timer_pending};
+        busy_mask = 32'h0;
         if (|timer_pending | timer_step) begin
-            status = {16'h0, timer_pending} | busy_bit;
+            busy_mask = busy_bit;
         end
     end
 

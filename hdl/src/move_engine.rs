@@ -61,6 +61,7 @@ pub struct MoveEngine {
     popped: Signal<Local, Bit>,
     ended: Signal<Local, Bit>,
     count_after_pop: Signal<Local, Bits<3>>,
+    rate_out: Signal<Local, Bits<32>>,
 }
 
 impl Default for MoveEngine {
@@ -109,6 +110,7 @@ impl MoveEngine {
             popped: Default::default(),
             ended: Default::default(),
             count_after_pop: Default::default(),
+            rate_out: Default::default(),
         }
     }
 
@@ -212,10 +214,12 @@ impl Logic for MoveEngine {
                 self.fifo_accel[j].d.next = 0.into();
             }
         }
-        self.rate.next = 0.into();
+        // One assignment to the output (see PulseGenerator::update).
+        self.rate_out.next = 0.into();
         if self.active_q.q.val() {
-            self.rate.next = self.rate_q.q.val();
+            self.rate_out.next = self.rate_q.q.val();
         }
+        self.rate.next = self.rate_out.val();
         self.active.next = self.active_q.q.val();
         self.done.next = self.done_q.q.val();
         self.overflow.next = self.overflow_q.q.val();

@@ -250,9 +250,8 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.generators[i].reset.next = self.reset.val();
             self.generators[i].enable.next = self.run.q.val().get_bit(i);
             self.generators[i].rate.next = self.rate[i].q.val();
-            if self.ctrl[i].q.val().get_bit(2) {
-                self.generators[i].rate.next = self.engines[i].rate.val();
-            }
+            self.generators[i].move_rate.next = self.engines[i].rate.val();
+            self.generators[i].moves.next = self.ctrl[i].q.val().get_bit(2);
             self.generators[i].step_len.next = self.step_timing[i].q.val().get_bits::<16>(0);
             self.generators[i].step_space.next = self.step_timing[i].q.val().get_bits::<16>(16);
             self.generators[i].dir_setup.next = self.dir_timing[i].q.val().get_bits::<16>(0);

@@ -24,6 +24,11 @@ pub struct PulseGenerator {
     pub enable: Signal<In, Bit>,
     /// Signed rate, two's complement: steps per clock = rate / 2^32.
     pub rate: Signal<In, Bits<32>>,
+    /// The rate of the running segment, used instead of `rate` while
+    /// `moves` is high.
+    pub move_rate: Signal<In, Bits<32>>,
+    /// Take the rate from `move_rate` (CTRL.MOVES).
+    pub moves: Signal<In, Bit>,
     /// S1 high for at least this many clocks (0 counts as 1).
     pub step_len: Signal<In, Bits<T>>,
     /// S1 low for at least this many clocks between steps.
@@ -51,6 +56,8 @@ pub struct PulseGenerator {
     one: Constant<Bits<32>>,
     minus_one: Constant<Bits<32>>,
     busy_bit: Constant<Bits<32>>,
+    rate_selected: Signal<Local, Bits<32>>,
+    busy_mask: Signal<Local, Bits<32>>,
     negative: Signal<Local, Bit>,
     magnitude: Signal<Local, Bits<32>>,
     sum: Signal<Local, Bits<33>>,
@@ -74,6 +81,8 @@ impl PulseGenerator {
             reset: Default::default(),
             enable: Default::default(),
             rate: Default::default(),
+            move_rate: Default::default(),
+            moves: Default::default(),
             step_len: Default::default(),
             step_space: Default::default(),
             dir_setup: Default::default(),
@@ -90,6 +99,8 @@ impl PulseGenerator {
             one: Constant::new(1.into()),
             minus_one: Constant::new(0xffff_ffffu64.into()),
             busy_bit: Constant::new((1u64 << 16).into()),
+            rate_selected: Default::default(),
+            busy_mask: Default::default(),
             negative: Default::default(),
             magnitude: Default::default(),
             sum: Default::default(),
@@ -121,10 +132,17 @@ impl Logic for PulseGenerator {
         self.timer.dir_setup.next = self.dir_setup.val();
         self.timer.dir_hold.next = self.dir_hold.val();
         // NCO.
-        self.negative.next = self.rate.val().get_bit(31);
-        self.magnitude.next = self.rate.val();
+        // Outputs other blocks read are set once per evaluation (defaults
+        // go to Locals): Icarus wakes every reader on each assignment, and
+        // two blocks that keep re-setting each other's inputs spin forever.
+        self.rate_selected.next = self.rate.val();
+        if self.moves.val() {
+            self.rate_selected.next = self.move_rate.val();
+        }
+        self.negative.next = self.rate_selected.val().get_bit(31);
+        self.magnitude.next = self.rate_selected.val();
         if self.negative.val() {
-            self.magnitude.next = !self.rate.val() + self.one.val();
+            self.magnitude.next = !self.rate_selected.val() + self.one.val();
         }
         self.sum.next =
             bit_cast::<33, 32>(self.phase.q.val()) + bit_cast::<33, 32>(self.magnitude.val());
@@ -163,9 +181,10 @@ impl Logic for PulseGenerator {
         self.step.next = self.timer.step.val();
         self.dir.next = self.timer.dir.val();
         self.position.next = self.position_q.q.val();
-        self.status.next = bit_cast::<32, P>(self.timer.pending.val());
+        self.busy_mask.next = 0.into();
         if self.timer.pending.val().any() | self.timer.step.val() {
-            self.status.next = bit_cast::<32, P>(self.timer.pending.val()) | self.busy_bit.val();
+            self.busy_mask.next = self.busy_bit.val();
         }
+        self.status.next = bit_cast::<32, P>(self.timer.pending.val()) | self.busy_mask.val();
     }
 }

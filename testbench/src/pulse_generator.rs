@@ -278,6 +278,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             Port::new("reset", 1),
             Port::new("enable", 1),
             Port::new("rate", 32),
+            Port::new("move_rate", 32),
+            Port::new("moves", 1),
             Port::new("step_len", t),
             Port::new("step_space", t),
             Port::new("dir_setup", t),
@@ -303,6 +305,10 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 u64::from(v.reset),
                 u64::from(i.enable),
                 u64::from(i.rate as u32),
+                // Velocity mode: `move_rate` carries a decoy that must
+                // not leak through.
+                u64::from(!(i.rate as u32)),
+                0,
                 u64::from(i.timing.step_len),
                 u64::from(i.timing.step_space),
                 u64::from(i.timing.dir_setup),
@@ -310,7 +316,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             ]
         })
         .collect();
-    rows.push(vec![0; 7]);
+    rows.push(vec![0; 9]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, &(s, d, p, q)) in want.iter().enumerate() {

@@ -303,7 +303,9 @@ pub fn run_vectors(
     let mut hex = String::new();
     for v in vectors {
         assert_eq!(v.len(), design.inputs.len(), "one value per input");
-        let mut word: u128 = 0;
+        // The vector's bits, first input most significant, of any width
+        // (a u128 once silently dropped the top bits of a 131-bit vector).
+        let mut bits: Vec<bool> = Vec::new();
         for (p, x) in design.inputs.iter().zip(v) {
             assert!(
                 p.width == 64 || *x < (1u64 << p.width),
@@ -311,9 +313,15 @@ pub fn run_vectors(
                 p.name,
                 p.width
             );
-            word = (word << p.width) | u128::from(*x);
+            bits.extend((0..p.width).rev().map(|b| x >> b & 1 == 1));
         }
-        let _ = writeln!(hex, "{word:x}");
+        let pad = (4 - bits.len() % 4) % 4;
+        let padded: Vec<bool> = std::iter::repeat_n(false, pad).chain(bits).collect();
+        for nibble in padded.chunks(4) {
+            let d = nibble.iter().fold(0u32, |a, &b| a << 1 | u32::from(b));
+            hex.push(char::from_digit(d, 16).expect("a hex digit"));
+        }
+        hex.push('\n');
     }
     fs::write(d.join("vectors.hex"), hex).map_err(|e| e.to_string())?;
     let (stdout, _) = build_and_run(sim, d, "motionhdl_tb", &["tb.v", "dut.v"], true)?;
