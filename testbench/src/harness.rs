@@ -142,3 +142,16 @@ pub fn require_tool(name: &str) -> Option<PathBuf> {
         }
     }
 }
+
+/// The testbenches' stimulus generator: xorshift64 (13, 7, 17) from
+/// `seed | 1`, one 64-bit word per call. Fixed here so that a seed names
+/// the same stimulus in every check.
+pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+    let mut x = seed | 1;
+    move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    }
+}

@@ -619,14 +619,21 @@ pub fn loopback_verilog(
     target: impl Into<Target>,
     config: &Config,
 ) -> Result<Vec<(i32, i32)>, String> {
-    let n = config.axes();
     let ops = loopback_ops(config);
-    let tb = verilog_testbench(config, ops.len()).replace(
+    let tb = loopback_testbench(config, ops.len());
+    loopback_results(config.axes(), &run_verilog_tb(target, config, &ops, tb)?)
+}
+
+/// [`verilog_testbench`] with every axis's pulse outputs wired back to its
+/// encoder inputs (A = F1, B = F2).
+fn loopback_testbench(config: &Config, ops: usize) -> String {
+    let n = config.axes();
+    let tb = verilog_testbench(config, ops).replace(
         &format!(".enc_a({n}'h0), .enc_b({n}'h0)"),
         ".enc_a(pulse_f1), .enc_b(pulse_f2)",
     );
     assert!(tb.contains(".enc_a(pulse_f1)"), "loopback wiring");
-    loopback_results(n, &run_verilog_tb(target, config, &ops, tb)?)
+    tb
 }
 
 /// The same loop in rust-hdl (default 4 axes, internal RAM).
@@ -770,11 +777,7 @@ pub fn moves_verilog(
     target: impl Into<Target>,
     config: &Config,
 ) -> Result<(u32, i32, i32), String> {
-    let n = config.axes();
     let ops = moves_ops(config);
-    let tb = verilog_testbench(config, ops.len()).replace(
-        &format!(".enc_a({n}'h0), .enc_b({n}'h0)"),
-        ".enc_a(pulse_f1), .enc_b(pulse_f2)",
-    );
+    let tb = loopback_testbench(config, ops.len());
     moves_results(&run_verilog_tb(target, config, &ops, tb)?)
 }

@@ -4,7 +4,7 @@
 //! timing changes (rust-hdl, and the generated Verilog in Icarus and
 //! Verilator), and contract properties of the emitted waveform.
 
-use crate::harness::{cycle, settle, CheckReport};
+use crate::harness::{cycle, settle, xorshift, CheckReport};
 use crate::tour;
 use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, PulseBank, PulseGenerator, StepTimer};
@@ -146,13 +146,7 @@ pub struct Vector {
 /// Random axis stimulus: segments of constant rate (slow, fast up to f/2,
 /// zero, reversals), timing changes, enable gaps, and a reset or two.
 pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
-    let mut x = seed | 1;
-    let mut next = move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        x
-    };
+    let mut next = xorshift(seed);
     let mut v = vec![
         Vector {
             reset: true,
@@ -174,7 +168,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
             3 => -(next() as i32 >> (next() % 8)).abs(),
             _ => (next() as i32) >> (2 + next() % 14),
         };
-        if next() % 4 == 0 {
+        if next().is_multiple_of(4) {
             let t = |n: u64| (n % 6) as u32;
             inputs.timing = StepTiming {
                 step_len: t(next()),
@@ -183,8 +177,8 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
                 dir_hold: t(next()),
             };
         }
-        inputs.enable = next() % 8 != 0;
-        let reset = next() % 200 == 0;
+        inputs.enable = !next().is_multiple_of(8);
+        let reset = next().is_multiple_of(200);
         for k in 0..len {
             v.push(Vector {
                 reset: reset && k < 4,
@@ -461,13 +455,7 @@ pub struct BankVector {
 pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<BankVector> {
     let map = motionhdl_model::regmap::pulse_bank(axes, width);
     let decoded: Vec<u32> = map.decoded().iter().map(|d| d.0).collect();
-    let mut x = seed | 1;
-    let mut next = move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        x
-    };
+    let mut next = xorshift(seed);
     let mut v = vec![
         BankVector {
             reset: true,
@@ -490,7 +478,7 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
                 bus = BusCycle::write(addr, data);
             }
             2 | 3 => {
-                let addr = if next() % 8 == 0 {
+                let addr = if next().is_multiple_of(8) {
                     (next() % 512) as u32
                 } else {
                     decoded[(next() % decoded.len() as u64) as usize]
@@ -500,9 +488,9 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
             _ => {}
         }
         v.push(BankVector {
-            reset: next() % 5000 == 0,
+            reset: next().is_multiple_of(5000),
             bus,
-            snapshot: next() % 64 == 0,
+            snapshot: next().is_multiple_of(64),
         });
     }
     v.truncate(clocks);
@@ -655,13 +643,7 @@ pub fn loopback(output: Output, seed: u64, segments: usize) -> (i64, i64, u64) {
         idle,
         false,
     );
-    let mut x = seed | 1;
-    let mut next = move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        x
-    };
+    let mut next = xorshift(seed);
     let t = |n: u64| (n % 5) as u32;
     let timing = t(next()) | t(next()) << 16;
     step(

@@ -2,7 +2,7 @@
 //! filter off: same pins, same count, every clock; in rust-hdl and as the
 //! generated Verilog in Icarus and Verilator.
 
-use crate::harness::{cycle, settle, CheckReport};
+use crate::harness::{cycle, settle, xorshift, CheckReport};
 use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, QuadratureCore};
 use motionhdl_model::counter::{Channel, ChannelInputs, CounterParams};
@@ -14,13 +14,7 @@ type Pins = (bool, bool, bool);
 /// A 4-clock reset, then random encoder motion (holds, forward and
 /// backward steps, illegal double changes) for `cycles` clocks.
 fn stimulus(cycles: u64, seed: u64) -> Vec<Pins> {
-    let mut x = seed | 1;
-    let mut next = move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        x
-    };
+    let mut next = xorshift(seed);
     let gray = [(false, false), (true, false), (true, true), (false, true)];
     let mut phase = 0usize;
     let mut v = vec![(false, false, true); 4];
