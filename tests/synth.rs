@@ -29,9 +29,10 @@ fn number(s: &str) -> u64 {
     s.split_whitespace().next().unwrap().parse().unwrap()
 }
 
-/// Pins of the default board top.
+/// Pins of the one-axis board top.
 fn pins() -> u32 {
-    motionhdl::board::ports(&Default::default())
+    let config = motionhdl::config_file::parse("axes = 1", "t").unwrap();
+    motionhdl::board::ports(&config)
         .iter()
         .map(|p| p.width)
         .sum()
@@ -52,12 +53,12 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     if require_tool("yosys").is_none() || require_tool("nextpnr-ice40").is_none() {
         return;
     }
-    // Since the pulse generators (issue 7) the 4-axis default needs about
-    // 8200 logic cells, more than the HX8K's 7680, so this runs 2 axes
-    // (about 4400); its pins come from the same generator.
+    // One axis keeps this quick: it checks the command and its report, not
+    // the default's size (the 4-axis default takes about 6800 of the
+    // HX8K's 7680 cells: README's QoR table, `motionhdl synth`).
     let dir = tempfile::tempdir().unwrap();
-    let cfg = dir.path().join("axes2.toml");
-    std::fs::write(&cfg, "axes = 2\n").unwrap();
+    let cfg = dir.path().join("axes1.toml");
+    std::fs::write(&cfg, "axes = 1\n").unwrap();
     let out = motionhdl(
         &[
             "synth",
@@ -78,10 +79,10 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     );
     let lc = number(&f["logic cells (ICESTORM_LC)"]);
     assert!((1000..7680).contains(&lc), "{lc} logic cells");
-    assert!(number(&f["FFs"]) > 800);
+    assert!(number(&f["FFs"]) > 500);
     assert!(number(&f["carry cells"]) > 50);
     assert!(f["RAM blocks"].starts_with("8 "), "{}", f["RAM blocks"]);
-    let config = motionhdl::config_file::parse("axes = 2", "t").unwrap();
+    let config = motionhdl::config_file::parse("axes = 1", "t").unwrap();
     let pins: u32 = motionhdl::board::ports(&config)
         .iter()
         .map(|p| p.width)
@@ -100,7 +101,20 @@ fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     if !has_nextpnr || require_tool("yosys").is_none() {
         return;
     }
-    let out = motionhdl(&["synth", "--target", "ecp5-25k"], None);
+    // One axis, as for iCE40: the command and its report.
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("axes1.toml");
+    std::fs::write(&cfg, "axes = 1\n").unwrap();
+    let out = motionhdl(
+        &[
+            "synth",
+            "--target",
+            "ecp5-25k",
+            "--config",
+            cfg.to_str().unwrap(),
+        ],
+        None,
+    );
     check_ok(&out);
     let f = fields(&out);
     assert_eq!(
@@ -109,7 +123,7 @@ fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     );
     let luts = number(&f["LUTs (LUT4, CCU2C as 2)"]);
     assert!((500..24288).contains(&luts), "{luts} LUTs");
-    assert!(number(&f["FFs"]) > 800);
+    assert!(number(&f["FFs"]) > 500);
     assert!(
         f["I/O"].starts_with(&format!("{} / ", pins())),
         "{}",

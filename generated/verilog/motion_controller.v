@@ -63,7 +63,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h8ff5c740;
+    localparam mcu_identity_values_7 = 32'he37ea3a4;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -351,30 +351,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_3_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_3_timer_timer_one = 16'h1;
     localparam mcu_pulses_generators_3_timer_timer_max = 16'hffff;
-    localparam mcu_pulses_engines_0_slot_0 = 2'b0;
-    localparam mcu_pulses_engines_0_slot_1 = 2'b1;
-    localparam mcu_pulses_engines_0_slot_2 = 2'b10;
-    localparam mcu_pulses_engines_0_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_0_slot_0 = 1'b0;
+    localparam mcu_pulses_engines_0_slot_1 = 1'b1;
     localparam mcu_pulses_engines_0_one = 32'h1;
-    localparam mcu_pulses_engines_0_full = 3'b100;
-    localparam mcu_pulses_engines_1_slot_0 = 2'b0;
-    localparam mcu_pulses_engines_1_slot_1 = 2'b1;
-    localparam mcu_pulses_engines_1_slot_2 = 2'b10;
-    localparam mcu_pulses_engines_1_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_0_full = 3'b10;
+    localparam mcu_pulses_engines_1_slot_0 = 1'b0;
+    localparam mcu_pulses_engines_1_slot_1 = 1'b1;
     localparam mcu_pulses_engines_1_one = 32'h1;
-    localparam mcu_pulses_engines_1_full = 3'b100;
-    localparam mcu_pulses_engines_2_slot_0 = 2'b0;
-    localparam mcu_pulses_engines_2_slot_1 = 2'b1;
-    localparam mcu_pulses_engines_2_slot_2 = 2'b10;
-    localparam mcu_pulses_engines_2_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_1_full = 3'b10;
+    localparam mcu_pulses_engines_2_slot_0 = 1'b0;
+    localparam mcu_pulses_engines_2_slot_1 = 1'b1;
     localparam mcu_pulses_engines_2_one = 32'h1;
-    localparam mcu_pulses_engines_2_full = 3'b100;
-    localparam mcu_pulses_engines_3_slot_0 = 2'b0;
-    localparam mcu_pulses_engines_3_slot_1 = 2'b1;
-    localparam mcu_pulses_engines_3_slot_2 = 2'b10;
-    localparam mcu_pulses_engines_3_slot_3 = 2'b11;
+    localparam mcu_pulses_engines_2_full = 3'b10;
+    localparam mcu_pulses_engines_3_slot_0 = 1'b0;
+    localparam mcu_pulses_engines_3_slot_1 = 1'b1;
     localparam mcu_pulses_engines_3_one = 32'h1;
-    localparam mcu_pulses_engines_3_full = 3'b100;
+    localparam mcu_pulses_engines_3_full = 3'b10;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -1540,38 +1532,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_done_q_q = 1'h0;
     reg mcu_pulses_engines_0_overflow_q_d;
     reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
-    reg [1:0] mcu_pulses_engines_0_head_d;
-    reg [1:0] mcu_pulses_engines_0_head_q = 2'h0;
+    reg mcu_pulses_engines_0_head_d;
+    reg mcu_pulses_engines_0_head_q = 1'h0;
     reg [2:0] mcu_pulses_engines_0_count_d;
     reg [2:0] mcu_pulses_engines_0_count_q = 3'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_steps_0_d;
     reg [31:0] mcu_pulses_engines_0_fifo_steps_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_steps_1_d;
     reg [31:0] mcu_pulses_engines_0_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_2_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_3_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_rate_0_d;
     reg [31:0] mcu_pulses_engines_0_fifo_rate_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_rate_1_d;
     reg [31:0] mcu_pulses_engines_0_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_2_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_3_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_accel_0_d;
     reg [31:0] mcu_pulses_engines_0_fifo_accel_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_fifo_accel_1_d;
     reg [31:0] mcu_pulses_engines_0_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_2_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_3_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_head_steps;
     reg [31:0] mcu_pulses_engines_0_head_rate;
     reg [31:0] mcu_pulses_engines_0_head_accel;
-    reg [1:0] mcu_pulses_engines_0_tail;
+    reg mcu_pulses_engines_0_tail;
     reg mcu_pulses_engines_0_popped;
     reg mcu_pulses_engines_0_ended;
     reg [2:0] mcu_pulses_engines_0_count_after_pop;
@@ -1588,38 +1568,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_done_q_q = 1'h0;
     reg mcu_pulses_engines_1_overflow_q_d;
     reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
-    reg [1:0] mcu_pulses_engines_1_head_d;
-    reg [1:0] mcu_pulses_engines_1_head_q = 2'h0;
+    reg mcu_pulses_engines_1_head_d;
+    reg mcu_pulses_engines_1_head_q = 1'h0;
     reg [2:0] mcu_pulses_engines_1_count_d;
     reg [2:0] mcu_pulses_engines_1_count_q = 3'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_steps_0_d;
     reg [31:0] mcu_pulses_engines_1_fifo_steps_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_steps_1_d;
     reg [31:0] mcu_pulses_engines_1_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_2_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_3_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_rate_0_d;
     reg [31:0] mcu_pulses_engines_1_fifo_rate_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_rate_1_d;
     reg [31:0] mcu_pulses_engines_1_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_2_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_3_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_accel_0_d;
     reg [31:0] mcu_pulses_engines_1_fifo_accel_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_fifo_accel_1_d;
     reg [31:0] mcu_pulses_engines_1_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_2_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_3_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_head_steps;
     reg [31:0] mcu_pulses_engines_1_head_rate;
     reg [31:0] mcu_pulses_engines_1_head_accel;
-    reg [1:0] mcu_pulses_engines_1_tail;
+    reg mcu_pulses_engines_1_tail;
     reg mcu_pulses_engines_1_popped;
     reg mcu_pulses_engines_1_ended;
     reg [2:0] mcu_pulses_engines_1_count_after_pop;
@@ -1636,38 +1604,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_done_q_q = 1'h0;
     reg mcu_pulses_engines_2_overflow_q_d;
     reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
-    reg [1:0] mcu_pulses_engines_2_head_d;
-    reg [1:0] mcu_pulses_engines_2_head_q = 2'h0;
+    reg mcu_pulses_engines_2_head_d;
+    reg mcu_pulses_engines_2_head_q = 1'h0;
     reg [2:0] mcu_pulses_engines_2_count_d;
     reg [2:0] mcu_pulses_engines_2_count_q = 3'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_steps_0_d;
     reg [31:0] mcu_pulses_engines_2_fifo_steps_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_steps_1_d;
     reg [31:0] mcu_pulses_engines_2_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_2_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_3_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_rate_0_d;
     reg [31:0] mcu_pulses_engines_2_fifo_rate_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_rate_1_d;
     reg [31:0] mcu_pulses_engines_2_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_2_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_3_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_accel_0_d;
     reg [31:0] mcu_pulses_engines_2_fifo_accel_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_fifo_accel_1_d;
     reg [31:0] mcu_pulses_engines_2_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_2_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_3_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_head_steps;
     reg [31:0] mcu_pulses_engines_2_head_rate;
     reg [31:0] mcu_pulses_engines_2_head_accel;
-    reg [1:0] mcu_pulses_engines_2_tail;
+    reg mcu_pulses_engines_2_tail;
     reg mcu_pulses_engines_2_popped;
     reg mcu_pulses_engines_2_ended;
     reg [2:0] mcu_pulses_engines_2_count_after_pop;
@@ -1684,38 +1640,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_done_q_q = 1'h0;
     reg mcu_pulses_engines_3_overflow_q_d;
     reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
-    reg [1:0] mcu_pulses_engines_3_head_d;
-    reg [1:0] mcu_pulses_engines_3_head_q = 2'h0;
+    reg mcu_pulses_engines_3_head_d;
+    reg mcu_pulses_engines_3_head_q = 1'h0;
     reg [2:0] mcu_pulses_engines_3_count_d;
     reg [2:0] mcu_pulses_engines_3_count_q = 3'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_steps_0_d;
     reg [31:0] mcu_pulses_engines_3_fifo_steps_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_steps_1_d;
     reg [31:0] mcu_pulses_engines_3_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_2_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_3_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_rate_0_d;
     reg [31:0] mcu_pulses_engines_3_fifo_rate_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_rate_1_d;
     reg [31:0] mcu_pulses_engines_3_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_2_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_3_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_accel_0_d;
     reg [31:0] mcu_pulses_engines_3_fifo_accel_0_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_fifo_accel_1_d;
     reg [31:0] mcu_pulses_engines_3_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_2_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_2_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_3_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_3_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_head_steps;
     reg [31:0] mcu_pulses_engines_3_head_rate;
     reg [31:0] mcu_pulses_engines_3_head_accel;
-    reg [1:0] mcu_pulses_engines_3_tail;
+    reg mcu_pulses_engines_3_tail;
     reg mcu_pulses_engines_3_popped;
     reg mcu_pulses_engines_3_ended;
     reg [2:0] mcu_pulses_engines_3_count_after_pop;
@@ -3748,15 +3692,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
             end
         end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_0) begin
-            mcu_pulses_read_value = mcu_pulses_seg_steps_0_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_0) begin
-            mcu_pulses_read_value = mcu_pulses_seg_rate_0_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_0) begin
-            mcu_pulses_read_value = mcu_pulses_seg_accel_0_q;
-        end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_0_d = 3'h0;
             mcu_pulses_quadrature_a_0_d = 1'b0;
@@ -3889,15 +3824,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_engines_1_level[2]) begin
                 mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
             end
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_1) begin
-            mcu_pulses_read_value = mcu_pulses_seg_steps_1_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_1) begin
-            mcu_pulses_read_value = mcu_pulses_seg_rate_1_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_1) begin
-            mcu_pulses_read_value = mcu_pulses_seg_accel_1_q;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_1_d = 3'h0;
@@ -4032,15 +3958,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
             end
         end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_2) begin
-            mcu_pulses_read_value = mcu_pulses_seg_steps_2_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_2) begin
-            mcu_pulses_read_value = mcu_pulses_seg_rate_2_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_2) begin
-            mcu_pulses_read_value = mcu_pulses_seg_accel_2_q;
-        end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_2_d = 3'h0;
             mcu_pulses_quadrature_a_2_d = 1'b0;
@@ -4173,15 +4090,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_engines_3_level[2]) begin
                 mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
             end
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_steps_3) begin
-            mcu_pulses_read_value = mcu_pulses_seg_steps_3_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_rate_3) begin
-            mcu_pulses_read_value = mcu_pulses_seg_rate_3_q;
-        end
-        if (mcu_pulses_read_addr_q == mcu_pulses_addr_seg_accel_3) begin
-            mcu_pulses_read_value = mcu_pulses_seg_accel_3_q;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_3_d = 3'h0;
@@ -4731,7 +4639,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_head_steps = 32'h0;
         mcu_pulses_engines_0_head_rate = 32'h0;
         mcu_pulses_engines_0_head_accel = 32'h0;
-        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[1:0];
+        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[0:0];
         mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_fifo_steps_0_q;
         mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_fifo_rate_0_q;
         mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_fifo_accel_0_q;
@@ -4747,22 +4655,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_1_q;
             mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_1_q;
             mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_1_q;
-        end
-        mcu_pulses_engines_0_fifo_steps_2_d = mcu_pulses_engines_0_fifo_steps_2_q;
-        mcu_pulses_engines_0_fifo_rate_2_d = mcu_pulses_engines_0_fifo_rate_2_q;
-        mcu_pulses_engines_0_fifo_accel_2_d = mcu_pulses_engines_0_fifo_accel_2_q;
-        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_2) begin
-            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_2_q;
-            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_2_q;
-            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_2_q;
-        end
-        mcu_pulses_engines_0_fifo_steps_3_d = mcu_pulses_engines_0_fifo_steps_3_q;
-        mcu_pulses_engines_0_fifo_rate_3_d = mcu_pulses_engines_0_fifo_rate_3_q;
-        mcu_pulses_engines_0_fifo_accel_3_d = mcu_pulses_engines_0_fifo_accel_3_q;
-        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_3) begin
-            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_3_q;
-            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_3_q;
-            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_3_q;
         end
         mcu_pulses_engines_0_popped = 1'b0;
         mcu_pulses_engines_0_ended = 1'b0;
@@ -4780,7 +4672,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         else if (mcu_pulses_engines_0_run & |mcu_pulses_engines_0_count_q) begin
             mcu_pulses_engines_0_popped = 1'b1;
-            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 2'h1;
+            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 1'h1;
             mcu_pulses_engines_0_active_q_d = |mcu_pulses_engines_0_head_steps;
             mcu_pulses_engines_0_ended = ~|mcu_pulses_engines_0_head_steps;
             mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_head_rate;
@@ -4812,16 +4704,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                     mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_seg_rate;
                     mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_seg_accel;
                 end
-                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_2) begin
-                    mcu_pulses_engines_0_fifo_steps_2_d = mcu_pulses_engines_0_seg_steps;
-                    mcu_pulses_engines_0_fifo_rate_2_d = mcu_pulses_engines_0_seg_rate;
-                    mcu_pulses_engines_0_fifo_accel_2_d = mcu_pulses_engines_0_seg_accel;
-                end
-                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_3) begin
-                    mcu_pulses_engines_0_fifo_steps_3_d = mcu_pulses_engines_0_seg_steps;
-                    mcu_pulses_engines_0_fifo_rate_3_d = mcu_pulses_engines_0_seg_rate;
-                    mcu_pulses_engines_0_fifo_accel_3_d = mcu_pulses_engines_0_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_0_clear_overflow) begin
@@ -4834,7 +4716,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_remaining_d = 32'h0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
-            mcu_pulses_engines_0_head_d = 2'h0;
+            mcu_pulses_engines_0_head_d = 1'h0;
             mcu_pulses_engines_0_count_d = 3'h0;
             mcu_pulses_engines_0_fifo_steps_0_d = 32'h0;
             mcu_pulses_engines_0_fifo_rate_0_d = 32'h0;
@@ -4842,12 +4724,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_fifo_steps_1_d = 32'h0;
             mcu_pulses_engines_0_fifo_rate_1_d = 32'h0;
             mcu_pulses_engines_0_fifo_accel_1_d = 32'h0;
-            mcu_pulses_engines_0_fifo_steps_2_d = 32'h0;
-            mcu_pulses_engines_0_fifo_rate_2_d = 32'h0;
-            mcu_pulses_engines_0_fifo_accel_2_d = 32'h0;
-            mcu_pulses_engines_0_fifo_steps_3_d = 32'h0;
-            mcu_pulses_engines_0_fifo_rate_3_d = 32'h0;
-            mcu_pulses_engines_0_fifo_accel_3_d = 32'h0;
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
         if (mcu_pulses_engines_0_active_q_q) begin
@@ -4872,7 +4748,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_head_steps = 32'h0;
         mcu_pulses_engines_1_head_rate = 32'h0;
         mcu_pulses_engines_1_head_accel = 32'h0;
-        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[1:0];
+        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[0:0];
         mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_fifo_steps_0_q;
         mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_fifo_rate_0_q;
         mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_fifo_accel_0_q;
@@ -4888,22 +4764,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_1_q;
             mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_1_q;
             mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_1_q;
-        end
-        mcu_pulses_engines_1_fifo_steps_2_d = mcu_pulses_engines_1_fifo_steps_2_q;
-        mcu_pulses_engines_1_fifo_rate_2_d = mcu_pulses_engines_1_fifo_rate_2_q;
-        mcu_pulses_engines_1_fifo_accel_2_d = mcu_pulses_engines_1_fifo_accel_2_q;
-        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_2) begin
-            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_2_q;
-            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_2_q;
-            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_2_q;
-        end
-        mcu_pulses_engines_1_fifo_steps_3_d = mcu_pulses_engines_1_fifo_steps_3_q;
-        mcu_pulses_engines_1_fifo_rate_3_d = mcu_pulses_engines_1_fifo_rate_3_q;
-        mcu_pulses_engines_1_fifo_accel_3_d = mcu_pulses_engines_1_fifo_accel_3_q;
-        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_3) begin
-            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_3_q;
-            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_3_q;
-            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_3_q;
         end
         mcu_pulses_engines_1_popped = 1'b0;
         mcu_pulses_engines_1_ended = 1'b0;
@@ -4921,7 +4781,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         else if (mcu_pulses_engines_1_run & |mcu_pulses_engines_1_count_q) begin
             mcu_pulses_engines_1_popped = 1'b1;
-            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 2'h1;
+            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 1'h1;
             mcu_pulses_engines_1_active_q_d = |mcu_pulses_engines_1_head_steps;
             mcu_pulses_engines_1_ended = ~|mcu_pulses_engines_1_head_steps;
             mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_head_rate;
@@ -4953,16 +4813,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                     mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_seg_rate;
                     mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_seg_accel;
                 end
-                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_2) begin
-                    mcu_pulses_engines_1_fifo_steps_2_d = mcu_pulses_engines_1_seg_steps;
-                    mcu_pulses_engines_1_fifo_rate_2_d = mcu_pulses_engines_1_seg_rate;
-                    mcu_pulses_engines_1_fifo_accel_2_d = mcu_pulses_engines_1_seg_accel;
-                end
-                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_3) begin
-                    mcu_pulses_engines_1_fifo_steps_3_d = mcu_pulses_engines_1_seg_steps;
-                    mcu_pulses_engines_1_fifo_rate_3_d = mcu_pulses_engines_1_seg_rate;
-                    mcu_pulses_engines_1_fifo_accel_3_d = mcu_pulses_engines_1_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_1_clear_overflow) begin
@@ -4975,7 +4825,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_remaining_d = 32'h0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
-            mcu_pulses_engines_1_head_d = 2'h0;
+            mcu_pulses_engines_1_head_d = 1'h0;
             mcu_pulses_engines_1_count_d = 3'h0;
             mcu_pulses_engines_1_fifo_steps_0_d = 32'h0;
             mcu_pulses_engines_1_fifo_rate_0_d = 32'h0;
@@ -4983,12 +4833,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_fifo_steps_1_d = 32'h0;
             mcu_pulses_engines_1_fifo_rate_1_d = 32'h0;
             mcu_pulses_engines_1_fifo_accel_1_d = 32'h0;
-            mcu_pulses_engines_1_fifo_steps_2_d = 32'h0;
-            mcu_pulses_engines_1_fifo_rate_2_d = 32'h0;
-            mcu_pulses_engines_1_fifo_accel_2_d = 32'h0;
-            mcu_pulses_engines_1_fifo_steps_3_d = 32'h0;
-            mcu_pulses_engines_1_fifo_rate_3_d = 32'h0;
-            mcu_pulses_engines_1_fifo_accel_3_d = 32'h0;
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
         if (mcu_pulses_engines_1_active_q_q) begin
@@ -5013,7 +4857,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_head_steps = 32'h0;
         mcu_pulses_engines_2_head_rate = 32'h0;
         mcu_pulses_engines_2_head_accel = 32'h0;
-        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[1:0];
+        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[0:0];
         mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_fifo_steps_0_q;
         mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_fifo_rate_0_q;
         mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_fifo_accel_0_q;
@@ -5029,22 +4873,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_1_q;
             mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_1_q;
             mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_1_q;
-        end
-        mcu_pulses_engines_2_fifo_steps_2_d = mcu_pulses_engines_2_fifo_steps_2_q;
-        mcu_pulses_engines_2_fifo_rate_2_d = mcu_pulses_engines_2_fifo_rate_2_q;
-        mcu_pulses_engines_2_fifo_accel_2_d = mcu_pulses_engines_2_fifo_accel_2_q;
-        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_2) begin
-            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_2_q;
-            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_2_q;
-            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_2_q;
-        end
-        mcu_pulses_engines_2_fifo_steps_3_d = mcu_pulses_engines_2_fifo_steps_3_q;
-        mcu_pulses_engines_2_fifo_rate_3_d = mcu_pulses_engines_2_fifo_rate_3_q;
-        mcu_pulses_engines_2_fifo_accel_3_d = mcu_pulses_engines_2_fifo_accel_3_q;
-        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_3) begin
-            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_3_q;
-            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_3_q;
-            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_3_q;
         end
         mcu_pulses_engines_2_popped = 1'b0;
         mcu_pulses_engines_2_ended = 1'b0;
@@ -5062,7 +4890,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         else if (mcu_pulses_engines_2_run & |mcu_pulses_engines_2_count_q) begin
             mcu_pulses_engines_2_popped = 1'b1;
-            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 2'h1;
+            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 1'h1;
             mcu_pulses_engines_2_active_q_d = |mcu_pulses_engines_2_head_steps;
             mcu_pulses_engines_2_ended = ~|mcu_pulses_engines_2_head_steps;
             mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_head_rate;
@@ -5094,16 +4922,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                     mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_seg_rate;
                     mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_seg_accel;
                 end
-                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_2) begin
-                    mcu_pulses_engines_2_fifo_steps_2_d = mcu_pulses_engines_2_seg_steps;
-                    mcu_pulses_engines_2_fifo_rate_2_d = mcu_pulses_engines_2_seg_rate;
-                    mcu_pulses_engines_2_fifo_accel_2_d = mcu_pulses_engines_2_seg_accel;
-                end
-                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_3) begin
-                    mcu_pulses_engines_2_fifo_steps_3_d = mcu_pulses_engines_2_seg_steps;
-                    mcu_pulses_engines_2_fifo_rate_3_d = mcu_pulses_engines_2_seg_rate;
-                    mcu_pulses_engines_2_fifo_accel_3_d = mcu_pulses_engines_2_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_2_clear_overflow) begin
@@ -5116,7 +4934,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_remaining_d = 32'h0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
-            mcu_pulses_engines_2_head_d = 2'h0;
+            mcu_pulses_engines_2_head_d = 1'h0;
             mcu_pulses_engines_2_count_d = 3'h0;
             mcu_pulses_engines_2_fifo_steps_0_d = 32'h0;
             mcu_pulses_engines_2_fifo_rate_0_d = 32'h0;
@@ -5124,12 +4942,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_fifo_steps_1_d = 32'h0;
             mcu_pulses_engines_2_fifo_rate_1_d = 32'h0;
             mcu_pulses_engines_2_fifo_accel_1_d = 32'h0;
-            mcu_pulses_engines_2_fifo_steps_2_d = 32'h0;
-            mcu_pulses_engines_2_fifo_rate_2_d = 32'h0;
-            mcu_pulses_engines_2_fifo_accel_2_d = 32'h0;
-            mcu_pulses_engines_2_fifo_steps_3_d = 32'h0;
-            mcu_pulses_engines_2_fifo_rate_3_d = 32'h0;
-            mcu_pulses_engines_2_fifo_accel_3_d = 32'h0;
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
         if (mcu_pulses_engines_2_active_q_q) begin
@@ -5154,7 +4966,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_head_steps = 32'h0;
         mcu_pulses_engines_3_head_rate = 32'h0;
         mcu_pulses_engines_3_head_accel = 32'h0;
-        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[1:0];
+        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[0:0];
         mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_fifo_steps_0_q;
         mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_fifo_rate_0_q;
         mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_fifo_accel_0_q;
@@ -5170,22 +4982,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_1_q;
             mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_1_q;
             mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_1_q;
-        end
-        mcu_pulses_engines_3_fifo_steps_2_d = mcu_pulses_engines_3_fifo_steps_2_q;
-        mcu_pulses_engines_3_fifo_rate_2_d = mcu_pulses_engines_3_fifo_rate_2_q;
-        mcu_pulses_engines_3_fifo_accel_2_d = mcu_pulses_engines_3_fifo_accel_2_q;
-        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_2) begin
-            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_2_q;
-            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_2_q;
-            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_2_q;
-        end
-        mcu_pulses_engines_3_fifo_steps_3_d = mcu_pulses_engines_3_fifo_steps_3_q;
-        mcu_pulses_engines_3_fifo_rate_3_d = mcu_pulses_engines_3_fifo_rate_3_q;
-        mcu_pulses_engines_3_fifo_accel_3_d = mcu_pulses_engines_3_fifo_accel_3_q;
-        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_3) begin
-            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_3_q;
-            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_3_q;
-            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_3_q;
         end
         mcu_pulses_engines_3_popped = 1'b0;
         mcu_pulses_engines_3_ended = 1'b0;
@@ -5203,7 +4999,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         else if (mcu_pulses_engines_3_run & |mcu_pulses_engines_3_count_q) begin
             mcu_pulses_engines_3_popped = 1'b1;
-            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 2'h1;
+            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 1'h1;
             mcu_pulses_engines_3_active_q_d = |mcu_pulses_engines_3_head_steps;
             mcu_pulses_engines_3_ended = ~|mcu_pulses_engines_3_head_steps;
             mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_head_rate;
@@ -5235,16 +5031,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                     mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_seg_rate;
                     mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_seg_accel;
                 end
-                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_2) begin
-                    mcu_pulses_engines_3_fifo_steps_2_d = mcu_pulses_engines_3_seg_steps;
-                    mcu_pulses_engines_3_fifo_rate_2_d = mcu_pulses_engines_3_seg_rate;
-                    mcu_pulses_engines_3_fifo_accel_2_d = mcu_pulses_engines_3_seg_accel;
-                end
-                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_3) begin
-                    mcu_pulses_engines_3_fifo_steps_3_d = mcu_pulses_engines_3_seg_steps;
-                    mcu_pulses_engines_3_fifo_rate_3_d = mcu_pulses_engines_3_seg_rate;
-                    mcu_pulses_engines_3_fifo_accel_3_d = mcu_pulses_engines_3_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_3_clear_overflow) begin
@@ -5257,7 +5043,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_remaining_d = 32'h0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
-            mcu_pulses_engines_3_head_d = 2'h0;
+            mcu_pulses_engines_3_head_d = 1'h0;
             mcu_pulses_engines_3_count_d = 3'h0;
             mcu_pulses_engines_3_fifo_steps_0_d = 32'h0;
             mcu_pulses_engines_3_fifo_rate_0_d = 32'h0;
@@ -5265,12 +5051,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_fifo_steps_1_d = 32'h0;
             mcu_pulses_engines_3_fifo_rate_1_d = 32'h0;
             mcu_pulses_engines_3_fifo_accel_1_d = 32'h0;
-            mcu_pulses_engines_3_fifo_steps_2_d = 32'h0;
-            mcu_pulses_engines_3_fifo_rate_2_d = 32'h0;
-            mcu_pulses_engines_3_fifo_accel_2_d = 32'h0;
-            mcu_pulses_engines_3_fifo_steps_3_d = 32'h0;
-            mcu_pulses_engines_3_fifo_rate_3_d = 32'h0;
-            mcu_pulses_engines_3_fifo_accel_3_d = 32'h0;
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
         if (mcu_pulses_engines_3_active_q_q) begin
@@ -5885,16 +5665,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_count_q <= mcu_pulses_engines_0_count_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_steps_0_q <= mcu_pulses_engines_0_fifo_steps_0_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_steps_1_q <= mcu_pulses_engines_0_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_2_q <= mcu_pulses_engines_0_fifo_steps_2_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_3_q <= mcu_pulses_engines_0_fifo_steps_3_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_rate_0_q <= mcu_pulses_engines_0_fifo_rate_0_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_rate_1_q <= mcu_pulses_engines_0_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_2_q <= mcu_pulses_engines_0_fifo_rate_2_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_3_q <= mcu_pulses_engines_0_fifo_rate_3_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_accel_0_q <= mcu_pulses_engines_0_fifo_accel_0_d;
     always @(posedge clock) mcu_pulses_engines_0_fifo_accel_1_q <= mcu_pulses_engines_0_fifo_accel_1_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_2_q <= mcu_pulses_engines_0_fifo_accel_2_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_3_q <= mcu_pulses_engines_0_fifo_accel_3_d;
     always @(posedge clock) mcu_pulses_engines_1_active_q_q <= mcu_pulses_engines_1_active_q_d;
     always @(posedge clock) mcu_pulses_engines_1_rate_q_q <= mcu_pulses_engines_1_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_1_accel_q_q <= mcu_pulses_engines_1_accel_q_d;
@@ -5905,16 +5679,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_count_q <= mcu_pulses_engines_1_count_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_steps_0_q <= mcu_pulses_engines_1_fifo_steps_0_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_steps_1_q <= mcu_pulses_engines_1_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_2_q <= mcu_pulses_engines_1_fifo_steps_2_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_3_q <= mcu_pulses_engines_1_fifo_steps_3_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_rate_0_q <= mcu_pulses_engines_1_fifo_rate_0_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_rate_1_q <= mcu_pulses_engines_1_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_2_q <= mcu_pulses_engines_1_fifo_rate_2_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_3_q <= mcu_pulses_engines_1_fifo_rate_3_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_accel_0_q <= mcu_pulses_engines_1_fifo_accel_0_d;
     always @(posedge clock) mcu_pulses_engines_1_fifo_accel_1_q <= mcu_pulses_engines_1_fifo_accel_1_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_2_q <= mcu_pulses_engines_1_fifo_accel_2_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_3_q <= mcu_pulses_engines_1_fifo_accel_3_d;
     always @(posedge clock) mcu_pulses_engines_2_active_q_q <= mcu_pulses_engines_2_active_q_d;
     always @(posedge clock) mcu_pulses_engines_2_rate_q_q <= mcu_pulses_engines_2_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_2_accel_q_q <= mcu_pulses_engines_2_accel_q_d;
@@ -5925,16 +5693,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_count_q <= mcu_pulses_engines_2_count_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_steps_0_q <= mcu_pulses_engines_2_fifo_steps_0_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_steps_1_q <= mcu_pulses_engines_2_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_2_q <= mcu_pulses_engines_2_fifo_steps_2_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_3_q <= mcu_pulses_engines_2_fifo_steps_3_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_rate_0_q <= mcu_pulses_engines_2_fifo_rate_0_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_rate_1_q <= mcu_pulses_engines_2_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_2_q <= mcu_pulses_engines_2_fifo_rate_2_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_3_q <= mcu_pulses_engines_2_fifo_rate_3_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_accel_0_q <= mcu_pulses_engines_2_fifo_accel_0_d;
     always @(posedge clock) mcu_pulses_engines_2_fifo_accel_1_q <= mcu_pulses_engines_2_fifo_accel_1_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_2_q <= mcu_pulses_engines_2_fifo_accel_2_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_3_q <= mcu_pulses_engines_2_fifo_accel_3_d;
     always @(posedge clock) mcu_pulses_engines_3_active_q_q <= mcu_pulses_engines_3_active_q_d;
     always @(posedge clock) mcu_pulses_engines_3_rate_q_q <= mcu_pulses_engines_3_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_3_accel_q_q <= mcu_pulses_engines_3_accel_q_d;
@@ -5945,16 +5707,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_count_q <= mcu_pulses_engines_3_count_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_steps_0_q <= mcu_pulses_engines_3_fifo_steps_0_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_steps_1_q <= mcu_pulses_engines_3_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_2_q <= mcu_pulses_engines_3_fifo_steps_2_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_3_q <= mcu_pulses_engines_3_fifo_steps_3_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_rate_0_q <= mcu_pulses_engines_3_fifo_rate_0_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_rate_1_q <= mcu_pulses_engines_3_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_2_q <= mcu_pulses_engines_3_fifo_rate_2_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_3_q <= mcu_pulses_engines_3_fifo_rate_3_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_accel_0_q <= mcu_pulses_engines_3_fifo_accel_0_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_accel_1_q <= mcu_pulses_engines_3_fifo_accel_1_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_2_q <= mcu_pulses_engines_3_fifo_accel_2_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_3_q <= mcu_pulses_engines_3_fifo_accel_3_d;
     always @(posedge clock) mcu_pulses_seg_steps_0_q <= mcu_pulses_seg_steps_0_d;
     always @(posedge clock) mcu_pulses_seg_steps_1_q <= mcu_pulses_seg_steps_1_d;
     always @(posedge clock) mcu_pulses_seg_steps_2_q <= mcu_pulses_seg_steps_2_d;

@@ -1,4 +1,4 @@
-//! Position moves of one pulse generator axis: a 4-deep FIFO of segments
+//! Position moves of one pulse generator axis: a 2-deep FIFO of segments
 //! (steps, start rate, rate increment per clock) and the running segment,
 //! which sets the NCO's rate (docs/pulse_generator.md).
 
@@ -6,6 +6,8 @@ use motionhdl_model::pulse_generator::SEGMENT_FIFO_DEPTH;
 use rust_hdl::prelude::*;
 
 const DEPTH: usize = SEGMENT_FIFO_DEPTH;
+/// Bits of the head and tail pointers (DEPTH is a power of two).
+const PTR: usize = DEPTH.trailing_zeros() as usize;
 
 /// The segment FIFO and the running segment. A segment commands exactly
 /// its `steps` steps (counted on `commanded`), its rate growing by `accel`
@@ -46,18 +48,18 @@ pub struct MoveEngine {
     remaining: DFF<Bits<32>>,
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
-    head: DFF<Bits<2>>,
+    head: DFF<Bits<PTR>>,
     count: DFF<Bits<3>>,
     fifo_steps: Vec<DFF<Bits<32>>>,
     fifo_rate: Vec<DFF<Bits<32>>>,
     fifo_accel: Vec<DFF<Bits<32>>>,
-    slot: Vec<Constant<Bits<2>>>,
+    slot: Vec<Constant<Bits<PTR>>>,
     one: Constant<Bits<32>>,
     full: Constant<Bits<3>>,
     head_steps: Signal<Local, Bits<32>>,
     head_rate: Signal<Local, Bits<32>>,
     head_accel: Signal<Local, Bits<32>>,
-    tail: Signal<Local, Bits<2>>,
+    tail: Signal<Local, Bits<PTR>>,
     popped: Signal<Local, Bit>,
     ended: Signal<Local, Bit>,
     count_after_pop: Signal<Local, Bits<3>>,
@@ -72,7 +74,12 @@ impl Default for MoveEngine {
 
 impl MoveEngine {
     pub fn new() -> Self {
-        const { assert!(DEPTH == 4, "head and tail are Bits<2>") };
+        const {
+            assert!(
+                DEPTH.is_power_of_two() && DEPTH < 8,
+                "pointers wrap; count is Bits<3>"
+            )
+        };
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -137,7 +144,7 @@ impl Logic for MoveEngine {
         self.head_steps.next = 0.into();
         self.head_rate.next = 0.into();
         self.head_accel.next = 0.into();
-        self.tail.next = self.head.q.val() + self.count.q.val().get_bits::<2>(0);
+        self.tail.next = self.head.q.val() + self.count.q.val().get_bits::<PTR>(0);
         for j in 0..DEPTH {
             self.fifo_steps[j].clock.next = self.clock.val();
             self.fifo_rate[j].clock.next = self.clock.val();

@@ -342,15 +342,6 @@ impl<const N: usize> Logic for PulseBank<N> {
                     self.read_value.next = self.read_value.val() | self.level_bit2.val();
                 }
             }
-            if self.read_addr.q.val() == self.addr_seg_steps[i].val() {
-                self.read_value.next = self.seg_steps[i].q.val();
-            }
-            if self.read_addr.q.val() == self.addr_seg_rate[i].val() {
-                self.read_value.next = self.seg_rate[i].q.val();
-            }
-            if self.read_addr.q.val() == self.addr_seg_accel[i].val() {
-                self.read_value.next = self.seg_accel[i].q.val();
-            }
             if self.reset.val() {
                 self.ctrl[i].d.next = 0.into();
                 self.quadrature_a[i].d.next = false;

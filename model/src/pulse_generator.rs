@@ -257,8 +257,10 @@ impl PulseGenerator {
     }
 }
 
-/// Segments the move FIFO holds.
-pub const SEGMENT_FIFO_DEPTH: usize = 4;
+/// Segments the move FIFO holds, besides the one running: two, so the
+/// firmware refills one while the next waits (a 4-deep FIFO of 96-bit
+/// segments cost 1 540 flip-flops on 4 axes and no longer fit the HX8K).
+pub const SEGMENT_FIFO_DEPTH: usize = 2;
 
 /// One segment of a position move: the NCO starts at `rate` and adds
 /// `accel` to it on every clock it advances, until it has commanded
@@ -491,10 +493,10 @@ impl PulseBank {
                         "STEP_TIMING" => self.step_timing[i],
                         "DIR_TIMING" => self.dir_timing[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
-                        "SEG_STEPS" => self.seg_steps[i],
-                        "SEG_RATE" => self.seg_rate[i],
-                        "SEG_ACCEL" => self.seg_accel[i],
-                        "SEG_PUSH" => 0,
+                        // Write-only: the FIFO's data ports (firmware keeps
+                        // its own copy; reading them back costs a 96-bit
+                        // read-mux leg per axis).
+                        "SEG_STEPS" | "SEG_RATE" | "SEG_ACCEL" | "SEG_PUSH" => 0,
                         "STATUS" => {
                             let t = self.generators[i].timer.state();
                             let e = &self.engines[i];

@@ -581,38 +581,38 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                             ReadOnly,
                             "Sticky: a SEG_PUSH found the FIFO full and was dropped (cleared by writing CTRL).",
                         ),
-                        field("FIFO_LEVEL", 20, 3, ReadOnly, "Segments waiting in the FIFO (0..=4)."),
+                        field("FIFO_LEVEL", 20, 3, ReadOnly, "Segments waiting in the FIFO (0..=2)."),
                     ],
                 ),
                 reg(
                     "SEG_STEPS",
                     6,
-                    ReadWrite,
+                    WriteOnly,
                     "Next segment: steps to command (unsigned).",
-                    "",
-                    vec![field("VALUE", 0, 32, ReadWrite, "Steps.")],
+                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Steps.")],
                 ),
                 reg(
                     "SEG_RATE",
                     7,
-                    ReadWrite,
+                    WriteOnly,
                     "Next segment: starting NCO rate (signed, as RATE).",
-                    "",
-                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; the sign is the direction.")],
+                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Two's complement; the sign is the direction.")],
                 ),
                 reg(
                     "SEG_ACCEL",
                     8,
-                    ReadWrite,
+                    WriteOnly,
                     "Next segment: added to the rate on every clock the NCO advances (signed).",
-                    "",
-                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement.")],
+                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Two's complement.")],
                 ),
                 reg(
                     "SEG_PUSH",
                     9,
                     WriteOnly,
-                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (4 deep).",
+                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (2 deep, besides the segment running).",
                     "Any write pushes; the data is ignored. A push into a full FIFO is dropped and sets STATUS.OVERFLOW.",
                     vec![],
                 ),
@@ -620,6 +620,9 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
         }],
     }
 }
+
+// The SEG_PUSH and FIFO_LEVEL descriptions above say how deep the FIFO is.
+const _: () = assert!(crate::pulse_generator::SEGMENT_FIFO_DEPTH == 2);
 
 /// Words in the shared dual-port RAM behind the ISA bridge (2 KB).
 pub const ISA_RAM_WORDS: u32 = 1024;

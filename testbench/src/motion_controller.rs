@@ -718,8 +718,9 @@ pub const MOVE_SEGMENTS: [(u32, i32, i32); 4] = [
 ];
 
 /// A position move through axis 0's segment FIFO (MOVES mode), counted by
-/// channel 0 in pulse+direction through the pin loopback: push the four
-/// [`MOVE_SEGMENTS`], RUN, wait, then STATUS, SNAPSHOT, COUNT and POSITION.
+/// channel 0 in pulse+direction through the pin loopback: stream the four
+/// [`MOVE_SEGMENTS`] through the 2-deep FIFO around RUN, wait, then
+/// STATUS (DONE, no OVERFLOW), SNAPSHOT, COUNT and POSITION.
 pub fn moves_ops(config: &Config) -> Vec<Op> {
     use motionhdl_model::regmap::mode;
     let map = regmap::mcu_map(config);
@@ -740,13 +741,22 @@ pub fn moves_ops(config: &Config) -> Vec<Op> {
         w(pulse.base + ax.address(0, "STEP_TIMING"), 2 | 2 << 16),
         w(pulse.base + ax.address(0, "DIR_TIMING"), 3 | 3 << 16),
     ];
-    for (steps, rate, accel) in MOVE_SEGMENTS {
+    let push = |ops: &mut Vec<Op>, (steps, rate, accel): (u32, i32, i32)| {
         ops.push(w(pulse.base + ax.address(0, "SEG_STEPS"), steps));
         ops.push(w(pulse.base + ax.address(0, "SEG_RATE"), rate as u32));
         ops.push(w(pulse.base + ax.address(0, "SEG_ACCEL"), accel as u32));
         ops.push(w(pulse.base + ax.address(0, "SEG_PUSH"), 0));
-    }
+    };
+    // The FIFO holds two: fill it, start, and top it up as the firmware
+    // would. Segment 0 (about 480 clocks) has ended before the 4000-HCLK
+    // (1190-clock) wait is over, so the last push finds room.
+    let [s0, s1, s2, s3] = MOVE_SEGMENTS;
+    push(&mut ops, s0);
+    push(&mut ops, s1);
     ops.push(w(pulse.base + pulse.register("RUN").offset, 1));
+    push(&mut ops, s2);
+    ops.push(Op::Idle { hclk: 4000 });
+    push(&mut ops, s3);
     for _ in 0..8 {
         ops.push(Op::Idle { hclk: 4000 });
     }

@@ -144,14 +144,26 @@ pub fn acceleration(config: &Config) -> Trace {
     let mut s = Script::new("pulse_acceleration", config);
     s.setup(0b100);
     let k = 1 << 24;
-    for (steps, rate, accel) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))] {
+    // The FIFO holds two besides the running one: fill it, start (the
+    // first segment loads at once), then push the third.
+    for (i, (steps, rate, accel)) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))]
+        .into_iter()
+        .enumerate()
+    {
+        if i == 2 {
+            s.write("RUN", 1);
+        }
         s.write("SEG_STEPS", steps);
         s.write("SEG_RATE", rate as u32);
         s.write("SEG_ACCEL", accel as u32);
         s.write("SEG_PUSH", 0);
     }
-    s.write("RUN", 1);
     s.idle(700);
+    let e = s.model.engine(0);
+    assert!(
+        e.done() && !e.overflow() && s.model.generator(0).position == 44,
+        "pulse_acceleration: the move did not end on its 44 steps"
+    );
     s.write("RUN", 0);
     s.idle(20);
     s.trace

@@ -231,6 +231,7 @@ fn a_segment_move_through_the_top_ends_on_target_and_is_counted() {
     let check = |who: &str, (s, count, position): (u32, i32, i32)| {
         assert_eq!(status.field("DONE").get(s), 1, "{who}: STATUS {s:#x}");
         assert_eq!(status.field("BUSY").get(s), 0, "{who}: STATUS {s:#x}");
+        assert_eq!(status.field("OVERFLOW").get(s), 0, "{who}: STATUS {s:#x}");
         assert_eq!(position, target, "{who}: POSITION");
         assert_eq!(count, target, "{who}: COUNT");
     };
