@@ -10,6 +10,7 @@ pub mod fsmc_bridge;
 pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;
+pub mod motion;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod regmap;
