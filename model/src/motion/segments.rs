@@ -6,9 +6,10 @@
 //! clock the NCO advances, and ends once it has commanded `steps` steps; the
 //! sign of the rate is the direction. The move engine spends one clock
 //! loading each segment (the NCO stands still on it) and the NCO's phase
-//! carries over from one segment to the next. The FIFO is 4 deep; the
-//! firmware streams segments as it drains, which is why
-//! [`SegmentBuilder`] is a streaming converter with no heap.
+//! carries over from one segment to the next. The FIFO is shallow
+//! ([`crate::pulse_generator::SEGMENT_FIFO_DEPTH`]); the firmware streams
+//! segments as it drains, which is why [`SegmentBuilder`] is a streaming
+//! converter with no heap.
 //!
 //! # Conversion
 //!
