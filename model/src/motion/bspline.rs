@@ -21,8 +21,8 @@
 
 use core::array::from_fn;
 
-/// The power-form coefficients of one span: P(t) = c[0] + c[1]t + c[2]t² +
-/// c[3]t³, per axis.
+/// The power-form coefficients of one span, per axis:
+/// `P(t) = c[0] + c[1]·t + c[2]·t² + c[3]·t³`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span<const N: usize> {
     pub c: [[f64; N]; 4],
