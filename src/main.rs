@@ -48,13 +48,20 @@ enum Command {
         #[arg(long)]
         no_external: bool,
     },
-    /// Measure simulation throughput of the default 4×28 counter bank.
+    /// Measure simulation throughput of the default 4×28 counter bank and
+    /// of the default top (motion_controller: 4 axes, 28-bit counters,
+    /// shared RAM inside).
     ///
     /// Prints clock cycles per second for the model, the rust-hdl block
     /// stepped directly, and the generated Verilog in Icarus Verilog and
-    /// Verilator (when on PATH). A measurement, not a check.
+    /// Verilator (when on PATH; compilation not timed). The top's engines
+    /// all run one deterministic pin stimulus (FSMC and ISA cycles, encoder
+    /// motion); its table also says whether each engine's output-pin
+    /// checksum equals the model's. A measurement, not a check.
     Bench {
-        /// Clock cycles per engine (Icarus runs a tenth of this).
+        /// Clock cycles per engine. Counter bank: the model runs 10×, the
+        /// rust-hdl block and Icarus 1/10, Verilator 10×. Top: the model and
+        /// Verilator 5×, the rust-hdl top 1/20, Icarus 1/100.
         #[arg(long, default_value_t = 1_000_000)]
         cycles: u64,
     },
@@ -178,6 +185,50 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     r.cycles,
                     r.seconds,
                     r.per_second()
+                );
+            }
+            // The whole default top under one pin stimulus.
+            let mut rows = vec![
+                bench::top_model(cycles * 5),
+                bench::top_rust_hdl(cycles / 20 + 1),
+            ];
+            for (sim, n) in [
+                (Simulator::Icarus, cycles / 100 + 1),
+                (Simulator::Verilator, cycles * 5),
+            ] {
+                match bench::top_verilog(sim, n) {
+                    Ok(t) => rows.push(t),
+                    Err(e) => println!(
+                        "{}: not measured: {}",
+                        sim.name(),
+                        e.lines().next().unwrap_or("")
+                    ),
+                }
+            }
+            let c = bench::top_config();
+            println!();
+            println!(
+                "motion_controller {} axes × {} bits, RAM {}: FSMC and ISA cycles, encoder motion",
+                c.axes(),
+                c.counter_width(),
+                c.isa_ram().name()
+            );
+            println!(
+                "{:<48} {:>12} {:>10} {:>14}  outputs = model",
+                "engine", "cycles", "seconds", "cycles/s"
+            );
+            for r in rows {
+                println!(
+                    "{:<48} {:>12} {:>10.3} {:>14.0}  {}",
+                    r.engine,
+                    r.cycles,
+                    r.seconds,
+                    r.per_second(),
+                    match r.agrees {
+                        None => "(reference)",
+                        Some(true) => "yes",
+                        Some(false) => "NO",
+                    }
                 );
             }
             Ok(())

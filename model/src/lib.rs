@@ -11,6 +11,7 @@ pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;
 pub mod motion;
+pub mod motion_controller;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod regmap;

@@ -1,10 +1,15 @@
-//! Simulation throughput of the default 4×28 counter bank, for
-//! `motionhdl bench`. Measurements, not tests: nothing here asserts a speed.
+//! Simulation throughput, for `motionhdl bench`: the default 4×28 counter
+//! bank, and the default top (`motion_controller` from `Config::default()`:
+//! 4 axes, 28-bit counters, RAM inside). Measurements, not tests: nothing
+//! here asserts a speed.
 
 use crate::counter_stimulus::{model_sums, verilog_sums_timed, Stimulus};
 use crate::harness::{cycle, settle};
+use crate::top_model::{self, TopStimulus};
 use crate::verilog_sim::Simulator;
-use motionhdl_hdl::CounterBank;
+use motionhdl_hdl::{CounterBank, MotionController};
+use motionhdl_model::motion_controller::MotionControllerModel;
+use motionhdl_model::Config;
 use rust_hdl::prelude::*;
 use std::time::Instant;
 
@@ -13,6 +18,9 @@ pub struct Throughput {
     pub engine: String,
     pub cycles: u64,
     pub seconds: f64,
+    /// Whether the engine's output-pin checksum equals the model's over
+    /// the same stimulus (`None`: not checked, or the model itself).
+    pub agrees: Option<bool>,
 }
 
 impl Throughput {
@@ -29,6 +37,7 @@ pub fn model(cycles: u64) -> Throughput {
         engine: "model (plain Rust)".into(),
         cycles,
         seconds: t.elapsed().as_secs_f64(),
+        agrees: None,
     }
 }
 
@@ -63,6 +72,7 @@ pub fn rust_hdl(cycles: u64) -> Throughput {
         engine: "rust-hdl block, stepped directly".into(),
         cycles,
         seconds: t.elapsed().as_secs_f64(),
+        agrees: None,
     }
 }
 
@@ -75,5 +85,74 @@ pub fn verilog(sim: Simulator, cycles: u64) -> Result<Throughput, String> {
         engine: format!("{} (generated Verilog + testbench)", sim.name()),
         cycles,
         seconds: elapsed.as_secs_f64(),
+        agrees: None,
+    })
+}
+
+/// Seed of the top's stimulus in every engine.
+pub const TOP_SEED: u32 = 1;
+
+/// The configuration the top's table measures.
+pub fn top_config() -> Config {
+    Config::default()
+}
+
+/// The model stepping the default top (stimulus generation included).
+pub fn top_model(cycles: u64) -> Throughput {
+    let config = top_config();
+    let mut s = TopStimulus::new(&config, TOP_SEED);
+    let mut m = MotionControllerModel::new(&config);
+    let mut sums = top_model::Sums::default();
+    let t = Instant::now();
+    for _ in 0..cycles {
+        let p = s.clock();
+        let o = m.step(&p);
+        sums.add(&p, &o);
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    std::hint::black_box(sums);
+    Throughput {
+        engine: "model (plain Rust)".into(),
+        cycles,
+        seconds,
+        agrees: None,
+    }
+}
+
+/// The rust-hdl `MotionController<4>` stepped directly (update loop until
+/// settled: inputs, rising edge, falling edge), no model beside it; its
+/// output checksum is then compared with the model's.
+pub fn top_rust_hdl(cycles: u64) -> Throughput {
+    let config = top_config();
+    assert_eq!(config.axes(), 4, "the default top is MotionController<4>");
+    let mut s = TopStimulus::new(&config, TOP_SEED);
+    let mut uut = MotionController::<4>::new(&config);
+    uut.connect_all();
+    let mut sums = top_model::Sums::default();
+    let t = Instant::now();
+    for _ in 0..cycles {
+        let p = s.clock();
+        let o = top_model::step_rust(&mut uut, &p);
+        sums.add(&p, &o);
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    Throughput {
+        engine: "rust-hdl MotionController<4>, stepped directly".into(),
+        cycles,
+        seconds,
+        agrees: Some(sums == top_model::model_sums(&config, TOP_SEED, cycles)),
+    }
+}
+
+/// The generated `motion_controller.v` in `sim` under the Verilog copy of
+/// the stimulus generator (simulation time only; compilation excluded).
+pub fn top_verilog(sim: Simulator, cycles: u64) -> Result<Throughput, String> {
+    let config = top_config();
+    let (sums, elapsed) = top_model::verilog_sums_timed(sim, &config, TOP_SEED, cycles)?;
+    Ok(Throughput {
+        engine: format!("{} (generated Verilog + testbench)", sim.name()),
+        cycles,
+        seconds: elapsed.as_secs_f64(),
+        agrees: Some(sums == top_model::model_sums(&config, TOP_SEED, cycles)),
     })
 }
