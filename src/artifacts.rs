@@ -22,9 +22,15 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         });
     }
     for s in scenarios::SCENARIOS {
+        let trace = s.trace(config);
+        let vcd = format!("{}.vcd", s.name);
         out.push(Artifact {
-            path: PathBuf::from("vcd").join(format!("{}.vcd", s.name)),
-            contents: s.trace(config).to_vcd_string().into_bytes(),
+            path: PathBuf::from("vcd").join(format!("{}.gtkw", s.name)),
+            contents: trace.to_gtkw(&vcd).into_bytes(),
+        });
+        out.push(Artifact {
+            path: PathBuf::from("vcd").join(vcd),
+            contents: trace.to_vcd_string().into_bytes(),
         });
     }
     out.push(Artifact {

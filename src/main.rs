@@ -95,7 +95,7 @@ enum Command {
     Trace {
         /// Scenario name (see the list below).
         name: String,
-        /// Output VCD file.
+        /// Output VCD file; a GTKWave save file (.gtkw) is written beside it.
         #[arg(long)]
         out: PathBuf,
         /// Configuration file (TOML), as for `generate`; sets the clock period.
@@ -302,10 +302,27 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     scenarios::names().join(", ")
                 ))
             })?;
-            let text = scenario.trace(&config).to_vcd_string();
-            output::write_file(&out, text.as_bytes())
-                .map_err(|e| CliError::failure(format!("cannot write {}: {e}", out.display())))?;
-            println!("wrote {} ({})", out.display(), scenario.summary);
+            let trace = scenario.trace(&config);
+            // The GTKWave save file beside the trace, naming it relatively.
+            let gtkw = out.with_extension("gtkw");
+            let vcd_name = out
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            for (path, text) in [
+                (&out, trace.to_vcd_string()),
+                (&gtkw, trace.to_gtkw(&vcd_name)),
+            ] {
+                output::write_file(path, text.as_bytes()).map_err(|e| {
+                    CliError::failure(format!("cannot write {}: {e}", path.display()))
+                })?;
+            }
+            println!(
+                "wrote {} and {} ({})",
+                out.display(),
+                gtkw.display(),
+                scenario.summary
+            );
             Ok(())
         }
     }

@@ -200,6 +200,8 @@ fn trace_writes_a_named_scenario_and_rejects_unknown_names() {
         .trace(&Default::default())
         .to_vcd_string();
     assert_eq!(fs::read_to_string(&f).unwrap(), want);
+    let save = fs::read_to_string(t.path().join("sel.gtkw")).unwrap();
+    assert!(save.contains("[dumpfile] \"sel.vcd\""), "{save}");
 
     let g = t.path().join("nope.vcd");
     let o = motionhdl(&["trace", "no_such_scenario", "--out", g.to_str().unwrap()]);

@@ -86,6 +86,12 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::pulse_scenarios::quadrature,
     },
     Scenario {
+        name: "system",
+        summary: "the whole controller: an S-curve on axis 0 and a follower at K = -1/2 on axis 1, \
+                  streamed over FSMC, out to simulated drives, counted back from their encoders",
+        build: crate::system::trace,
+    },
+    Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
         build: |_| crate::isa_bridge::block_write_trace(),

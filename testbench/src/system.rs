@@ -1,0 +1,444 @@
+//! The whole controller in simulation (issue 8): firmware on the MCU plans a
+//! move with the model's algorithms, streams it as segments over the FSMC
+//! bus into the rust-hdl top, the pulse generators drive simulated
+//! step/direction drives whose encoders feed the counter bank back, and the
+//! firmware reads the counts over the same bus.
+//!
+//! Everything between the firmware and the drives is the rust-hdl
+//! `MotionController` stepped clock by clock; the firmware acts only through
+//! the STM32F4 bus-functional model ([`crate::fsmc_bridge::timeline`]), one
+//! FSMC access at a time, so it can poll STATUS and refill the FIFO as real
+//! firmware does.
+
+use crate::fsmc_bridge::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
+use crate::harness::settle;
+use crate::trace::{SignalId, Trace};
+use motionhdl_hdl::MotionController;
+use motionhdl_model::fsmc_bridge::FsmcPins;
+use motionhdl_model::motion::segments::{direction, segments, SegmentConfig};
+use motionhdl_model::pulse_generator::{quadrature, Segment, SEGMENT_FIFO_DEPTH};
+use motionhdl_model::regmap::{self, mode, BusMap};
+use motionhdl_model::Config;
+use rust_hdl::prelude::*;
+use std::collections::VecDeque;
+
+/// Clocks from a step edge at the drive's input to its shaft moving.
+pub const DRIVE_LATENCY: usize = 3;
+
+/// A step/direction drive (pulse+direction: F1 = step, F2 = direction, 1 =
+/// negative) with a quadrature encoder on its shaft, one encoder state per
+/// step, so the counter bank counting ×4 reads the shaft position in steps.
+#[derive(Clone, Debug)]
+pub struct Drive {
+    last_step: bool,
+    /// Moves on their way through the drive's latency.
+    pipeline: VecDeque<i32>,
+    /// Shaft position, steps.
+    pub position: i32,
+}
+
+impl Default for Drive {
+    fn default() -> Self {
+        Self {
+            last_step: false,
+            pipeline: VecDeque::from(vec![0; DRIVE_LATENCY]),
+            position: 0,
+        }
+    }
+}
+
+impl Drive {
+    /// One clock: sample the inputs, move the shaft.
+    pub fn clock(&mut self, step: bool, dir: bool) {
+        let rising = step && !self.last_step;
+        self.last_step = step;
+        self.pipeline.push_back(match (rising, dir) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => -1,
+        });
+        self.position = self
+            .position
+            .wrapping_add(self.pipeline.pop_front().unwrap_or(0));
+    }
+
+    /// Encoder A/B.
+    pub fn encoder(&self) -> (bool, bool) {
+        quadrature(self.position as u32)
+    }
+}
+
+/// Per-axis waveforms for a trace: one scope per axis, plus the bus.
+struct Probes {
+    trace: Trace,
+    half_ns: u64,
+    bus: [SignalId; 4],
+    axes: Vec<[SignalId; 5]>,
+}
+
+/// The MCU and the board around the rust-hdl top: the firmware's bus
+/// accesses, the drives and encoders on the pins.
+pub struct System<const N: usize> {
+    uut: MotionController<N>,
+    map: BusMap,
+    pub drives: Vec<Drive>,
+    /// Clock edges simulated.
+    pub clocks: u64,
+    /// Largest |slave − K·master| seen, per follower (see [`Self::track`]).
+    tracking: Vec<(usize, usize, i64, i64, i64)>,
+    /// Shaft positions at every clock, when recording.
+    pub path: Option<Vec<Vec<i32>>>,
+    probes: Option<Probes>,
+}
+
+impl<const N: usize> System<N> {
+    pub fn new(config: &Config) -> Self {
+        assert_eq!(
+            config.axes() as usize,
+            N,
+            "config axes vs MotionController<N>"
+        );
+        let mut uut = MotionController::<N>::new(config);
+        uut.connect_all();
+        Self {
+            uut,
+            map: regmap::mcu_map(config),
+            drives: vec![Drive::default(); N],
+            clocks: 0,
+            tracking: Vec::new(),
+            path: None,
+            probes: None,
+        }
+    }
+
+    /// Record a VCD trace of the pins and shafts, one scope per axis.
+    pub fn record_trace(&mut self, banner: impl Into<String>, half_ns: u64) {
+        let mut trace = Trace::new(banner);
+        let bus = [
+            trace.signal(&["fsmc"], "nwe_n", 1),
+            trace.signal(&["fsmc"], "ne_n", 1),
+            trace.signal(&["fsmc"], "a", 12),
+            trace.signal(&["fsmc"], "d_in", 16),
+        ];
+        let axes = (0..N)
+            .map(|i| {
+                let scope = format!("axis{i}");
+                let s = [scope.as_str()];
+                [
+                    trace.signal(&s, "pulse_f1_step", 1),
+                    trace.signal(&s, "pulse_f2_dir", 1),
+                    trace.signal(&s, "enc_a", 1),
+                    trace.signal(&s, "enc_b", 1),
+                    trace.signal(&s, "shaft_position", 32),
+                ]
+            })
+            .collect();
+        self.probes = Some(Probes {
+            trace,
+            half_ns,
+            bus,
+            axes,
+        });
+    }
+
+    /// The recorded trace.
+    pub fn take_trace(&mut self) -> Option<Trace> {
+        self.probes.take().map(|p| p.trace)
+    }
+
+    /// Watch `slave` follow `master` at ratio num/den: the largest
+    /// |slave·den − num·master| over every clock (see [`Self::tracking`]).
+    pub fn track(&mut self, master: usize, slave: usize, num: i64, den: i64) {
+        self.tracking.push((master, slave, num, den, 0));
+    }
+
+    /// (master, slave, num, den, largest |slave·den − num·master|).
+    pub fn tracking(&self) -> &[(usize, usize, i64, i64, i64)] {
+        &self.tracking
+    }
+
+    fn drive_pins(&mut self, pins: &FsmcPins, reset: bool) {
+        let u = &mut self.uut;
+        u.reset.next = reset;
+        u.fsmc_ne_n.next = pins.ne_n;
+        u.fsmc_noe_n.next = pins.noe_n;
+        u.fsmc_nwe_n.next = pins.nwe_n;
+        u.fsmc_a.next = u64::from(pins.a).into();
+        u.fsmc_d_in.next = u64::from(pins.d_in).into();
+        // The PC side idles: no strobes, AEN high (never our cycle).
+        u.isa_ior_n.next = true;
+        u.isa_iow_n.next = true;
+        u.isa_aen.next = true;
+        let (mut a, mut b) = (0u64, 0u64);
+        for (i, d) in self.drives.iter().enumerate() {
+            let (ea, eb) = d.encoder();
+            a |= u64::from(ea) << i;
+            b |= u64::from(eb) << i;
+        }
+        u.enc_a.next = a.into();
+        u.enc_b.next = b.into();
+    }
+
+    /// One clock edge with these pins; then the drives see the outputs.
+    fn edge(&mut self, pins: &FsmcPins, reset: bool) {
+        self.drive_pins(pins, reset);
+        settle(&mut self.uut);
+        self.uut.clock.next = Clock::from(true);
+        settle(&mut self.uut);
+        self.uut.clock.next = Clock::from(false);
+        settle(&mut self.uut);
+        let f1 = self.uut.pulse_f1.val().index() as u64;
+        let f2 = self.uut.pulse_f2.val().index() as u64;
+        for (i, d) in self.drives.iter_mut().enumerate() {
+            d.clock(f1 >> i & 1 != 0, f2 >> i & 1 != 0);
+        }
+        for t in &mut self.tracking {
+            let (m, s) = (self.drives[t.0].position, self.drives[t.1].position);
+            let err = (i64::from(s) * t.3 - t.2 * i64::from(m)).abs();
+            t.4 = t.4.max(err);
+        }
+        if let Some(path) = &mut self.path {
+            path.push(self.drives.iter().map(|d| d.position).collect());
+        }
+        if let Some(p) = &mut self.probes {
+            let t = self.clocks * 2 * p.half_ns;
+            p.trace.set(t, p.bus[0], u64::from(pins.nwe_n));
+            p.trace.set(t, p.bus[1], u64::from(pins.ne_n));
+            p.trace.set(t, p.bus[2], u64::from(pins.a & 0xfff));
+            p.trace.set(t, p.bus[3], u64::from(pins.d_in));
+            for (i, d) in self.drives.iter().enumerate() {
+                let (ea, eb) = d.encoder();
+                let ids = p.axes[i];
+                p.trace.set(t, ids[0], f1 >> i & 1);
+                p.trace.set(t, ids[1], f2 >> i & 1);
+                p.trace.set(t, ids[2], u64::from(ea));
+                p.trace.set(t, ids[3], u64::from(eb));
+                p.trace.set(t, ids[4], u64::from(d.position as u32));
+            }
+        }
+        self.clocks += 1;
+    }
+
+    /// Runs one firmware bus operation to its end; a read returns what the
+    /// MCU latched (the halfwords, low first).
+    pub fn exec(&mut self, op: Op) -> Vec<u16> {
+        let (events, end) = timeline(&[op], &documented_timing());
+        // The BFM's time 0 sits just after a falling edge: each op starts
+        // where the last one ended, on the same clock grid.
+        let mut pins = FsmcPins::idle();
+        let mut reset = false;
+        let mut observed: Vec<u16> = Vec::new();
+        let mut edge = FIRST_EDGE_TICKS;
+        let mut i = 0;
+        loop {
+            while i < events.len() && events[i].0 < edge {
+                match events[i].1 {
+                    Event::Pins(p, r) => {
+                        pins = p;
+                        reset = r;
+                    }
+                    Event::ObserveSetup => {}
+                    Event::ObserveEnd => {
+                        self.drive_pins(&pins, reset);
+                        settle(&mut self.uut);
+                        observed.push(self.uut.fsmc_d_out.val().index() as u16);
+                    }
+                }
+                i += 1;
+            }
+            if edge > end {
+                break;
+            }
+            self.edge(&pins, reset);
+            edge += CLOCK_TICKS;
+        }
+        observed
+    }
+
+    fn word(&self, block: &str, axis: Option<u32>, reg: &str) -> u16 {
+        let b = self.map.block(block);
+        let array = if block == "COUNTER" { "CH" } else { "AX" };
+        let w = match axis {
+            Some(i) => b.base + b.array(array).address(i, reg),
+            None => b.base + b.register(reg).offset,
+        };
+        (w * 2) as u16
+    }
+
+    pub fn write(&mut self, block: &str, axis: Option<u32>, reg: &str, data: u32) {
+        let a = self.word(block, axis, reg);
+        self.exec(Op::Write32 { a, data });
+    }
+
+    pub fn read(&mut self, block: &str, axis: Option<u32>, reg: &str) -> u32 {
+        let a = self.word(block, axis, reg);
+        let h = self.exec(Op::Read32 { a });
+        assert_eq!(h.len(), 2, "a 32-bit read is two halfwords");
+        u32::from(h[0]) | u32::from(h[1]) << 16
+    }
+
+    /// Idle the bus for `clocks` clocks (the firmware busy elsewhere).
+    pub fn idle(&mut self, clocks: u64) {
+        let pins = FsmcPins::idle();
+        for _ in 0..clocks {
+            self.edge(&pins, false);
+        }
+    }
+
+    /// Reset the FPGA and set every axis up: counters ×4, pulse generators
+    /// in segment moves with pulse+direction output.
+    pub fn setup(&mut self) {
+        self.exec(Op::Reset);
+        for i in 0..N as u32 {
+            self.write("COUNTER", Some(i), "CTRL", mode::X4);
+            self.write("PULSE", Some(i), "CTRL", 0b100);
+            // STEP_LEN 2, STEP_SPACE 2; DIR_SETUP 4, DIR_HOLD 2 (clocks).
+            self.write("PULSE", Some(i), "STEP_TIMING", 2 | 2 << 16);
+            self.write("PULSE", Some(i), "DIR_TIMING", 4 | 2 << 16);
+        }
+    }
+
+    fn push(&mut self, axis: u32, s: &Segment) {
+        self.write("PULSE", Some(axis), "SEG_STEPS", s.steps);
+        self.write("PULSE", Some(axis), "SEG_RATE", s.rate as u32);
+        self.write("PULSE", Some(axis), "SEG_ACCEL", s.accel as u32);
+        self.write("PULSE", Some(axis), "SEG_PUSH", 0);
+    }
+
+    /// Streams each axis's segments as the firmware does: fill the FIFOs,
+    /// start every axis in one RUN write, then poll STATUS.FIFO_LEVEL and
+    /// top up; wait until every axis is DONE and not BUSY. Fails on a FIFO
+    /// overflow or when the move does not finish within `timeout` clocks.
+    pub fn run_move(&mut self, per_axis: &[Vec<Segment>], timeout: u64) -> Result<(), String> {
+        assert_eq!(per_axis.len(), N);
+        let status = self
+            .map
+            .block("PULSE")
+            .array("AX")
+            .register("STATUS")
+            .clone();
+        let mut next = vec![0usize; N];
+        for (i, segs) in per_axis.iter().enumerate() {
+            while next[i] < segs.len() && next[i] < SEGMENT_FIFO_DEPTH {
+                self.push(i as u32, &segs[next[i]]);
+                next[i] += 1;
+            }
+        }
+        let mask = (0..N)
+            .filter(|&i| !per_axis[i].is_empty())
+            .fold(0, |m, i| m | 1 << i);
+        self.write("PULSE", None, "RUN", mask);
+        let start = self.clocks;
+        loop {
+            let mut finished = true;
+            for (i, segs) in per_axis.iter().enumerate() {
+                if segs.is_empty() {
+                    continue;
+                }
+                let s = self.read("PULSE", Some(i as u32), "STATUS");
+                if status.field("OVERFLOW").get(s) != 0 {
+                    return Err(format!("axis {i}: segment FIFO overflow"));
+                }
+                let level = status.field("FIFO_LEVEL").get(s) as usize;
+                for _ in level..SEGMENT_FIFO_DEPTH {
+                    if next[i] < segs.len() {
+                        self.push(i as u32, &segs[next[i]]);
+                        next[i] += 1;
+                    }
+                }
+                let done = status.field("DONE").get(s) != 0 && status.field("BUSY").get(s) == 0;
+                finished &= next[i] == segs.len() && done;
+            }
+            if finished {
+                break;
+            }
+            if self.clocks - start > timeout {
+                return Err(format!("the move did not finish in {timeout} clocks"));
+            }
+        }
+        Ok(())
+    }
+
+    /// SNAPSHOT, then every axis's (COUNT, POSITION) read over the bus.
+    pub fn positions(&mut self) -> Vec<(i32, i32)> {
+        self.write("COUNTER", None, "SNAPSHOT", 0);
+        (0..N as u32)
+            .map(|i| {
+                (
+                    self.read("COUNTER", Some(i), "COUNT") as i32,
+                    self.read("PULSE", Some(i), "POSITION") as i32,
+                )
+            })
+            .collect()
+    }
+}
+
+/// Whole-step positions per tick → segments at `tick_hz` on a 50 MHz
+/// clock (the model's converter).
+pub fn plan_segments(steps: &[i64], clock_hz: u32, tick_hz: u32) -> Vec<Segment> {
+    segments(
+        steps,
+        0,
+        SegmentConfig {
+            clock_hz,
+            tick_hz,
+            phase: 0,
+        },
+    )
+    .expect("profile within the NCO's range")
+}
+
+/// Signed steps of a segment list.
+pub fn net_steps(segs: &[Segment]) -> i64 {
+    segs.iter().map(|s| i64::from(s.steps) * direction(s)).sum()
+}
+
+/// `motionhdl trace system`: an S-curve of 200 steps on axis 0 with axis 1
+/// following at K = −1/2, planned by the model, streamed over the FSMC bus
+/// and counted back; two axes of the configuration's counter width and
+/// clock. One scope per axis (pulse, direction, encoder, shaft) and one for
+/// the bus; the `.gtkw` beside it opens them as groups.
+pub fn trace(config: &Config) -> Trace {
+    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
+        .expect("2 axes of a valid configuration");
+    let clock_hz = u32::try_from(config.clock_hz()).expect("clock_hz fits u32");
+    let tick_hz = clock_hz / 500;
+    let p = motionhdl_model::motion::scurve::SCurveParams::from_physical(
+        8e13,
+        4e9,
+        2e6,
+        200,
+        f64::from(tick_hz),
+    );
+    let master: Vec<i64> = motionhdl_model::motion::scurve::SCurve::new(p)
+        .expect("the trace's S-curve is within range")
+        .samples()
+        .map(|s| s.steps())
+        .collect();
+    let follower: Vec<i64> = master.iter().map(|m| (-m).div_euclid(2)).collect();
+    let mut sys = System::<2>::new(&two);
+    sys.setup();
+    sys.record_trace(
+        format!(
+            "{} | scenario system | clock {} Hz",
+            motionhdl_hdl::banner_ascii(),
+            config.clock_hz()
+        ),
+        crate::scenarios::half_period_ns(config),
+    );
+    sys.run_move(
+        &[
+            plan_segments(&master, clock_hz, tick_hz),
+            plan_segments(&follower, clock_hz, tick_hz),
+        ],
+        10_000_000,
+    )
+    .expect("the traced move finishes");
+    let p = sys.positions();
+    assert_eq!(
+        p,
+        vec![(200, 200), (-100, -100)],
+        "system trace: counted back"
+    );
+    sys.take_trace().expect("recording")
+}

@@ -1,0 +1,137 @@
+//! The whole controller in simulation (issue 8): moves planned by the
+//! model's algorithms, streamed over the FSMC bus into the rust-hdl top,
+//! out through the pulse generators and selectors to simulated drives whose
+//! encoders the counter bank counts, read back by the firmware.
+
+use motionhdl_model::motion::scurve::{SCurve, SCurveParams};
+use motionhdl_model::Config;
+use motionhdl_testbench::system::{net_steps, plan_segments, System};
+
+const CLOCK_HZ: u32 = 50_000_000;
+
+/// Whole-step positions of an S-curve, one per tick from rest to rest.
+fn scurve_steps(distance: i64, tick_hz: u32, velocity: f64, accel: f64, jerk: f64) -> Vec<i64> {
+    let p = SCurveParams::from_physical(jerk, accel, velocity, distance, f64::from(tick_hz));
+    let curve = SCurve::new(p).unwrap_or_else(|e| panic!("{p:?}: {e}"));
+    curve.samples().map(|s| s.steps()).collect()
+}
+
+#[test]
+fn an_s_curve_move_is_counted_back_exactly_on_target() {
+    let config = Config::default();
+    let tick_hz = 100_000;
+    let target = 1000;
+    let steps = scurve_steps(target, tick_hz, 2e6, 4e9, 8e13);
+    assert_eq!(*steps.last().unwrap(), target, "the plan ends on target");
+    let segs = plan_segments(&steps, CLOCK_HZ, tick_hz);
+    assert_eq!(net_steps(&segs), target);
+    let mut sys = System::<4>::new(&config);
+    sys.setup();
+    let none = Vec::new();
+    sys.run_move(&[segs.clone(), none.clone(), none.clone(), none], 400_000)
+        .unwrap();
+    let p = sys.positions();
+    assert_eq!(sys.drives[0].position as i64, target, "shaft");
+    assert_eq!(p[0], (target as i32, target as i32), "(COUNT, POSITION)");
+    for (i, q) in p.iter().enumerate().skip(1) {
+        assert_eq!(*q, (0, 0), "axis {i} stays still");
+    }
+    eprintln!(
+        "S-curve: {} ticks, {} segments, {} clocks simulated",
+        steps.len(),
+        segs.len(),
+        sys.clocks
+    );
+}
+
+#[test]
+fn a_two_axis_circle_closes_and_stays_on_the_circle() {
+    let config = Config::default();
+    let tick_hz = 100_000;
+    let (r, ticks) = (300.0f64, 200usize);
+    let angle = |k: usize| std::f64::consts::TAU * k as f64 / ticks as f64;
+    let x: Vec<i64> = (0..=ticks)
+        .map(|k| (r * angle(k).cos()).round() as i64 - r as i64)
+        .collect();
+    let y: Vec<i64> = (0..=ticks)
+        .map(|k| (r * angle(k).sin()).round() as i64)
+        .collect();
+    let (sx, sy) = (
+        plan_segments(&x, CLOCK_HZ, tick_hz),
+        plan_segments(&y, CLOCK_HZ, tick_hz),
+    );
+    assert_eq!((net_steps(&sx), net_steps(&sy)), (0, 0));
+    let mut sys = System::<4>::new(&config);
+    sys.setup();
+    sys.path = Some(Vec::new());
+    sys.run_move(&[sx, sy, Vec::new(), Vec::new()], 1_000_000)
+        .unwrap();
+    let p = sys.positions();
+    assert_eq!((p[0], p[1]), ((0, 0), (0, 0)), "back at the start");
+    let path = sys.path.take().unwrap();
+    let worst = path
+        .iter()
+        .map(|q| ((f64::from(q[0]) + r).hypot(f64::from(q[1])) - r).abs())
+        .fold(0.0, f64::max);
+    let top = path.iter().map(|q| q[1]).max().unwrap();
+    let bottom = path.iter().map(|q| q[1]).min().unwrap();
+    eprintln!(
+        "circle: {} clocks, worst radial error {worst:.2} steps",
+        path.len()
+    );
+    assert!((top, bottom) == (300, -300), "y reached {top} and {bottom}");
+    // Each axis follows its own segments; both start in one RUN write, so
+    // the path stays within a step or two of the circle.
+    assert!(worst <= 2.5, "radial error {worst:.2} steps");
+}
+
+#[test]
+fn six_axes_follow_a_master_at_their_ratios() {
+    let config = Config::new(6, 28, u64::from(CLOCK_HZ)).unwrap();
+    let tick_hz = 50_000;
+    let master = scurve_steps(600, tick_hz, 1e6, 2e9, 4e13);
+    // (num, den): the five followers' ratios K.
+    let ratios = [(1, 1), (2, 1), (-1, 1), (1, 2), (3, 2)];
+    let mut per_axis = vec![plan_segments(&master, CLOCK_HZ, tick_hz)];
+    for (num, den) in ratios {
+        let follower: Vec<i64> = master.iter().map(|m| (m * num).div_euclid(den)).collect();
+        per_axis.push(plan_segments(&follower, CLOCK_HZ, tick_hz));
+    }
+    let mut sys = System::<6>::new(&config);
+    sys.setup();
+    for (i, (num, den)) in ratios.iter().enumerate() {
+        sys.track(0, i + 1, *num, *den);
+    }
+    sys.run_move(&per_axis, 2_000_000).unwrap();
+    let p = sys.positions();
+    assert_eq!(p[0], (600, 600));
+    for (i, (num, den)) in ratios.iter().enumerate() {
+        let want = (600 * num / den) as i32;
+        assert_eq!(
+            p[i + 1],
+            (want, want),
+            "follower {} at K = {num}/{den}",
+            i + 1
+        );
+    }
+    // The firmware streams one segment per axis per tick and every axis
+    // times its own segments, so a follower may run ahead or behind within
+    // a tick: the bound is one tick of its motion (K x the master's most
+    // steps in a tick), in units of 1/den step.
+    let per_tick = master
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .max()
+        .unwrap();
+    assert!(
+        per_tick >= 10,
+        "the master moves {per_tick} steps a tick at most"
+    );
+    for &(_, s, num, den, err) in sys.tracking() {
+        eprintln!("follower {s} K = {num}/{den}: worst |s*den - num*m| = {err}");
+        assert!(
+            err <= num.abs() * per_tick,
+            "follower {s} strayed {err}/{den} steps from K x master"
+        );
+    }
+}
