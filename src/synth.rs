@@ -133,6 +133,10 @@ pub struct Design {
     /// Pin constraints (PCF or LPF text) or none (then nextpnr is told to
     /// allow unconstrained I/O).
     pub pins: Option<String>,
+    /// A block measured alone: on ECP5, nextpnr places it out of context
+    /// (no I/O buffers), so a block with more ports than the package has
+    /// pins (`pulse_generator`: 200 of 197) is measured too.
+    pub out_of_context: bool,
 }
 
 /// The board-level design for `config` with its pin constraints, if the
@@ -153,6 +157,7 @@ pub fn board_design(config: &Config, target: Target) -> Design {
             (format!("{}.v", board::MODULE), board::wrapper(config)),
         ],
         pins,
+        out_of_context: false,
     }
 }
 
@@ -162,6 +167,7 @@ pub fn block_design(module: catalog::VerilogModule) -> Design {
         top: module.name.to_string(),
         files: vec![(format!("{}.v", module.name), module.text)],
         pins: None,
+        out_of_context: true,
     }
 }
 
@@ -348,6 +354,9 @@ pub fn synthesize(
             std::fs::write(dir.join(pins_file), text).map_err(io)?;
             cmd.args([allow[0], pins_file]);
         }
+        None if design.out_of_context && target == Target::Ecp5_25k => {
+            cmd.arg("--out-of-context");
+        }
         None => {
             cmd.arg(allow[1]);
         }
@@ -461,6 +470,7 @@ pub fn all_blocks(config: &Config) -> Vec<Design> {
         block_design(catalog::counter_bank(config.axes(), config.counter_width())),
         block_design(catalog::fsmc_bridge()),
         block_design(catalog::isa_bridge(config.isa_ram())),
+        block_design(catalog::pulse_generator()),
         block_design(catalog::motion_controller(config)),
     ]
 }

@@ -582,9 +582,10 @@ extern "C" {
 #define MOTIONHDL_PULSE_AX_STATUS__FIFO_LEVEL_reset 0x0000u
 
 /*
- * AX[n].SEG_STEPS (AX[n] +0x18), write-only: Next segment: steps to command (unsigned). A data port
- * of the segment FIFO; the value holds until the next write, so a PUSH may repeat it. Write-only:
- * reads return 0.
+ * AX[n].SEG_STEPS (AX[n] +0x18), write-only: Next segment: steps to command (unsigned). Written
+ * straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while
+ * FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's
+ * old contents. Write-only: reads return 0.
  */
 #define MOTIONHDL_PULSE_AX_SEG_STEPS_OFFSET 0x0018u
 #define MOTIONHDL_PULSE_AX_SEG_STEPS_reset 0x0000u
@@ -595,9 +596,10 @@ extern "C" {
 #define MOTIONHDL_PULSE_AX_SEG_STEPS__VALUE_reset 0x0000u
 
 /*
- * AX[n].SEG_RATE (AX[n] +0x1c), write-only: Next segment: starting NCO rate (signed, as RATE). A
- * data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.
- * Write-only: reads return 0.
+ * AX[n].SEG_RATE (AX[n] +0x1c), write-only: Next segment: starting NCO rate (signed, as RATE).
+ * Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment
+ * while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the
+ * slot's old contents. Write-only: reads return 0.
  */
 #define MOTIONHDL_PULSE_AX_SEG_RATE_OFFSET 0x001cu
 #define MOTIONHDL_PULSE_AX_SEG_RATE_reset 0x0000u
@@ -609,8 +611,9 @@ extern "C" {
 
 /*
  * AX[n].SEG_ACCEL (AX[n] +0x20), write-only: Next segment: added to the rate on every clock the NCO
- * advances (signed). A data port of the segment FIFO; the value holds until the next write, so a
- * PUSH may repeat it. Write-only: reads return 0.
+ * advances (signed). Written straight into the FIFO's free tail slot; dropped while the FIFO is
+ * full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field
+ * not written keeps the slot's old contents. Write-only: reads return 0.
  */
 #define MOTIONHDL_PULSE_AX_SEG_ACCEL_OFFSET 0x0020u
 #define MOTIONHDL_PULSE_AX_SEG_ACCEL_reset 0x0000u

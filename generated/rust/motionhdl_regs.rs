@@ -956,9 +956,10 @@ pub mod pulse {
                 pub const RESET: u32 = 0x0;
             }
         }
-        /// SEG_STEPS, write-only: Next segment: steps to command (unsigned). A data port of the
-        /// segment FIFO; the value holds until the next write, so a PUSH may repeat it. Write-only:
-        /// reads return 0.
+        /// SEG_STEPS, write-only: Next segment: steps to command (unsigned). Written straight into
+        /// the FIFO's free tail slot; dropped while the FIFO is full (write a segment while
+        /// FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps
+        /// the slot's old contents. Write-only: reads return 0.
         pub mod seg_steps {
             /// Byte offset within one element.
             pub const OFFSET: usize = 0x0018;
@@ -976,9 +977,10 @@ pub mod pulse {
                 pub const RESET: u32 = 0x0;
             }
         }
-        /// SEG_RATE, write-only: Next segment: starting NCO rate (signed, as RATE). A data port of
-        /// the segment FIFO; the value holds until the next write, so a PUSH may repeat it.
-        /// Write-only: reads return 0.
+        /// SEG_RATE, write-only: Next segment: starting NCO rate (signed, as RATE). Written
+        /// straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment
+        /// while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written
+        /// keeps the slot's old contents. Write-only: reads return 0.
         pub mod seg_rate {
             /// Byte offset within one element.
             pub const OFFSET: usize = 0x001c;
@@ -997,8 +999,9 @@ pub mod pulse {
             }
         }
         /// SEG_ACCEL, write-only: Next segment: added to the rate on every clock the NCO advances
-        /// (signed). A data port of the segment FIFO; the value holds until the next write, so a
-        /// PUSH may repeat it. Write-only: reads return 0.
+        /// (signed). Written straight into the FIFO's free tail slot; dropped while the FIFO is
+        /// full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH:
+        /// a field not written keeps the slot's old contents. Write-only: reads return 0.
         pub mod seg_accel {
             /// Byte offset within one element.
             pub const OFFSET: usize = 0x0020;

@@ -1178,9 +1178,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_commanded;
     reg mcu_pulses_engines_0_advancing;
     reg mcu_pulses_engines_0_push;
-    reg [31:0] mcu_pulses_engines_0_seg_steps;
-    reg [31:0] mcu_pulses_engines_0_seg_rate;
-    reg [31:0] mcu_pulses_engines_0_seg_accel;
+    reg [31:0] mcu_pulses_engines_0_wdata;
+    reg mcu_pulses_engines_0_write_steps;
+    reg mcu_pulses_engines_0_write_rate;
+    reg mcu_pulses_engines_0_write_accel;
     reg mcu_pulses_engines_0_clear_overflow;
     reg [31:0] mcu_pulses_engines_0_rate;
     reg mcu_pulses_engines_0_active;
@@ -1192,9 +1193,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_commanded;
     reg mcu_pulses_engines_1_advancing;
     reg mcu_pulses_engines_1_push;
-    reg [31:0] mcu_pulses_engines_1_seg_steps;
-    reg [31:0] mcu_pulses_engines_1_seg_rate;
-    reg [31:0] mcu_pulses_engines_1_seg_accel;
+    reg [31:0] mcu_pulses_engines_1_wdata;
+    reg mcu_pulses_engines_1_write_steps;
+    reg mcu_pulses_engines_1_write_rate;
+    reg mcu_pulses_engines_1_write_accel;
     reg mcu_pulses_engines_1_clear_overflow;
     reg [31:0] mcu_pulses_engines_1_rate;
     reg mcu_pulses_engines_1_active;
@@ -1206,9 +1208,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_commanded;
     reg mcu_pulses_engines_2_advancing;
     reg mcu_pulses_engines_2_push;
-    reg [31:0] mcu_pulses_engines_2_seg_steps;
-    reg [31:0] mcu_pulses_engines_2_seg_rate;
-    reg [31:0] mcu_pulses_engines_2_seg_accel;
+    reg [31:0] mcu_pulses_engines_2_wdata;
+    reg mcu_pulses_engines_2_write_steps;
+    reg mcu_pulses_engines_2_write_rate;
+    reg mcu_pulses_engines_2_write_accel;
     reg mcu_pulses_engines_2_clear_overflow;
     reg [31:0] mcu_pulses_engines_2_rate;
     reg mcu_pulses_engines_2_active;
@@ -1220,39 +1223,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_commanded;
     reg mcu_pulses_engines_3_advancing;
     reg mcu_pulses_engines_3_push;
-    reg [31:0] mcu_pulses_engines_3_seg_steps;
-    reg [31:0] mcu_pulses_engines_3_seg_rate;
-    reg [31:0] mcu_pulses_engines_3_seg_accel;
+    reg [31:0] mcu_pulses_engines_3_wdata;
+    reg mcu_pulses_engines_3_write_steps;
+    reg mcu_pulses_engines_3_write_rate;
+    reg mcu_pulses_engines_3_write_accel;
     reg mcu_pulses_engines_3_clear_overflow;
     reg [31:0] mcu_pulses_engines_3_rate;
     reg mcu_pulses_engines_3_active;
     reg mcu_pulses_engines_3_done;
     reg mcu_pulses_engines_3_overflow;
     reg [2:0] mcu_pulses_engines_3_level;
-    reg [31:0] mcu_pulses_seg_steps_0_d;
-    reg [31:0] mcu_pulses_seg_steps_0_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_steps_1_d;
-    reg [31:0] mcu_pulses_seg_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_steps_2_d;
-    reg [31:0] mcu_pulses_seg_steps_2_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_steps_3_d;
-    reg [31:0] mcu_pulses_seg_steps_3_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_rate_0_d;
-    reg [31:0] mcu_pulses_seg_rate_0_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_rate_1_d;
-    reg [31:0] mcu_pulses_seg_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_rate_2_d;
-    reg [31:0] mcu_pulses_seg_rate_2_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_rate_3_d;
-    reg [31:0] mcu_pulses_seg_rate_3_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_accel_0_d;
-    reg [31:0] mcu_pulses_seg_accel_0_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_accel_1_d;
-    reg [31:0] mcu_pulses_seg_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_accel_2_d;
-    reg [31:0] mcu_pulses_seg_accel_2_q = 32'h0;
-    reg [31:0] mcu_pulses_seg_accel_3_d;
-    reg [31:0] mcu_pulses_seg_accel_3_q = 32'h0;
     reg mcu_pulses_selectors_0_reset;
     reg mcu_pulses_selectors_0_k;
     reg mcu_pulses_selectors_0_s1;
@@ -3583,17 +3563,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_0_d = mcu_pulses_selectors_0_f1;
             mcu_pulses_out_f2_0_d = mcu_pulses_selectors_0_f2;
         end
-        mcu_pulses_seg_steps_0_d = mcu_pulses_seg_steps_0_q;
-        mcu_pulses_seg_rate_0_d = mcu_pulses_seg_rate_0_q;
-        mcu_pulses_seg_accel_0_d = mcu_pulses_seg_accel_0_q;
         mcu_pulses_engines_0_reset = mcu_pulses_reset;
         mcu_pulses_engines_0_run = mcu_pulses_ctrl_0_q[2] & mcu_pulses_run_q[0];
         mcu_pulses_engines_0_commanded = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_commanded;
         mcu_pulses_engines_0_advancing = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_advancing;
         mcu_pulses_engines_0_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_0);
-        mcu_pulses_engines_0_seg_steps = mcu_pulses_seg_steps_0_q;
-        mcu_pulses_engines_0_seg_rate = mcu_pulses_seg_rate_0_q;
-        mcu_pulses_engines_0_seg_accel = mcu_pulses_seg_accel_0_q;
+        mcu_pulses_engines_0_wdata = mcu_pulses_wdata;
+        mcu_pulses_engines_0_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_0);
+        mcu_pulses_engines_0_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_0);
+        mcu_pulses_engines_0_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_0);
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
         mcu_pulses_ctrl_0_d = mcu_pulses_ctrl_0_q;
         mcu_pulses_rate_0_d = mcu_pulses_rate_0_q;
@@ -3634,15 +3612,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_0) begin
                 mcu_pulses_dir_timing_0_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_0) begin
-                mcu_pulses_seg_steps_0_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_0) begin
-                mcu_pulses_seg_rate_0_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_0) begin
-                mcu_pulses_seg_accel_0_d = mcu_pulses_wdata;
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_0) begin
@@ -3702,9 +3671,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_step_timing_0_d = 32'h0;
             mcu_pulses_dir_timing_0_d = 32'h0;
             mcu_pulses_snap_0_d = 32'h0;
-            mcu_pulses_seg_steps_0_d = 32'h0;
-            mcu_pulses_seg_rate_0_d = 32'h0;
-            mcu_pulses_seg_accel_0_d = 32'h0;
         end
         mcu_pulses_quadrature_a_1_d = mcu_pulses_generators_1_position[0] ^ mcu_pulses_generators_1_position[1];
         mcu_pulses_quadrature_b_1_d = mcu_pulses_generators_1_position[1];
@@ -3716,17 +3682,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_1_d = mcu_pulses_selectors_1_f1;
             mcu_pulses_out_f2_1_d = mcu_pulses_selectors_1_f2;
         end
-        mcu_pulses_seg_steps_1_d = mcu_pulses_seg_steps_1_q;
-        mcu_pulses_seg_rate_1_d = mcu_pulses_seg_rate_1_q;
-        mcu_pulses_seg_accel_1_d = mcu_pulses_seg_accel_1_q;
         mcu_pulses_engines_1_reset = mcu_pulses_reset;
         mcu_pulses_engines_1_run = mcu_pulses_ctrl_1_q[2] & mcu_pulses_run_q[1];
         mcu_pulses_engines_1_commanded = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_commanded;
         mcu_pulses_engines_1_advancing = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_advancing;
         mcu_pulses_engines_1_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_1);
-        mcu_pulses_engines_1_seg_steps = mcu_pulses_seg_steps_1_q;
-        mcu_pulses_engines_1_seg_rate = mcu_pulses_seg_rate_1_q;
-        mcu_pulses_engines_1_seg_accel = mcu_pulses_seg_accel_1_q;
+        mcu_pulses_engines_1_wdata = mcu_pulses_wdata;
+        mcu_pulses_engines_1_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_1);
+        mcu_pulses_engines_1_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_1);
+        mcu_pulses_engines_1_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_1);
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
         mcu_pulses_ctrl_1_d = mcu_pulses_ctrl_1_q;
         mcu_pulses_rate_1_d = mcu_pulses_rate_1_q;
@@ -3767,15 +3731,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_1) begin
                 mcu_pulses_dir_timing_1_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_1) begin
-                mcu_pulses_seg_steps_1_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_1) begin
-                mcu_pulses_seg_rate_1_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_1) begin
-                mcu_pulses_seg_accel_1_d = mcu_pulses_wdata;
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_1) begin
@@ -3835,9 +3790,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_step_timing_1_d = 32'h0;
             mcu_pulses_dir_timing_1_d = 32'h0;
             mcu_pulses_snap_1_d = 32'h0;
-            mcu_pulses_seg_steps_1_d = 32'h0;
-            mcu_pulses_seg_rate_1_d = 32'h0;
-            mcu_pulses_seg_accel_1_d = 32'h0;
         end
         mcu_pulses_quadrature_a_2_d = mcu_pulses_generators_2_position[0] ^ mcu_pulses_generators_2_position[1];
         mcu_pulses_quadrature_b_2_d = mcu_pulses_generators_2_position[1];
@@ -3849,17 +3801,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_2_d = mcu_pulses_selectors_2_f1;
             mcu_pulses_out_f2_2_d = mcu_pulses_selectors_2_f2;
         end
-        mcu_pulses_seg_steps_2_d = mcu_pulses_seg_steps_2_q;
-        mcu_pulses_seg_rate_2_d = mcu_pulses_seg_rate_2_q;
-        mcu_pulses_seg_accel_2_d = mcu_pulses_seg_accel_2_q;
         mcu_pulses_engines_2_reset = mcu_pulses_reset;
         mcu_pulses_engines_2_run = mcu_pulses_ctrl_2_q[2] & mcu_pulses_run_q[2];
         mcu_pulses_engines_2_commanded = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_commanded;
         mcu_pulses_engines_2_advancing = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_advancing;
         mcu_pulses_engines_2_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_2);
-        mcu_pulses_engines_2_seg_steps = mcu_pulses_seg_steps_2_q;
-        mcu_pulses_engines_2_seg_rate = mcu_pulses_seg_rate_2_q;
-        mcu_pulses_engines_2_seg_accel = mcu_pulses_seg_accel_2_q;
+        mcu_pulses_engines_2_wdata = mcu_pulses_wdata;
+        mcu_pulses_engines_2_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_2);
+        mcu_pulses_engines_2_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_2);
+        mcu_pulses_engines_2_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_2);
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
         mcu_pulses_ctrl_2_d = mcu_pulses_ctrl_2_q;
         mcu_pulses_rate_2_d = mcu_pulses_rate_2_q;
@@ -3900,15 +3850,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_2) begin
                 mcu_pulses_dir_timing_2_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_2) begin
-                mcu_pulses_seg_steps_2_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_2) begin
-                mcu_pulses_seg_rate_2_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_2) begin
-                mcu_pulses_seg_accel_2_d = mcu_pulses_wdata;
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_2) begin
@@ -3968,9 +3909,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_step_timing_2_d = 32'h0;
             mcu_pulses_dir_timing_2_d = 32'h0;
             mcu_pulses_snap_2_d = 32'h0;
-            mcu_pulses_seg_steps_2_d = 32'h0;
-            mcu_pulses_seg_rate_2_d = 32'h0;
-            mcu_pulses_seg_accel_2_d = 32'h0;
         end
         mcu_pulses_quadrature_a_3_d = mcu_pulses_generators_3_position[0] ^ mcu_pulses_generators_3_position[1];
         mcu_pulses_quadrature_b_3_d = mcu_pulses_generators_3_position[1];
@@ -3982,17 +3920,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_3_d = mcu_pulses_selectors_3_f1;
             mcu_pulses_out_f2_3_d = mcu_pulses_selectors_3_f2;
         end
-        mcu_pulses_seg_steps_3_d = mcu_pulses_seg_steps_3_q;
-        mcu_pulses_seg_rate_3_d = mcu_pulses_seg_rate_3_q;
-        mcu_pulses_seg_accel_3_d = mcu_pulses_seg_accel_3_q;
         mcu_pulses_engines_3_reset = mcu_pulses_reset;
         mcu_pulses_engines_3_run = mcu_pulses_ctrl_3_q[2] & mcu_pulses_run_q[3];
         mcu_pulses_engines_3_commanded = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_commanded;
         mcu_pulses_engines_3_advancing = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_advancing;
         mcu_pulses_engines_3_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_3);
-        mcu_pulses_engines_3_seg_steps = mcu_pulses_seg_steps_3_q;
-        mcu_pulses_engines_3_seg_rate = mcu_pulses_seg_rate_3_q;
-        mcu_pulses_engines_3_seg_accel = mcu_pulses_seg_accel_3_q;
+        mcu_pulses_engines_3_wdata = mcu_pulses_wdata;
+        mcu_pulses_engines_3_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_3);
+        mcu_pulses_engines_3_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_3);
+        mcu_pulses_engines_3_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_3);
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
         mcu_pulses_ctrl_3_d = mcu_pulses_ctrl_3_q;
         mcu_pulses_rate_3_d = mcu_pulses_rate_3_q;
@@ -4033,15 +3969,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_3) begin
                 mcu_pulses_dir_timing_3_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_steps_3) begin
-                mcu_pulses_seg_steps_3_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_rate_3) begin
-                mcu_pulses_seg_rate_3_d = mcu_pulses_wdata;
-            end
-            if (mcu_pulses_addr == mcu_pulses_addr_seg_accel_3) begin
-                mcu_pulses_seg_accel_3_d = mcu_pulses_wdata;
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_3) begin
@@ -4101,9 +4028,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_step_timing_3_d = 32'h0;
             mcu_pulses_dir_timing_3_d = 32'h0;
             mcu_pulses_snap_3_d = 32'h0;
-            mcu_pulses_seg_steps_3_d = 32'h0;
-            mcu_pulses_seg_rate_3_d = 32'h0;
-            mcu_pulses_seg_accel_3_d = 32'h0;
         end
         if (mcu_pulses_read_pending_q) begin
             mcu_pulses_read_data_d = mcu_pulses_read_value;
@@ -4687,6 +4611,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_done_q_d = 1'b1;
         end
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop;
+        if (mcu_pulses_engines_0_count_after_pop != mcu_pulses_engines_0_full) begin
+            if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_0) begin
+                if (mcu_pulses_engines_0_write_steps) begin
+                    mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_wdata;
+                end
+                if (mcu_pulses_engines_0_write_rate) begin
+                    mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_wdata;
+                end
+                if (mcu_pulses_engines_0_write_accel) begin
+                    mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_wdata;
+                end
+            end
+            if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_1) begin
+                if (mcu_pulses_engines_0_write_steps) begin
+                    mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_wdata;
+                end
+                if (mcu_pulses_engines_0_write_rate) begin
+                    mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_wdata;
+                end
+                if (mcu_pulses_engines_0_write_accel) begin
+                    mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_wdata;
+                end
+            end
+        end
         if (mcu_pulses_engines_0_push) begin
             if (mcu_pulses_engines_0_count_after_pop == mcu_pulses_engines_0_full) begin
                 mcu_pulses_engines_0_overflow_q_d = 1'b1;
@@ -4694,16 +4642,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             else begin
                 mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop + 3'h1;
                 mcu_pulses_engines_0_done_q_d = 1'b0;
-                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_0) begin
-                    mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_seg_steps;
-                    mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_seg_rate;
-                    mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_seg_accel;
-                end
-                if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_1) begin
-                    mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_seg_steps;
-                    mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_seg_rate;
-                    mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_0_clear_overflow) begin
@@ -4796,6 +4734,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_done_q_d = 1'b1;
         end
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop;
+        if (mcu_pulses_engines_1_count_after_pop != mcu_pulses_engines_1_full) begin
+            if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_0) begin
+                if (mcu_pulses_engines_1_write_steps) begin
+                    mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_wdata;
+                end
+                if (mcu_pulses_engines_1_write_rate) begin
+                    mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_wdata;
+                end
+                if (mcu_pulses_engines_1_write_accel) begin
+                    mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_wdata;
+                end
+            end
+            if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_1) begin
+                if (mcu_pulses_engines_1_write_steps) begin
+                    mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_wdata;
+                end
+                if (mcu_pulses_engines_1_write_rate) begin
+                    mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_wdata;
+                end
+                if (mcu_pulses_engines_1_write_accel) begin
+                    mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_wdata;
+                end
+            end
+        end
         if (mcu_pulses_engines_1_push) begin
             if (mcu_pulses_engines_1_count_after_pop == mcu_pulses_engines_1_full) begin
                 mcu_pulses_engines_1_overflow_q_d = 1'b1;
@@ -4803,16 +4765,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             else begin
                 mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop + 3'h1;
                 mcu_pulses_engines_1_done_q_d = 1'b0;
-                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_0) begin
-                    mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_seg_steps;
-                    mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_seg_rate;
-                    mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_seg_accel;
-                end
-                if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_1) begin
-                    mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_seg_steps;
-                    mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_seg_rate;
-                    mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_1_clear_overflow) begin
@@ -4905,6 +4857,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_done_q_d = 1'b1;
         end
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop;
+        if (mcu_pulses_engines_2_count_after_pop != mcu_pulses_engines_2_full) begin
+            if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_0) begin
+                if (mcu_pulses_engines_2_write_steps) begin
+                    mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_wdata;
+                end
+                if (mcu_pulses_engines_2_write_rate) begin
+                    mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_wdata;
+                end
+                if (mcu_pulses_engines_2_write_accel) begin
+                    mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_wdata;
+                end
+            end
+            if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_1) begin
+                if (mcu_pulses_engines_2_write_steps) begin
+                    mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_wdata;
+                end
+                if (mcu_pulses_engines_2_write_rate) begin
+                    mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_wdata;
+                end
+                if (mcu_pulses_engines_2_write_accel) begin
+                    mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_wdata;
+                end
+            end
+        end
         if (mcu_pulses_engines_2_push) begin
             if (mcu_pulses_engines_2_count_after_pop == mcu_pulses_engines_2_full) begin
                 mcu_pulses_engines_2_overflow_q_d = 1'b1;
@@ -4912,16 +4888,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             else begin
                 mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop + 3'h1;
                 mcu_pulses_engines_2_done_q_d = 1'b0;
-                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_0) begin
-                    mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_seg_steps;
-                    mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_seg_rate;
-                    mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_seg_accel;
-                end
-                if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_1) begin
-                    mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_seg_steps;
-                    mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_seg_rate;
-                    mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_2_clear_overflow) begin
@@ -5014,6 +4980,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_done_q_d = 1'b1;
         end
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop;
+        if (mcu_pulses_engines_3_count_after_pop != mcu_pulses_engines_3_full) begin
+            if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_0) begin
+                if (mcu_pulses_engines_3_write_steps) begin
+                    mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_wdata;
+                end
+                if (mcu_pulses_engines_3_write_rate) begin
+                    mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_wdata;
+                end
+                if (mcu_pulses_engines_3_write_accel) begin
+                    mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_wdata;
+                end
+            end
+            if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_1) begin
+                if (mcu_pulses_engines_3_write_steps) begin
+                    mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_wdata;
+                end
+                if (mcu_pulses_engines_3_write_rate) begin
+                    mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_wdata;
+                end
+                if (mcu_pulses_engines_3_write_accel) begin
+                    mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_wdata;
+                end
+            end
+        end
         if (mcu_pulses_engines_3_push) begin
             if (mcu_pulses_engines_3_count_after_pop == mcu_pulses_engines_3_full) begin
                 mcu_pulses_engines_3_overflow_q_d = 1'b1;
@@ -5021,16 +5011,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             else begin
                 mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop + 3'h1;
                 mcu_pulses_engines_3_done_q_d = 1'b0;
-                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_0) begin
-                    mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_seg_steps;
-                    mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_seg_rate;
-                    mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_seg_accel;
-                end
-                if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_1) begin
-                    mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_seg_steps;
-                    mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_seg_rate;
-                    mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_seg_accel;
-                end
             end
         end
         if (mcu_pulses_engines_3_clear_overflow) begin
@@ -5711,18 +5691,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_fifo_rate_1_q <= mcu_pulses_engines_3_fifo_rate_1_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_accel_0_q <= mcu_pulses_engines_3_fifo_accel_0_d;
     always @(posedge clock) mcu_pulses_engines_3_fifo_accel_1_q <= mcu_pulses_engines_3_fifo_accel_1_d;
-    always @(posedge clock) mcu_pulses_seg_steps_0_q <= mcu_pulses_seg_steps_0_d;
-    always @(posedge clock) mcu_pulses_seg_steps_1_q <= mcu_pulses_seg_steps_1_d;
-    always @(posedge clock) mcu_pulses_seg_steps_2_q <= mcu_pulses_seg_steps_2_d;
-    always @(posedge clock) mcu_pulses_seg_steps_3_q <= mcu_pulses_seg_steps_3_d;
-    always @(posedge clock) mcu_pulses_seg_rate_0_q <= mcu_pulses_seg_rate_0_d;
-    always @(posedge clock) mcu_pulses_seg_rate_1_q <= mcu_pulses_seg_rate_1_d;
-    always @(posedge clock) mcu_pulses_seg_rate_2_q <= mcu_pulses_seg_rate_2_d;
-    always @(posedge clock) mcu_pulses_seg_rate_3_q <= mcu_pulses_seg_rate_3_d;
-    always @(posedge clock) mcu_pulses_seg_accel_0_q <= mcu_pulses_seg_accel_0_d;
-    always @(posedge clock) mcu_pulses_seg_accel_1_q <= mcu_pulses_seg_accel_1_d;
-    always @(posedge clock) mcu_pulses_seg_accel_2_q <= mcu_pulses_seg_accel_2_d;
-    always @(posedge clock) mcu_pulses_seg_accel_3_q <= mcu_pulses_seg_accel_3_d;
     always @(posedge clock) mcu_pulses_selectors_0_f1_reg_q <= mcu_pulses_selectors_0_f1_reg_d;
     always @(posedge clock) mcu_pulses_selectors_0_f2_reg_q <= mcu_pulses_selectors_0_f2_reg_d;
     always @(posedge clock) mcu_pulses_selectors_1_f1_reg_q <= mcu_pulses_selectors_1_f1_reg_d;

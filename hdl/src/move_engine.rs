@@ -9,7 +9,8 @@ const DEPTH: usize = SEGMENT_FIFO_DEPTH;
 /// Bits of the head and tail pointers (DEPTH is a power of two).
 const PTR: usize = DEPTH.trailing_zeros() as usize;
 
-/// The segment FIFO and the running segment. A segment commands exactly
+/// The segment FIFO and the running segment. SEG_* writes go straight into
+/// the FIFO's tail slot (no staging registers). A segment commands exactly
 /// its `steps` steps (counted on `commanded`), its rate growing by `accel`
 /// on every clock the NCO advances; then the next segment loads. `done`
 /// rises when the last pushed segment has commanded all its steps.
@@ -25,11 +26,17 @@ pub struct MoveEngine {
     pub commanded: Signal<In, Bit>,
     /// The NCO's phase advanced this clock.
     pub advancing: Signal<In, Bit>,
-    /// Push {seg_steps, seg_rate, seg_accel} at this edge.
+    /// Push the tail slot at this edge (SEG_PUSH).
     pub push: Signal<In, Bit>,
-    pub seg_steps: Signal<In, Bits<32>>,
-    pub seg_rate: Signal<In, Bits<32>>,
-    pub seg_accel: Signal<In, Bits<32>>,
+    /// Write data for the tail slot's fields.
+    pub wdata: Signal<In, Bits<32>>,
+    /// Write `wdata` into the tail slot's steps (SEG_STEPS); dropped while
+    /// the FIFO is full.
+    pub write_steps: Signal<In, Bit>,
+    /// The same for the start rate (SEG_RATE).
+    pub write_rate: Signal<In, Bit>,
+    /// The same for the rate increment (SEG_ACCEL).
+    pub write_accel: Signal<In, Bit>,
     /// Clear the sticky overflow flag.
     pub clear_overflow: Signal<In, Bit>,
     /// The NCO rate: the running segment's, or 0.
@@ -87,9 +94,10 @@ impl MoveEngine {
             commanded: Default::default(),
             advancing: Default::default(),
             push: Default::default(),
-            seg_steps: Default::default(),
-            seg_rate: Default::default(),
-            seg_accel: Default::default(),
+            wdata: Default::default(),
+            write_steps: Default::default(),
+            write_rate: Default::default(),
+            write_accel: Default::default(),
             clear_overflow: Default::default(),
             rate: Default::default(),
             active: Default::default(),
@@ -188,19 +196,29 @@ impl Logic for MoveEngine {
             self.done_q.d.next = true;
         }
         self.count.d.next = self.count_after_pop.val();
+        // SEG_* writes land in the tail slot while there is room (the tail
+        // names the same slot before and after a pop in this clock).
+        if self.count_after_pop.val() != self.full.val() {
+            for j in 0..DEPTH {
+                if self.tail.val() == self.slot[j].val() {
+                    if self.write_steps.val() {
+                        self.fifo_steps[j].d.next = self.wdata.val();
+                    }
+                    if self.write_rate.val() {
+                        self.fifo_rate[j].d.next = self.wdata.val();
+                    }
+                    if self.write_accel.val() {
+                        self.fifo_accel[j].d.next = self.wdata.val();
+                    }
+                }
+            }
+        }
         if self.push.val() {
             if self.count_after_pop.val() == self.full.val() {
                 self.overflow_q.d.next = true;
             } else {
                 self.count.d.next = self.count_after_pop.val() + 1;
                 self.done_q.d.next = false;
-                for j in 0..DEPTH {
-                    if self.tail.val() == self.slot[j].val() {
-                        self.fifo_steps[j].d.next = self.seg_steps.val();
-                        self.fifo_rate[j].d.next = self.seg_rate.val();
-                        self.fifo_accel[j].d.next = self.seg_accel.val();
-                    }
-                }
             }
         }
         if self.clear_overflow.val() {

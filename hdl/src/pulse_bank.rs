@@ -34,9 +34,6 @@ pub struct PulseBank<const N: usize> {
     pub f2: Signal<Out, Bits<N>>,
     generators: Vec<PulseGenerator>,
     engines: Vec<MoveEngine>,
-    seg_steps: Vec<DFF<Bits<32>>>,
-    seg_rate: Vec<DFF<Bits<32>>>,
-    seg_accel: Vec<DFF<Bits<32>>>,
     selectors: Vec<PulseModeSelectorRegistered>,
     run: DFF<Bits<N>>,
     ctrl: Vec<DFF<Bits<3>>>,
@@ -113,9 +110,6 @@ impl<const N: usize> PulseBank<N> {
             f2: Default::default(),
             generators: (0..N).map(|_| PulseGenerator::new()).collect(),
             engines: (0..N).map(|_| MoveEngine::new()).collect(),
-            seg_steps: (0..N).map(|_| Default::default()).collect(),
-            seg_rate: (0..N).map(|_| Default::default()).collect(),
-            seg_accel: (0..N).map(|_| Default::default()).collect(),
             selectors: (0..N)
                 .map(|_| PulseModeSelectorRegistered::default())
                 .collect(),
@@ -219,12 +213,6 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.step_timing[i].clock.next = self.clock.val();
             self.dir_timing[i].clock.next = self.clock.val();
             self.snap[i].clock.next = self.clock.val();
-            self.seg_steps[i].clock.next = self.clock.val();
-            self.seg_rate[i].clock.next = self.clock.val();
-            self.seg_accel[i].clock.next = self.clock.val();
-            self.seg_steps[i].d.next = self.seg_steps[i].q.val();
-            self.seg_rate[i].d.next = self.seg_rate[i].q.val();
-            self.seg_accel[i].d.next = self.seg_accel[i].q.val();
             // Moves: the engine sets the NCO's rate while CTRL.MOVES.
             self.engines[i].clock.next = self.clock.val();
             self.engines[i].reset.next = self.reset.val();
@@ -236,9 +224,13 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.ctrl[i].q.val().get_bit(2) & self.generators[i].advancing.val();
             self.engines[i].push.next =
                 self.we.val() & (self.addr.val() == self.addr_seg_push[i].val());
-            self.engines[i].seg_steps.next = self.seg_steps[i].q.val();
-            self.engines[i].seg_rate.next = self.seg_rate[i].q.val();
-            self.engines[i].seg_accel.next = self.seg_accel[i].q.val();
+            self.engines[i].wdata.next = self.wdata.val();
+            self.engines[i].write_steps.next =
+                self.we.val() & (self.addr.val() == self.addr_seg_steps[i].val());
+            self.engines[i].write_rate.next =
+                self.we.val() & (self.addr.val() == self.addr_seg_rate[i].val());
+            self.engines[i].write_accel.next =
+                self.we.val() & (self.addr.val() == self.addr_seg_accel[i].val());
             self.engines[i].clear_overflow.next =
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
             self.ctrl[i].d.next = self.ctrl[i].q.val();
@@ -283,15 +275,6 @@ impl<const N: usize> Logic for PulseBank<N> {
                 }
                 if self.addr.val() == self.addr_dir_timing[i].val() {
                     self.dir_timing[i].d.next = self.wdata.val();
-                }
-                if self.addr.val() == self.addr_seg_steps[i].val() {
-                    self.seg_steps[i].d.next = self.wdata.val();
-                }
-                if self.addr.val() == self.addr_seg_rate[i].val() {
-                    self.seg_rate[i].d.next = self.wdata.val();
-                }
-                if self.addr.val() == self.addr_seg_accel[i].val() {
-                    self.seg_accel[i].d.next = self.wdata.val();
                 }
             }
             if self.read_addr.q.val() == self.addr_ctrl[i].val() {
@@ -352,9 +335,6 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.step_timing[i].d.next = 0.into();
                 self.dir_timing[i].d.next = 0.into();
                 self.snap[i].d.next = 0.into();
-                self.seg_steps[i].d.next = 0.into();
-                self.seg_rate[i].d.next = 0.into();
-                self.seg_accel[i].d.next = 0.into();
             }
         }
         if self.read_pending.q.val() {

@@ -273,11 +273,25 @@ pub struct Segment {
     pub accel: i32,
 }
 
+/// A field of the segment being written (the SEG_* registers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SegmentField {
+    Steps,
+    Rate,
+    Accel,
+}
+
 /// Position moves: a FIFO of segments the MCU streams (e.g. to follow an
-/// S-curve) and the segment being run.
+/// S-curve) and the segment being run. The SEG_* writes go straight into
+/// the FIFO's free tail slot (no staging registers: 96 flip-flops less per
+/// axis); while the FIFO is full they are dropped, and a PUSH then
+/// overflows. A slot keeps what was last written into it, so fields not
+/// written since the slot last held a segment carry that old value.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct MoveEngine {
-    fifo: std::collections::VecDeque<Segment>,
+    slots: [Segment; SEGMENT_FIFO_DEPTH],
+    head: usize,
+    count: usize,
     active: bool,
     rate: i32,
     accel: i32,
@@ -309,7 +323,7 @@ impl MoveEngine {
         self.overflow
     }
     pub fn level(&self) -> usize {
-        self.fifo.len()
+        self.count
     }
     /// (active, rate, remaining, done, overflow, level): the registers the
     /// gateware compares.
@@ -320,17 +334,47 @@ impl MoveEngine {
             self.remaining,
             self.done,
             self.overflow,
-            self.fifo.len() as u32,
+            self.count as u32,
         )
     }
     pub fn clear_overflow(&mut self) {
         self.overflow = false;
     }
 
-    /// One edge. `run`: the axis's RUN bit; `commanded`: the NCO commanded
-    /// a step this clock; `advancing`: the NCO's phase advanced.
+    /// One edge with a whole segment pushed at once (its three fields
+    /// written into the tail slot and pushed in the same edge).
     pub fn clock(&mut self, run: bool, commanded: bool, advancing: bool, push: Option<Segment>) {
+        let writes = push.map(|s| {
+            [
+                (SegmentField::Steps, s.steps),
+                (SegmentField::Rate, s.rate as u32),
+                (SegmentField::Accel, s.accel as u32),
+            ]
+        });
+        self.clock_bus(
+            run,
+            commanded,
+            advancing,
+            writes.as_ref().map_or(&[][..], |w| &w[..]),
+            push.is_some(),
+        );
+    }
+
+    /// One edge. `run`: the axis's RUN bit; `commanded`: the NCO commanded
+    /// a step this clock; `advancing`: the NCO's phase advanced; `writes`:
+    /// SEG_* fields written this clock; `push`: SEG_PUSH written.
+    pub fn clock_bus(
+        &mut self,
+        run: bool,
+        commanded: bool,
+        advancing: bool,
+        writes: &[(SegmentField, u32)],
+        push: bool,
+    ) {
         let mut ended = false;
+        // The tail slot, from the state before this edge (a pop moves head
+        // and count together, so it names the same slot after it).
+        let tail = (self.head + self.count) % SEGMENT_FIFO_DEPTH;
         if self.active {
             if commanded {
                 self.remaining -= 1;
@@ -342,21 +386,32 @@ impl MoveEngine {
             if advancing {
                 self.rate = self.rate.wrapping_add(self.accel);
             }
-        } else if run {
-            if let Some(seg) = self.fifo.pop_front() {
-                self.active = seg.steps != 0;
-                ended = seg.steps == 0;
-                self.rate = seg.rate;
-                self.accel = seg.accel;
-                self.remaining = seg.steps;
-            }
+        } else if run && self.count > 0 {
+            let seg = self.slots[self.head];
+            self.head = (self.head + 1) % SEGMENT_FIFO_DEPTH;
+            self.count -= 1;
+            self.active = seg.steps != 0;
+            ended = seg.steps == 0;
+            self.rate = seg.rate;
+            self.accel = seg.accel;
+            self.remaining = seg.steps;
         }
-        if ended && self.fifo.is_empty() {
+        if ended && self.count == 0 {
             self.done = true;
         }
-        if let Some(seg) = push {
-            if self.fifo.len() < SEGMENT_FIFO_DEPTH {
-                self.fifo.push_back(seg);
+        if self.count < SEGMENT_FIFO_DEPTH {
+            let slot = &mut self.slots[tail];
+            for &(field, v) in writes {
+                match field {
+                    SegmentField::Steps => slot.steps = v,
+                    SegmentField::Rate => slot.rate = v as i32,
+                    SegmentField::Accel => slot.accel = v as i32,
+                }
+            }
+        }
+        if push {
+            if self.count < SEGMENT_FIFO_DEPTH {
+                self.count += 1;
                 self.done = false;
             } else {
                 self.overflow = true;
@@ -386,9 +441,6 @@ pub struct PulseBank {
     rate: Vec<u32>,
     step_timing: Vec<u32>,
     dir_timing: Vec<u32>,
-    seg_steps: Vec<u32>,
-    seg_rate: Vec<u32>,
-    seg_accel: Vec<u32>,
     engines: Vec<MoveEngine>,
     snap: Vec<u32>,
     generators: Vec<PulseGenerator>,
@@ -411,9 +463,6 @@ impl PulseBank {
             rate: vec![0; n],
             step_timing: vec![0; n],
             dir_timing: vec![0; n],
-            seg_steps: vec![0; n],
-            seg_rate: vec![0; n],
-            seg_accel: vec![0; n],
             engines: vec![MoveEngine::default(); n],
             snap: vec![0; n],
             generators: vec![PulseGenerator::new(); n],
@@ -493,9 +542,9 @@ impl PulseBank {
                         "STEP_TIMING" => self.step_timing[i],
                         "DIR_TIMING" => self.dir_timing[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
-                        // Write-only: the FIFO's data ports (firmware keeps
-                        // its own copy; reading them back costs a 96-bit
-                        // read-mux leg per axis).
+                        // Write-only: they write the FIFO's tail slot
+                        // (reading them back would cost a 96-bit read-mux
+                        // leg per axis).
                         "SEG_STEPS" | "SEG_RATE" | "SEG_ACCEL" | "SEG_PUSH" => 0,
                         "STATUS" => {
                             let t = self.generators[i].timer.state();
@@ -544,16 +593,22 @@ impl PulseBank {
                 self.snap[i] = crate::counter::wrap(self.generators[i].position, self.width);
             }
             let (request, blocked) = self.generators[i].request(&inputs);
-            let push = (bus.we && self.is(bus.addr, "SEG_PUSH", i)).then(|| Segment {
-                steps: self.seg_steps[i],
-                rate: self.seg_rate[i] as i32,
-                accel: self.seg_accel[i] as i32,
-            });
+            let push = bus.we && self.is(bus.addr, "SEG_PUSH", i);
+            let writes: Vec<(SegmentField, u32)> = [
+                ("SEG_STEPS", SegmentField::Steps),
+                ("SEG_RATE", SegmentField::Rate),
+                ("SEG_ACCEL", SegmentField::Accel),
+            ]
+            .into_iter()
+            .filter(|(name, _)| bus.we && self.is(bus.addr, name, i))
+            .map(|(_, f)| (f, bus.wdata))
+            .collect();
             let moves = self.moves(i);
-            self.engines[i].clock(
+            self.engines[i].clock_bus(
                 moves && inputs.enable,
                 moves && request != Request::None,
                 moves && inputs.enable && !blocked,
+                &writes,
                 push,
             );
             self.generators[i].clock(&inputs, false);
@@ -569,9 +624,6 @@ impl PulseBank {
                         self.ctrl[i as usize] = v;
                         self.engines[i as usize].clear_overflow();
                     }
-                    ("SEG_STEPS", Some(i)) => self.seg_steps[i as usize] = v,
-                    ("SEG_RATE", Some(i)) => self.seg_rate[i as usize] = v,
-                    ("SEG_ACCEL", Some(i)) => self.seg_accel[i as usize] = v,
                     ("RATE", Some(i)) => self.rate[i as usize] = v,
                     ("STEP_TIMING", Some(i)) => self.step_timing[i as usize] = v,
                     ("DIR_TIMING", Some(i)) => self.dir_timing[i as usize] = v,
@@ -668,5 +720,43 @@ mod tests {
         }
         assert_eq!(g.timer.state().pending, 0);
         assert!(!g.outputs().0);
+    }
+
+    /// SEG_* writes fill the tail slot; while the FIFO is full they are
+    /// dropped, and a field not written keeps the slot's old contents.
+    #[test]
+    fn segment_writes_go_to_the_tail_slot_and_are_dropped_when_full() {
+        use SegmentField::*;
+        let mut e = MoveEngine::default();
+        let write = |e: &mut MoveEngine, f: SegmentField, v: u32| {
+            e.clock_bus(false, false, false, &[(f, v)], false)
+        };
+        let push = |e: &mut MoveEngine| e.clock_bus(false, false, false, &[], true);
+        for (k, steps) in [(0u32, 5u32), (1, 7)] {
+            write(&mut e, Steps, steps);
+            write(&mut e, Rate, 100 + k);
+            write(&mut e, Accel, 0);
+            push(&mut e);
+        }
+        assert_eq!(e.level(), SEGMENT_FIFO_DEPTH);
+        // Full: this write is dropped and the push overflows.
+        write(&mut e, Steps, 99);
+        push(&mut e);
+        assert!(e.overflow());
+        assert_eq!(e.level(), SEGMENT_FIFO_DEPTH);
+        // Run the first segment in: a slot frees, and only RATE is
+        // written into it, so its steps are the old slot's (5).
+        e.clock_bus(true, false, false, &[], false);
+        assert!(e.active() && e.rate() == 100, "{e:?}");
+        write(&mut e, Rate, 300);
+        push(&mut e);
+        for want in [(7, 101), (5, 300)] {
+            // Finish the running segment, then load the next.
+            while e.active() {
+                e.clock_bus(true, true, false, &[], false);
+            }
+            e.clock_bus(true, false, false, &[], false);
+            assert_eq!((e.probe().2, e.rate() as u32), want);
+        }
     }
 }

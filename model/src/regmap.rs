@@ -589,7 +589,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     6,
                     WriteOnly,
                     "Next segment: steps to command (unsigned).",
-                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Steps.")],
                 ),
                 reg(
@@ -597,7 +597,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     7,
                     WriteOnly,
                     "Next segment: starting NCO rate (signed, as RATE).",
-                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Two's complement; the sign is the direction.")],
                 ),
                 reg(
@@ -605,7 +605,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     8,
                     WriteOnly,
                     "Next segment: added to the rate on every clock the NCO advances (signed).",
-                    "A data port of the segment FIFO; the value holds until the next write, so a PUSH may repeat it.",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Two's complement.")],
                 ),
                 reg(
