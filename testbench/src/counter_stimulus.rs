@@ -9,7 +9,7 @@
 //! (an illegal transition); Z pulses at phase 0 on some clocks. The bus
 //! snapshots, reads, writes CTRL/CMD/PRESET at random.
 
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{run_for_sums, Simulator};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::regmap;
 use std::fmt::Write as _;
@@ -272,26 +272,14 @@ pub fn verilog_sums_timed(
     cycles: u64,
 ) -> Result<(Sums, std::time::Duration), String> {
     sim.available()?;
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let d = dir.path();
-    std::fs::write(d.join("counter_bank.v"), source).map_err(|e| e.to_string())?;
-    std::fs::write(d.join("tb.v"), verilog_testbench(axes, width, seed, cycles))
-        .map_err(|e| e.to_string())?;
-    let (out, elapsed) = build_and_run(
+    let (v, elapsed) = run_for_sums(
         sim,
-        d,
+        &[
+            ("tb.v", verilog_testbench(axes, width, seed, cycles)),
+            ("counter_bank.v", source.to_string()),
+        ],
         "counter_bank_tb",
-        &["tb.v", "counter_bank.v"],
-        false,
     )?;
-    let line = out
-        .lines()
-        .find_map(|l| l.strip_prefix("SUMS "))
-        .ok_or_else(|| format!("no SUMS line in:\n{out}"))?;
-    let v: Vec<u32> = line
-        .split_whitespace()
-        .map(|x| x.parse().map_err(|e| format!("{x}: {e}")))
-        .collect::<Result<_, _>>()?;
     Ok((
         Sums {
             stimulus: v[0],

@@ -25,7 +25,7 @@
 use crate::fsmc_bridge::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::{settle, CheckReport};
 use crate::isa_bridge::TEST_BASE;
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{run_for_sums, Simulator};
 use motionhdl_hdl::MotionController;
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::motion_controller::{MotionControllerModel, TopInputs, TopOutputs};
@@ -913,26 +913,14 @@ pub fn verilog_sums_timed(
 ) -> Result<(Sums, std::time::Duration), String> {
     sim.available()?;
     let text = motionhdl_hdl::catalog::motion_controller(config).text;
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let d = dir.path();
-    std::fs::write(d.join("motion_controller.v"), text).map_err(|e| e.to_string())?;
-    std::fs::write(d.join("tb.v"), verilog_testbench(config, seed, cycles))
-        .map_err(|e| e.to_string())?;
-    let (out, elapsed) = build_and_run(
+    let (v, elapsed) = run_for_sums(
         sim,
-        d,
+        &[
+            ("tb.v", verilog_testbench(config, seed, cycles)),
+            ("motion_controller.v", text),
+        ],
         "top_bench_tb",
-        &["tb.v", "motion_controller.v"],
-        false,
     )?;
-    let line = out
-        .lines()
-        .find_map(|l| l.strip_prefix("SUMS "))
-        .ok_or_else(|| format!("no SUMS line in:\n{out}"))?;
-    let v: Vec<u32> = line
-        .split_whitespace()
-        .map(|x| x.parse().map_err(|e| format!("{x}: {e}")))
-        .collect::<Result<_, _>>()?;
     Ok((
         Sums {
             stimulus: v[0],

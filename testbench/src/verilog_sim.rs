@@ -356,3 +356,29 @@ pub fn write_named(dir: &Path, name: &str, source: &str) -> std::io::Result<std:
     fs::write(&p, source)?;
     Ok(p)
 }
+
+/// Writes `files` (name, text) to a scratch directory, runs testbench
+/// `top` (the first file) in `sim` and parses its `SUMS a b ...` line: the
+/// checksums, and how long the simulation ran (compilation excluded).
+pub fn run_for_sums(
+    sim: Simulator,
+    files: &[(&str, String)],
+    top: &str,
+) -> Result<(Vec<u32>, Duration), String> {
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let d = dir.path();
+    for (name, text) in files {
+        std::fs::write(d.join(name), text).map_err(|e| e.to_string())?;
+    }
+    let names: Vec<&str> = files.iter().map(|(n, _)| *n).collect();
+    let (out, elapsed) = build_and_run(sim, d, top, &names, false)?;
+    let line = out
+        .lines()
+        .find_map(|l| l.strip_prefix("SUMS "))
+        .ok_or_else(|| format!("no SUMS line in:\n{out}"))?;
+    let sums = line
+        .split_whitespace()
+        .map(|x| x.parse().map_err(|e| format!("{x}: {e}")))
+        .collect::<Result<_, _>>()?;
+    Ok((sums, elapsed))
+}
