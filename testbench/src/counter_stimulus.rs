@@ -57,10 +57,7 @@ impl Stimulus {
     }
 
     fn next(&mut self) -> u32 {
-        self.x ^= self.x << 13;
-        self.x ^= self.x >> 17;
-        self.x ^= self.x << 5;
-        self.x
+        crate::harness::xorshift32(&mut self.x)
     }
 
     pub fn clock(&mut self) -> Clock {

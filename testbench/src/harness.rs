@@ -143,6 +143,16 @@ pub fn require_tool(name: &str) -> Option<PathBuf> {
     }
 }
 
+/// xorshift32 (13, 17, 5): one step of the pin stimulus generators whose
+/// Verilog copies run in the simulators (`counter_stimulus`, `top_model`);
+/// the Verilog testbenches spell out the same three shifts.
+pub fn xorshift32(x: &mut u32) -> u32 {
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    *x
+}
+
 /// The testbenches' stimulus generator: xorshift64 (13, 7, 17) from
 /// `seed | 1`, one 64-bit word per call. Fixed here so that a seed names
 /// the same stimulus in every check.

@@ -25,7 +25,7 @@
 use crate::fsmc_bridge::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::{settle, CheckReport};
 use crate::isa_bridge::TEST_BASE;
-use crate::verilog_sim::{run_for_sums, Simulator};
+use crate::verilog_sim::{run_for_sums, Target};
 use motionhdl_hdl::MotionController;
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::motion_controller::{MotionControllerModel, TopInputs, TopOutputs};
@@ -175,10 +175,7 @@ impl TopStimulus {
     }
 
     fn next(&mut self) -> u32 {
-        self.x ^= self.x << 13;
-        self.x ^= self.x >> 17;
-        self.x ^= self.x << 5;
-        self.x
+        crate::harness::xorshift32(&mut self.x)
     }
 
     /// The pins for the next clock.
@@ -902,19 +899,21 @@ endmodule
     )
 }
 
-/// Runs the generated `motion_controller.v` for `config` under
-/// [`verilog_testbench`] in `sim`: its checksums, and how long the
-/// simulation ran (compilation excluded).
+/// Runs `motion_controller.v` for `config` (the generated file, or its
+/// post-synthesis netlist) under [`verilog_testbench`] in the target's
+/// simulator: its checksums, and how long the simulation ran (compilation
+/// and synthesis excluded).
 pub fn verilog_sums_timed(
-    sim: Simulator,
+    target: impl Into<Target>,
     config: &Config,
     seed: u32,
     cycles: u64,
 ) -> Result<(Sums, std::time::Duration), String> {
-    sim.available()?;
-    let text = motionhdl_hdl::catalog::motion_controller(config).text;
+    let target = target.into();
+    target.available()?;
+    let text = target.text(&motionhdl_hdl::catalog::motion_controller(config))?;
     let (v, elapsed) = run_for_sums(
-        sim,
+        target.sim,
         &[
             ("tb.v", verilog_testbench(config, seed, cycles)),
             ("motion_controller.v", text),
