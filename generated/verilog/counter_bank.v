@@ -55,19 +55,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_0_sign_bit = 32'h8000000;
     localparam channels_0_sign_extension = 32'hf0000000;
     localparam channels_0_err_max = 8'hff;
-    localparam channels_0_err_max_minus_one = 8'hfe;
     localparam channels_0_decoder_mode_x4 = 3'b0;
     localparam channels_0_decoder_mode_x2 = 3'b1;
     localparam channels_0_decoder_mode_x1 = 3'b10;
     localparam channels_0_decoder_mode_pulse_dir = 3'b11;
     localparam channels_0_decoder_mode_cw_ccw = 3'b100;
     localparam channels_0_counter_lo_mask = 32'h3fff;
-    localparam channels_0_counter_base_mask = 32'h3;
-    localparam channels_0_counter_base_max_minus_one = 32'h2;
-    localparam channels_0_counter_mid_mask = 32'h3ffc;
+    localparam channels_0_counter_lo_upper_mask = 32'h3ffe;
     localparam channels_0_counter_hi_mask = 32'h3fff;
     localparam channels_0_counter_lo_bits = 5'b1110;
-    localparam channels_0_counter_shift1 = 5'b1;
     localparam channels_0_counter_one = 32'h1;
     localparam channels_1_addr_ctrl = 8'h10;
     localparam channels_1_addr_cmd = 8'h11;
@@ -100,19 +96,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_1_sign_bit = 32'h8000000;
     localparam channels_1_sign_extension = 32'hf0000000;
     localparam channels_1_err_max = 8'hff;
-    localparam channels_1_err_max_minus_one = 8'hfe;
     localparam channels_1_decoder_mode_x4 = 3'b0;
     localparam channels_1_decoder_mode_x2 = 3'b1;
     localparam channels_1_decoder_mode_x1 = 3'b10;
     localparam channels_1_decoder_mode_pulse_dir = 3'b11;
     localparam channels_1_decoder_mode_cw_ccw = 3'b100;
     localparam channels_1_counter_lo_mask = 32'h3fff;
-    localparam channels_1_counter_base_mask = 32'h3;
-    localparam channels_1_counter_base_max_minus_one = 32'h2;
-    localparam channels_1_counter_mid_mask = 32'h3ffc;
+    localparam channels_1_counter_lo_upper_mask = 32'h3ffe;
     localparam channels_1_counter_hi_mask = 32'h3fff;
     localparam channels_1_counter_lo_bits = 5'b1110;
-    localparam channels_1_counter_shift1 = 5'b1;
     localparam channels_1_counter_one = 32'h1;
     localparam channels_2_addr_ctrl = 8'h18;
     localparam channels_2_addr_cmd = 8'h19;
@@ -145,19 +137,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_2_sign_bit = 32'h8000000;
     localparam channels_2_sign_extension = 32'hf0000000;
     localparam channels_2_err_max = 8'hff;
-    localparam channels_2_err_max_minus_one = 8'hfe;
     localparam channels_2_decoder_mode_x4 = 3'b0;
     localparam channels_2_decoder_mode_x2 = 3'b1;
     localparam channels_2_decoder_mode_x1 = 3'b10;
     localparam channels_2_decoder_mode_pulse_dir = 3'b11;
     localparam channels_2_decoder_mode_cw_ccw = 3'b100;
     localparam channels_2_counter_lo_mask = 32'h3fff;
-    localparam channels_2_counter_base_mask = 32'h3;
-    localparam channels_2_counter_base_max_minus_one = 32'h2;
-    localparam channels_2_counter_mid_mask = 32'h3ffc;
+    localparam channels_2_counter_lo_upper_mask = 32'h3ffe;
     localparam channels_2_counter_hi_mask = 32'h3fff;
     localparam channels_2_counter_lo_bits = 5'b1110;
-    localparam channels_2_counter_shift1 = 5'b1;
     localparam channels_2_counter_one = 32'h1;
     localparam channels_3_addr_ctrl = 8'h20;
     localparam channels_3_addr_cmd = 8'h21;
@@ -190,19 +178,15 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_3_sign_bit = 32'h8000000;
     localparam channels_3_sign_extension = 32'hf0000000;
     localparam channels_3_err_max = 8'hff;
-    localparam channels_3_err_max_minus_one = 8'hfe;
     localparam channels_3_decoder_mode_x4 = 3'b0;
     localparam channels_3_decoder_mode_x2 = 3'b1;
     localparam channels_3_decoder_mode_x1 = 3'b10;
     localparam channels_3_decoder_mode_pulse_dir = 3'b11;
     localparam channels_3_decoder_mode_cw_ccw = 3'b100;
     localparam channels_3_counter_lo_mask = 32'h3fff;
-    localparam channels_3_counter_base_mask = 32'h3;
-    localparam channels_3_counter_base_max_minus_one = 32'h2;
-    localparam channels_3_counter_mid_mask = 32'h3ffc;
+    localparam channels_3_counter_lo_upper_mask = 32'h3ffe;
     localparam channels_3_counter_hi_mask = 32'h3fff;
     localparam channels_3_counter_lo_bits = 5'b1110;
-    localparam channels_3_counter_shift1 = 5'b1;
     localparam channels_3_counter_one = 32'h1;
 
     reg channels_0_reset;
@@ -321,8 +305,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_err_q = 1'h0;
     reg [7:0] channels_0_err_count_d;
     reg [7:0] channels_0_err_count_q = 8'h0;
-    reg channels_0_err_sat_d;
-    reg channels_0_err_sat_q = 1'h0;
     reg channels_0_seen_d;
     reg channels_0_seen_q = 1'h0;
     reg channels_0_armed_d;
@@ -400,18 +382,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_counter_lo_max_q = 1'h0;
     reg channels_0_counter_lo_nonzero_d;
     reg channels_0_counter_lo_nonzero_q = 1'h0;
-    reg channels_0_counter_mid_ones_d;
-    reg channels_0_counter_mid_ones_q = 1'h0;
-    reg channels_0_counter_mid_zero_d;
-    reg channels_0_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_0_counter_load_hi;
-    reg [31:0] channels_0_counter_load_lo;
-    reg [31:0] channels_0_counter_base;
+    reg channels_0_counter_lo_ones_above;
+    reg channels_0_counter_lo_zeros_above;
     reg [31:0] channels_0_counter_lo_step;
     reg [31:0] channels_0_counter_hi_step;
     reg [31:0] channels_0_counter_lo_carry_in;
-    reg [31:0] channels_0_counter_hi_a;
-    reg [31:0] channels_0_counter_hi_b;
+    reg [31:0] channels_0_counter_hi_carry_in;
+    reg [31:0] channels_0_counter_load_lo;
     reg channels_1_filter_a_reset;
     reg channels_1_filter_a_pin;
     reg [3:0] channels_1_filter_a_setting;
@@ -459,8 +437,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_err_q = 1'h0;
     reg [7:0] channels_1_err_count_d;
     reg [7:0] channels_1_err_count_q = 8'h0;
-    reg channels_1_err_sat_d;
-    reg channels_1_err_sat_q = 1'h0;
     reg channels_1_seen_d;
     reg channels_1_seen_q = 1'h0;
     reg channels_1_armed_d;
@@ -538,18 +514,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_counter_lo_max_q = 1'h0;
     reg channels_1_counter_lo_nonzero_d;
     reg channels_1_counter_lo_nonzero_q = 1'h0;
-    reg channels_1_counter_mid_ones_d;
-    reg channels_1_counter_mid_ones_q = 1'h0;
-    reg channels_1_counter_mid_zero_d;
-    reg channels_1_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_1_counter_load_hi;
-    reg [31:0] channels_1_counter_load_lo;
-    reg [31:0] channels_1_counter_base;
+    reg channels_1_counter_lo_ones_above;
+    reg channels_1_counter_lo_zeros_above;
     reg [31:0] channels_1_counter_lo_step;
     reg [31:0] channels_1_counter_hi_step;
     reg [31:0] channels_1_counter_lo_carry_in;
-    reg [31:0] channels_1_counter_hi_a;
-    reg [31:0] channels_1_counter_hi_b;
+    reg [31:0] channels_1_counter_hi_carry_in;
+    reg [31:0] channels_1_counter_load_lo;
     reg channels_2_filter_a_reset;
     reg channels_2_filter_a_pin;
     reg [3:0] channels_2_filter_a_setting;
@@ -597,8 +569,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_err_q = 1'h0;
     reg [7:0] channels_2_err_count_d;
     reg [7:0] channels_2_err_count_q = 8'h0;
-    reg channels_2_err_sat_d;
-    reg channels_2_err_sat_q = 1'h0;
     reg channels_2_seen_d;
     reg channels_2_seen_q = 1'h0;
     reg channels_2_armed_d;
@@ -676,18 +646,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_counter_lo_max_q = 1'h0;
     reg channels_2_counter_lo_nonzero_d;
     reg channels_2_counter_lo_nonzero_q = 1'h0;
-    reg channels_2_counter_mid_ones_d;
-    reg channels_2_counter_mid_ones_q = 1'h0;
-    reg channels_2_counter_mid_zero_d;
-    reg channels_2_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_2_counter_load_hi;
-    reg [31:0] channels_2_counter_load_lo;
-    reg [31:0] channels_2_counter_base;
+    reg channels_2_counter_lo_ones_above;
+    reg channels_2_counter_lo_zeros_above;
     reg [31:0] channels_2_counter_lo_step;
     reg [31:0] channels_2_counter_hi_step;
     reg [31:0] channels_2_counter_lo_carry_in;
-    reg [31:0] channels_2_counter_hi_a;
-    reg [31:0] channels_2_counter_hi_b;
+    reg [31:0] channels_2_counter_hi_carry_in;
+    reg [31:0] channels_2_counter_load_lo;
     reg channels_3_filter_a_reset;
     reg channels_3_filter_a_pin;
     reg [3:0] channels_3_filter_a_setting;
@@ -735,8 +701,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_err_q = 1'h0;
     reg [7:0] channels_3_err_count_d;
     reg [7:0] channels_3_err_count_q = 8'h0;
-    reg channels_3_err_sat_d;
-    reg channels_3_err_sat_q = 1'h0;
     reg channels_3_seen_d;
     reg channels_3_seen_q = 1'h0;
     reg channels_3_armed_d;
@@ -814,18 +778,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_counter_lo_max_q = 1'h0;
     reg channels_3_counter_lo_nonzero_d;
     reg channels_3_counter_lo_nonzero_q = 1'h0;
-    reg channels_3_counter_mid_ones_d;
-    reg channels_3_counter_mid_ones_q = 1'h0;
-    reg channels_3_counter_mid_zero_d;
-    reg channels_3_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_3_counter_load_hi;
-    reg [31:0] channels_3_counter_load_lo;
-    reg [31:0] channels_3_counter_base;
+    reg channels_3_counter_lo_ones_above;
+    reg channels_3_counter_lo_zeros_above;
     reg [31:0] channels_3_counter_lo_step;
     reg [31:0] channels_3_counter_hi_step;
     reg [31:0] channels_3_counter_lo_carry_in;
-    reg [31:0] channels_3_counter_hi_a;
-    reg [31:0] channels_3_counter_hi_b;
+    reg [31:0] channels_3_counter_hi_carry_in;
+    reg [31:0] channels_3_counter_load_lo;
 
     assign rdata = read_data_q;
 
@@ -935,7 +895,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_index_d = channels_0_index_q;
         channels_0_err_d = channels_0_err_q;
         channels_0_err_count_d = channels_0_err_count_q;
-        channels_0_err_sat_d = channels_0_err_sat_q;
         channels_0_seen_d = channels_0_seen_q;
         channels_0_armed_d = channels_0_armed_q;
         channels_0_ctrl_d = channels_0_ctrl_q;
@@ -961,7 +920,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_cmd_write = channels_0_we & (channels_0_addr == channels_0_addr_cmd);
         channels_0_cmd_clear = channels_0_cmd_write & channels_0_wdata[channels_0_cmd_clear_bit];
         channels_0_cmd_load = channels_0_cmd_write & channels_0_wdata[channels_0_cmd_load_bit];
-        channels_0_decoder_hold = channels_0_reset | channels_0_cmd_load | channels_0_load_q_q;
+        channels_0_decoder_hold = channels_0_reset | channels_0_cmd_load;
         channels_0_decoder_a = channels_0_level_a;
         channels_0_decoder_b = channels_0_level_b;
         channels_0_decoder_a_prev = channels_0_a_prev_q;
@@ -991,9 +950,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         end
         if (channels_0_illegal & channels_0_ctrl_q[channels_0_err_en_bit]) begin
             channels_0_err_d = 1'b1;
-            if (~channels_0_err_sat_q) begin
+            if (channels_0_err_count_q != channels_0_err_max) begin
                 channels_0_err_count_d = channels_0_err_count_q + 8'h1;
-                channels_0_err_sat_d = channels_0_err_count_q == channels_0_err_max_minus_one;
             end
         end
         if (channels_0_index_event) begin
@@ -1009,7 +967,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_0_wdata[channels_0_cmd_clear_status_bit]) begin
                 channels_0_err_d = 1'b0;
                 channels_0_err_count_d = 8'h0;
-                channels_0_err_sat_d = 1'b0;
                 channels_0_seen_d = 1'b0;
             end
         end
@@ -1048,7 +1005,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_index_d = 32'h0;
             channels_0_err_d = 1'b0;
             channels_0_err_count_d = 8'h0;
-            channels_0_err_sat_d = 1'b0;
             channels_0_seen_d = 1'b0;
             channels_0_armed_d = 1'b0;
             channels_0_load_q_d = 1'b0;
@@ -1102,14 +1058,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_filter_a_count_d = 4'h0;
         end
         else if (channels_0_filter_a_sync2_q == channels_0_filter_a_accepted_q) begin
-            channels_0_filter_a_count_d = channels_0_filter_a_setting;
+            channels_0_filter_a_count_d = 4'h0;
         end
-        else if (~|channels_0_filter_a_count_q) begin
+        else if (channels_0_filter_a_count_q == channels_0_filter_a_setting) begin
             channels_0_filter_a_accepted_d = channels_0_filter_a_sync2_q;
-            channels_0_filter_a_count_d = channels_0_filter_a_setting;
+            channels_0_filter_a_count_d = 4'h0;
         end
         else begin
-            channels_0_filter_a_count_d = channels_0_filter_a_count_q - 4'h1;
+            channels_0_filter_a_count_d = channels_0_filter_a_count_q + 4'h1;
         end
         channels_0_filter_a_level = channels_0_filter_a_accepted_q;
     end
@@ -1126,14 +1082,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_filter_b_count_d = 4'h0;
         end
         else if (channels_0_filter_b_sync2_q == channels_0_filter_b_accepted_q) begin
-            channels_0_filter_b_count_d = channels_0_filter_b_setting;
+            channels_0_filter_b_count_d = 4'h0;
         end
-        else if (~|channels_0_filter_b_count_q) begin
+        else if (channels_0_filter_b_count_q == channels_0_filter_b_setting) begin
             channels_0_filter_b_accepted_d = channels_0_filter_b_sync2_q;
-            channels_0_filter_b_count_d = channels_0_filter_b_setting;
+            channels_0_filter_b_count_d = 4'h0;
         end
         else begin
-            channels_0_filter_b_count_d = channels_0_filter_b_count_q - 4'h1;
+            channels_0_filter_b_count_d = channels_0_filter_b_count_q + 4'h1;
         end
         channels_0_filter_b_level = channels_0_filter_b_accepted_q;
     end
@@ -1150,14 +1106,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_filter_z_count_d = 4'h0;
         end
         else if (channels_0_filter_z_sync2_q == channels_0_filter_z_accepted_q) begin
-            channels_0_filter_z_count_d = channels_0_filter_z_setting;
+            channels_0_filter_z_count_d = 4'h0;
         end
-        else if (~|channels_0_filter_z_count_q) begin
+        else if (channels_0_filter_z_count_q == channels_0_filter_z_setting) begin
             channels_0_filter_z_accepted_d = channels_0_filter_z_sync2_q;
-            channels_0_filter_z_count_d = channels_0_filter_z_setting;
+            channels_0_filter_z_count_d = 4'h0;
         end
         else begin
-            channels_0_filter_z_count_d = channels_0_filter_z_count_q - 4'h1;
+            channels_0_filter_z_count_d = channels_0_filter_z_count_q + 4'h1;
         end
         channels_0_filter_z_level = channels_0_filter_z_accepted_q;
     end
@@ -1213,16 +1169,19 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_counter_hi_d = channels_0_counter_hi_q;
         channels_0_counter_lo_max_d = channels_0_counter_lo_max_q;
         channels_0_counter_lo_nonzero_d = channels_0_counter_lo_nonzero_q;
-        channels_0_counter_mid_ones_d = channels_0_counter_mid_ones_q;
-        channels_0_counter_mid_zero_d = channels_0_counter_mid_zero_q;
-        channels_0_counter_base = channels_0_counter_lo_q & channels_0_counter_base_mask;
+        channels_0_counter_lo_ones_above = (channels_0_counter_lo_q & channels_0_counter_lo_upper_mask) == channels_0_counter_lo_upper_mask;
+        channels_0_counter_lo_zeros_above = ~|(channels_0_counter_lo_q & channels_0_counter_lo_upper_mask);
         channels_0_counter_load_lo = channels_0_counter_load_value & channels_0_counter_lo_mask;
         channels_0_counter_load_hi = (channels_0_counter_load_value >> channels_0_counter_lo_bits) & channels_0_counter_hi_mask;
         channels_0_counter_lo_step = 32'h0;
         channels_0_counter_hi_step = 32'h0;
         channels_0_counter_lo_carry_in = 32'h0;
+        channels_0_counter_hi_carry_in = 32'h0;
         if (channels_0_counter_up) begin
             channels_0_counter_lo_carry_in = channels_0_counter_one;
+            if (channels_0_counter_lo_max_q) begin
+                channels_0_counter_hi_carry_in = channels_0_counter_one;
+            end
         end
         if (channels_0_counter_down) begin
             channels_0_counter_lo_step = channels_0_counter_lo_mask;
@@ -1235,29 +1194,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_counter_hi_step = channels_0_counter_load_hi;
         end
         channels_0_counter_lo_d = (channels_0_counter_lo_q + channels_0_counter_lo_step + channels_0_counter_lo_carry_in) & channels_0_counter_lo_mask;
-        channels_0_counter_hi_a = channels_0_counter_hi_q << channels_0_counter_shift1;
-        channels_0_counter_hi_b = channels_0_counter_hi_step << channels_0_counter_shift1;
-        if (channels_0_counter_up) begin
-            channels_0_counter_hi_a = (channels_0_counter_hi_q << channels_0_counter_shift1) | channels_0_counter_one;
-        end
-        if (channels_0_counter_lo_max_q) begin
-            channels_0_counter_hi_b = (channels_0_counter_hi_step << channels_0_counter_shift1) | channels_0_counter_one;
-        end
-        channels_0_counter_hi_d = ((channels_0_counter_hi_a + channels_0_counter_hi_b) >> channels_0_counter_shift1) & channels_0_counter_hi_mask;
+        channels_0_counter_hi_d = (channels_0_counter_hi_q + channels_0_counter_hi_step + channels_0_counter_hi_carry_in) & channels_0_counter_hi_mask;
         if (channels_0_counter_load) begin
             channels_0_counter_lo_max_d = channels_0_counter_load_low_is_max;
             channels_0_counter_lo_nonzero_d = channels_0_counter_load_low_is_nonzero;
         end
         else if (channels_0_counter_up) begin
-            channels_0_counter_lo_max_d = (channels_0_counter_base == channels_0_counter_base_max_minus_one) & channels_0_counter_mid_ones_q;
-            channels_0_counter_lo_nonzero_d = ~channels_0_counter_lo_max_q;
+            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & ~channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0]);
         end
         else if (channels_0_counter_down) begin
-            channels_0_counter_lo_max_d = ~channels_0_counter_lo_nonzero_q;
-            channels_0_counter_lo_nonzero_d = ~((channels_0_counter_base == channels_0_counter_one) & channels_0_counter_mid_zero_q);
+            channels_0_counter_lo_max_d = channels_0_counter_lo_zeros_above & ~channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_zeros_above & channels_0_counter_lo_q[0]);
         end
-        channels_0_counter_mid_ones_d = (channels_0_counter_lo_q & channels_0_counter_mid_mask) == channels_0_counter_mid_mask;
-        channels_0_counter_mid_zero_d = ~|(channels_0_counter_lo_q & channels_0_counter_mid_mask);
+        else begin
+            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0];
+            channels_0_counter_lo_nonzero_d = ~channels_0_counter_lo_zeros_above | channels_0_counter_lo_q[0];
+        end
         if (channels_0_counter_clear) begin
             channels_0_counter_lo_d = 32'h0;
             channels_0_counter_hi_d = 32'h0;
@@ -1277,7 +1230,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_index_d = channels_1_index_q;
         channels_1_err_d = channels_1_err_q;
         channels_1_err_count_d = channels_1_err_count_q;
-        channels_1_err_sat_d = channels_1_err_sat_q;
         channels_1_seen_d = channels_1_seen_q;
         channels_1_armed_d = channels_1_armed_q;
         channels_1_ctrl_d = channels_1_ctrl_q;
@@ -1303,7 +1255,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_cmd_write = channels_1_we & (channels_1_addr == channels_1_addr_cmd);
         channels_1_cmd_clear = channels_1_cmd_write & channels_1_wdata[channels_1_cmd_clear_bit];
         channels_1_cmd_load = channels_1_cmd_write & channels_1_wdata[channels_1_cmd_load_bit];
-        channels_1_decoder_hold = channels_1_reset | channels_1_cmd_load | channels_1_load_q_q;
+        channels_1_decoder_hold = channels_1_reset | channels_1_cmd_load;
         channels_1_decoder_a = channels_1_level_a;
         channels_1_decoder_b = channels_1_level_b;
         channels_1_decoder_a_prev = channels_1_a_prev_q;
@@ -1333,9 +1285,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         end
         if (channels_1_illegal & channels_1_ctrl_q[channels_1_err_en_bit]) begin
             channels_1_err_d = 1'b1;
-            if (~channels_1_err_sat_q) begin
+            if (channels_1_err_count_q != channels_1_err_max) begin
                 channels_1_err_count_d = channels_1_err_count_q + 8'h1;
-                channels_1_err_sat_d = channels_1_err_count_q == channels_1_err_max_minus_one;
             end
         end
         if (channels_1_index_event) begin
@@ -1351,7 +1302,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_1_wdata[channels_1_cmd_clear_status_bit]) begin
                 channels_1_err_d = 1'b0;
                 channels_1_err_count_d = 8'h0;
-                channels_1_err_sat_d = 1'b0;
                 channels_1_seen_d = 1'b0;
             end
         end
@@ -1390,7 +1340,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_index_d = 32'h0;
             channels_1_err_d = 1'b0;
             channels_1_err_count_d = 8'h0;
-            channels_1_err_sat_d = 1'b0;
             channels_1_seen_d = 1'b0;
             channels_1_armed_d = 1'b0;
             channels_1_load_q_d = 1'b0;
@@ -1444,14 +1393,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_filter_a_count_d = 4'h0;
         end
         else if (channels_1_filter_a_sync2_q == channels_1_filter_a_accepted_q) begin
-            channels_1_filter_a_count_d = channels_1_filter_a_setting;
+            channels_1_filter_a_count_d = 4'h0;
         end
-        else if (~|channels_1_filter_a_count_q) begin
+        else if (channels_1_filter_a_count_q == channels_1_filter_a_setting) begin
             channels_1_filter_a_accepted_d = channels_1_filter_a_sync2_q;
-            channels_1_filter_a_count_d = channels_1_filter_a_setting;
+            channels_1_filter_a_count_d = 4'h0;
         end
         else begin
-            channels_1_filter_a_count_d = channels_1_filter_a_count_q - 4'h1;
+            channels_1_filter_a_count_d = channels_1_filter_a_count_q + 4'h1;
         end
         channels_1_filter_a_level = channels_1_filter_a_accepted_q;
     end
@@ -1468,14 +1417,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_filter_b_count_d = 4'h0;
         end
         else if (channels_1_filter_b_sync2_q == channels_1_filter_b_accepted_q) begin
-            channels_1_filter_b_count_d = channels_1_filter_b_setting;
+            channels_1_filter_b_count_d = 4'h0;
         end
-        else if (~|channels_1_filter_b_count_q) begin
+        else if (channels_1_filter_b_count_q == channels_1_filter_b_setting) begin
             channels_1_filter_b_accepted_d = channels_1_filter_b_sync2_q;
-            channels_1_filter_b_count_d = channels_1_filter_b_setting;
+            channels_1_filter_b_count_d = 4'h0;
         end
         else begin
-            channels_1_filter_b_count_d = channels_1_filter_b_count_q - 4'h1;
+            channels_1_filter_b_count_d = channels_1_filter_b_count_q + 4'h1;
         end
         channels_1_filter_b_level = channels_1_filter_b_accepted_q;
     end
@@ -1492,14 +1441,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_filter_z_count_d = 4'h0;
         end
         else if (channels_1_filter_z_sync2_q == channels_1_filter_z_accepted_q) begin
-            channels_1_filter_z_count_d = channels_1_filter_z_setting;
+            channels_1_filter_z_count_d = 4'h0;
         end
-        else if (~|channels_1_filter_z_count_q) begin
+        else if (channels_1_filter_z_count_q == channels_1_filter_z_setting) begin
             channels_1_filter_z_accepted_d = channels_1_filter_z_sync2_q;
-            channels_1_filter_z_count_d = channels_1_filter_z_setting;
+            channels_1_filter_z_count_d = 4'h0;
         end
         else begin
-            channels_1_filter_z_count_d = channels_1_filter_z_count_q - 4'h1;
+            channels_1_filter_z_count_d = channels_1_filter_z_count_q + 4'h1;
         end
         channels_1_filter_z_level = channels_1_filter_z_accepted_q;
     end
@@ -1555,16 +1504,19 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_counter_hi_d = channels_1_counter_hi_q;
         channels_1_counter_lo_max_d = channels_1_counter_lo_max_q;
         channels_1_counter_lo_nonzero_d = channels_1_counter_lo_nonzero_q;
-        channels_1_counter_mid_ones_d = channels_1_counter_mid_ones_q;
-        channels_1_counter_mid_zero_d = channels_1_counter_mid_zero_q;
-        channels_1_counter_base = channels_1_counter_lo_q & channels_1_counter_base_mask;
+        channels_1_counter_lo_ones_above = (channels_1_counter_lo_q & channels_1_counter_lo_upper_mask) == channels_1_counter_lo_upper_mask;
+        channels_1_counter_lo_zeros_above = ~|(channels_1_counter_lo_q & channels_1_counter_lo_upper_mask);
         channels_1_counter_load_lo = channels_1_counter_load_value & channels_1_counter_lo_mask;
         channels_1_counter_load_hi = (channels_1_counter_load_value >> channels_1_counter_lo_bits) & channels_1_counter_hi_mask;
         channels_1_counter_lo_step = 32'h0;
         channels_1_counter_hi_step = 32'h0;
         channels_1_counter_lo_carry_in = 32'h0;
+        channels_1_counter_hi_carry_in = 32'h0;
         if (channels_1_counter_up) begin
             channels_1_counter_lo_carry_in = channels_1_counter_one;
+            if (channels_1_counter_lo_max_q) begin
+                channels_1_counter_hi_carry_in = channels_1_counter_one;
+            end
         end
         if (channels_1_counter_down) begin
             channels_1_counter_lo_step = channels_1_counter_lo_mask;
@@ -1577,29 +1529,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_counter_hi_step = channels_1_counter_load_hi;
         end
         channels_1_counter_lo_d = (channels_1_counter_lo_q + channels_1_counter_lo_step + channels_1_counter_lo_carry_in) & channels_1_counter_lo_mask;
-        channels_1_counter_hi_a = channels_1_counter_hi_q << channels_1_counter_shift1;
-        channels_1_counter_hi_b = channels_1_counter_hi_step << channels_1_counter_shift1;
-        if (channels_1_counter_up) begin
-            channels_1_counter_hi_a = (channels_1_counter_hi_q << channels_1_counter_shift1) | channels_1_counter_one;
-        end
-        if (channels_1_counter_lo_max_q) begin
-            channels_1_counter_hi_b = (channels_1_counter_hi_step << channels_1_counter_shift1) | channels_1_counter_one;
-        end
-        channels_1_counter_hi_d = ((channels_1_counter_hi_a + channels_1_counter_hi_b) >> channels_1_counter_shift1) & channels_1_counter_hi_mask;
+        channels_1_counter_hi_d = (channels_1_counter_hi_q + channels_1_counter_hi_step + channels_1_counter_hi_carry_in) & channels_1_counter_hi_mask;
         if (channels_1_counter_load) begin
             channels_1_counter_lo_max_d = channels_1_counter_load_low_is_max;
             channels_1_counter_lo_nonzero_d = channels_1_counter_load_low_is_nonzero;
         end
         else if (channels_1_counter_up) begin
-            channels_1_counter_lo_max_d = (channels_1_counter_base == channels_1_counter_base_max_minus_one) & channels_1_counter_mid_ones_q;
-            channels_1_counter_lo_nonzero_d = ~channels_1_counter_lo_max_q;
+            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & ~channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0]);
         end
         else if (channels_1_counter_down) begin
-            channels_1_counter_lo_max_d = ~channels_1_counter_lo_nonzero_q;
-            channels_1_counter_lo_nonzero_d = ~((channels_1_counter_base == channels_1_counter_one) & channels_1_counter_mid_zero_q);
+            channels_1_counter_lo_max_d = channels_1_counter_lo_zeros_above & ~channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_zeros_above & channels_1_counter_lo_q[0]);
         end
-        channels_1_counter_mid_ones_d = (channels_1_counter_lo_q & channels_1_counter_mid_mask) == channels_1_counter_mid_mask;
-        channels_1_counter_mid_zero_d = ~|(channels_1_counter_lo_q & channels_1_counter_mid_mask);
+        else begin
+            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0];
+            channels_1_counter_lo_nonzero_d = ~channels_1_counter_lo_zeros_above | channels_1_counter_lo_q[0];
+        end
         if (channels_1_counter_clear) begin
             channels_1_counter_lo_d = 32'h0;
             channels_1_counter_hi_d = 32'h0;
@@ -1619,7 +1565,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_index_d = channels_2_index_q;
         channels_2_err_d = channels_2_err_q;
         channels_2_err_count_d = channels_2_err_count_q;
-        channels_2_err_sat_d = channels_2_err_sat_q;
         channels_2_seen_d = channels_2_seen_q;
         channels_2_armed_d = channels_2_armed_q;
         channels_2_ctrl_d = channels_2_ctrl_q;
@@ -1645,7 +1590,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_cmd_write = channels_2_we & (channels_2_addr == channels_2_addr_cmd);
         channels_2_cmd_clear = channels_2_cmd_write & channels_2_wdata[channels_2_cmd_clear_bit];
         channels_2_cmd_load = channels_2_cmd_write & channels_2_wdata[channels_2_cmd_load_bit];
-        channels_2_decoder_hold = channels_2_reset | channels_2_cmd_load | channels_2_load_q_q;
+        channels_2_decoder_hold = channels_2_reset | channels_2_cmd_load;
         channels_2_decoder_a = channels_2_level_a;
         channels_2_decoder_b = channels_2_level_b;
         channels_2_decoder_a_prev = channels_2_a_prev_q;
@@ -1675,9 +1620,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         end
         if (channels_2_illegal & channels_2_ctrl_q[channels_2_err_en_bit]) begin
             channels_2_err_d = 1'b1;
-            if (~channels_2_err_sat_q) begin
+            if (channels_2_err_count_q != channels_2_err_max) begin
                 channels_2_err_count_d = channels_2_err_count_q + 8'h1;
-                channels_2_err_sat_d = channels_2_err_count_q == channels_2_err_max_minus_one;
             end
         end
         if (channels_2_index_event) begin
@@ -1693,7 +1637,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_2_wdata[channels_2_cmd_clear_status_bit]) begin
                 channels_2_err_d = 1'b0;
                 channels_2_err_count_d = 8'h0;
-                channels_2_err_sat_d = 1'b0;
                 channels_2_seen_d = 1'b0;
             end
         end
@@ -1732,7 +1675,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_index_d = 32'h0;
             channels_2_err_d = 1'b0;
             channels_2_err_count_d = 8'h0;
-            channels_2_err_sat_d = 1'b0;
             channels_2_seen_d = 1'b0;
             channels_2_armed_d = 1'b0;
             channels_2_load_q_d = 1'b0;
@@ -1786,14 +1728,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_filter_a_count_d = 4'h0;
         end
         else if (channels_2_filter_a_sync2_q == channels_2_filter_a_accepted_q) begin
-            channels_2_filter_a_count_d = channels_2_filter_a_setting;
+            channels_2_filter_a_count_d = 4'h0;
         end
-        else if (~|channels_2_filter_a_count_q) begin
+        else if (channels_2_filter_a_count_q == channels_2_filter_a_setting) begin
             channels_2_filter_a_accepted_d = channels_2_filter_a_sync2_q;
-            channels_2_filter_a_count_d = channels_2_filter_a_setting;
+            channels_2_filter_a_count_d = 4'h0;
         end
         else begin
-            channels_2_filter_a_count_d = channels_2_filter_a_count_q - 4'h1;
+            channels_2_filter_a_count_d = channels_2_filter_a_count_q + 4'h1;
         end
         channels_2_filter_a_level = channels_2_filter_a_accepted_q;
     end
@@ -1810,14 +1752,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_filter_b_count_d = 4'h0;
         end
         else if (channels_2_filter_b_sync2_q == channels_2_filter_b_accepted_q) begin
-            channels_2_filter_b_count_d = channels_2_filter_b_setting;
+            channels_2_filter_b_count_d = 4'h0;
         end
-        else if (~|channels_2_filter_b_count_q) begin
+        else if (channels_2_filter_b_count_q == channels_2_filter_b_setting) begin
             channels_2_filter_b_accepted_d = channels_2_filter_b_sync2_q;
-            channels_2_filter_b_count_d = channels_2_filter_b_setting;
+            channels_2_filter_b_count_d = 4'h0;
         end
         else begin
-            channels_2_filter_b_count_d = channels_2_filter_b_count_q - 4'h1;
+            channels_2_filter_b_count_d = channels_2_filter_b_count_q + 4'h1;
         end
         channels_2_filter_b_level = channels_2_filter_b_accepted_q;
     end
@@ -1834,14 +1776,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_filter_z_count_d = 4'h0;
         end
         else if (channels_2_filter_z_sync2_q == channels_2_filter_z_accepted_q) begin
-            channels_2_filter_z_count_d = channels_2_filter_z_setting;
+            channels_2_filter_z_count_d = 4'h0;
         end
-        else if (~|channels_2_filter_z_count_q) begin
+        else if (channels_2_filter_z_count_q == channels_2_filter_z_setting) begin
             channels_2_filter_z_accepted_d = channels_2_filter_z_sync2_q;
-            channels_2_filter_z_count_d = channels_2_filter_z_setting;
+            channels_2_filter_z_count_d = 4'h0;
         end
         else begin
-            channels_2_filter_z_count_d = channels_2_filter_z_count_q - 4'h1;
+            channels_2_filter_z_count_d = channels_2_filter_z_count_q + 4'h1;
         end
         channels_2_filter_z_level = channels_2_filter_z_accepted_q;
     end
@@ -1897,16 +1839,19 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_counter_hi_d = channels_2_counter_hi_q;
         channels_2_counter_lo_max_d = channels_2_counter_lo_max_q;
         channels_2_counter_lo_nonzero_d = channels_2_counter_lo_nonzero_q;
-        channels_2_counter_mid_ones_d = channels_2_counter_mid_ones_q;
-        channels_2_counter_mid_zero_d = channels_2_counter_mid_zero_q;
-        channels_2_counter_base = channels_2_counter_lo_q & channels_2_counter_base_mask;
+        channels_2_counter_lo_ones_above = (channels_2_counter_lo_q & channels_2_counter_lo_upper_mask) == channels_2_counter_lo_upper_mask;
+        channels_2_counter_lo_zeros_above = ~|(channels_2_counter_lo_q & channels_2_counter_lo_upper_mask);
         channels_2_counter_load_lo = channels_2_counter_load_value & channels_2_counter_lo_mask;
         channels_2_counter_load_hi = (channels_2_counter_load_value >> channels_2_counter_lo_bits) & channels_2_counter_hi_mask;
         channels_2_counter_lo_step = 32'h0;
         channels_2_counter_hi_step = 32'h0;
         channels_2_counter_lo_carry_in = 32'h0;
+        channels_2_counter_hi_carry_in = 32'h0;
         if (channels_2_counter_up) begin
             channels_2_counter_lo_carry_in = channels_2_counter_one;
+            if (channels_2_counter_lo_max_q) begin
+                channels_2_counter_hi_carry_in = channels_2_counter_one;
+            end
         end
         if (channels_2_counter_down) begin
             channels_2_counter_lo_step = channels_2_counter_lo_mask;
@@ -1919,29 +1864,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_counter_hi_step = channels_2_counter_load_hi;
         end
         channels_2_counter_lo_d = (channels_2_counter_lo_q + channels_2_counter_lo_step + channels_2_counter_lo_carry_in) & channels_2_counter_lo_mask;
-        channels_2_counter_hi_a = channels_2_counter_hi_q << channels_2_counter_shift1;
-        channels_2_counter_hi_b = channels_2_counter_hi_step << channels_2_counter_shift1;
-        if (channels_2_counter_up) begin
-            channels_2_counter_hi_a = (channels_2_counter_hi_q << channels_2_counter_shift1) | channels_2_counter_one;
-        end
-        if (channels_2_counter_lo_max_q) begin
-            channels_2_counter_hi_b = (channels_2_counter_hi_step << channels_2_counter_shift1) | channels_2_counter_one;
-        end
-        channels_2_counter_hi_d = ((channels_2_counter_hi_a + channels_2_counter_hi_b) >> channels_2_counter_shift1) & channels_2_counter_hi_mask;
+        channels_2_counter_hi_d = (channels_2_counter_hi_q + channels_2_counter_hi_step + channels_2_counter_hi_carry_in) & channels_2_counter_hi_mask;
         if (channels_2_counter_load) begin
             channels_2_counter_lo_max_d = channels_2_counter_load_low_is_max;
             channels_2_counter_lo_nonzero_d = channels_2_counter_load_low_is_nonzero;
         end
         else if (channels_2_counter_up) begin
-            channels_2_counter_lo_max_d = (channels_2_counter_base == channels_2_counter_base_max_minus_one) & channels_2_counter_mid_ones_q;
-            channels_2_counter_lo_nonzero_d = ~channels_2_counter_lo_max_q;
+            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & ~channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0]);
         end
         else if (channels_2_counter_down) begin
-            channels_2_counter_lo_max_d = ~channels_2_counter_lo_nonzero_q;
-            channels_2_counter_lo_nonzero_d = ~((channels_2_counter_base == channels_2_counter_one) & channels_2_counter_mid_zero_q);
+            channels_2_counter_lo_max_d = channels_2_counter_lo_zeros_above & ~channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_zeros_above & channels_2_counter_lo_q[0]);
         end
-        channels_2_counter_mid_ones_d = (channels_2_counter_lo_q & channels_2_counter_mid_mask) == channels_2_counter_mid_mask;
-        channels_2_counter_mid_zero_d = ~|(channels_2_counter_lo_q & channels_2_counter_mid_mask);
+        else begin
+            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0];
+            channels_2_counter_lo_nonzero_d = ~channels_2_counter_lo_zeros_above | channels_2_counter_lo_q[0];
+        end
         if (channels_2_counter_clear) begin
             channels_2_counter_lo_d = 32'h0;
             channels_2_counter_hi_d = 32'h0;
@@ -1961,7 +1900,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_index_d = channels_3_index_q;
         channels_3_err_d = channels_3_err_q;
         channels_3_err_count_d = channels_3_err_count_q;
-        channels_3_err_sat_d = channels_3_err_sat_q;
         channels_3_seen_d = channels_3_seen_q;
         channels_3_armed_d = channels_3_armed_q;
         channels_3_ctrl_d = channels_3_ctrl_q;
@@ -1987,7 +1925,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_cmd_write = channels_3_we & (channels_3_addr == channels_3_addr_cmd);
         channels_3_cmd_clear = channels_3_cmd_write & channels_3_wdata[channels_3_cmd_clear_bit];
         channels_3_cmd_load = channels_3_cmd_write & channels_3_wdata[channels_3_cmd_load_bit];
-        channels_3_decoder_hold = channels_3_reset | channels_3_cmd_load | channels_3_load_q_q;
+        channels_3_decoder_hold = channels_3_reset | channels_3_cmd_load;
         channels_3_decoder_a = channels_3_level_a;
         channels_3_decoder_b = channels_3_level_b;
         channels_3_decoder_a_prev = channels_3_a_prev_q;
@@ -2017,9 +1955,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         end
         if (channels_3_illegal & channels_3_ctrl_q[channels_3_err_en_bit]) begin
             channels_3_err_d = 1'b1;
-            if (~channels_3_err_sat_q) begin
+            if (channels_3_err_count_q != channels_3_err_max) begin
                 channels_3_err_count_d = channels_3_err_count_q + 8'h1;
-                channels_3_err_sat_d = channels_3_err_count_q == channels_3_err_max_minus_one;
             end
         end
         if (channels_3_index_event) begin
@@ -2035,7 +1972,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_3_wdata[channels_3_cmd_clear_status_bit]) begin
                 channels_3_err_d = 1'b0;
                 channels_3_err_count_d = 8'h0;
-                channels_3_err_sat_d = 1'b0;
                 channels_3_seen_d = 1'b0;
             end
         end
@@ -2074,7 +2010,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_index_d = 32'h0;
             channels_3_err_d = 1'b0;
             channels_3_err_count_d = 8'h0;
-            channels_3_err_sat_d = 1'b0;
             channels_3_seen_d = 1'b0;
             channels_3_armed_d = 1'b0;
             channels_3_load_q_d = 1'b0;
@@ -2128,14 +2063,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_filter_a_count_d = 4'h0;
         end
         else if (channels_3_filter_a_sync2_q == channels_3_filter_a_accepted_q) begin
-            channels_3_filter_a_count_d = channels_3_filter_a_setting;
+            channels_3_filter_a_count_d = 4'h0;
         end
-        else if (~|channels_3_filter_a_count_q) begin
+        else if (channels_3_filter_a_count_q == channels_3_filter_a_setting) begin
             channels_3_filter_a_accepted_d = channels_3_filter_a_sync2_q;
-            channels_3_filter_a_count_d = channels_3_filter_a_setting;
+            channels_3_filter_a_count_d = 4'h0;
         end
         else begin
-            channels_3_filter_a_count_d = channels_3_filter_a_count_q - 4'h1;
+            channels_3_filter_a_count_d = channels_3_filter_a_count_q + 4'h1;
         end
         channels_3_filter_a_level = channels_3_filter_a_accepted_q;
     end
@@ -2152,14 +2087,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_filter_b_count_d = 4'h0;
         end
         else if (channels_3_filter_b_sync2_q == channels_3_filter_b_accepted_q) begin
-            channels_3_filter_b_count_d = channels_3_filter_b_setting;
+            channels_3_filter_b_count_d = 4'h0;
         end
-        else if (~|channels_3_filter_b_count_q) begin
+        else if (channels_3_filter_b_count_q == channels_3_filter_b_setting) begin
             channels_3_filter_b_accepted_d = channels_3_filter_b_sync2_q;
-            channels_3_filter_b_count_d = channels_3_filter_b_setting;
+            channels_3_filter_b_count_d = 4'h0;
         end
         else begin
-            channels_3_filter_b_count_d = channels_3_filter_b_count_q - 4'h1;
+            channels_3_filter_b_count_d = channels_3_filter_b_count_q + 4'h1;
         end
         channels_3_filter_b_level = channels_3_filter_b_accepted_q;
     end
@@ -2176,14 +2111,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_filter_z_count_d = 4'h0;
         end
         else if (channels_3_filter_z_sync2_q == channels_3_filter_z_accepted_q) begin
-            channels_3_filter_z_count_d = channels_3_filter_z_setting;
+            channels_3_filter_z_count_d = 4'h0;
         end
-        else if (~|channels_3_filter_z_count_q) begin
+        else if (channels_3_filter_z_count_q == channels_3_filter_z_setting) begin
             channels_3_filter_z_accepted_d = channels_3_filter_z_sync2_q;
-            channels_3_filter_z_count_d = channels_3_filter_z_setting;
+            channels_3_filter_z_count_d = 4'h0;
         end
         else begin
-            channels_3_filter_z_count_d = channels_3_filter_z_count_q - 4'h1;
+            channels_3_filter_z_count_d = channels_3_filter_z_count_q + 4'h1;
         end
         channels_3_filter_z_level = channels_3_filter_z_accepted_q;
     end
@@ -2239,16 +2174,19 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_counter_hi_d = channels_3_counter_hi_q;
         channels_3_counter_lo_max_d = channels_3_counter_lo_max_q;
         channels_3_counter_lo_nonzero_d = channels_3_counter_lo_nonzero_q;
-        channels_3_counter_mid_ones_d = channels_3_counter_mid_ones_q;
-        channels_3_counter_mid_zero_d = channels_3_counter_mid_zero_q;
-        channels_3_counter_base = channels_3_counter_lo_q & channels_3_counter_base_mask;
+        channels_3_counter_lo_ones_above = (channels_3_counter_lo_q & channels_3_counter_lo_upper_mask) == channels_3_counter_lo_upper_mask;
+        channels_3_counter_lo_zeros_above = ~|(channels_3_counter_lo_q & channels_3_counter_lo_upper_mask);
         channels_3_counter_load_lo = channels_3_counter_load_value & channels_3_counter_lo_mask;
         channels_3_counter_load_hi = (channels_3_counter_load_value >> channels_3_counter_lo_bits) & channels_3_counter_hi_mask;
         channels_3_counter_lo_step = 32'h0;
         channels_3_counter_hi_step = 32'h0;
         channels_3_counter_lo_carry_in = 32'h0;
+        channels_3_counter_hi_carry_in = 32'h0;
         if (channels_3_counter_up) begin
             channels_3_counter_lo_carry_in = channels_3_counter_one;
+            if (channels_3_counter_lo_max_q) begin
+                channels_3_counter_hi_carry_in = channels_3_counter_one;
+            end
         end
         if (channels_3_counter_down) begin
             channels_3_counter_lo_step = channels_3_counter_lo_mask;
@@ -2261,29 +2199,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_counter_hi_step = channels_3_counter_load_hi;
         end
         channels_3_counter_lo_d = (channels_3_counter_lo_q + channels_3_counter_lo_step + channels_3_counter_lo_carry_in) & channels_3_counter_lo_mask;
-        channels_3_counter_hi_a = channels_3_counter_hi_q << channels_3_counter_shift1;
-        channels_3_counter_hi_b = channels_3_counter_hi_step << channels_3_counter_shift1;
-        if (channels_3_counter_up) begin
-            channels_3_counter_hi_a = (channels_3_counter_hi_q << channels_3_counter_shift1) | channels_3_counter_one;
-        end
-        if (channels_3_counter_lo_max_q) begin
-            channels_3_counter_hi_b = (channels_3_counter_hi_step << channels_3_counter_shift1) | channels_3_counter_one;
-        end
-        channels_3_counter_hi_d = ((channels_3_counter_hi_a + channels_3_counter_hi_b) >> channels_3_counter_shift1) & channels_3_counter_hi_mask;
+        channels_3_counter_hi_d = (channels_3_counter_hi_q + channels_3_counter_hi_step + channels_3_counter_hi_carry_in) & channels_3_counter_hi_mask;
         if (channels_3_counter_load) begin
             channels_3_counter_lo_max_d = channels_3_counter_load_low_is_max;
             channels_3_counter_lo_nonzero_d = channels_3_counter_load_low_is_nonzero;
         end
         else if (channels_3_counter_up) begin
-            channels_3_counter_lo_max_d = (channels_3_counter_base == channels_3_counter_base_max_minus_one) & channels_3_counter_mid_ones_q;
-            channels_3_counter_lo_nonzero_d = ~channels_3_counter_lo_max_q;
+            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & ~channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0]);
         end
         else if (channels_3_counter_down) begin
-            channels_3_counter_lo_max_d = ~channels_3_counter_lo_nonzero_q;
-            channels_3_counter_lo_nonzero_d = ~((channels_3_counter_base == channels_3_counter_one) & channels_3_counter_mid_zero_q);
+            channels_3_counter_lo_max_d = channels_3_counter_lo_zeros_above & ~channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_zeros_above & channels_3_counter_lo_q[0]);
         end
-        channels_3_counter_mid_ones_d = (channels_3_counter_lo_q & channels_3_counter_mid_mask) == channels_3_counter_mid_mask;
-        channels_3_counter_mid_zero_d = ~|(channels_3_counter_lo_q & channels_3_counter_mid_mask);
+        else begin
+            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0];
+            channels_3_counter_lo_nonzero_d = ~channels_3_counter_lo_zeros_above | channels_3_counter_lo_q[0];
+        end
         if (channels_3_counter_clear) begin
             channels_3_counter_lo_d = 32'h0;
             channels_3_counter_hi_d = 32'h0;
@@ -2314,15 +2246,12 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_0_counter_hi_q <= channels_0_counter_hi_d;
     always @(posedge clock) channels_0_counter_lo_max_q <= channels_0_counter_lo_max_d;
     always @(posedge clock) channels_0_counter_lo_nonzero_q <= channels_0_counter_lo_nonzero_d;
-    always @(posedge clock) channels_0_counter_mid_ones_q <= channels_0_counter_mid_ones_d;
-    always @(posedge clock) channels_0_counter_mid_zero_q <= channels_0_counter_mid_zero_d;
     always @(posedge clock) channels_0_load_q_q <= channels_0_load_q_d;
     always @(posedge clock) channels_0_index_latch_q_q <= channels_0_index_latch_q_d;
     always @(posedge clock) channels_0_index_clear_q_q <= channels_0_index_clear_q_d;
     always @(posedge clock) channels_0_index_q <= channels_0_index_d;
     always @(posedge clock) channels_0_err_q <= channels_0_err_d;
     always @(posedge clock) channels_0_err_count_q <= channels_0_err_count_d;
-    always @(posedge clock) channels_0_err_sat_q <= channels_0_err_sat_d;
     always @(posedge clock) channels_0_seen_q <= channels_0_seen_d;
     always @(posedge clock) channels_0_armed_q <= channels_0_armed_d;
     always @(posedge clock) channels_0_ctrl_q <= channels_0_ctrl_d;
@@ -2354,15 +2283,12 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_1_counter_hi_q <= channels_1_counter_hi_d;
     always @(posedge clock) channels_1_counter_lo_max_q <= channels_1_counter_lo_max_d;
     always @(posedge clock) channels_1_counter_lo_nonzero_q <= channels_1_counter_lo_nonzero_d;
-    always @(posedge clock) channels_1_counter_mid_ones_q <= channels_1_counter_mid_ones_d;
-    always @(posedge clock) channels_1_counter_mid_zero_q <= channels_1_counter_mid_zero_d;
     always @(posedge clock) channels_1_load_q_q <= channels_1_load_q_d;
     always @(posedge clock) channels_1_index_latch_q_q <= channels_1_index_latch_q_d;
     always @(posedge clock) channels_1_index_clear_q_q <= channels_1_index_clear_q_d;
     always @(posedge clock) channels_1_index_q <= channels_1_index_d;
     always @(posedge clock) channels_1_err_q <= channels_1_err_d;
     always @(posedge clock) channels_1_err_count_q <= channels_1_err_count_d;
-    always @(posedge clock) channels_1_err_sat_q <= channels_1_err_sat_d;
     always @(posedge clock) channels_1_seen_q <= channels_1_seen_d;
     always @(posedge clock) channels_1_armed_q <= channels_1_armed_d;
     always @(posedge clock) channels_1_ctrl_q <= channels_1_ctrl_d;
@@ -2394,15 +2320,12 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_2_counter_hi_q <= channels_2_counter_hi_d;
     always @(posedge clock) channels_2_counter_lo_max_q <= channels_2_counter_lo_max_d;
     always @(posedge clock) channels_2_counter_lo_nonzero_q <= channels_2_counter_lo_nonzero_d;
-    always @(posedge clock) channels_2_counter_mid_ones_q <= channels_2_counter_mid_ones_d;
-    always @(posedge clock) channels_2_counter_mid_zero_q <= channels_2_counter_mid_zero_d;
     always @(posedge clock) channels_2_load_q_q <= channels_2_load_q_d;
     always @(posedge clock) channels_2_index_latch_q_q <= channels_2_index_latch_q_d;
     always @(posedge clock) channels_2_index_clear_q_q <= channels_2_index_clear_q_d;
     always @(posedge clock) channels_2_index_q <= channels_2_index_d;
     always @(posedge clock) channels_2_err_q <= channels_2_err_d;
     always @(posedge clock) channels_2_err_count_q <= channels_2_err_count_d;
-    always @(posedge clock) channels_2_err_sat_q <= channels_2_err_sat_d;
     always @(posedge clock) channels_2_seen_q <= channels_2_seen_d;
     always @(posedge clock) channels_2_armed_q <= channels_2_armed_d;
     always @(posedge clock) channels_2_ctrl_q <= channels_2_ctrl_d;
@@ -2434,15 +2357,12 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_3_counter_hi_q <= channels_3_counter_hi_d;
     always @(posedge clock) channels_3_counter_lo_max_q <= channels_3_counter_lo_max_d;
     always @(posedge clock) channels_3_counter_lo_nonzero_q <= channels_3_counter_lo_nonzero_d;
-    always @(posedge clock) channels_3_counter_mid_ones_q <= channels_3_counter_mid_ones_d;
-    always @(posedge clock) channels_3_counter_mid_zero_q <= channels_3_counter_mid_zero_d;
     always @(posedge clock) channels_3_load_q_q <= channels_3_load_q_d;
     always @(posedge clock) channels_3_index_latch_q_q <= channels_3_index_latch_q_d;
     always @(posedge clock) channels_3_index_clear_q_q <= channels_3_index_clear_q_d;
     always @(posedge clock) channels_3_index_q <= channels_3_index_d;
     always @(posedge clock) channels_3_err_q <= channels_3_err_d;
     always @(posedge clock) channels_3_err_count_q <= channels_3_err_count_d;
-    always @(posedge clock) channels_3_err_sat_q <= channels_3_err_sat_d;
     always @(posedge clock) channels_3_seen_q <= channels_3_seen_d;
     always @(posedge clock) channels_3_armed_q <= channels_3_armed_d;
     always @(posedge clock) channels_3_ctrl_q <= channels_3_ctrl_d;

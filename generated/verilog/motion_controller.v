@@ -111,19 +111,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_0_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_0_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_0_err_max = 8'hff;
-    localparam mcu_counters_channels_0_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_0_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_0_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_0_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_0_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_0_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_0_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_0_counter_base_mask = 32'h3;
-    localparam mcu_counters_channels_0_counter_base_max_minus_one = 32'h2;
-    localparam mcu_counters_channels_0_counter_mid_mask = 32'h3ffc;
+    localparam mcu_counters_channels_0_counter_lo_upper_mask = 32'h3ffe;
     localparam mcu_counters_channels_0_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_0_counter_lo_bits = 5'b1110;
-    localparam mcu_counters_channels_0_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_0_counter_one = 32'h1;
     localparam mcu_counters_channels_1_addr_ctrl = 8'h10;
     localparam mcu_counters_channels_1_addr_cmd = 8'h11;
@@ -156,19 +152,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_1_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_1_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_1_err_max = 8'hff;
-    localparam mcu_counters_channels_1_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_1_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_1_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_1_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_1_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_1_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_1_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_1_counter_base_mask = 32'h3;
-    localparam mcu_counters_channels_1_counter_base_max_minus_one = 32'h2;
-    localparam mcu_counters_channels_1_counter_mid_mask = 32'h3ffc;
+    localparam mcu_counters_channels_1_counter_lo_upper_mask = 32'h3ffe;
     localparam mcu_counters_channels_1_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_1_counter_lo_bits = 5'b1110;
-    localparam mcu_counters_channels_1_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_1_counter_one = 32'h1;
     localparam mcu_counters_channels_2_addr_ctrl = 8'h18;
     localparam mcu_counters_channels_2_addr_cmd = 8'h19;
@@ -201,19 +193,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_2_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_2_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_2_err_max = 8'hff;
-    localparam mcu_counters_channels_2_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_2_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_2_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_2_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_2_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_2_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_2_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_2_counter_base_mask = 32'h3;
-    localparam mcu_counters_channels_2_counter_base_max_minus_one = 32'h2;
-    localparam mcu_counters_channels_2_counter_mid_mask = 32'h3ffc;
+    localparam mcu_counters_channels_2_counter_lo_upper_mask = 32'h3ffe;
     localparam mcu_counters_channels_2_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_2_counter_lo_bits = 5'b1110;
-    localparam mcu_counters_channels_2_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_2_counter_one = 32'h1;
     localparam mcu_counters_channels_3_addr_ctrl = 8'h20;
     localparam mcu_counters_channels_3_addr_cmd = 8'h21;
@@ -246,19 +234,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_3_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_3_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_3_err_max = 8'hff;
-    localparam mcu_counters_channels_3_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_3_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_3_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_3_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_3_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_3_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_3_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_3_counter_base_mask = 32'h3;
-    localparam mcu_counters_channels_3_counter_base_max_minus_one = 32'h2;
-    localparam mcu_counters_channels_3_counter_mid_mask = 32'h3ffc;
+    localparam mcu_counters_channels_3_counter_lo_upper_mask = 32'h3ffe;
     localparam mcu_counters_channels_3_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_3_counter_lo_bits = 5'b1110;
-    localparam mcu_counters_channels_3_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_3_counter_one = 32'h1;
     localparam mcu_pulses_addr_info = 9'b0;
     localparam mcu_pulses_addr_run = 9'b1;
@@ -648,8 +632,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_0_err_count_d;
     reg [7:0] mcu_counters_channels_0_err_count_q = 8'h0;
-    reg mcu_counters_channels_0_err_sat_d;
-    reg mcu_counters_channels_0_err_sat_q = 1'h0;
     reg mcu_counters_channels_0_seen_d;
     reg mcu_counters_channels_0_seen_q = 1'h0;
     reg mcu_counters_channels_0_armed_d;
@@ -727,18 +709,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_0_counter_lo_nonzero_d;
     reg mcu_counters_channels_0_counter_lo_nonzero_q = 1'h0;
-    reg mcu_counters_channels_0_counter_mid_ones_d;
-    reg mcu_counters_channels_0_counter_mid_ones_q = 1'h0;
-    reg mcu_counters_channels_0_counter_mid_zero_d;
-    reg mcu_counters_channels_0_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_0_counter_load_hi;
-    reg [31:0] mcu_counters_channels_0_counter_load_lo;
-    reg [31:0] mcu_counters_channels_0_counter_base;
+    reg mcu_counters_channels_0_counter_lo_ones_above;
+    reg mcu_counters_channels_0_counter_lo_zeros_above;
     reg [31:0] mcu_counters_channels_0_counter_lo_step;
     reg [31:0] mcu_counters_channels_0_counter_hi_step;
     reg [31:0] mcu_counters_channels_0_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_0_counter_hi_a;
-    reg [31:0] mcu_counters_channels_0_counter_hi_b;
+    reg [31:0] mcu_counters_channels_0_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_0_counter_load_lo;
     reg mcu_counters_channels_1_filter_a_reset;
     reg mcu_counters_channels_1_filter_a_pin;
     reg [3:0] mcu_counters_channels_1_filter_a_setting;
@@ -786,8 +764,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_1_err_count_d;
     reg [7:0] mcu_counters_channels_1_err_count_q = 8'h0;
-    reg mcu_counters_channels_1_err_sat_d;
-    reg mcu_counters_channels_1_err_sat_q = 1'h0;
     reg mcu_counters_channels_1_seen_d;
     reg mcu_counters_channels_1_seen_q = 1'h0;
     reg mcu_counters_channels_1_armed_d;
@@ -865,18 +841,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_1_counter_lo_nonzero_d;
     reg mcu_counters_channels_1_counter_lo_nonzero_q = 1'h0;
-    reg mcu_counters_channels_1_counter_mid_ones_d;
-    reg mcu_counters_channels_1_counter_mid_ones_q = 1'h0;
-    reg mcu_counters_channels_1_counter_mid_zero_d;
-    reg mcu_counters_channels_1_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_1_counter_load_hi;
-    reg [31:0] mcu_counters_channels_1_counter_load_lo;
-    reg [31:0] mcu_counters_channels_1_counter_base;
+    reg mcu_counters_channels_1_counter_lo_ones_above;
+    reg mcu_counters_channels_1_counter_lo_zeros_above;
     reg [31:0] mcu_counters_channels_1_counter_lo_step;
     reg [31:0] mcu_counters_channels_1_counter_hi_step;
     reg [31:0] mcu_counters_channels_1_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_1_counter_hi_a;
-    reg [31:0] mcu_counters_channels_1_counter_hi_b;
+    reg [31:0] mcu_counters_channels_1_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_1_counter_load_lo;
     reg mcu_counters_channels_2_filter_a_reset;
     reg mcu_counters_channels_2_filter_a_pin;
     reg [3:0] mcu_counters_channels_2_filter_a_setting;
@@ -924,8 +896,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_2_err_count_d;
     reg [7:0] mcu_counters_channels_2_err_count_q = 8'h0;
-    reg mcu_counters_channels_2_err_sat_d;
-    reg mcu_counters_channels_2_err_sat_q = 1'h0;
     reg mcu_counters_channels_2_seen_d;
     reg mcu_counters_channels_2_seen_q = 1'h0;
     reg mcu_counters_channels_2_armed_d;
@@ -1003,18 +973,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_2_counter_lo_nonzero_d;
     reg mcu_counters_channels_2_counter_lo_nonzero_q = 1'h0;
-    reg mcu_counters_channels_2_counter_mid_ones_d;
-    reg mcu_counters_channels_2_counter_mid_ones_q = 1'h0;
-    reg mcu_counters_channels_2_counter_mid_zero_d;
-    reg mcu_counters_channels_2_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_2_counter_load_hi;
-    reg [31:0] mcu_counters_channels_2_counter_load_lo;
-    reg [31:0] mcu_counters_channels_2_counter_base;
+    reg mcu_counters_channels_2_counter_lo_ones_above;
+    reg mcu_counters_channels_2_counter_lo_zeros_above;
     reg [31:0] mcu_counters_channels_2_counter_lo_step;
     reg [31:0] mcu_counters_channels_2_counter_hi_step;
     reg [31:0] mcu_counters_channels_2_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_2_counter_hi_a;
-    reg [31:0] mcu_counters_channels_2_counter_hi_b;
+    reg [31:0] mcu_counters_channels_2_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_2_counter_load_lo;
     reg mcu_counters_channels_3_filter_a_reset;
     reg mcu_counters_channels_3_filter_a_pin;
     reg [3:0] mcu_counters_channels_3_filter_a_setting;
@@ -1062,8 +1028,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_3_err_count_d;
     reg [7:0] mcu_counters_channels_3_err_count_q = 8'h0;
-    reg mcu_counters_channels_3_err_sat_d;
-    reg mcu_counters_channels_3_err_sat_q = 1'h0;
     reg mcu_counters_channels_3_seen_d;
     reg mcu_counters_channels_3_seen_q = 1'h0;
     reg mcu_counters_channels_3_armed_d;
@@ -1141,18 +1105,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_3_counter_lo_nonzero_d;
     reg mcu_counters_channels_3_counter_lo_nonzero_q = 1'h0;
-    reg mcu_counters_channels_3_counter_mid_ones_d;
-    reg mcu_counters_channels_3_counter_mid_ones_q = 1'h0;
-    reg mcu_counters_channels_3_counter_mid_zero_d;
-    reg mcu_counters_channels_3_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_3_counter_load_hi;
-    reg [31:0] mcu_counters_channels_3_counter_load_lo;
-    reg [31:0] mcu_counters_channels_3_counter_base;
+    reg mcu_counters_channels_3_counter_lo_ones_above;
+    reg mcu_counters_channels_3_counter_lo_zeros_above;
     reg [31:0] mcu_counters_channels_3_counter_lo_step;
     reg [31:0] mcu_counters_channels_3_counter_hi_step;
     reg [31:0] mcu_counters_channels_3_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_3_counter_hi_a;
-    reg [31:0] mcu_counters_channels_3_counter_hi_b;
+    reg [31:0] mcu_counters_channels_3_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_3_counter_load_lo;
     reg mcu_pulses_generators_0_reset;
     reg mcu_pulses_generators_0_enable;
     reg [31:0] mcu_pulses_generators_0_rate;
@@ -2242,7 +2202,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_index_d = mcu_counters_channels_0_index_q;
         mcu_counters_channels_0_err_d = mcu_counters_channels_0_err_q;
         mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q;
-        mcu_counters_channels_0_err_sat_d = mcu_counters_channels_0_err_sat_q;
         mcu_counters_channels_0_seen_d = mcu_counters_channels_0_seen_q;
         mcu_counters_channels_0_armed_d = mcu_counters_channels_0_armed_q;
         mcu_counters_channels_0_ctrl_d = mcu_counters_channels_0_ctrl_q;
@@ -2268,7 +2227,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_cmd_write = mcu_counters_channels_0_we & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_cmd);
         mcu_counters_channels_0_cmd_clear = mcu_counters_channels_0_cmd_write & mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_bit];
         mcu_counters_channels_0_cmd_load = mcu_counters_channels_0_cmd_write & mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_load_bit];
-        mcu_counters_channels_0_decoder_hold = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_load | mcu_counters_channels_0_load_q_q;
+        mcu_counters_channels_0_decoder_hold = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_load;
         mcu_counters_channels_0_decoder_a = mcu_counters_channels_0_level_a;
         mcu_counters_channels_0_decoder_b = mcu_counters_channels_0_level_b;
         mcu_counters_channels_0_decoder_a_prev = mcu_counters_channels_0_a_prev_q;
@@ -2298,9 +2257,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_counters_channels_0_illegal & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_err_en_bit]) begin
             mcu_counters_channels_0_err_d = 1'b1;
-            if (~mcu_counters_channels_0_err_sat_q) begin
+            if (mcu_counters_channels_0_err_count_q != mcu_counters_channels_0_err_max) begin
                 mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q + 8'h1;
-                mcu_counters_channels_0_err_sat_d = mcu_counters_channels_0_err_count_q == mcu_counters_channels_0_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_0_index_event) begin
@@ -2316,7 +2274,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_status_bit]) begin
                 mcu_counters_channels_0_err_d = 1'b0;
                 mcu_counters_channels_0_err_count_d = 8'h0;
-                mcu_counters_channels_0_err_sat_d = 1'b0;
                 mcu_counters_channels_0_seen_d = 1'b0;
             end
         end
@@ -2355,7 +2312,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_index_d = 32'h0;
             mcu_counters_channels_0_err_d = 1'b0;
             mcu_counters_channels_0_err_count_d = 8'h0;
-            mcu_counters_channels_0_err_sat_d = 1'b0;
             mcu_counters_channels_0_seen_d = 1'b0;
             mcu_counters_channels_0_armed_d = 1'b0;
             mcu_counters_channels_0_load_q_d = 1'b0;
@@ -2409,14 +2365,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_filter_a_count_d = 4'h0;
         end
         else if (mcu_counters_channels_0_filter_a_sync2_q == mcu_counters_channels_0_filter_a_accepted_q) begin
-            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_setting;
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_0_filter_a_count_q) begin
+        else if (mcu_counters_channels_0_filter_a_count_q == mcu_counters_channels_0_filter_a_setting) begin
             mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_sync2_q;
-            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_setting;
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q - 4'h1;
+            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q + 4'h1;
         end
         mcu_counters_channels_0_filter_a_level = mcu_counters_channels_0_filter_a_accepted_q;
     end
@@ -2433,14 +2389,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_filter_b_count_d = 4'h0;
         end
         else if (mcu_counters_channels_0_filter_b_sync2_q == mcu_counters_channels_0_filter_b_accepted_q) begin
-            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_setting;
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_0_filter_b_count_q) begin
+        else if (mcu_counters_channels_0_filter_b_count_q == mcu_counters_channels_0_filter_b_setting) begin
             mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_sync2_q;
-            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_setting;
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q - 4'h1;
+            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q + 4'h1;
         end
         mcu_counters_channels_0_filter_b_level = mcu_counters_channels_0_filter_b_accepted_q;
     end
@@ -2457,14 +2413,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_filter_z_count_d = 4'h0;
         end
         else if (mcu_counters_channels_0_filter_z_sync2_q == mcu_counters_channels_0_filter_z_accepted_q) begin
-            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_setting;
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_0_filter_z_count_q) begin
+        else if (mcu_counters_channels_0_filter_z_count_q == mcu_counters_channels_0_filter_z_setting) begin
             mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_sync2_q;
-            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_setting;
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q - 4'h1;
+            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q + 4'h1;
         end
         mcu_counters_channels_0_filter_z_level = mcu_counters_channels_0_filter_z_accepted_q;
     end
@@ -2520,16 +2476,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_counter_hi_d = mcu_counters_channels_0_counter_hi_q;
         mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_max_q;
         mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_lo_nonzero_q;
-        mcu_counters_channels_0_counter_mid_ones_d = mcu_counters_channels_0_counter_mid_ones_q;
-        mcu_counters_channels_0_counter_mid_zero_d = mcu_counters_channels_0_counter_mid_zero_q;
-        mcu_counters_channels_0_counter_base = mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_base_mask;
+        mcu_counters_channels_0_counter_lo_ones_above = (mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask) == mcu_counters_channels_0_counter_lo_upper_mask;
+        mcu_counters_channels_0_counter_lo_zeros_above = ~|(mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask);
         mcu_counters_channels_0_counter_load_lo = mcu_counters_channels_0_counter_load_value & mcu_counters_channels_0_counter_lo_mask;
         mcu_counters_channels_0_counter_load_hi = (mcu_counters_channels_0_counter_load_value >> mcu_counters_channels_0_counter_lo_bits) & mcu_counters_channels_0_counter_hi_mask;
         mcu_counters_channels_0_counter_lo_step = 32'h0;
         mcu_counters_channels_0_counter_hi_step = 32'h0;
         mcu_counters_channels_0_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_0_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_0_counter_up) begin
             mcu_counters_channels_0_counter_lo_carry_in = mcu_counters_channels_0_counter_one;
+            if (mcu_counters_channels_0_counter_lo_max_q) begin
+                mcu_counters_channels_0_counter_hi_carry_in = mcu_counters_channels_0_counter_one;
+            end
         end
         if (mcu_counters_channels_0_counter_down) begin
             mcu_counters_channels_0_counter_lo_step = mcu_counters_channels_0_counter_lo_mask;
@@ -2542,29 +2501,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_counter_hi_step = mcu_counters_channels_0_counter_load_hi;
         end
         mcu_counters_channels_0_counter_lo_d = (mcu_counters_channels_0_counter_lo_q + mcu_counters_channels_0_counter_lo_step + mcu_counters_channels_0_counter_lo_carry_in) & mcu_counters_channels_0_counter_lo_mask;
-        mcu_counters_channels_0_counter_hi_a = mcu_counters_channels_0_counter_hi_q << mcu_counters_channels_0_counter_shift1;
-        mcu_counters_channels_0_counter_hi_b = mcu_counters_channels_0_counter_hi_step << mcu_counters_channels_0_counter_shift1;
-        if (mcu_counters_channels_0_counter_up) begin
-            mcu_counters_channels_0_counter_hi_a = (mcu_counters_channels_0_counter_hi_q << mcu_counters_channels_0_counter_shift1) | mcu_counters_channels_0_counter_one;
-        end
-        if (mcu_counters_channels_0_counter_lo_max_q) begin
-            mcu_counters_channels_0_counter_hi_b = (mcu_counters_channels_0_counter_hi_step << mcu_counters_channels_0_counter_shift1) | mcu_counters_channels_0_counter_one;
-        end
-        mcu_counters_channels_0_counter_hi_d = ((mcu_counters_channels_0_counter_hi_a + mcu_counters_channels_0_counter_hi_b) >> mcu_counters_channels_0_counter_shift1) & mcu_counters_channels_0_counter_hi_mask;
+        mcu_counters_channels_0_counter_hi_d = (mcu_counters_channels_0_counter_hi_q + mcu_counters_channels_0_counter_hi_step + mcu_counters_channels_0_counter_hi_carry_in) & mcu_counters_channels_0_counter_hi_mask;
         if (mcu_counters_channels_0_counter_load) begin
             mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_load_low_is_max;
             mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_0_counter_up) begin
-            mcu_counters_channels_0_counter_lo_max_d = (mcu_counters_channels_0_counter_base == mcu_counters_channels_0_counter_base_max_minus_one) & mcu_counters_channels_0_counter_mid_ones_q;
-            mcu_counters_channels_0_counter_lo_nonzero_d = ~mcu_counters_channels_0_counter_lo_max_q;
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & ~mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0]);
         end
         else if (mcu_counters_channels_0_counter_down) begin
-            mcu_counters_channels_0_counter_lo_max_d = ~mcu_counters_channels_0_counter_lo_nonzero_q;
-            mcu_counters_channels_0_counter_lo_nonzero_d = ~((mcu_counters_channels_0_counter_base == mcu_counters_channels_0_counter_one) & mcu_counters_channels_0_counter_mid_zero_q);
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_zeros_above & ~mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_zeros_above & mcu_counters_channels_0_counter_lo_q[0]);
         end
-        mcu_counters_channels_0_counter_mid_ones_d = (mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_mid_mask) == mcu_counters_channels_0_counter_mid_mask;
-        mcu_counters_channels_0_counter_mid_zero_d = ~|(mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_mid_mask);
+        else begin
+            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~mcu_counters_channels_0_counter_lo_zeros_above | mcu_counters_channels_0_counter_lo_q[0];
+        end
         if (mcu_counters_channels_0_counter_clear) begin
             mcu_counters_channels_0_counter_lo_d = 32'h0;
             mcu_counters_channels_0_counter_hi_d = 32'h0;
@@ -2584,7 +2537,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_index_d = mcu_counters_channels_1_index_q;
         mcu_counters_channels_1_err_d = mcu_counters_channels_1_err_q;
         mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q;
-        mcu_counters_channels_1_err_sat_d = mcu_counters_channels_1_err_sat_q;
         mcu_counters_channels_1_seen_d = mcu_counters_channels_1_seen_q;
         mcu_counters_channels_1_armed_d = mcu_counters_channels_1_armed_q;
         mcu_counters_channels_1_ctrl_d = mcu_counters_channels_1_ctrl_q;
@@ -2610,7 +2562,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_cmd_write = mcu_counters_channels_1_we & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_cmd);
         mcu_counters_channels_1_cmd_clear = mcu_counters_channels_1_cmd_write & mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_bit];
         mcu_counters_channels_1_cmd_load = mcu_counters_channels_1_cmd_write & mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_load_bit];
-        mcu_counters_channels_1_decoder_hold = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_load | mcu_counters_channels_1_load_q_q;
+        mcu_counters_channels_1_decoder_hold = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_load;
         mcu_counters_channels_1_decoder_a = mcu_counters_channels_1_level_a;
         mcu_counters_channels_1_decoder_b = mcu_counters_channels_1_level_b;
         mcu_counters_channels_1_decoder_a_prev = mcu_counters_channels_1_a_prev_q;
@@ -2640,9 +2592,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_counters_channels_1_illegal & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_err_en_bit]) begin
             mcu_counters_channels_1_err_d = 1'b1;
-            if (~mcu_counters_channels_1_err_sat_q) begin
+            if (mcu_counters_channels_1_err_count_q != mcu_counters_channels_1_err_max) begin
                 mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q + 8'h1;
-                mcu_counters_channels_1_err_sat_d = mcu_counters_channels_1_err_count_q == mcu_counters_channels_1_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_1_index_event) begin
@@ -2658,7 +2609,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_status_bit]) begin
                 mcu_counters_channels_1_err_d = 1'b0;
                 mcu_counters_channels_1_err_count_d = 8'h0;
-                mcu_counters_channels_1_err_sat_d = 1'b0;
                 mcu_counters_channels_1_seen_d = 1'b0;
             end
         end
@@ -2697,7 +2647,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_index_d = 32'h0;
             mcu_counters_channels_1_err_d = 1'b0;
             mcu_counters_channels_1_err_count_d = 8'h0;
-            mcu_counters_channels_1_err_sat_d = 1'b0;
             mcu_counters_channels_1_seen_d = 1'b0;
             mcu_counters_channels_1_armed_d = 1'b0;
             mcu_counters_channels_1_load_q_d = 1'b0;
@@ -2751,14 +2700,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_filter_a_count_d = 4'h0;
         end
         else if (mcu_counters_channels_1_filter_a_sync2_q == mcu_counters_channels_1_filter_a_accepted_q) begin
-            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_setting;
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_1_filter_a_count_q) begin
+        else if (mcu_counters_channels_1_filter_a_count_q == mcu_counters_channels_1_filter_a_setting) begin
             mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_sync2_q;
-            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_setting;
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q - 4'h1;
+            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q + 4'h1;
         end
         mcu_counters_channels_1_filter_a_level = mcu_counters_channels_1_filter_a_accepted_q;
     end
@@ -2775,14 +2724,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_filter_b_count_d = 4'h0;
         end
         else if (mcu_counters_channels_1_filter_b_sync2_q == mcu_counters_channels_1_filter_b_accepted_q) begin
-            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_setting;
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_1_filter_b_count_q) begin
+        else if (mcu_counters_channels_1_filter_b_count_q == mcu_counters_channels_1_filter_b_setting) begin
             mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_sync2_q;
-            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_setting;
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q - 4'h1;
+            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q + 4'h1;
         end
         mcu_counters_channels_1_filter_b_level = mcu_counters_channels_1_filter_b_accepted_q;
     end
@@ -2799,14 +2748,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_filter_z_count_d = 4'h0;
         end
         else if (mcu_counters_channels_1_filter_z_sync2_q == mcu_counters_channels_1_filter_z_accepted_q) begin
-            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_setting;
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_1_filter_z_count_q) begin
+        else if (mcu_counters_channels_1_filter_z_count_q == mcu_counters_channels_1_filter_z_setting) begin
             mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_sync2_q;
-            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_setting;
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q - 4'h1;
+            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q + 4'h1;
         end
         mcu_counters_channels_1_filter_z_level = mcu_counters_channels_1_filter_z_accepted_q;
     end
@@ -2862,16 +2811,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_counter_hi_d = mcu_counters_channels_1_counter_hi_q;
         mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_max_q;
         mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_lo_nonzero_q;
-        mcu_counters_channels_1_counter_mid_ones_d = mcu_counters_channels_1_counter_mid_ones_q;
-        mcu_counters_channels_1_counter_mid_zero_d = mcu_counters_channels_1_counter_mid_zero_q;
-        mcu_counters_channels_1_counter_base = mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_base_mask;
+        mcu_counters_channels_1_counter_lo_ones_above = (mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask) == mcu_counters_channels_1_counter_lo_upper_mask;
+        mcu_counters_channels_1_counter_lo_zeros_above = ~|(mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask);
         mcu_counters_channels_1_counter_load_lo = mcu_counters_channels_1_counter_load_value & mcu_counters_channels_1_counter_lo_mask;
         mcu_counters_channels_1_counter_load_hi = (mcu_counters_channels_1_counter_load_value >> mcu_counters_channels_1_counter_lo_bits) & mcu_counters_channels_1_counter_hi_mask;
         mcu_counters_channels_1_counter_lo_step = 32'h0;
         mcu_counters_channels_1_counter_hi_step = 32'h0;
         mcu_counters_channels_1_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_1_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_1_counter_up) begin
             mcu_counters_channels_1_counter_lo_carry_in = mcu_counters_channels_1_counter_one;
+            if (mcu_counters_channels_1_counter_lo_max_q) begin
+                mcu_counters_channels_1_counter_hi_carry_in = mcu_counters_channels_1_counter_one;
+            end
         end
         if (mcu_counters_channels_1_counter_down) begin
             mcu_counters_channels_1_counter_lo_step = mcu_counters_channels_1_counter_lo_mask;
@@ -2884,29 +2836,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_counter_hi_step = mcu_counters_channels_1_counter_load_hi;
         end
         mcu_counters_channels_1_counter_lo_d = (mcu_counters_channels_1_counter_lo_q + mcu_counters_channels_1_counter_lo_step + mcu_counters_channels_1_counter_lo_carry_in) & mcu_counters_channels_1_counter_lo_mask;
-        mcu_counters_channels_1_counter_hi_a = mcu_counters_channels_1_counter_hi_q << mcu_counters_channels_1_counter_shift1;
-        mcu_counters_channels_1_counter_hi_b = mcu_counters_channels_1_counter_hi_step << mcu_counters_channels_1_counter_shift1;
-        if (mcu_counters_channels_1_counter_up) begin
-            mcu_counters_channels_1_counter_hi_a = (mcu_counters_channels_1_counter_hi_q << mcu_counters_channels_1_counter_shift1) | mcu_counters_channels_1_counter_one;
-        end
-        if (mcu_counters_channels_1_counter_lo_max_q) begin
-            mcu_counters_channels_1_counter_hi_b = (mcu_counters_channels_1_counter_hi_step << mcu_counters_channels_1_counter_shift1) | mcu_counters_channels_1_counter_one;
-        end
-        mcu_counters_channels_1_counter_hi_d = ((mcu_counters_channels_1_counter_hi_a + mcu_counters_channels_1_counter_hi_b) >> mcu_counters_channels_1_counter_shift1) & mcu_counters_channels_1_counter_hi_mask;
+        mcu_counters_channels_1_counter_hi_d = (mcu_counters_channels_1_counter_hi_q + mcu_counters_channels_1_counter_hi_step + mcu_counters_channels_1_counter_hi_carry_in) & mcu_counters_channels_1_counter_hi_mask;
         if (mcu_counters_channels_1_counter_load) begin
             mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_load_low_is_max;
             mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_1_counter_up) begin
-            mcu_counters_channels_1_counter_lo_max_d = (mcu_counters_channels_1_counter_base == mcu_counters_channels_1_counter_base_max_minus_one) & mcu_counters_channels_1_counter_mid_ones_q;
-            mcu_counters_channels_1_counter_lo_nonzero_d = ~mcu_counters_channels_1_counter_lo_max_q;
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & ~mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0]);
         end
         else if (mcu_counters_channels_1_counter_down) begin
-            mcu_counters_channels_1_counter_lo_max_d = ~mcu_counters_channels_1_counter_lo_nonzero_q;
-            mcu_counters_channels_1_counter_lo_nonzero_d = ~((mcu_counters_channels_1_counter_base == mcu_counters_channels_1_counter_one) & mcu_counters_channels_1_counter_mid_zero_q);
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_zeros_above & ~mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_zeros_above & mcu_counters_channels_1_counter_lo_q[0]);
         end
-        mcu_counters_channels_1_counter_mid_ones_d = (mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_mid_mask) == mcu_counters_channels_1_counter_mid_mask;
-        mcu_counters_channels_1_counter_mid_zero_d = ~|(mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_mid_mask);
+        else begin
+            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~mcu_counters_channels_1_counter_lo_zeros_above | mcu_counters_channels_1_counter_lo_q[0];
+        end
         if (mcu_counters_channels_1_counter_clear) begin
             mcu_counters_channels_1_counter_lo_d = 32'h0;
             mcu_counters_channels_1_counter_hi_d = 32'h0;
@@ -2926,7 +2872,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_index_d = mcu_counters_channels_2_index_q;
         mcu_counters_channels_2_err_d = mcu_counters_channels_2_err_q;
         mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q;
-        mcu_counters_channels_2_err_sat_d = mcu_counters_channels_2_err_sat_q;
         mcu_counters_channels_2_seen_d = mcu_counters_channels_2_seen_q;
         mcu_counters_channels_2_armed_d = mcu_counters_channels_2_armed_q;
         mcu_counters_channels_2_ctrl_d = mcu_counters_channels_2_ctrl_q;
@@ -2952,7 +2897,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_cmd_write = mcu_counters_channels_2_we & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_cmd);
         mcu_counters_channels_2_cmd_clear = mcu_counters_channels_2_cmd_write & mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_bit];
         mcu_counters_channels_2_cmd_load = mcu_counters_channels_2_cmd_write & mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_load_bit];
-        mcu_counters_channels_2_decoder_hold = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_load | mcu_counters_channels_2_load_q_q;
+        mcu_counters_channels_2_decoder_hold = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_load;
         mcu_counters_channels_2_decoder_a = mcu_counters_channels_2_level_a;
         mcu_counters_channels_2_decoder_b = mcu_counters_channels_2_level_b;
         mcu_counters_channels_2_decoder_a_prev = mcu_counters_channels_2_a_prev_q;
@@ -2982,9 +2927,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_counters_channels_2_illegal & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_err_en_bit]) begin
             mcu_counters_channels_2_err_d = 1'b1;
-            if (~mcu_counters_channels_2_err_sat_q) begin
+            if (mcu_counters_channels_2_err_count_q != mcu_counters_channels_2_err_max) begin
                 mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q + 8'h1;
-                mcu_counters_channels_2_err_sat_d = mcu_counters_channels_2_err_count_q == mcu_counters_channels_2_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_2_index_event) begin
@@ -3000,7 +2944,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_status_bit]) begin
                 mcu_counters_channels_2_err_d = 1'b0;
                 mcu_counters_channels_2_err_count_d = 8'h0;
-                mcu_counters_channels_2_err_sat_d = 1'b0;
                 mcu_counters_channels_2_seen_d = 1'b0;
             end
         end
@@ -3039,7 +2982,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_index_d = 32'h0;
             mcu_counters_channels_2_err_d = 1'b0;
             mcu_counters_channels_2_err_count_d = 8'h0;
-            mcu_counters_channels_2_err_sat_d = 1'b0;
             mcu_counters_channels_2_seen_d = 1'b0;
             mcu_counters_channels_2_armed_d = 1'b0;
             mcu_counters_channels_2_load_q_d = 1'b0;
@@ -3093,14 +3035,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_filter_a_count_d = 4'h0;
         end
         else if (mcu_counters_channels_2_filter_a_sync2_q == mcu_counters_channels_2_filter_a_accepted_q) begin
-            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_setting;
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_2_filter_a_count_q) begin
+        else if (mcu_counters_channels_2_filter_a_count_q == mcu_counters_channels_2_filter_a_setting) begin
             mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_sync2_q;
-            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_setting;
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q - 4'h1;
+            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q + 4'h1;
         end
         mcu_counters_channels_2_filter_a_level = mcu_counters_channels_2_filter_a_accepted_q;
     end
@@ -3117,14 +3059,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_filter_b_count_d = 4'h0;
         end
         else if (mcu_counters_channels_2_filter_b_sync2_q == mcu_counters_channels_2_filter_b_accepted_q) begin
-            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_setting;
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_2_filter_b_count_q) begin
+        else if (mcu_counters_channels_2_filter_b_count_q == mcu_counters_channels_2_filter_b_setting) begin
             mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_sync2_q;
-            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_setting;
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q - 4'h1;
+            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q + 4'h1;
         end
         mcu_counters_channels_2_filter_b_level = mcu_counters_channels_2_filter_b_accepted_q;
     end
@@ -3141,14 +3083,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_filter_z_count_d = 4'h0;
         end
         else if (mcu_counters_channels_2_filter_z_sync2_q == mcu_counters_channels_2_filter_z_accepted_q) begin
-            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_setting;
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_2_filter_z_count_q) begin
+        else if (mcu_counters_channels_2_filter_z_count_q == mcu_counters_channels_2_filter_z_setting) begin
             mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_sync2_q;
-            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_setting;
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q - 4'h1;
+            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q + 4'h1;
         end
         mcu_counters_channels_2_filter_z_level = mcu_counters_channels_2_filter_z_accepted_q;
     end
@@ -3204,16 +3146,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_counter_hi_d = mcu_counters_channels_2_counter_hi_q;
         mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_max_q;
         mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_lo_nonzero_q;
-        mcu_counters_channels_2_counter_mid_ones_d = mcu_counters_channels_2_counter_mid_ones_q;
-        mcu_counters_channels_2_counter_mid_zero_d = mcu_counters_channels_2_counter_mid_zero_q;
-        mcu_counters_channels_2_counter_base = mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_base_mask;
+        mcu_counters_channels_2_counter_lo_ones_above = (mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask) == mcu_counters_channels_2_counter_lo_upper_mask;
+        mcu_counters_channels_2_counter_lo_zeros_above = ~|(mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask);
         mcu_counters_channels_2_counter_load_lo = mcu_counters_channels_2_counter_load_value & mcu_counters_channels_2_counter_lo_mask;
         mcu_counters_channels_2_counter_load_hi = (mcu_counters_channels_2_counter_load_value >> mcu_counters_channels_2_counter_lo_bits) & mcu_counters_channels_2_counter_hi_mask;
         mcu_counters_channels_2_counter_lo_step = 32'h0;
         mcu_counters_channels_2_counter_hi_step = 32'h0;
         mcu_counters_channels_2_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_2_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_2_counter_up) begin
             mcu_counters_channels_2_counter_lo_carry_in = mcu_counters_channels_2_counter_one;
+            if (mcu_counters_channels_2_counter_lo_max_q) begin
+                mcu_counters_channels_2_counter_hi_carry_in = mcu_counters_channels_2_counter_one;
+            end
         end
         if (mcu_counters_channels_2_counter_down) begin
             mcu_counters_channels_2_counter_lo_step = mcu_counters_channels_2_counter_lo_mask;
@@ -3226,29 +3171,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_counter_hi_step = mcu_counters_channels_2_counter_load_hi;
         end
         mcu_counters_channels_2_counter_lo_d = (mcu_counters_channels_2_counter_lo_q + mcu_counters_channels_2_counter_lo_step + mcu_counters_channels_2_counter_lo_carry_in) & mcu_counters_channels_2_counter_lo_mask;
-        mcu_counters_channels_2_counter_hi_a = mcu_counters_channels_2_counter_hi_q << mcu_counters_channels_2_counter_shift1;
-        mcu_counters_channels_2_counter_hi_b = mcu_counters_channels_2_counter_hi_step << mcu_counters_channels_2_counter_shift1;
-        if (mcu_counters_channels_2_counter_up) begin
-            mcu_counters_channels_2_counter_hi_a = (mcu_counters_channels_2_counter_hi_q << mcu_counters_channels_2_counter_shift1) | mcu_counters_channels_2_counter_one;
-        end
-        if (mcu_counters_channels_2_counter_lo_max_q) begin
-            mcu_counters_channels_2_counter_hi_b = (mcu_counters_channels_2_counter_hi_step << mcu_counters_channels_2_counter_shift1) | mcu_counters_channels_2_counter_one;
-        end
-        mcu_counters_channels_2_counter_hi_d = ((mcu_counters_channels_2_counter_hi_a + mcu_counters_channels_2_counter_hi_b) >> mcu_counters_channels_2_counter_shift1) & mcu_counters_channels_2_counter_hi_mask;
+        mcu_counters_channels_2_counter_hi_d = (mcu_counters_channels_2_counter_hi_q + mcu_counters_channels_2_counter_hi_step + mcu_counters_channels_2_counter_hi_carry_in) & mcu_counters_channels_2_counter_hi_mask;
         if (mcu_counters_channels_2_counter_load) begin
             mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_load_low_is_max;
             mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_2_counter_up) begin
-            mcu_counters_channels_2_counter_lo_max_d = (mcu_counters_channels_2_counter_base == mcu_counters_channels_2_counter_base_max_minus_one) & mcu_counters_channels_2_counter_mid_ones_q;
-            mcu_counters_channels_2_counter_lo_nonzero_d = ~mcu_counters_channels_2_counter_lo_max_q;
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & ~mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0]);
         end
         else if (mcu_counters_channels_2_counter_down) begin
-            mcu_counters_channels_2_counter_lo_max_d = ~mcu_counters_channels_2_counter_lo_nonzero_q;
-            mcu_counters_channels_2_counter_lo_nonzero_d = ~((mcu_counters_channels_2_counter_base == mcu_counters_channels_2_counter_one) & mcu_counters_channels_2_counter_mid_zero_q);
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_zeros_above & ~mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_zeros_above & mcu_counters_channels_2_counter_lo_q[0]);
         end
-        mcu_counters_channels_2_counter_mid_ones_d = (mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_mid_mask) == mcu_counters_channels_2_counter_mid_mask;
-        mcu_counters_channels_2_counter_mid_zero_d = ~|(mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_mid_mask);
+        else begin
+            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~mcu_counters_channels_2_counter_lo_zeros_above | mcu_counters_channels_2_counter_lo_q[0];
+        end
         if (mcu_counters_channels_2_counter_clear) begin
             mcu_counters_channels_2_counter_lo_d = 32'h0;
             mcu_counters_channels_2_counter_hi_d = 32'h0;
@@ -3268,7 +3207,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_index_d = mcu_counters_channels_3_index_q;
         mcu_counters_channels_3_err_d = mcu_counters_channels_3_err_q;
         mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q;
-        mcu_counters_channels_3_err_sat_d = mcu_counters_channels_3_err_sat_q;
         mcu_counters_channels_3_seen_d = mcu_counters_channels_3_seen_q;
         mcu_counters_channels_3_armed_d = mcu_counters_channels_3_armed_q;
         mcu_counters_channels_3_ctrl_d = mcu_counters_channels_3_ctrl_q;
@@ -3294,7 +3232,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_cmd_write = mcu_counters_channels_3_we & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_cmd);
         mcu_counters_channels_3_cmd_clear = mcu_counters_channels_3_cmd_write & mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_bit];
         mcu_counters_channels_3_cmd_load = mcu_counters_channels_3_cmd_write & mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_load_bit];
-        mcu_counters_channels_3_decoder_hold = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_load | mcu_counters_channels_3_load_q_q;
+        mcu_counters_channels_3_decoder_hold = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_load;
         mcu_counters_channels_3_decoder_a = mcu_counters_channels_3_level_a;
         mcu_counters_channels_3_decoder_b = mcu_counters_channels_3_level_b;
         mcu_counters_channels_3_decoder_a_prev = mcu_counters_channels_3_a_prev_q;
@@ -3324,9 +3262,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_counters_channels_3_illegal & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_err_en_bit]) begin
             mcu_counters_channels_3_err_d = 1'b1;
-            if (~mcu_counters_channels_3_err_sat_q) begin
+            if (mcu_counters_channels_3_err_count_q != mcu_counters_channels_3_err_max) begin
                 mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q + 8'h1;
-                mcu_counters_channels_3_err_sat_d = mcu_counters_channels_3_err_count_q == mcu_counters_channels_3_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_3_index_event) begin
@@ -3342,7 +3279,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_status_bit]) begin
                 mcu_counters_channels_3_err_d = 1'b0;
                 mcu_counters_channels_3_err_count_d = 8'h0;
-                mcu_counters_channels_3_err_sat_d = 1'b0;
                 mcu_counters_channels_3_seen_d = 1'b0;
             end
         end
@@ -3381,7 +3317,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_index_d = 32'h0;
             mcu_counters_channels_3_err_d = 1'b0;
             mcu_counters_channels_3_err_count_d = 8'h0;
-            mcu_counters_channels_3_err_sat_d = 1'b0;
             mcu_counters_channels_3_seen_d = 1'b0;
             mcu_counters_channels_3_armed_d = 1'b0;
             mcu_counters_channels_3_load_q_d = 1'b0;
@@ -3435,14 +3370,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_filter_a_count_d = 4'h0;
         end
         else if (mcu_counters_channels_3_filter_a_sync2_q == mcu_counters_channels_3_filter_a_accepted_q) begin
-            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_setting;
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_3_filter_a_count_q) begin
+        else if (mcu_counters_channels_3_filter_a_count_q == mcu_counters_channels_3_filter_a_setting) begin
             mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_sync2_q;
-            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_setting;
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q - 4'h1;
+            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q + 4'h1;
         end
         mcu_counters_channels_3_filter_a_level = mcu_counters_channels_3_filter_a_accepted_q;
     end
@@ -3459,14 +3394,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_filter_b_count_d = 4'h0;
         end
         else if (mcu_counters_channels_3_filter_b_sync2_q == mcu_counters_channels_3_filter_b_accepted_q) begin
-            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_setting;
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_3_filter_b_count_q) begin
+        else if (mcu_counters_channels_3_filter_b_count_q == mcu_counters_channels_3_filter_b_setting) begin
             mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_sync2_q;
-            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_setting;
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q - 4'h1;
+            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q + 4'h1;
         end
         mcu_counters_channels_3_filter_b_level = mcu_counters_channels_3_filter_b_accepted_q;
     end
@@ -3483,14 +3418,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_filter_z_count_d = 4'h0;
         end
         else if (mcu_counters_channels_3_filter_z_sync2_q == mcu_counters_channels_3_filter_z_accepted_q) begin
-            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_setting;
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
         end
-        else if (~|mcu_counters_channels_3_filter_z_count_q) begin
+        else if (mcu_counters_channels_3_filter_z_count_q == mcu_counters_channels_3_filter_z_setting) begin
             mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_sync2_q;
-            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_setting;
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
         end
         else begin
-            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q - 4'h1;
+            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q + 4'h1;
         end
         mcu_counters_channels_3_filter_z_level = mcu_counters_channels_3_filter_z_accepted_q;
     end
@@ -3546,16 +3481,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_counter_hi_d = mcu_counters_channels_3_counter_hi_q;
         mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_max_q;
         mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_lo_nonzero_q;
-        mcu_counters_channels_3_counter_mid_ones_d = mcu_counters_channels_3_counter_mid_ones_q;
-        mcu_counters_channels_3_counter_mid_zero_d = mcu_counters_channels_3_counter_mid_zero_q;
-        mcu_counters_channels_3_counter_base = mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_base_mask;
+        mcu_counters_channels_3_counter_lo_ones_above = (mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask) == mcu_counters_channels_3_counter_lo_upper_mask;
+        mcu_counters_channels_3_counter_lo_zeros_above = ~|(mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask);
         mcu_counters_channels_3_counter_load_lo = mcu_counters_channels_3_counter_load_value & mcu_counters_channels_3_counter_lo_mask;
         mcu_counters_channels_3_counter_load_hi = (mcu_counters_channels_3_counter_load_value >> mcu_counters_channels_3_counter_lo_bits) & mcu_counters_channels_3_counter_hi_mask;
         mcu_counters_channels_3_counter_lo_step = 32'h0;
         mcu_counters_channels_3_counter_hi_step = 32'h0;
         mcu_counters_channels_3_counter_lo_carry_in = 32'h0;
+        mcu_counters_channels_3_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_3_counter_up) begin
             mcu_counters_channels_3_counter_lo_carry_in = mcu_counters_channels_3_counter_one;
+            if (mcu_counters_channels_3_counter_lo_max_q) begin
+                mcu_counters_channels_3_counter_hi_carry_in = mcu_counters_channels_3_counter_one;
+            end
         end
         if (mcu_counters_channels_3_counter_down) begin
             mcu_counters_channels_3_counter_lo_step = mcu_counters_channels_3_counter_lo_mask;
@@ -3568,29 +3506,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_counter_hi_step = mcu_counters_channels_3_counter_load_hi;
         end
         mcu_counters_channels_3_counter_lo_d = (mcu_counters_channels_3_counter_lo_q + mcu_counters_channels_3_counter_lo_step + mcu_counters_channels_3_counter_lo_carry_in) & mcu_counters_channels_3_counter_lo_mask;
-        mcu_counters_channels_3_counter_hi_a = mcu_counters_channels_3_counter_hi_q << mcu_counters_channels_3_counter_shift1;
-        mcu_counters_channels_3_counter_hi_b = mcu_counters_channels_3_counter_hi_step << mcu_counters_channels_3_counter_shift1;
-        if (mcu_counters_channels_3_counter_up) begin
-            mcu_counters_channels_3_counter_hi_a = (mcu_counters_channels_3_counter_hi_q << mcu_counters_channels_3_counter_shift1) | mcu_counters_channels_3_counter_one;
-        end
-        if (mcu_counters_channels_3_counter_lo_max_q) begin
-            mcu_counters_channels_3_counter_hi_b = (mcu_counters_channels_3_counter_hi_step << mcu_counters_channels_3_counter_shift1) | mcu_counters_channels_3_counter_one;
-        end
-        mcu_counters_channels_3_counter_hi_d = ((mcu_counters_channels_3_counter_hi_a + mcu_counters_channels_3_counter_hi_b) >> mcu_counters_channels_3_counter_shift1) & mcu_counters_channels_3_counter_hi_mask;
+        mcu_counters_channels_3_counter_hi_d = (mcu_counters_channels_3_counter_hi_q + mcu_counters_channels_3_counter_hi_step + mcu_counters_channels_3_counter_hi_carry_in) & mcu_counters_channels_3_counter_hi_mask;
         if (mcu_counters_channels_3_counter_load) begin
             mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_load_low_is_max;
             mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_3_counter_up) begin
-            mcu_counters_channels_3_counter_lo_max_d = (mcu_counters_channels_3_counter_base == mcu_counters_channels_3_counter_base_max_minus_one) & mcu_counters_channels_3_counter_mid_ones_q;
-            mcu_counters_channels_3_counter_lo_nonzero_d = ~mcu_counters_channels_3_counter_lo_max_q;
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & ~mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0]);
         end
         else if (mcu_counters_channels_3_counter_down) begin
-            mcu_counters_channels_3_counter_lo_max_d = ~mcu_counters_channels_3_counter_lo_nonzero_q;
-            mcu_counters_channels_3_counter_lo_nonzero_d = ~((mcu_counters_channels_3_counter_base == mcu_counters_channels_3_counter_one) & mcu_counters_channels_3_counter_mid_zero_q);
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_zeros_above & ~mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_zeros_above & mcu_counters_channels_3_counter_lo_q[0]);
         end
-        mcu_counters_channels_3_counter_mid_ones_d = (mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_mid_mask) == mcu_counters_channels_3_counter_mid_mask;
-        mcu_counters_channels_3_counter_mid_zero_d = ~|(mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_mid_mask);
+        else begin
+            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~mcu_counters_channels_3_counter_lo_zeros_above | mcu_counters_channels_3_counter_lo_q[0];
+        end
         if (mcu_counters_channels_3_counter_clear) begin
             mcu_counters_channels_3_counter_lo_d = 32'h0;
             mcu_counters_channels_3_counter_hi_d = 32'h0;
@@ -5541,15 +5473,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_channels_0_counter_hi_q <= mcu_counters_channels_0_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_0_counter_lo_max_q <= mcu_counters_channels_0_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_0_counter_lo_nonzero_q <= mcu_counters_channels_0_counter_lo_nonzero_d;
-    always @(posedge clock) mcu_counters_channels_0_counter_mid_ones_q <= mcu_counters_channels_0_counter_mid_ones_d;
-    always @(posedge clock) mcu_counters_channels_0_counter_mid_zero_q <= mcu_counters_channels_0_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_0_load_q_q <= mcu_counters_channels_0_load_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_latch_q_q <= mcu_counters_channels_0_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_clear_q_q <= mcu_counters_channels_0_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_q <= mcu_counters_channels_0_index_d;
     always @(posedge clock) mcu_counters_channels_0_err_q <= mcu_counters_channels_0_err_d;
     always @(posedge clock) mcu_counters_channels_0_err_count_q <= mcu_counters_channels_0_err_count_d;
-    always @(posedge clock) mcu_counters_channels_0_err_sat_q <= mcu_counters_channels_0_err_sat_d;
     always @(posedge clock) mcu_counters_channels_0_seen_q <= mcu_counters_channels_0_seen_d;
     always @(posedge clock) mcu_counters_channels_0_armed_q <= mcu_counters_channels_0_armed_d;
     always @(posedge clock) mcu_counters_channels_0_ctrl_q <= mcu_counters_channels_0_ctrl_d;
@@ -5581,15 +5510,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_channels_1_counter_hi_q <= mcu_counters_channels_1_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_1_counter_lo_max_q <= mcu_counters_channels_1_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_1_counter_lo_nonzero_q <= mcu_counters_channels_1_counter_lo_nonzero_d;
-    always @(posedge clock) mcu_counters_channels_1_counter_mid_ones_q <= mcu_counters_channels_1_counter_mid_ones_d;
-    always @(posedge clock) mcu_counters_channels_1_counter_mid_zero_q <= mcu_counters_channels_1_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_1_load_q_q <= mcu_counters_channels_1_load_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_latch_q_q <= mcu_counters_channels_1_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_clear_q_q <= mcu_counters_channels_1_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_q <= mcu_counters_channels_1_index_d;
     always @(posedge clock) mcu_counters_channels_1_err_q <= mcu_counters_channels_1_err_d;
     always @(posedge clock) mcu_counters_channels_1_err_count_q <= mcu_counters_channels_1_err_count_d;
-    always @(posedge clock) mcu_counters_channels_1_err_sat_q <= mcu_counters_channels_1_err_sat_d;
     always @(posedge clock) mcu_counters_channels_1_seen_q <= mcu_counters_channels_1_seen_d;
     always @(posedge clock) mcu_counters_channels_1_armed_q <= mcu_counters_channels_1_armed_d;
     always @(posedge clock) mcu_counters_channels_1_ctrl_q <= mcu_counters_channels_1_ctrl_d;
@@ -5621,15 +5547,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_channels_2_counter_hi_q <= mcu_counters_channels_2_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_2_counter_lo_max_q <= mcu_counters_channels_2_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_2_counter_lo_nonzero_q <= mcu_counters_channels_2_counter_lo_nonzero_d;
-    always @(posedge clock) mcu_counters_channels_2_counter_mid_ones_q <= mcu_counters_channels_2_counter_mid_ones_d;
-    always @(posedge clock) mcu_counters_channels_2_counter_mid_zero_q <= mcu_counters_channels_2_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_2_load_q_q <= mcu_counters_channels_2_load_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_latch_q_q <= mcu_counters_channels_2_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_clear_q_q <= mcu_counters_channels_2_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_q <= mcu_counters_channels_2_index_d;
     always @(posedge clock) mcu_counters_channels_2_err_q <= mcu_counters_channels_2_err_d;
     always @(posedge clock) mcu_counters_channels_2_err_count_q <= mcu_counters_channels_2_err_count_d;
-    always @(posedge clock) mcu_counters_channels_2_err_sat_q <= mcu_counters_channels_2_err_sat_d;
     always @(posedge clock) mcu_counters_channels_2_seen_q <= mcu_counters_channels_2_seen_d;
     always @(posedge clock) mcu_counters_channels_2_armed_q <= mcu_counters_channels_2_armed_d;
     always @(posedge clock) mcu_counters_channels_2_ctrl_q <= mcu_counters_channels_2_ctrl_d;
@@ -5661,15 +5584,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_channels_3_counter_hi_q <= mcu_counters_channels_3_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_3_counter_lo_max_q <= mcu_counters_channels_3_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_3_counter_lo_nonzero_q <= mcu_counters_channels_3_counter_lo_nonzero_d;
-    always @(posedge clock) mcu_counters_channels_3_counter_mid_ones_q <= mcu_counters_channels_3_counter_mid_ones_d;
-    always @(posedge clock) mcu_counters_channels_3_counter_mid_zero_q <= mcu_counters_channels_3_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_3_load_q_q <= mcu_counters_channels_3_load_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_latch_q_q <= mcu_counters_channels_3_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_clear_q_q <= mcu_counters_channels_3_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_q <= mcu_counters_channels_3_index_d;
     always @(posedge clock) mcu_counters_channels_3_err_q <= mcu_counters_channels_3_err_d;
     always @(posedge clock) mcu_counters_channels_3_err_count_q <= mcu_counters_channels_3_err_count_d;
-    always @(posedge clock) mcu_counters_channels_3_err_sat_q <= mcu_counters_channels_3_err_sat_d;
     always @(posedge clock) mcu_counters_channels_3_seen_q <= mcu_counters_channels_3_seen_d;
     always @(posedge clock) mcu_counters_channels_3_armed_q <= mcu_counters_channels_3_armed_d;
     always @(posedge clock) mcu_counters_channels_3_ctrl_q <= mcu_counters_channels_3_ctrl_d;

@@ -61,9 +61,6 @@ pub struct CounterChannel {
     index: DFF<Bits<32>>,
     err: DFF<Bit>,
     err_count: DFF<Bits<8>>,
-    // err_count == 2^E − 1, kept beside it so that the increment enable is
-    // not an 8-bit compare (not a register of the specification).
-    err_sat: DFF<Bit>,
     seen: DFF<Bit>,
     armed: DFF<Bit>,
     ctrl: DFF<Bits<32>>,
@@ -110,7 +107,6 @@ pub struct CounterChannel {
     sign_bit: Constant<Bits<32>>,
     sign_extension: Constant<Bits<32>>,
     err_max: Constant<Bits<8>>,
-    err_max_minus_one: Constant<Bits<8>>,
 
     // Combinational temporaries.
     level_a: Signal<Local, Bit>,
@@ -192,7 +188,6 @@ impl CounterChannel {
             index: Default::default(),
             err: Default::default(),
             err_count: Default::default(),
-            err_sat: Default::default(),
             seen: Default::default(),
             armed: Default::default(),
             ctrl: Default::default(),
@@ -234,7 +229,6 @@ impl CounterChannel {
             sign_bit: k32(sign_bit),
             sign_extension: k32(!width_mask),
             err_max: Constant::new((((1u32 << err_bits) - 1) as u64).into()),
-            err_max_minus_one: Constant::new((((1u32 << err_bits) - 2) as u64).into()),
             level_a: Default::default(),
             level_b: Default::default(),
             level_z: Default::default(),
@@ -279,12 +273,10 @@ impl CounterChannel {
         }
     }
 
-    /// The counter's look-ahead flags describe its low half, and the error
-    /// counter's saturation flag describes it (contract properties the model
-    /// does not see).
+    /// The counter's look-ahead flags describe its low half (a contract
+    /// property the model does not see).
     pub fn lookahead_consistent(&self) -> bool {
         self.counter.lookahead_consistent()
-            && self.err_sat.q.val() == (self.err_count.q.val() == self.err_max.val())
     }
 }
 
@@ -303,7 +295,6 @@ impl Logic for CounterChannel {
             index,
             err,
             err_count,
-            err_sat,
             seen,
             armed,
             ctrl,
@@ -354,10 +345,8 @@ impl Logic for CounterChannel {
         // Step decision, registered before it reaches the counter.
         self.decoder.clock.next = self.clock.val();
         // LOAD's second edge adds PRESET, not a step: the step decided now
-        // is dropped here, which keeps the counter's carry-in a plain flop;
-        // so is the one decided in the clock of that edge, which lets the
-        // counter's mid look-ahead flags catch up with PRESET.
-        self.decoder.hold.next = self.reset.val() | self.cmd_load.val() | self.load_q.q.val();
+        // is dropped here, which keeps the counter's carry-in a plain flop.
+        self.decoder.hold.next = self.reset.val() | self.cmd_load.val();
         self.decoder.a.next = self.level_a.val();
         self.decoder.b.next = self.level_b.val();
         self.decoder.a_prev.next = self.a_prev.q.val();
@@ -417,9 +406,8 @@ impl Logic for CounterChannel {
         }
         if self.illegal.val() & self.ctrl.q.val().get_bit(self.err_en_bit.val().index()) {
             self.err.d.next = true;
-            if !self.err_sat.q.val() {
+            if self.err_count.q.val() != self.err_max.val() {
                 self.err_count.d.next = self.err_count.q.val() + 1;
-                self.err_sat.d.next = self.err_count.q.val() == self.err_max_minus_one.val();
             }
         }
         if self.index_event.val() {
@@ -445,7 +433,6 @@ impl Logic for CounterChannel {
             {
                 self.err.d.next = false;
                 self.err_count.d.next = 0.into();
-                self.err_sat.d.next = false;
                 self.seen.d.next = false;
             }
         }
@@ -490,7 +477,6 @@ impl Logic for CounterChannel {
             self.index.d.next = 0.into();
             self.err.d.next = false;
             self.err_count.d.next = 0.into();
-            self.err_sat.d.next = false;
             self.seen.d.next = false;
             self.armed.d.next = false;
             self.load_q.d.next = false;

@@ -6,11 +6,6 @@ use rust_hdl::prelude::*;
 /// has been seen on `setting`+1 consecutive clocks (docs/counter_bank.md,
 /// "Input conditioning"). During reset the accepted level follows the
 /// synchronised pin, so a resting input never looks like a change.
-///
-/// The counter counts down: it is loaded with F while the sample equals the
-/// accepted level and the change is accepted when it reaches 0, so the
-/// accept test is a 4-input compare with a constant and CTRL only feeds the
-/// counter's load value.
 #[derive(LogicBlock, Default)]
 pub struct InputFilter {
     /// FPGA clock.
@@ -19,8 +14,7 @@ pub struct InputFilter {
     pub reset: Signal<In, Bit>,
     /// The asynchronous pin.
     pub pin: Signal<In, Bit>,
-    /// Filter setting F: a change must be seen on F+1 clocks (0 = off); read
-    /// on the clocks where the sample equals the accepted level.
+    /// Filter setting F: a change must be seen on F+1 clocks (0 = off).
     pub setting: Signal<In, Bits<4>>,
     /// The accepted level.
     pub level: Signal<Out, Bit>,
@@ -52,12 +46,12 @@ impl Logic for InputFilter {
             self.accepted.d.next = self.sync2.q.val();
             self.count.d.next = 0.into();
         } else if self.sync2.q.val() == self.accepted.q.val() {
-            self.count.d.next = self.setting.val();
-        } else if !self.count.q.val().any() {
+            self.count.d.next = 0.into();
+        } else if self.count.q.val() == self.setting.val() {
             self.accepted.d.next = self.sync2.q.val();
-            self.count.d.next = self.setting.val();
+            self.count.d.next = 0.into();
         } else {
-            self.count.d.next = self.count.q.val() - 1;
+            self.count.d.next = self.count.q.val() + 1;
         }
         self.level.next = self.accepted.q.val();
     }

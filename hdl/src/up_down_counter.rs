@@ -20,22 +20,6 @@ use rust_hdl::prelude::*;
 /// (iCE40 HX8K: a 28-bit chain alone reaches 147 MHz, two 14-bit ones 180).
 /// `lo_nonzero` rather than `lo_zero` so that the all-zero power-up state is
 /// consistent even before reset.
-///
-/// The flags' next state needs "low half = max − 1" (an up step reaches
-/// max) and "low half = 1" (a down step reaches 0); the other cases are the
-/// flags themselves (up from max wraps to 0, down from 0 to max). Both
-/// compares are split: the low half's two lowest bits are compared directly
-/// and the bits above them (the "mid" bits) through two more registered
-/// flags, `mid_ones` and `mid_zero`, loaded every clock from the mid bits as
-/// they stand, with no clear, load or enable. They lag the mid bits by one
-/// clock only after the mid bits changed: after the two lowest bits wrapped
-/// (they are then 00 or 11, never the 10 or 01 the compares look for), after
-/// a clear (the low half is then 0) and after a load (the parent then holds
-/// `up` and `down` low for one clock). So the look-ahead logic is a 2-bit
-/// compare and a multiplexer, not a W/2-bit reduction, and the mid flags
-/// are a bare reduction.
-///
-/// Contract: never `up` or `down` in the clock after `load`.
 #[derive(LogicBlock)]
 pub struct UpDownCounter {
     /// FPGA clock.
@@ -47,8 +31,7 @@ pub struct UpDownCounter {
     /// Clear to 0 at this edge; wins over `load` (a synchronous reset).
     pub clear: Signal<In, Bit>,
     /// Add `load_value mod 2^W` at this edge; only while the count is 0 and
-    /// `up`, `down` are low, so that the count becomes `load_value`; `up` and
-    /// `down` stay low in the next clock too.
+    /// `up`, `down` are low, so that the count becomes `load_value`.
     pub load: Signal<In, Bit>,
     /// Value for `load`; bits at and above W are ignored.
     pub load_value: Signal<In, Bits<32>>,
@@ -63,24 +46,19 @@ pub struct UpDownCounter {
     hi: DFF<Bits<32>>,
     lo_max: DFF<Bit>,
     lo_nonzero: DFF<Bit>,
-    mid_ones: DFF<Bit>,
-    mid_zero: DFF<Bit>,
     lo_mask: Constant<Bits<32>>,
-    base_mask: Constant<Bits<32>>,
-    base_max_minus_one: Constant<Bits<32>>,
-    mid_mask: Constant<Bits<32>>,
+    lo_upper_mask: Constant<Bits<32>>,
     hi_mask: Constant<Bits<32>>,
     lo_bits: Constant<Bits<5>>,
-    shift1: Constant<Bits<5>>,
     one: Constant<Bits<32>>,
     load_hi: Signal<Local, Bits<32>>,
-    load_lo: Signal<Local, Bits<32>>,
-    base: Signal<Local, Bits<32>>,
+    lo_ones_above: Signal<Local, Bit>,
+    lo_zeros_above: Signal<Local, Bit>,
     lo_step: Signal<Local, Bits<32>>,
     hi_step: Signal<Local, Bits<32>>,
     lo_carry_in: Signal<Local, Bits<32>>,
-    hi_a: Signal<Local, Bits<32>>,
-    hi_b: Signal<Local, Bits<32>>,
+    hi_carry_in: Signal<Local, Bits<32>>,
+    load_lo: Signal<Local, Bits<32>>,
 }
 
 impl UpDownCounter {
@@ -92,7 +70,6 @@ impl UpDownCounter {
         );
         let lo_mask = Self::low_mask(width);
         let lo_bits = lo_mask.count_ones();
-        let base_mask = Self::base_mask(width);
         let hi_mask = CounterParams::new(width, 1).count_mask() >> lo_bits;
         let k32 = |v: u32| Constant::new((v as u64).into());
         Self {
@@ -109,24 +86,19 @@ impl UpDownCounter {
             hi: Default::default(),
             lo_max: Default::default(),
             lo_nonzero: Default::default(),
-            mid_ones: Default::default(),
-            mid_zero: Default::default(),
             lo_mask: k32(lo_mask),
-            base_mask: k32(base_mask),
-            base_max_minus_one: k32(base_mask - 1),
-            mid_mask: k32(Self::mid_mask(width)),
+            lo_upper_mask: k32(lo_mask & !1),
             hi_mask: k32(hi_mask),
             lo_bits: Constant::new((lo_bits as u64).into()),
-            shift1: Constant::new(1u64.into()),
             one: k32(1),
             load_hi: Default::default(),
-            load_lo: Default::default(),
-            base: Default::default(),
+            lo_ones_above: Default::default(),
+            lo_zeros_above: Default::default(),
             lo_step: Default::default(),
             hi_step: Default::default(),
             lo_carry_in: Default::default(),
-            hi_a: Default::default(),
-            hi_b: Default::default(),
+            hi_carry_in: Default::default(),
+            load_lo: Default::default(),
         }
     }
 
@@ -135,59 +107,41 @@ impl UpDownCounter {
         (1u32 << (width / 2)) - 1
     }
 
-    /// The low half's lowest bits, compared directly by the look-ahead: two
-    /// (one when the low half has only one bit).
-    pub fn base_mask(width: u32) -> u32 {
-        Self::low_mask(width) & 3
-    }
-
-    /// The low half's bits above [`UpDownCounter::base_mask`], summarised by
-    /// the `mid_ones` / `mid_zero` flags (0 for W < 6: no such bits).
-    pub fn mid_mask(width: u32) -> u32 {
-        Self::low_mask(width) & !3
-    }
-
     /// The count as a number.
     pub fn value(&self) -> u32 {
         self.count.val().to_u32()
     }
 
-    /// The look-ahead contract: `lo_max` and `lo_nonzero` describe the low
-    /// half exactly; `mid_ones` and `mid_zero` describe its mid bits
-    /// whenever a step is pending (`up` or `down`) and the two lowest bits
-    /// are neither 00 nor 11, the only case in which they are read.
+    /// The look-ahead contract: the flags describe the low half exactly.
     pub fn lookahead_consistent(&self) -> bool {
         let lo = self.lo.q.val().to_u32();
         let mask = self.lo_mask.val().to_u32();
-        let base = lo & self.base_mask.val().to_u32();
-        let mid_mask = self.mid_mask.val().to_u32();
-        let mid = lo & mid_mask;
-        let mid_ok =
-            self.mid_ones.q.val() == (mid == mid_mask) && self.mid_zero.q.val() == (mid == 0);
-        let base_wrapped = base == 0 || base == self.base_mask.val().to_u32();
-        let stepping = self.up.val() || self.down.val();
-        self.lo_max.q.val() == (lo == mask)
-            && self.lo_nonzero.q.val() == (lo != 0)
-            && (!stepping || base_wrapped || mid_ok)
+        self.lo_max.q.val() == (lo == mask) && self.lo_nonzero.q.val() == (lo != 0)
     }
 }
 
 impl Logic for UpDownCounter {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, lo, hi, lo_max, lo_nonzero, mid_ones, mid_zero);
-        self.base.next = self.lo.q.val() & self.base_mask.val();
+        dff_setup!(self, clock, lo, hi, lo_max, lo_nonzero);
+        self.lo_ones_above.next =
+            (self.lo.q.val() & self.lo_upper_mask.val()) == self.lo_upper_mask.val();
+        self.lo_zeros_above.next = !(self.lo.q.val() & self.lo_upper_mask.val()).any();
 
         // One adder per half: half + operand + carry-in. +1 is a carry-in
         // of 1, −1 an all-ones operand, a load the value as operand: each
-        // operand bit is one LUT from flip-flops.
+        // operand bit and the carry-in are one LUT from flip-flops.
         self.load_lo.next = self.load_value.val() & self.lo_mask.val();
         self.load_hi.next = (self.load_value.val() >> self.lo_bits.val()) & self.hi_mask.val();
         self.lo_step.next = 0.into();
         self.hi_step.next = 0.into();
         self.lo_carry_in.next = 0.into();
+        self.hi_carry_in.next = 0.into();
         if self.up.val() {
             self.lo_carry_in.next = self.one.val();
+            if self.lo_max.q.val() {
+                self.hi_carry_in.next = self.one.val();
+            }
         }
         if self.down.val() {
             self.lo_step.next = self.lo_mask.val();
@@ -201,39 +155,23 @@ impl Logic for UpDownCounter {
         }
         self.lo.d.next =
             (self.lo.q.val() + self.lo_step.val() + self.lo_carry_in.val()) & self.lo_mask.val();
-        // The high half's carry-in is `up` and `lo_max`, two flip-flops: it
-        // is the carry out of an extra bottom bit that adds them, so no LUT
-        // sits in front of the chain.
-        self.hi_a.next = self.hi.q.val() << self.shift1.val();
-        self.hi_b.next = self.hi_step.val() << self.shift1.val();
-        if self.up.val() {
-            self.hi_a.next = (self.hi.q.val() << self.shift1.val()) | self.one.val();
-        }
-        if self.lo_max.q.val() {
-            self.hi_b.next = (self.hi_step.val() << self.shift1.val()) | self.one.val();
-        }
         self.hi.d.next =
-            ((self.hi_a.val() + self.hi_b.val()) >> self.shift1.val()) & self.hi_mask.val();
+            (self.hi.q.val() + self.hi_step.val() + self.hi_carry_in.val()) & self.hi_mask.val();
 
-        // Flags of the low half after this edge. Up from max wraps to 0 and
-        // down from 0 to max, so only "= max − 1" and "= 1" are compares,
-        // of the two lowest bits and the registered mid flags.
+        // Flags of the low half after this edge, from the low half now.
         if self.load.val() {
             self.lo_max.d.next = self.load_low_is_max.val();
             self.lo_nonzero.d.next = self.load_low_is_nonzero.val();
         } else if self.up.val() {
-            self.lo_max.d.next =
-                (self.base.val() == self.base_max_minus_one.val()) & self.mid_ones.q.val();
-            self.lo_nonzero.d.next = !self.lo_max.q.val();
+            self.lo_max.d.next = self.lo_ones_above.val() & !self.lo.q.val().get_bit(0);
+            self.lo_nonzero.d.next = !(self.lo_ones_above.val() & self.lo.q.val().get_bit(0));
         } else if self.down.val() {
-            self.lo_max.d.next = !self.lo_nonzero.q.val();
-            self.lo_nonzero.d.next = !((self.base.val() == self.one.val()) & self.mid_zero.q.val());
+            self.lo_max.d.next = self.lo_zeros_above.val() & !self.lo.q.val().get_bit(0);
+            self.lo_nonzero.d.next = !(self.lo_zeros_above.val() & self.lo.q.val().get_bit(0));
+        } else {
+            self.lo_max.d.next = self.lo_ones_above.val() & self.lo.q.val().get_bit(0);
+            self.lo_nonzero.d.next = !self.lo_zeros_above.val() | self.lo.q.val().get_bit(0);
         }
-        // The mid flags follow the mid bits one clock behind, with no
-        // clear, load or enable: they are only read with a step pending and
-        // the two lowest bits at 10 or 01 (see above).
-        self.mid_ones.d.next = (self.lo.q.val() & self.mid_mask.val()) == self.mid_mask.val();
-        self.mid_zero.d.next = !(self.lo.q.val() & self.mid_mask.val()).any();
         if self.clear.val() {
             self.lo.d.next = 0.into();
             self.hi.d.next = 0.into();

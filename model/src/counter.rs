@@ -79,8 +79,7 @@ pub struct InputFilter {
     pub s2: bool,
     /// Accepted level.
     pub level: bool,
-    /// Clocks still to see before a change of `s2` is accepted (a 4-bit
-    /// register counting down from F).
+    /// Clocks `s2` has differed from `level` (a 4-bit register).
     pub cnt: u8,
 }
 
@@ -89,10 +88,9 @@ impl InputFilter {
     const CNT_MASK: u8 = 0xf;
 
     /// One rising edge. `setting` is F; only its low 4 bits exist in
-    /// hardware. `cnt` counts down: it is loaded with F on every clock where
-    /// `s2` equals `level` (and when a change is accepted), and a change is
-    /// accepted when it reaches 0. So F is taken on the last clock before a
-    /// change starts; writing CTRL during a change does not alter it.
+    /// hardware. `cnt + 1` wraps in 4 bits: `cnt` can exceed a lowered F when
+    /// CTRL is rewritten mid-count, and then runs round to 0 before it can
+    /// equal F again.
     pub fn clock(&mut self, pin: bool, setting: u8, reset: bool) {
         let f = setting & Self::CNT_MASK;
         let before = *self;
@@ -102,12 +100,12 @@ impl InputFilter {
             self.level = before.s2;
             self.cnt = 0;
         } else if before.s2 == before.level {
-            self.cnt = f;
-        } else if before.cnt == 0 {
+            self.cnt = 0;
+        } else if before.cnt == f {
             self.level = before.s2;
-            self.cnt = f;
+            self.cnt = 0;
         } else {
-            self.cnt = before.cnt - 1;
+            self.cnt = before.cnt.wrapping_add(1) & Self::CNT_MASK;
         }
     }
 }
@@ -438,10 +436,9 @@ impl Channel {
         let load = l.load.flag(cmd);
 
         // LOAD's second edge adds PRESET in place of a step: the step decided
-        // in the LOAD clock is dropped, and so is the one decided in the
-        // clock of that second edge (`load_q`).
-        n.up_q = d.up && !load && !s.load_q;
-        n.down_q = d.down && !load && !s.load_q;
+        // in the LOAD clock is dropped.
+        n.up_q = d.up && !load;
+        n.down_q = d.down && !load;
         let arm = l.arm.flag(cmd);
         let clear_status = l.clear_status.flag(cmd);
 
@@ -1047,13 +1044,9 @@ mod tests {
     #[test]
     fn filter_rejects_f_clocks_and_accepts_f_plus_one() {
         for f in 0u8..=15 {
-            // Drive s2 directly: a pulse of `len` clocks at s2, from the
-            // idle state of setting F (`cnt` = F).
+            // Drive s2 directly: a pulse of `len` clocks at s2.
             let run = |len: u8| {
-                let mut flt = InputFilter {
-                    cnt: f,
-                    ..Default::default()
-                };
+                let mut flt = InputFilter::default();
                 let mut accepted = false;
                 for t in 0..(len as usize + 20) {
                     flt.s2 = t < len as usize;
@@ -1082,42 +1075,30 @@ mod tests {
                 assert!(edges < 40);
             }
             assert_eq!(edges, u32::from(f) + 3, "F = {f}");
-            assert_eq!(flt.cnt, f, "reloaded with F on acceptance");
+            assert_eq!(flt.cnt, 0);
         }
     }
 
     #[test]
-    fn filter_takes_f_before_the_change_starts() {
-        // Idle: cnt follows F every clock.
-        let mut flt = InputFilter::default();
-        flt.clock(false, 9, false);
-        assert_eq!(flt.cnt, 9);
-        flt.clock(false, 3, false);
-        assert_eq!(flt.cnt, 3, "reloaded while s2 equals level");
-        // A change starts: F is lowered to 0 mid-count, the change still
-        // needs the 3 + 1 clocks of the F it started with.
-        flt.s2 = true;
-        flt.s1 = true;
-        for left in [2, 1, 0] {
-            flt.clock(true, 0, false);
-            assert!(!flt.level);
-            assert_eq!(flt.cnt, left);
-        }
-        flt.clock(true, 0, false);
-        assert!(flt.level, "accepted on the fourth clock");
-        assert_eq!(flt.cnt, 0, "and reloaded with the F of that clock");
-        // Raised mid-count: the change is accepted after the old F too.
+    fn filter_counter_wraps_in_four_bits_when_f_is_lowered() {
         let mut flt = InputFilter {
             s1: true,
             s2: true,
             level: false,
-            cnt: 1,
+            cnt: 10,
         };
-        flt.clock(true, 15, false);
+        flt.clock(true, 3, false);
+        assert_eq!(flt.cnt, 11);
+        for _ in 0..5 {
+            flt.clock(true, 3, false);
+        }
+        assert_eq!(flt.cnt, 0, "15 + 1 wraps to 0");
+        for _ in 0..3 {
+            flt.clock(true, 3, false);
+        }
         assert!(!flt.level);
-        flt.clock(true, 15, false);
+        flt.clock(true, 3, false);
         assert!(flt.level);
-        assert_eq!(flt.cnt, 15);
     }
 
     #[test]
