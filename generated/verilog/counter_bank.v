@@ -26,9 +26,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam sign_extension = 32'hf0000000;
     localparam channels_0_addr_ctrl = 8'h8;
     localparam channels_0_addr_cmd = 8'h9;
-    localparam channels_0_addr_count = 8'ha;
-    localparam channels_0_addr_index = 8'hb;
-    localparam channels_0_addr_status = 8'hc;
+    localparam channels_0_channel_page = 5'b1;
+    localparam channels_0_slot_ctrl = 3'b0;
+    localparam channels_0_slot_count = 3'b10;
+    localparam channels_0_slot_index = 3'b11;
+    localparam channels_0_slot_status = 3'b100;
     localparam channels_0_ctrl_writable = 32'hff03ff;
     localparam channels_0_mode_lsb = 5'b0;
     localparam channels_0_reverse_bit = 5'b11;
@@ -54,22 +56,30 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_0_quadrature_modes = 3'b11;
     localparam channels_0_sign_bit = 32'h8000000;
     localparam channels_0_sign_extension = 32'hf0000000;
-    localparam channels_0_err_max = 8'hff;
+    localparam channels_0_err_max_minus_one = 8'hfe;
+    localparam channels_0_filter_a_one = 4'h1;
+    localparam channels_0_filter_b_one = 4'h1;
+    localparam channels_0_filter_z_one = 4'h1;
     localparam channels_0_decoder_mode_x4 = 3'b0;
     localparam channels_0_decoder_mode_x2 = 3'b1;
     localparam channels_0_decoder_mode_x1 = 3'b10;
     localparam channels_0_decoder_mode_pulse_dir = 3'b11;
     localparam channels_0_decoder_mode_cw_ccw = 3'b100;
     localparam channels_0_counter_lo_mask = 32'h3fff;
-    localparam channels_0_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_0_counter_base_mask = 32'h3;
+    localparam channels_0_counter_base_max_minus_one = 32'h2;
+    localparam channels_0_counter_mid_mask = 32'h3ffc;
     localparam channels_0_counter_hi_mask = 32'h3fff;
     localparam channels_0_counter_lo_bits = 5'b1110;
+    localparam channels_0_counter_shift1 = 5'b1;
     localparam channels_0_counter_one = 32'h1;
     localparam channels_1_addr_ctrl = 8'h10;
     localparam channels_1_addr_cmd = 8'h11;
-    localparam channels_1_addr_count = 8'h12;
-    localparam channels_1_addr_index = 8'h13;
-    localparam channels_1_addr_status = 8'h14;
+    localparam channels_1_channel_page = 5'b10;
+    localparam channels_1_slot_ctrl = 3'b0;
+    localparam channels_1_slot_count = 3'b10;
+    localparam channels_1_slot_index = 3'b11;
+    localparam channels_1_slot_status = 3'b100;
     localparam channels_1_ctrl_writable = 32'hff03ff;
     localparam channels_1_mode_lsb = 5'b0;
     localparam channels_1_reverse_bit = 5'b11;
@@ -95,22 +105,30 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_1_quadrature_modes = 3'b11;
     localparam channels_1_sign_bit = 32'h8000000;
     localparam channels_1_sign_extension = 32'hf0000000;
-    localparam channels_1_err_max = 8'hff;
+    localparam channels_1_err_max_minus_one = 8'hfe;
+    localparam channels_1_filter_a_one = 4'h1;
+    localparam channels_1_filter_b_one = 4'h1;
+    localparam channels_1_filter_z_one = 4'h1;
     localparam channels_1_decoder_mode_x4 = 3'b0;
     localparam channels_1_decoder_mode_x2 = 3'b1;
     localparam channels_1_decoder_mode_x1 = 3'b10;
     localparam channels_1_decoder_mode_pulse_dir = 3'b11;
     localparam channels_1_decoder_mode_cw_ccw = 3'b100;
     localparam channels_1_counter_lo_mask = 32'h3fff;
-    localparam channels_1_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_1_counter_base_mask = 32'h3;
+    localparam channels_1_counter_base_max_minus_one = 32'h2;
+    localparam channels_1_counter_mid_mask = 32'h3ffc;
     localparam channels_1_counter_hi_mask = 32'h3fff;
     localparam channels_1_counter_lo_bits = 5'b1110;
+    localparam channels_1_counter_shift1 = 5'b1;
     localparam channels_1_counter_one = 32'h1;
     localparam channels_2_addr_ctrl = 8'h18;
     localparam channels_2_addr_cmd = 8'h19;
-    localparam channels_2_addr_count = 8'h1a;
-    localparam channels_2_addr_index = 8'h1b;
-    localparam channels_2_addr_status = 8'h1c;
+    localparam channels_2_channel_page = 5'b11;
+    localparam channels_2_slot_ctrl = 3'b0;
+    localparam channels_2_slot_count = 3'b10;
+    localparam channels_2_slot_index = 3'b11;
+    localparam channels_2_slot_status = 3'b100;
     localparam channels_2_ctrl_writable = 32'hff03ff;
     localparam channels_2_mode_lsb = 5'b0;
     localparam channels_2_reverse_bit = 5'b11;
@@ -136,22 +154,30 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_2_quadrature_modes = 3'b11;
     localparam channels_2_sign_bit = 32'h8000000;
     localparam channels_2_sign_extension = 32'hf0000000;
-    localparam channels_2_err_max = 8'hff;
+    localparam channels_2_err_max_minus_one = 8'hfe;
+    localparam channels_2_filter_a_one = 4'h1;
+    localparam channels_2_filter_b_one = 4'h1;
+    localparam channels_2_filter_z_one = 4'h1;
     localparam channels_2_decoder_mode_x4 = 3'b0;
     localparam channels_2_decoder_mode_x2 = 3'b1;
     localparam channels_2_decoder_mode_x1 = 3'b10;
     localparam channels_2_decoder_mode_pulse_dir = 3'b11;
     localparam channels_2_decoder_mode_cw_ccw = 3'b100;
     localparam channels_2_counter_lo_mask = 32'h3fff;
-    localparam channels_2_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_2_counter_base_mask = 32'h3;
+    localparam channels_2_counter_base_max_minus_one = 32'h2;
+    localparam channels_2_counter_mid_mask = 32'h3ffc;
     localparam channels_2_counter_hi_mask = 32'h3fff;
     localparam channels_2_counter_lo_bits = 5'b1110;
+    localparam channels_2_counter_shift1 = 5'b1;
     localparam channels_2_counter_one = 32'h1;
     localparam channels_3_addr_ctrl = 8'h20;
     localparam channels_3_addr_cmd = 8'h21;
-    localparam channels_3_addr_count = 8'h22;
-    localparam channels_3_addr_index = 8'h23;
-    localparam channels_3_addr_status = 8'h24;
+    localparam channels_3_channel_page = 5'b100;
+    localparam channels_3_slot_ctrl = 3'b0;
+    localparam channels_3_slot_count = 3'b10;
+    localparam channels_3_slot_index = 3'b11;
+    localparam channels_3_slot_status = 3'b100;
     localparam channels_3_ctrl_writable = 32'hff03ff;
     localparam channels_3_mode_lsb = 5'b0;
     localparam channels_3_reverse_bit = 5'b11;
@@ -177,16 +203,22 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_3_quadrature_modes = 3'b11;
     localparam channels_3_sign_bit = 32'h8000000;
     localparam channels_3_sign_extension = 32'hf0000000;
-    localparam channels_3_err_max = 8'hff;
+    localparam channels_3_err_max_minus_one = 8'hfe;
+    localparam channels_3_filter_a_one = 4'h1;
+    localparam channels_3_filter_b_one = 4'h1;
+    localparam channels_3_filter_z_one = 4'h1;
     localparam channels_3_decoder_mode_x4 = 3'b0;
     localparam channels_3_decoder_mode_x2 = 3'b1;
     localparam channels_3_decoder_mode_x1 = 3'b10;
     localparam channels_3_decoder_mode_pulse_dir = 3'b11;
     localparam channels_3_decoder_mode_cw_ccw = 3'b100;
     localparam channels_3_counter_lo_mask = 32'h3fff;
-    localparam channels_3_counter_lo_upper_mask = 32'h3ffe;
+    localparam channels_3_counter_base_mask = 32'h3;
+    localparam channels_3_counter_base_max_minus_one = 32'h2;
+    localparam channels_3_counter_mid_mask = 32'h3ffc;
     localparam channels_3_counter_hi_mask = 32'h3fff;
     localparam channels_3_counter_lo_bits = 5'b1110;
+    localparam channels_3_counter_shift1 = 5'b1;
     localparam channels_3_counter_one = 32'h1;
 
     reg channels_0_reset;
@@ -251,10 +283,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg preset_low_is_nonzero_q = 1'h0;
     reg read_pending_d;
     reg read_pending_q = 1'h0;
-    reg read_info_d;
-    reg read_info_q = 1'h0;
-    reg read_preset_d;
-    reg read_preset_q = 1'h0;
+    reg read_sel_d;
+    reg read_sel_q = 1'h0;
+    reg [31:0] read_word_d;
+    reg [31:0] read_word_q = 32'h0;
     reg snapshot;
     reg [31:0] preset_read;
     reg [31:0] read_value;
@@ -276,6 +308,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_b_prev_q = 1'h0;
     reg channels_0_zg_prev_d;
     reg channels_0_zg_prev_q = 1'h0;
+    reg channels_0_zg_q_d;
+    reg channels_0_zg_q_q = 1'h0;
     reg channels_0_decoder_hold;
     reg channels_0_decoder_a;
     reg channels_0_decoder_b;
@@ -295,6 +329,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_0_counter_count;
     reg channels_0_load_q_d;
     reg channels_0_load_q_q = 1'h0;
+    reg channels_0_err_q_d;
+    reg channels_0_err_q_q = 1'h0;
     reg channels_0_index_latch_q_d;
     reg channels_0_index_latch_q_q = 1'h0;
     reg channels_0_index_clear_q_d;
@@ -305,6 +341,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_err_q = 1'h0;
     reg [7:0] channels_0_err_count_d;
     reg [7:0] channels_0_err_count_q = 8'h0;
+    reg channels_0_err_sat_d;
+    reg channels_0_err_sat_q = 1'h0;
     reg channels_0_seen_d;
     reg channels_0_seen_q = 1'h0;
     reg channels_0_armed_d;
@@ -317,14 +355,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_0_snap_index_q = 32'h0;
     reg [31:0] channels_0_snap_status_d;
     reg [31:0] channels_0_snap_status_q = 32'h0;
-    reg channels_0_read_ctrl_d;
-    reg channels_0_read_ctrl_q = 1'h0;
-    reg channels_0_read_count_d;
-    reg channels_0_read_count_q = 1'h0;
-    reg channels_0_read_index_d;
-    reg channels_0_read_index_q = 1'h0;
-    reg channels_0_read_status_d;
-    reg channels_0_read_status_q = 1'h0;
+    reg channels_0_read_sel_d;
+    reg channels_0_read_sel_q = 1'h0;
+    reg [31:0] channels_0_read_word_d;
+    reg [31:0] channels_0_read_word_q = 32'h0;
     reg channels_0_level_a;
     reg channels_0_level_b;
     reg channels_0_level_z;
@@ -347,6 +381,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_filter_a_accepted_q = 1'h0;
     reg [3:0] channels_0_filter_a_count_d;
     reg [3:0] channels_0_filter_a_count_q = 4'h0;
+    reg channels_0_filter_a_count_nonzero_d;
+    reg channels_0_filter_a_count_nonzero_q = 1'h0;
     reg channels_0_filter_b_sync1_d;
     reg channels_0_filter_b_sync1_q = 1'h0;
     reg channels_0_filter_b_sync2_d;
@@ -355,6 +391,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_filter_b_accepted_q = 1'h0;
     reg [3:0] channels_0_filter_b_count_d;
     reg [3:0] channels_0_filter_b_count_q = 4'h0;
+    reg channels_0_filter_b_count_nonzero_d;
+    reg channels_0_filter_b_count_nonzero_q = 1'h0;
     reg channels_0_filter_z_sync1_d;
     reg channels_0_filter_z_sync1_q = 1'h0;
     reg channels_0_filter_z_sync2_d;
@@ -363,6 +401,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_0_filter_z_count_d;
     reg [3:0] channels_0_filter_z_count_q = 4'h0;
+    reg channels_0_filter_z_count_nonzero_d;
+    reg channels_0_filter_z_count_nonzero_q = 1'h0;
     reg channels_0_decoder_up_reg_d;
     reg channels_0_decoder_up_reg_q = 1'h0;
     reg channels_0_decoder_down_reg_d;
@@ -382,13 +422,18 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_counter_lo_max_q = 1'h0;
     reg channels_0_counter_lo_nonzero_d;
     reg channels_0_counter_lo_nonzero_q = 1'h0;
+    reg channels_0_counter_mid_ones_d;
+    reg channels_0_counter_mid_ones_q = 1'h0;
+    reg channels_0_counter_mid_zero_d;
+    reg channels_0_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_0_counter_load_hi;
-    reg channels_0_counter_lo_ones_above;
-    reg channels_0_counter_lo_zeros_above;
+    reg [31:0] channels_0_counter_base;
+    reg [31:0] channels_0_counter_mid_source;
     reg [31:0] channels_0_counter_lo_step;
     reg [31:0] channels_0_counter_hi_step;
     reg [31:0] channels_0_counter_lo_carry_in;
-    reg [31:0] channels_0_counter_hi_carry_in;
+    reg [31:0] channels_0_counter_hi_a;
+    reg [31:0] channels_0_counter_hi_b;
     reg [31:0] channels_0_counter_load_lo;
     reg channels_1_filter_a_reset;
     reg channels_1_filter_a_pin;
@@ -408,6 +453,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_b_prev_q = 1'h0;
     reg channels_1_zg_prev_d;
     reg channels_1_zg_prev_q = 1'h0;
+    reg channels_1_zg_q_d;
+    reg channels_1_zg_q_q = 1'h0;
     reg channels_1_decoder_hold;
     reg channels_1_decoder_a;
     reg channels_1_decoder_b;
@@ -427,6 +474,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_1_counter_count;
     reg channels_1_load_q_d;
     reg channels_1_load_q_q = 1'h0;
+    reg channels_1_err_q_d;
+    reg channels_1_err_q_q = 1'h0;
     reg channels_1_index_latch_q_d;
     reg channels_1_index_latch_q_q = 1'h0;
     reg channels_1_index_clear_q_d;
@@ -437,6 +486,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_err_q = 1'h0;
     reg [7:0] channels_1_err_count_d;
     reg [7:0] channels_1_err_count_q = 8'h0;
+    reg channels_1_err_sat_d;
+    reg channels_1_err_sat_q = 1'h0;
     reg channels_1_seen_d;
     reg channels_1_seen_q = 1'h0;
     reg channels_1_armed_d;
@@ -449,14 +500,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_1_snap_index_q = 32'h0;
     reg [31:0] channels_1_snap_status_d;
     reg [31:0] channels_1_snap_status_q = 32'h0;
-    reg channels_1_read_ctrl_d;
-    reg channels_1_read_ctrl_q = 1'h0;
-    reg channels_1_read_count_d;
-    reg channels_1_read_count_q = 1'h0;
-    reg channels_1_read_index_d;
-    reg channels_1_read_index_q = 1'h0;
-    reg channels_1_read_status_d;
-    reg channels_1_read_status_q = 1'h0;
+    reg channels_1_read_sel_d;
+    reg channels_1_read_sel_q = 1'h0;
+    reg [31:0] channels_1_read_word_d;
+    reg [31:0] channels_1_read_word_q = 32'h0;
     reg channels_1_level_a;
     reg channels_1_level_b;
     reg channels_1_level_z;
@@ -479,6 +526,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_filter_a_accepted_q = 1'h0;
     reg [3:0] channels_1_filter_a_count_d;
     reg [3:0] channels_1_filter_a_count_q = 4'h0;
+    reg channels_1_filter_a_count_nonzero_d;
+    reg channels_1_filter_a_count_nonzero_q = 1'h0;
     reg channels_1_filter_b_sync1_d;
     reg channels_1_filter_b_sync1_q = 1'h0;
     reg channels_1_filter_b_sync2_d;
@@ -487,6 +536,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_filter_b_accepted_q = 1'h0;
     reg [3:0] channels_1_filter_b_count_d;
     reg [3:0] channels_1_filter_b_count_q = 4'h0;
+    reg channels_1_filter_b_count_nonzero_d;
+    reg channels_1_filter_b_count_nonzero_q = 1'h0;
     reg channels_1_filter_z_sync1_d;
     reg channels_1_filter_z_sync1_q = 1'h0;
     reg channels_1_filter_z_sync2_d;
@@ -495,6 +546,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_1_filter_z_count_d;
     reg [3:0] channels_1_filter_z_count_q = 4'h0;
+    reg channels_1_filter_z_count_nonzero_d;
+    reg channels_1_filter_z_count_nonzero_q = 1'h0;
     reg channels_1_decoder_up_reg_d;
     reg channels_1_decoder_up_reg_q = 1'h0;
     reg channels_1_decoder_down_reg_d;
@@ -514,13 +567,18 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_counter_lo_max_q = 1'h0;
     reg channels_1_counter_lo_nonzero_d;
     reg channels_1_counter_lo_nonzero_q = 1'h0;
+    reg channels_1_counter_mid_ones_d;
+    reg channels_1_counter_mid_ones_q = 1'h0;
+    reg channels_1_counter_mid_zero_d;
+    reg channels_1_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_1_counter_load_hi;
-    reg channels_1_counter_lo_ones_above;
-    reg channels_1_counter_lo_zeros_above;
+    reg [31:0] channels_1_counter_base;
+    reg [31:0] channels_1_counter_mid_source;
     reg [31:0] channels_1_counter_lo_step;
     reg [31:0] channels_1_counter_hi_step;
     reg [31:0] channels_1_counter_lo_carry_in;
-    reg [31:0] channels_1_counter_hi_carry_in;
+    reg [31:0] channels_1_counter_hi_a;
+    reg [31:0] channels_1_counter_hi_b;
     reg [31:0] channels_1_counter_load_lo;
     reg channels_2_filter_a_reset;
     reg channels_2_filter_a_pin;
@@ -540,6 +598,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_b_prev_q = 1'h0;
     reg channels_2_zg_prev_d;
     reg channels_2_zg_prev_q = 1'h0;
+    reg channels_2_zg_q_d;
+    reg channels_2_zg_q_q = 1'h0;
     reg channels_2_decoder_hold;
     reg channels_2_decoder_a;
     reg channels_2_decoder_b;
@@ -559,6 +619,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_2_counter_count;
     reg channels_2_load_q_d;
     reg channels_2_load_q_q = 1'h0;
+    reg channels_2_err_q_d;
+    reg channels_2_err_q_q = 1'h0;
     reg channels_2_index_latch_q_d;
     reg channels_2_index_latch_q_q = 1'h0;
     reg channels_2_index_clear_q_d;
@@ -569,6 +631,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_err_q = 1'h0;
     reg [7:0] channels_2_err_count_d;
     reg [7:0] channels_2_err_count_q = 8'h0;
+    reg channels_2_err_sat_d;
+    reg channels_2_err_sat_q = 1'h0;
     reg channels_2_seen_d;
     reg channels_2_seen_q = 1'h0;
     reg channels_2_armed_d;
@@ -581,14 +645,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_2_snap_index_q = 32'h0;
     reg [31:0] channels_2_snap_status_d;
     reg [31:0] channels_2_snap_status_q = 32'h0;
-    reg channels_2_read_ctrl_d;
-    reg channels_2_read_ctrl_q = 1'h0;
-    reg channels_2_read_count_d;
-    reg channels_2_read_count_q = 1'h0;
-    reg channels_2_read_index_d;
-    reg channels_2_read_index_q = 1'h0;
-    reg channels_2_read_status_d;
-    reg channels_2_read_status_q = 1'h0;
+    reg channels_2_read_sel_d;
+    reg channels_2_read_sel_q = 1'h0;
+    reg [31:0] channels_2_read_word_d;
+    reg [31:0] channels_2_read_word_q = 32'h0;
     reg channels_2_level_a;
     reg channels_2_level_b;
     reg channels_2_level_z;
@@ -611,6 +671,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_filter_a_accepted_q = 1'h0;
     reg [3:0] channels_2_filter_a_count_d;
     reg [3:0] channels_2_filter_a_count_q = 4'h0;
+    reg channels_2_filter_a_count_nonzero_d;
+    reg channels_2_filter_a_count_nonzero_q = 1'h0;
     reg channels_2_filter_b_sync1_d;
     reg channels_2_filter_b_sync1_q = 1'h0;
     reg channels_2_filter_b_sync2_d;
@@ -619,6 +681,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_filter_b_accepted_q = 1'h0;
     reg [3:0] channels_2_filter_b_count_d;
     reg [3:0] channels_2_filter_b_count_q = 4'h0;
+    reg channels_2_filter_b_count_nonzero_d;
+    reg channels_2_filter_b_count_nonzero_q = 1'h0;
     reg channels_2_filter_z_sync1_d;
     reg channels_2_filter_z_sync1_q = 1'h0;
     reg channels_2_filter_z_sync2_d;
@@ -627,6 +691,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_2_filter_z_count_d;
     reg [3:0] channels_2_filter_z_count_q = 4'h0;
+    reg channels_2_filter_z_count_nonzero_d;
+    reg channels_2_filter_z_count_nonzero_q = 1'h0;
     reg channels_2_decoder_up_reg_d;
     reg channels_2_decoder_up_reg_q = 1'h0;
     reg channels_2_decoder_down_reg_d;
@@ -646,13 +712,18 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_counter_lo_max_q = 1'h0;
     reg channels_2_counter_lo_nonzero_d;
     reg channels_2_counter_lo_nonzero_q = 1'h0;
+    reg channels_2_counter_mid_ones_d;
+    reg channels_2_counter_mid_ones_q = 1'h0;
+    reg channels_2_counter_mid_zero_d;
+    reg channels_2_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_2_counter_load_hi;
-    reg channels_2_counter_lo_ones_above;
-    reg channels_2_counter_lo_zeros_above;
+    reg [31:0] channels_2_counter_base;
+    reg [31:0] channels_2_counter_mid_source;
     reg [31:0] channels_2_counter_lo_step;
     reg [31:0] channels_2_counter_hi_step;
     reg [31:0] channels_2_counter_lo_carry_in;
-    reg [31:0] channels_2_counter_hi_carry_in;
+    reg [31:0] channels_2_counter_hi_a;
+    reg [31:0] channels_2_counter_hi_b;
     reg [31:0] channels_2_counter_load_lo;
     reg channels_3_filter_a_reset;
     reg channels_3_filter_a_pin;
@@ -672,6 +743,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_b_prev_q = 1'h0;
     reg channels_3_zg_prev_d;
     reg channels_3_zg_prev_q = 1'h0;
+    reg channels_3_zg_q_d;
+    reg channels_3_zg_q_q = 1'h0;
     reg channels_3_decoder_hold;
     reg channels_3_decoder_a;
     reg channels_3_decoder_b;
@@ -691,6 +764,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_3_counter_count;
     reg channels_3_load_q_d;
     reg channels_3_load_q_q = 1'h0;
+    reg channels_3_err_q_d;
+    reg channels_3_err_q_q = 1'h0;
     reg channels_3_index_latch_q_d;
     reg channels_3_index_latch_q_q = 1'h0;
     reg channels_3_index_clear_q_d;
@@ -701,6 +776,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_err_q = 1'h0;
     reg [7:0] channels_3_err_count_d;
     reg [7:0] channels_3_err_count_q = 8'h0;
+    reg channels_3_err_sat_d;
+    reg channels_3_err_sat_q = 1'h0;
     reg channels_3_seen_d;
     reg channels_3_seen_q = 1'h0;
     reg channels_3_armed_d;
@@ -713,14 +790,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg [31:0] channels_3_snap_index_q = 32'h0;
     reg [31:0] channels_3_snap_status_d;
     reg [31:0] channels_3_snap_status_q = 32'h0;
-    reg channels_3_read_ctrl_d;
-    reg channels_3_read_ctrl_q = 1'h0;
-    reg channels_3_read_count_d;
-    reg channels_3_read_count_q = 1'h0;
-    reg channels_3_read_index_d;
-    reg channels_3_read_index_q = 1'h0;
-    reg channels_3_read_status_d;
-    reg channels_3_read_status_q = 1'h0;
+    reg channels_3_read_sel_d;
+    reg channels_3_read_sel_q = 1'h0;
+    reg [31:0] channels_3_read_word_d;
+    reg [31:0] channels_3_read_word_q = 32'h0;
     reg channels_3_level_a;
     reg channels_3_level_b;
     reg channels_3_level_z;
@@ -743,6 +816,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_filter_a_accepted_q = 1'h0;
     reg [3:0] channels_3_filter_a_count_d;
     reg [3:0] channels_3_filter_a_count_q = 4'h0;
+    reg channels_3_filter_a_count_nonzero_d;
+    reg channels_3_filter_a_count_nonzero_q = 1'h0;
     reg channels_3_filter_b_sync1_d;
     reg channels_3_filter_b_sync1_q = 1'h0;
     reg channels_3_filter_b_sync2_d;
@@ -751,6 +826,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_filter_b_accepted_q = 1'h0;
     reg [3:0] channels_3_filter_b_count_d;
     reg [3:0] channels_3_filter_b_count_q = 4'h0;
+    reg channels_3_filter_b_count_nonzero_d;
+    reg channels_3_filter_b_count_nonzero_q = 1'h0;
     reg channels_3_filter_z_sync1_d;
     reg channels_3_filter_z_sync1_q = 1'h0;
     reg channels_3_filter_z_sync2_d;
@@ -759,6 +836,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_filter_z_accepted_q = 1'h0;
     reg [3:0] channels_3_filter_z_count_d;
     reg [3:0] channels_3_filter_z_count_q = 4'h0;
+    reg channels_3_filter_z_count_nonzero_d;
+    reg channels_3_filter_z_count_nonzero_q = 1'h0;
     reg channels_3_decoder_up_reg_d;
     reg channels_3_decoder_up_reg_q = 1'h0;
     reg channels_3_decoder_down_reg_d;
@@ -778,13 +857,18 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_counter_lo_max_q = 1'h0;
     reg channels_3_counter_lo_nonzero_d;
     reg channels_3_counter_lo_nonzero_q = 1'h0;
+    reg channels_3_counter_mid_ones_d;
+    reg channels_3_counter_mid_ones_q = 1'h0;
+    reg channels_3_counter_mid_zero_d;
+    reg channels_3_counter_mid_zero_q = 1'h0;
     reg [31:0] channels_3_counter_load_hi;
-    reg channels_3_counter_lo_ones_above;
-    reg channels_3_counter_lo_zeros_above;
+    reg [31:0] channels_3_counter_base;
+    reg [31:0] channels_3_counter_mid_source;
     reg [31:0] channels_3_counter_lo_step;
     reg [31:0] channels_3_counter_hi_step;
     reg [31:0] channels_3_counter_lo_carry_in;
-    reg [31:0] channels_3_counter_hi_carry_in;
+    reg [31:0] channels_3_counter_hi_a;
+    reg [31:0] channels_3_counter_hi_b;
     reg [31:0] channels_3_counter_load_lo;
 
     assign rdata = read_data_q;
@@ -795,8 +879,8 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         preset_low_is_max_d = preset_low_is_max_q;
         preset_low_is_nonzero_d = preset_low_is_nonzero_q;
         read_pending_d = read_pending_q;
-        read_info_d = read_info_q;
-        read_preset_d = read_preset_q;
+        read_sel_d = read_sel_q;
+        read_word_d = read_word_q;
         snapshot = we & (addr == addr_snapshot);
         channels_0_reset = reset;
         channels_0_a = a[0];
@@ -853,14 +937,14 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             preset_read = preset_q & width_mask;
         end
         read_pending_d = re;
-        read_info_d = re & (addr == addr_info);
-        read_preset_d = re & (addr == addr_preset);
-        read_value = 32'h0;
-        if (read_info_q) begin
-            read_value = info;
+        read_sel_d = re & ((addr == addr_info) | (addr == addr_preset));
+        read_word_d = info;
+        if (addr == addr_preset) begin
+            read_word_d = preset_read;
         end
-        if (read_preset_q) begin
-            read_value = read_value | preset_read;
+        read_value = 32'h0;
+        if (read_sel_q) begin
+            read_value = read_word_q;
         end
         read_value = read_value | channels_0_rdata;
         read_value = read_value | channels_1_rdata;
@@ -880,8 +964,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             preset_low_is_nonzero_d = 1'b0;
             read_data_d = 32'h0;
             read_pending_d = 1'b0;
-            read_info_d = 1'b0;
-            read_preset_d = 1'b0;
+            read_sel_d = 1'b0;
         end
     end
 
@@ -889,22 +972,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_a_prev_d = channels_0_a_prev_q;
         channels_0_b_prev_d = channels_0_b_prev_q;
         channels_0_zg_prev_d = channels_0_zg_prev_q;
+        channels_0_zg_q_d = channels_0_zg_q_q;
         channels_0_load_q_d = channels_0_load_q_q;
+        channels_0_err_q_d = channels_0_err_q_q;
         channels_0_index_latch_q_d = channels_0_index_latch_q_q;
         channels_0_index_clear_q_d = channels_0_index_clear_q_q;
         channels_0_index_d = channels_0_index_q;
         channels_0_err_d = channels_0_err_q;
         channels_0_err_count_d = channels_0_err_count_q;
+        channels_0_err_sat_d = channels_0_err_sat_q;
         channels_0_seen_d = channels_0_seen_q;
         channels_0_armed_d = channels_0_armed_q;
         channels_0_ctrl_d = channels_0_ctrl_q;
         channels_0_snap_count_d = channels_0_snap_count_q;
         channels_0_snap_index_d = channels_0_snap_index_q;
         channels_0_snap_status_d = channels_0_snap_status_q;
-        channels_0_read_ctrl_d = channels_0_read_ctrl_q;
-        channels_0_read_count_d = channels_0_read_count_q;
-        channels_0_read_index_d = channels_0_read_index_q;
-        channels_0_read_status_d = channels_0_read_status_q;
+        channels_0_read_sel_d = channels_0_read_sel_q;
+        channels_0_read_word_d = channels_0_read_word_q;
         channels_0_filter_a_reset = channels_0_reset;
         channels_0_filter_b_reset = channels_0_reset;
         channels_0_filter_z_reset = channels_0_reset;
@@ -929,7 +1013,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_decoder_reverse = channels_0_ctrl_q[channels_0_reverse_bit];
         channels_0_illegal = (channels_0_level_a ^ channels_0_a_prev_q) & (channels_0_level_b ^ channels_0_b_prev_q) & (channels_0_ctrl_q[(channels_0_mode_lsb)+:(3)] < channels_0_quadrature_modes);
         channels_0_zg = (channels_0_level_z ^ channels_0_ctrl_q[channels_0_idx_invert_bit]) & (~channels_0_ctrl_q[channels_0_idx_gate_bit] | (channels_0_level_a & channels_0_level_b));
-        channels_0_index_event = channels_0_zg & ~channels_0_zg_prev_q;
+        channels_0_index_event = channels_0_zg_q_q & ~channels_0_zg_prev_q;
         channels_0_index_act = channels_0_index_event & (~channels_0_ctrl_q[channels_0_idx_oneshot_bit] | channels_0_armed_q);
         channels_0_counter_up = channels_0_decoder_up_q;
         channels_0_counter_down = channels_0_decoder_down_q;
@@ -944,14 +1028,22 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_index_clear_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_clear_bit];
         channels_0_a_prev_d = channels_0_level_a;
         channels_0_b_prev_d = channels_0_level_b;
-        channels_0_zg_prev_d = channels_0_zg;
+        channels_0_zg_q_d = channels_0_zg;
+        if (channels_0_reset) begin
+            channels_0_zg_prev_d = channels_0_zg;
+        end
+        else begin
+            channels_0_zg_prev_d = channels_0_zg_q_q;
+        end
+        channels_0_err_q_d = channels_0_illegal & channels_0_ctrl_q[channels_0_err_en_bit];
         if (channels_0_index_latch_q_q) begin
             channels_0_index_d = channels_0_count_now;
         end
-        if (channels_0_illegal & channels_0_ctrl_q[channels_0_err_en_bit]) begin
+        if (channels_0_err_q_q) begin
             channels_0_err_d = 1'b1;
-            if (channels_0_err_count_q != channels_0_err_max) begin
+            if (~channels_0_err_sat_q) begin
                 channels_0_err_count_d = channels_0_err_count_q + 8'h1;
+                channels_0_err_sat_d = channels_0_err_count_q == channels_0_err_max_minus_one;
             end
         end
         if (channels_0_index_event) begin
@@ -967,6 +1059,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_0_wdata[channels_0_cmd_clear_status_bit]) begin
                 channels_0_err_d = 1'b0;
                 channels_0_err_count_d = 8'h0;
+                channels_0_err_sat_d = 1'b0;
                 channels_0_seen_d = 1'b0;
             end
         end
@@ -997,28 +1090,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_snap_index_d = channels_0_index_q;
             channels_0_snap_status_d = channels_0_status;
         end
-        channels_0_read_ctrl_d = channels_0_re & (channels_0_addr == channels_0_addr_ctrl);
-        channels_0_read_count_d = channels_0_re & (channels_0_addr == channels_0_addr_count);
-        channels_0_read_index_d = channels_0_re & (channels_0_addr == channels_0_addr_index);
-        channels_0_read_status_d = channels_0_re & (channels_0_addr == channels_0_addr_status);
-        if (channels_0_reset) begin
-            channels_0_index_d = 32'h0;
-            channels_0_err_d = 1'b0;
-            channels_0_err_count_d = 8'h0;
-            channels_0_seen_d = 1'b0;
-            channels_0_armed_d = 1'b0;
-            channels_0_load_q_d = 1'b0;
-            channels_0_index_latch_q_d = 1'b0;
-            channels_0_index_clear_q_d = 1'b0;
-            channels_0_ctrl_d = 32'h0;
-            channels_0_snap_count_d = 32'h0;
-            channels_0_snap_index_d = 32'h0;
-            channels_0_snap_status_d = 32'h0;
-            channels_0_read_ctrl_d = 1'b0;
-            channels_0_read_count_d = 1'b0;
-            channels_0_read_index_d = 1'b0;
-            channels_0_read_status_d = 1'b0;
-        end
         if (|(channels_0_snap_count_q & channels_0_sign_bit)) begin
             channels_0_count_read = channels_0_snap_count_q | channels_0_sign_extension;
         end
@@ -1031,18 +1102,40 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_0_index_read = channels_0_snap_index_q;
         end
+        channels_0_read_sel_d = channels_0_re & (channels_0_addr[7:3] == channels_0_channel_page);
+        channels_0_read_word_d = 32'h0;
+        if (channels_0_addr[2:0] == channels_0_slot_ctrl) begin
+            channels_0_read_word_d = channels_0_ctrl_q;
+        end
+        if (channels_0_addr[2:0] == channels_0_slot_count) begin
+            channels_0_read_word_d = channels_0_count_read;
+        end
+        if (channels_0_addr[2:0] == channels_0_slot_index) begin
+            channels_0_read_word_d = channels_0_index_read;
+        end
+        if (channels_0_addr[2:0] == channels_0_slot_status) begin
+            channels_0_read_word_d = channels_0_snap_status_q;
+        end
+        if (channels_0_reset) begin
+            channels_0_index_d = 32'h0;
+            channels_0_err_d = 1'b0;
+            channels_0_err_count_d = 8'h0;
+            channels_0_err_sat_d = 1'b0;
+            channels_0_seen_d = 1'b0;
+            channels_0_armed_d = 1'b0;
+            channels_0_load_q_d = 1'b0;
+            channels_0_err_q_d = 1'b0;
+            channels_0_index_latch_q_d = 1'b0;
+            channels_0_index_clear_q_d = 1'b0;
+            channels_0_ctrl_d = 32'h0;
+            channels_0_snap_count_d = 32'h0;
+            channels_0_snap_index_d = 32'h0;
+            channels_0_snap_status_d = 32'h0;
+            channels_0_read_sel_d = 1'b0;
+        end
         channels_0_rdata = 32'h0;
-        if (channels_0_read_ctrl_q) begin
-            channels_0_rdata = channels_0_rdata | channels_0_ctrl_q;
-        end
-        if (channels_0_read_count_q) begin
-            channels_0_rdata = channels_0_rdata | channels_0_count_read;
-        end
-        if (channels_0_read_index_q) begin
-            channels_0_rdata = channels_0_rdata | channels_0_index_read;
-        end
-        if (channels_0_read_status_q) begin
-            channels_0_rdata = channels_0_rdata | channels_0_snap_status_q;
+        if (channels_0_read_sel_q) begin
+            channels_0_rdata = channels_0_read_word_q;
         end
     end
 
@@ -1051,21 +1144,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_filter_a_sync2_d = channels_0_filter_a_sync2_q;
         channels_0_filter_a_accepted_d = channels_0_filter_a_accepted_q;
         channels_0_filter_a_count_d = channels_0_filter_a_count_q;
+        channels_0_filter_a_count_nonzero_d = channels_0_filter_a_count_nonzero_q;
         channels_0_filter_a_sync1_d = channels_0_filter_a_pin;
         channels_0_filter_a_sync2_d = channels_0_filter_a_sync1_q;
         if (channels_0_filter_a_reset) begin
             channels_0_filter_a_accepted_d = channels_0_filter_a_sync2_q;
             channels_0_filter_a_count_d = 4'h0;
+            channels_0_filter_a_count_nonzero_d = 1'b0;
         end
         else if (channels_0_filter_a_sync2_q == channels_0_filter_a_accepted_q) begin
-            channels_0_filter_a_count_d = 4'h0;
+            channels_0_filter_a_count_d = channels_0_filter_a_setting;
+            channels_0_filter_a_count_nonzero_d = |channels_0_filter_a_setting;
         end
-        else if (channels_0_filter_a_count_q == channels_0_filter_a_setting) begin
+        else if (~channels_0_filter_a_count_nonzero_q) begin
             channels_0_filter_a_accepted_d = channels_0_filter_a_sync2_q;
-            channels_0_filter_a_count_d = 4'h0;
+            channels_0_filter_a_count_d = channels_0_filter_a_setting;
+            channels_0_filter_a_count_nonzero_d = |channels_0_filter_a_setting;
         end
         else begin
-            channels_0_filter_a_count_d = channels_0_filter_a_count_q + 4'h1;
+            channels_0_filter_a_count_d = channels_0_filter_a_count_q - 4'h1;
+            channels_0_filter_a_count_nonzero_d = channels_0_filter_a_count_q != channels_0_filter_a_one;
         end
         channels_0_filter_a_level = channels_0_filter_a_accepted_q;
     end
@@ -1075,21 +1173,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_filter_b_sync2_d = channels_0_filter_b_sync2_q;
         channels_0_filter_b_accepted_d = channels_0_filter_b_accepted_q;
         channels_0_filter_b_count_d = channels_0_filter_b_count_q;
+        channels_0_filter_b_count_nonzero_d = channels_0_filter_b_count_nonzero_q;
         channels_0_filter_b_sync1_d = channels_0_filter_b_pin;
         channels_0_filter_b_sync2_d = channels_0_filter_b_sync1_q;
         if (channels_0_filter_b_reset) begin
             channels_0_filter_b_accepted_d = channels_0_filter_b_sync2_q;
             channels_0_filter_b_count_d = 4'h0;
+            channels_0_filter_b_count_nonzero_d = 1'b0;
         end
         else if (channels_0_filter_b_sync2_q == channels_0_filter_b_accepted_q) begin
-            channels_0_filter_b_count_d = 4'h0;
+            channels_0_filter_b_count_d = channels_0_filter_b_setting;
+            channels_0_filter_b_count_nonzero_d = |channels_0_filter_b_setting;
         end
-        else if (channels_0_filter_b_count_q == channels_0_filter_b_setting) begin
+        else if (~channels_0_filter_b_count_nonzero_q) begin
             channels_0_filter_b_accepted_d = channels_0_filter_b_sync2_q;
-            channels_0_filter_b_count_d = 4'h0;
+            channels_0_filter_b_count_d = channels_0_filter_b_setting;
+            channels_0_filter_b_count_nonzero_d = |channels_0_filter_b_setting;
         end
         else begin
-            channels_0_filter_b_count_d = channels_0_filter_b_count_q + 4'h1;
+            channels_0_filter_b_count_d = channels_0_filter_b_count_q - 4'h1;
+            channels_0_filter_b_count_nonzero_d = channels_0_filter_b_count_q != channels_0_filter_b_one;
         end
         channels_0_filter_b_level = channels_0_filter_b_accepted_q;
     end
@@ -1099,21 +1202,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_filter_z_sync2_d = channels_0_filter_z_sync2_q;
         channels_0_filter_z_accepted_d = channels_0_filter_z_accepted_q;
         channels_0_filter_z_count_d = channels_0_filter_z_count_q;
+        channels_0_filter_z_count_nonzero_d = channels_0_filter_z_count_nonzero_q;
         channels_0_filter_z_sync1_d = channels_0_filter_z_pin;
         channels_0_filter_z_sync2_d = channels_0_filter_z_sync1_q;
         if (channels_0_filter_z_reset) begin
             channels_0_filter_z_accepted_d = channels_0_filter_z_sync2_q;
             channels_0_filter_z_count_d = 4'h0;
+            channels_0_filter_z_count_nonzero_d = 1'b0;
         end
         else if (channels_0_filter_z_sync2_q == channels_0_filter_z_accepted_q) begin
-            channels_0_filter_z_count_d = 4'h0;
+            channels_0_filter_z_count_d = channels_0_filter_z_setting;
+            channels_0_filter_z_count_nonzero_d = |channels_0_filter_z_setting;
         end
-        else if (channels_0_filter_z_count_q == channels_0_filter_z_setting) begin
+        else if (~channels_0_filter_z_count_nonzero_q) begin
             channels_0_filter_z_accepted_d = channels_0_filter_z_sync2_q;
-            channels_0_filter_z_count_d = 4'h0;
+            channels_0_filter_z_count_d = channels_0_filter_z_setting;
+            channels_0_filter_z_count_nonzero_d = |channels_0_filter_z_setting;
         end
         else begin
-            channels_0_filter_z_count_d = channels_0_filter_z_count_q + 4'h1;
+            channels_0_filter_z_count_d = channels_0_filter_z_count_q - 4'h1;
+            channels_0_filter_z_count_nonzero_d = channels_0_filter_z_count_q != channels_0_filter_z_one;
         end
         channels_0_filter_z_level = channels_0_filter_z_accepted_q;
     end
@@ -1169,19 +1277,16 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_counter_hi_d = channels_0_counter_hi_q;
         channels_0_counter_lo_max_d = channels_0_counter_lo_max_q;
         channels_0_counter_lo_nonzero_d = channels_0_counter_lo_nonzero_q;
-        channels_0_counter_lo_ones_above = (channels_0_counter_lo_q & channels_0_counter_lo_upper_mask) == channels_0_counter_lo_upper_mask;
-        channels_0_counter_lo_zeros_above = ~|(channels_0_counter_lo_q & channels_0_counter_lo_upper_mask);
+        channels_0_counter_mid_ones_d = channels_0_counter_mid_ones_q;
+        channels_0_counter_mid_zero_d = channels_0_counter_mid_zero_q;
+        channels_0_counter_base = channels_0_counter_lo_q & channels_0_counter_base_mask;
         channels_0_counter_load_lo = channels_0_counter_load_value & channels_0_counter_lo_mask;
         channels_0_counter_load_hi = (channels_0_counter_load_value >> channels_0_counter_lo_bits) & channels_0_counter_hi_mask;
         channels_0_counter_lo_step = 32'h0;
         channels_0_counter_hi_step = 32'h0;
         channels_0_counter_lo_carry_in = 32'h0;
-        channels_0_counter_hi_carry_in = 32'h0;
         if (channels_0_counter_up) begin
             channels_0_counter_lo_carry_in = channels_0_counter_one;
-            if (channels_0_counter_lo_max_q) begin
-                channels_0_counter_hi_carry_in = channels_0_counter_one;
-            end
         end
         if (channels_0_counter_down) begin
             channels_0_counter_lo_step = channels_0_counter_lo_mask;
@@ -1194,23 +1299,35 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_counter_hi_step = channels_0_counter_load_hi;
         end
         channels_0_counter_lo_d = (channels_0_counter_lo_q + channels_0_counter_lo_step + channels_0_counter_lo_carry_in) & channels_0_counter_lo_mask;
-        channels_0_counter_hi_d = (channels_0_counter_hi_q + channels_0_counter_hi_step + channels_0_counter_hi_carry_in) & channels_0_counter_hi_mask;
+        channels_0_counter_hi_a = channels_0_counter_hi_q << channels_0_counter_shift1;
+        channels_0_counter_hi_b = channels_0_counter_hi_step << channels_0_counter_shift1;
+        if (channels_0_counter_up) begin
+            channels_0_counter_hi_a = (channels_0_counter_hi_q << channels_0_counter_shift1) | channels_0_counter_one;
+        end
+        if (channels_0_counter_lo_max_q) begin
+            channels_0_counter_hi_b = (channels_0_counter_hi_step << channels_0_counter_shift1) | channels_0_counter_one;
+        end
+        channels_0_counter_hi_d = ((channels_0_counter_hi_a + channels_0_counter_hi_b) >> channels_0_counter_shift1) & channels_0_counter_hi_mask;
         if (channels_0_counter_load) begin
             channels_0_counter_lo_max_d = channels_0_counter_load_low_is_max;
             channels_0_counter_lo_nonzero_d = channels_0_counter_load_low_is_nonzero;
         end
         else if (channels_0_counter_up) begin
-            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & ~channels_0_counter_lo_q[0];
-            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0]);
+            channels_0_counter_lo_max_d = (channels_0_counter_base == channels_0_counter_base_max_minus_one) & channels_0_counter_mid_ones_q;
+            channels_0_counter_lo_nonzero_d = ~channels_0_counter_lo_max_q;
         end
         else if (channels_0_counter_down) begin
-            channels_0_counter_lo_max_d = channels_0_counter_lo_zeros_above & ~channels_0_counter_lo_q[0];
-            channels_0_counter_lo_nonzero_d = ~(channels_0_counter_lo_zeros_above & channels_0_counter_lo_q[0]);
+            channels_0_counter_lo_max_d = ~channels_0_counter_lo_nonzero_q;
+            channels_0_counter_lo_nonzero_d = ~((channels_0_counter_base == channels_0_counter_one) & channels_0_counter_mid_zero_q);
+        end
+        if (channels_0_counter_load) begin
+            channels_0_counter_mid_source = channels_0_counter_load_value & channels_0_counter_mid_mask;
         end
         else begin
-            channels_0_counter_lo_max_d = channels_0_counter_lo_ones_above & channels_0_counter_lo_q[0];
-            channels_0_counter_lo_nonzero_d = ~channels_0_counter_lo_zeros_above | channels_0_counter_lo_q[0];
+            channels_0_counter_mid_source = channels_0_counter_lo_q & channels_0_counter_mid_mask;
         end
+        channels_0_counter_mid_ones_d = channels_0_counter_mid_source == channels_0_counter_mid_mask;
+        channels_0_counter_mid_zero_d = ~|channels_0_counter_mid_source;
         if (channels_0_counter_clear) begin
             channels_0_counter_lo_d = 32'h0;
             channels_0_counter_hi_d = 32'h0;
@@ -1224,22 +1341,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_a_prev_d = channels_1_a_prev_q;
         channels_1_b_prev_d = channels_1_b_prev_q;
         channels_1_zg_prev_d = channels_1_zg_prev_q;
+        channels_1_zg_q_d = channels_1_zg_q_q;
         channels_1_load_q_d = channels_1_load_q_q;
+        channels_1_err_q_d = channels_1_err_q_q;
         channels_1_index_latch_q_d = channels_1_index_latch_q_q;
         channels_1_index_clear_q_d = channels_1_index_clear_q_q;
         channels_1_index_d = channels_1_index_q;
         channels_1_err_d = channels_1_err_q;
         channels_1_err_count_d = channels_1_err_count_q;
+        channels_1_err_sat_d = channels_1_err_sat_q;
         channels_1_seen_d = channels_1_seen_q;
         channels_1_armed_d = channels_1_armed_q;
         channels_1_ctrl_d = channels_1_ctrl_q;
         channels_1_snap_count_d = channels_1_snap_count_q;
         channels_1_snap_index_d = channels_1_snap_index_q;
         channels_1_snap_status_d = channels_1_snap_status_q;
-        channels_1_read_ctrl_d = channels_1_read_ctrl_q;
-        channels_1_read_count_d = channels_1_read_count_q;
-        channels_1_read_index_d = channels_1_read_index_q;
-        channels_1_read_status_d = channels_1_read_status_q;
+        channels_1_read_sel_d = channels_1_read_sel_q;
+        channels_1_read_word_d = channels_1_read_word_q;
         channels_1_filter_a_reset = channels_1_reset;
         channels_1_filter_b_reset = channels_1_reset;
         channels_1_filter_z_reset = channels_1_reset;
@@ -1264,7 +1382,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_decoder_reverse = channels_1_ctrl_q[channels_1_reverse_bit];
         channels_1_illegal = (channels_1_level_a ^ channels_1_a_prev_q) & (channels_1_level_b ^ channels_1_b_prev_q) & (channels_1_ctrl_q[(channels_1_mode_lsb)+:(3)] < channels_1_quadrature_modes);
         channels_1_zg = (channels_1_level_z ^ channels_1_ctrl_q[channels_1_idx_invert_bit]) & (~channels_1_ctrl_q[channels_1_idx_gate_bit] | (channels_1_level_a & channels_1_level_b));
-        channels_1_index_event = channels_1_zg & ~channels_1_zg_prev_q;
+        channels_1_index_event = channels_1_zg_q_q & ~channels_1_zg_prev_q;
         channels_1_index_act = channels_1_index_event & (~channels_1_ctrl_q[channels_1_idx_oneshot_bit] | channels_1_armed_q);
         channels_1_counter_up = channels_1_decoder_up_q;
         channels_1_counter_down = channels_1_decoder_down_q;
@@ -1279,14 +1397,22 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_index_clear_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_clear_bit];
         channels_1_a_prev_d = channels_1_level_a;
         channels_1_b_prev_d = channels_1_level_b;
-        channels_1_zg_prev_d = channels_1_zg;
+        channels_1_zg_q_d = channels_1_zg;
+        if (channels_1_reset) begin
+            channels_1_zg_prev_d = channels_1_zg;
+        end
+        else begin
+            channels_1_zg_prev_d = channels_1_zg_q_q;
+        end
+        channels_1_err_q_d = channels_1_illegal & channels_1_ctrl_q[channels_1_err_en_bit];
         if (channels_1_index_latch_q_q) begin
             channels_1_index_d = channels_1_count_now;
         end
-        if (channels_1_illegal & channels_1_ctrl_q[channels_1_err_en_bit]) begin
+        if (channels_1_err_q_q) begin
             channels_1_err_d = 1'b1;
-            if (channels_1_err_count_q != channels_1_err_max) begin
+            if (~channels_1_err_sat_q) begin
                 channels_1_err_count_d = channels_1_err_count_q + 8'h1;
+                channels_1_err_sat_d = channels_1_err_count_q == channels_1_err_max_minus_one;
             end
         end
         if (channels_1_index_event) begin
@@ -1302,6 +1428,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_1_wdata[channels_1_cmd_clear_status_bit]) begin
                 channels_1_err_d = 1'b0;
                 channels_1_err_count_d = 8'h0;
+                channels_1_err_sat_d = 1'b0;
                 channels_1_seen_d = 1'b0;
             end
         end
@@ -1332,28 +1459,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_snap_index_d = channels_1_index_q;
             channels_1_snap_status_d = channels_1_status;
         end
-        channels_1_read_ctrl_d = channels_1_re & (channels_1_addr == channels_1_addr_ctrl);
-        channels_1_read_count_d = channels_1_re & (channels_1_addr == channels_1_addr_count);
-        channels_1_read_index_d = channels_1_re & (channels_1_addr == channels_1_addr_index);
-        channels_1_read_status_d = channels_1_re & (channels_1_addr == channels_1_addr_status);
-        if (channels_1_reset) begin
-            channels_1_index_d = 32'h0;
-            channels_1_err_d = 1'b0;
-            channels_1_err_count_d = 8'h0;
-            channels_1_seen_d = 1'b0;
-            channels_1_armed_d = 1'b0;
-            channels_1_load_q_d = 1'b0;
-            channels_1_index_latch_q_d = 1'b0;
-            channels_1_index_clear_q_d = 1'b0;
-            channels_1_ctrl_d = 32'h0;
-            channels_1_snap_count_d = 32'h0;
-            channels_1_snap_index_d = 32'h0;
-            channels_1_snap_status_d = 32'h0;
-            channels_1_read_ctrl_d = 1'b0;
-            channels_1_read_count_d = 1'b0;
-            channels_1_read_index_d = 1'b0;
-            channels_1_read_status_d = 1'b0;
-        end
         if (|(channels_1_snap_count_q & channels_1_sign_bit)) begin
             channels_1_count_read = channels_1_snap_count_q | channels_1_sign_extension;
         end
@@ -1366,18 +1471,40 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_1_index_read = channels_1_snap_index_q;
         end
+        channels_1_read_sel_d = channels_1_re & (channels_1_addr[7:3] == channels_1_channel_page);
+        channels_1_read_word_d = 32'h0;
+        if (channels_1_addr[2:0] == channels_1_slot_ctrl) begin
+            channels_1_read_word_d = channels_1_ctrl_q;
+        end
+        if (channels_1_addr[2:0] == channels_1_slot_count) begin
+            channels_1_read_word_d = channels_1_count_read;
+        end
+        if (channels_1_addr[2:0] == channels_1_slot_index) begin
+            channels_1_read_word_d = channels_1_index_read;
+        end
+        if (channels_1_addr[2:0] == channels_1_slot_status) begin
+            channels_1_read_word_d = channels_1_snap_status_q;
+        end
+        if (channels_1_reset) begin
+            channels_1_index_d = 32'h0;
+            channels_1_err_d = 1'b0;
+            channels_1_err_count_d = 8'h0;
+            channels_1_err_sat_d = 1'b0;
+            channels_1_seen_d = 1'b0;
+            channels_1_armed_d = 1'b0;
+            channels_1_load_q_d = 1'b0;
+            channels_1_err_q_d = 1'b0;
+            channels_1_index_latch_q_d = 1'b0;
+            channels_1_index_clear_q_d = 1'b0;
+            channels_1_ctrl_d = 32'h0;
+            channels_1_snap_count_d = 32'h0;
+            channels_1_snap_index_d = 32'h0;
+            channels_1_snap_status_d = 32'h0;
+            channels_1_read_sel_d = 1'b0;
+        end
         channels_1_rdata = 32'h0;
-        if (channels_1_read_ctrl_q) begin
-            channels_1_rdata = channels_1_rdata | channels_1_ctrl_q;
-        end
-        if (channels_1_read_count_q) begin
-            channels_1_rdata = channels_1_rdata | channels_1_count_read;
-        end
-        if (channels_1_read_index_q) begin
-            channels_1_rdata = channels_1_rdata | channels_1_index_read;
-        end
-        if (channels_1_read_status_q) begin
-            channels_1_rdata = channels_1_rdata | channels_1_snap_status_q;
+        if (channels_1_read_sel_q) begin
+            channels_1_rdata = channels_1_read_word_q;
         end
     end
 
@@ -1386,21 +1513,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_filter_a_sync2_d = channels_1_filter_a_sync2_q;
         channels_1_filter_a_accepted_d = channels_1_filter_a_accepted_q;
         channels_1_filter_a_count_d = channels_1_filter_a_count_q;
+        channels_1_filter_a_count_nonzero_d = channels_1_filter_a_count_nonzero_q;
         channels_1_filter_a_sync1_d = channels_1_filter_a_pin;
         channels_1_filter_a_sync2_d = channels_1_filter_a_sync1_q;
         if (channels_1_filter_a_reset) begin
             channels_1_filter_a_accepted_d = channels_1_filter_a_sync2_q;
             channels_1_filter_a_count_d = 4'h0;
+            channels_1_filter_a_count_nonzero_d = 1'b0;
         end
         else if (channels_1_filter_a_sync2_q == channels_1_filter_a_accepted_q) begin
-            channels_1_filter_a_count_d = 4'h0;
+            channels_1_filter_a_count_d = channels_1_filter_a_setting;
+            channels_1_filter_a_count_nonzero_d = |channels_1_filter_a_setting;
         end
-        else if (channels_1_filter_a_count_q == channels_1_filter_a_setting) begin
+        else if (~channels_1_filter_a_count_nonzero_q) begin
             channels_1_filter_a_accepted_d = channels_1_filter_a_sync2_q;
-            channels_1_filter_a_count_d = 4'h0;
+            channels_1_filter_a_count_d = channels_1_filter_a_setting;
+            channels_1_filter_a_count_nonzero_d = |channels_1_filter_a_setting;
         end
         else begin
-            channels_1_filter_a_count_d = channels_1_filter_a_count_q + 4'h1;
+            channels_1_filter_a_count_d = channels_1_filter_a_count_q - 4'h1;
+            channels_1_filter_a_count_nonzero_d = channels_1_filter_a_count_q != channels_1_filter_a_one;
         end
         channels_1_filter_a_level = channels_1_filter_a_accepted_q;
     end
@@ -1410,21 +1542,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_filter_b_sync2_d = channels_1_filter_b_sync2_q;
         channels_1_filter_b_accepted_d = channels_1_filter_b_accepted_q;
         channels_1_filter_b_count_d = channels_1_filter_b_count_q;
+        channels_1_filter_b_count_nonzero_d = channels_1_filter_b_count_nonzero_q;
         channels_1_filter_b_sync1_d = channels_1_filter_b_pin;
         channels_1_filter_b_sync2_d = channels_1_filter_b_sync1_q;
         if (channels_1_filter_b_reset) begin
             channels_1_filter_b_accepted_d = channels_1_filter_b_sync2_q;
             channels_1_filter_b_count_d = 4'h0;
+            channels_1_filter_b_count_nonzero_d = 1'b0;
         end
         else if (channels_1_filter_b_sync2_q == channels_1_filter_b_accepted_q) begin
-            channels_1_filter_b_count_d = 4'h0;
+            channels_1_filter_b_count_d = channels_1_filter_b_setting;
+            channels_1_filter_b_count_nonzero_d = |channels_1_filter_b_setting;
         end
-        else if (channels_1_filter_b_count_q == channels_1_filter_b_setting) begin
+        else if (~channels_1_filter_b_count_nonzero_q) begin
             channels_1_filter_b_accepted_d = channels_1_filter_b_sync2_q;
-            channels_1_filter_b_count_d = 4'h0;
+            channels_1_filter_b_count_d = channels_1_filter_b_setting;
+            channels_1_filter_b_count_nonzero_d = |channels_1_filter_b_setting;
         end
         else begin
-            channels_1_filter_b_count_d = channels_1_filter_b_count_q + 4'h1;
+            channels_1_filter_b_count_d = channels_1_filter_b_count_q - 4'h1;
+            channels_1_filter_b_count_nonzero_d = channels_1_filter_b_count_q != channels_1_filter_b_one;
         end
         channels_1_filter_b_level = channels_1_filter_b_accepted_q;
     end
@@ -1434,21 +1571,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_filter_z_sync2_d = channels_1_filter_z_sync2_q;
         channels_1_filter_z_accepted_d = channels_1_filter_z_accepted_q;
         channels_1_filter_z_count_d = channels_1_filter_z_count_q;
+        channels_1_filter_z_count_nonzero_d = channels_1_filter_z_count_nonzero_q;
         channels_1_filter_z_sync1_d = channels_1_filter_z_pin;
         channels_1_filter_z_sync2_d = channels_1_filter_z_sync1_q;
         if (channels_1_filter_z_reset) begin
             channels_1_filter_z_accepted_d = channels_1_filter_z_sync2_q;
             channels_1_filter_z_count_d = 4'h0;
+            channels_1_filter_z_count_nonzero_d = 1'b0;
         end
         else if (channels_1_filter_z_sync2_q == channels_1_filter_z_accepted_q) begin
-            channels_1_filter_z_count_d = 4'h0;
+            channels_1_filter_z_count_d = channels_1_filter_z_setting;
+            channels_1_filter_z_count_nonzero_d = |channels_1_filter_z_setting;
         end
-        else if (channels_1_filter_z_count_q == channels_1_filter_z_setting) begin
+        else if (~channels_1_filter_z_count_nonzero_q) begin
             channels_1_filter_z_accepted_d = channels_1_filter_z_sync2_q;
-            channels_1_filter_z_count_d = 4'h0;
+            channels_1_filter_z_count_d = channels_1_filter_z_setting;
+            channels_1_filter_z_count_nonzero_d = |channels_1_filter_z_setting;
         end
         else begin
-            channels_1_filter_z_count_d = channels_1_filter_z_count_q + 4'h1;
+            channels_1_filter_z_count_d = channels_1_filter_z_count_q - 4'h1;
+            channels_1_filter_z_count_nonzero_d = channels_1_filter_z_count_q != channels_1_filter_z_one;
         end
         channels_1_filter_z_level = channels_1_filter_z_accepted_q;
     end
@@ -1504,19 +1646,16 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_counter_hi_d = channels_1_counter_hi_q;
         channels_1_counter_lo_max_d = channels_1_counter_lo_max_q;
         channels_1_counter_lo_nonzero_d = channels_1_counter_lo_nonzero_q;
-        channels_1_counter_lo_ones_above = (channels_1_counter_lo_q & channels_1_counter_lo_upper_mask) == channels_1_counter_lo_upper_mask;
-        channels_1_counter_lo_zeros_above = ~|(channels_1_counter_lo_q & channels_1_counter_lo_upper_mask);
+        channels_1_counter_mid_ones_d = channels_1_counter_mid_ones_q;
+        channels_1_counter_mid_zero_d = channels_1_counter_mid_zero_q;
+        channels_1_counter_base = channels_1_counter_lo_q & channels_1_counter_base_mask;
         channels_1_counter_load_lo = channels_1_counter_load_value & channels_1_counter_lo_mask;
         channels_1_counter_load_hi = (channels_1_counter_load_value >> channels_1_counter_lo_bits) & channels_1_counter_hi_mask;
         channels_1_counter_lo_step = 32'h0;
         channels_1_counter_hi_step = 32'h0;
         channels_1_counter_lo_carry_in = 32'h0;
-        channels_1_counter_hi_carry_in = 32'h0;
         if (channels_1_counter_up) begin
             channels_1_counter_lo_carry_in = channels_1_counter_one;
-            if (channels_1_counter_lo_max_q) begin
-                channels_1_counter_hi_carry_in = channels_1_counter_one;
-            end
         end
         if (channels_1_counter_down) begin
             channels_1_counter_lo_step = channels_1_counter_lo_mask;
@@ -1529,23 +1668,35 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_counter_hi_step = channels_1_counter_load_hi;
         end
         channels_1_counter_lo_d = (channels_1_counter_lo_q + channels_1_counter_lo_step + channels_1_counter_lo_carry_in) & channels_1_counter_lo_mask;
-        channels_1_counter_hi_d = (channels_1_counter_hi_q + channels_1_counter_hi_step + channels_1_counter_hi_carry_in) & channels_1_counter_hi_mask;
+        channels_1_counter_hi_a = channels_1_counter_hi_q << channels_1_counter_shift1;
+        channels_1_counter_hi_b = channels_1_counter_hi_step << channels_1_counter_shift1;
+        if (channels_1_counter_up) begin
+            channels_1_counter_hi_a = (channels_1_counter_hi_q << channels_1_counter_shift1) | channels_1_counter_one;
+        end
+        if (channels_1_counter_lo_max_q) begin
+            channels_1_counter_hi_b = (channels_1_counter_hi_step << channels_1_counter_shift1) | channels_1_counter_one;
+        end
+        channels_1_counter_hi_d = ((channels_1_counter_hi_a + channels_1_counter_hi_b) >> channels_1_counter_shift1) & channels_1_counter_hi_mask;
         if (channels_1_counter_load) begin
             channels_1_counter_lo_max_d = channels_1_counter_load_low_is_max;
             channels_1_counter_lo_nonzero_d = channels_1_counter_load_low_is_nonzero;
         end
         else if (channels_1_counter_up) begin
-            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & ~channels_1_counter_lo_q[0];
-            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0]);
+            channels_1_counter_lo_max_d = (channels_1_counter_base == channels_1_counter_base_max_minus_one) & channels_1_counter_mid_ones_q;
+            channels_1_counter_lo_nonzero_d = ~channels_1_counter_lo_max_q;
         end
         else if (channels_1_counter_down) begin
-            channels_1_counter_lo_max_d = channels_1_counter_lo_zeros_above & ~channels_1_counter_lo_q[0];
-            channels_1_counter_lo_nonzero_d = ~(channels_1_counter_lo_zeros_above & channels_1_counter_lo_q[0]);
+            channels_1_counter_lo_max_d = ~channels_1_counter_lo_nonzero_q;
+            channels_1_counter_lo_nonzero_d = ~((channels_1_counter_base == channels_1_counter_one) & channels_1_counter_mid_zero_q);
+        end
+        if (channels_1_counter_load) begin
+            channels_1_counter_mid_source = channels_1_counter_load_value & channels_1_counter_mid_mask;
         end
         else begin
-            channels_1_counter_lo_max_d = channels_1_counter_lo_ones_above & channels_1_counter_lo_q[0];
-            channels_1_counter_lo_nonzero_d = ~channels_1_counter_lo_zeros_above | channels_1_counter_lo_q[0];
+            channels_1_counter_mid_source = channels_1_counter_lo_q & channels_1_counter_mid_mask;
         end
+        channels_1_counter_mid_ones_d = channels_1_counter_mid_source == channels_1_counter_mid_mask;
+        channels_1_counter_mid_zero_d = ~|channels_1_counter_mid_source;
         if (channels_1_counter_clear) begin
             channels_1_counter_lo_d = 32'h0;
             channels_1_counter_hi_d = 32'h0;
@@ -1559,22 +1710,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_a_prev_d = channels_2_a_prev_q;
         channels_2_b_prev_d = channels_2_b_prev_q;
         channels_2_zg_prev_d = channels_2_zg_prev_q;
+        channels_2_zg_q_d = channels_2_zg_q_q;
         channels_2_load_q_d = channels_2_load_q_q;
+        channels_2_err_q_d = channels_2_err_q_q;
         channels_2_index_latch_q_d = channels_2_index_latch_q_q;
         channels_2_index_clear_q_d = channels_2_index_clear_q_q;
         channels_2_index_d = channels_2_index_q;
         channels_2_err_d = channels_2_err_q;
         channels_2_err_count_d = channels_2_err_count_q;
+        channels_2_err_sat_d = channels_2_err_sat_q;
         channels_2_seen_d = channels_2_seen_q;
         channels_2_armed_d = channels_2_armed_q;
         channels_2_ctrl_d = channels_2_ctrl_q;
         channels_2_snap_count_d = channels_2_snap_count_q;
         channels_2_snap_index_d = channels_2_snap_index_q;
         channels_2_snap_status_d = channels_2_snap_status_q;
-        channels_2_read_ctrl_d = channels_2_read_ctrl_q;
-        channels_2_read_count_d = channels_2_read_count_q;
-        channels_2_read_index_d = channels_2_read_index_q;
-        channels_2_read_status_d = channels_2_read_status_q;
+        channels_2_read_sel_d = channels_2_read_sel_q;
+        channels_2_read_word_d = channels_2_read_word_q;
         channels_2_filter_a_reset = channels_2_reset;
         channels_2_filter_b_reset = channels_2_reset;
         channels_2_filter_z_reset = channels_2_reset;
@@ -1599,7 +1751,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_decoder_reverse = channels_2_ctrl_q[channels_2_reverse_bit];
         channels_2_illegal = (channels_2_level_a ^ channels_2_a_prev_q) & (channels_2_level_b ^ channels_2_b_prev_q) & (channels_2_ctrl_q[(channels_2_mode_lsb)+:(3)] < channels_2_quadrature_modes);
         channels_2_zg = (channels_2_level_z ^ channels_2_ctrl_q[channels_2_idx_invert_bit]) & (~channels_2_ctrl_q[channels_2_idx_gate_bit] | (channels_2_level_a & channels_2_level_b));
-        channels_2_index_event = channels_2_zg & ~channels_2_zg_prev_q;
+        channels_2_index_event = channels_2_zg_q_q & ~channels_2_zg_prev_q;
         channels_2_index_act = channels_2_index_event & (~channels_2_ctrl_q[channels_2_idx_oneshot_bit] | channels_2_armed_q);
         channels_2_counter_up = channels_2_decoder_up_q;
         channels_2_counter_down = channels_2_decoder_down_q;
@@ -1614,14 +1766,22 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_index_clear_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_clear_bit];
         channels_2_a_prev_d = channels_2_level_a;
         channels_2_b_prev_d = channels_2_level_b;
-        channels_2_zg_prev_d = channels_2_zg;
+        channels_2_zg_q_d = channels_2_zg;
+        if (channels_2_reset) begin
+            channels_2_zg_prev_d = channels_2_zg;
+        end
+        else begin
+            channels_2_zg_prev_d = channels_2_zg_q_q;
+        end
+        channels_2_err_q_d = channels_2_illegal & channels_2_ctrl_q[channels_2_err_en_bit];
         if (channels_2_index_latch_q_q) begin
             channels_2_index_d = channels_2_count_now;
         end
-        if (channels_2_illegal & channels_2_ctrl_q[channels_2_err_en_bit]) begin
+        if (channels_2_err_q_q) begin
             channels_2_err_d = 1'b1;
-            if (channels_2_err_count_q != channels_2_err_max) begin
+            if (~channels_2_err_sat_q) begin
                 channels_2_err_count_d = channels_2_err_count_q + 8'h1;
+                channels_2_err_sat_d = channels_2_err_count_q == channels_2_err_max_minus_one;
             end
         end
         if (channels_2_index_event) begin
@@ -1637,6 +1797,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_2_wdata[channels_2_cmd_clear_status_bit]) begin
                 channels_2_err_d = 1'b0;
                 channels_2_err_count_d = 8'h0;
+                channels_2_err_sat_d = 1'b0;
                 channels_2_seen_d = 1'b0;
             end
         end
@@ -1667,28 +1828,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_snap_index_d = channels_2_index_q;
             channels_2_snap_status_d = channels_2_status;
         end
-        channels_2_read_ctrl_d = channels_2_re & (channels_2_addr == channels_2_addr_ctrl);
-        channels_2_read_count_d = channels_2_re & (channels_2_addr == channels_2_addr_count);
-        channels_2_read_index_d = channels_2_re & (channels_2_addr == channels_2_addr_index);
-        channels_2_read_status_d = channels_2_re & (channels_2_addr == channels_2_addr_status);
-        if (channels_2_reset) begin
-            channels_2_index_d = 32'h0;
-            channels_2_err_d = 1'b0;
-            channels_2_err_count_d = 8'h0;
-            channels_2_seen_d = 1'b0;
-            channels_2_armed_d = 1'b0;
-            channels_2_load_q_d = 1'b0;
-            channels_2_index_latch_q_d = 1'b0;
-            channels_2_index_clear_q_d = 1'b0;
-            channels_2_ctrl_d = 32'h0;
-            channels_2_snap_count_d = 32'h0;
-            channels_2_snap_index_d = 32'h0;
-            channels_2_snap_status_d = 32'h0;
-            channels_2_read_ctrl_d = 1'b0;
-            channels_2_read_count_d = 1'b0;
-            channels_2_read_index_d = 1'b0;
-            channels_2_read_status_d = 1'b0;
-        end
         if (|(channels_2_snap_count_q & channels_2_sign_bit)) begin
             channels_2_count_read = channels_2_snap_count_q | channels_2_sign_extension;
         end
@@ -1701,18 +1840,40 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_2_index_read = channels_2_snap_index_q;
         end
+        channels_2_read_sel_d = channels_2_re & (channels_2_addr[7:3] == channels_2_channel_page);
+        channels_2_read_word_d = 32'h0;
+        if (channels_2_addr[2:0] == channels_2_slot_ctrl) begin
+            channels_2_read_word_d = channels_2_ctrl_q;
+        end
+        if (channels_2_addr[2:0] == channels_2_slot_count) begin
+            channels_2_read_word_d = channels_2_count_read;
+        end
+        if (channels_2_addr[2:0] == channels_2_slot_index) begin
+            channels_2_read_word_d = channels_2_index_read;
+        end
+        if (channels_2_addr[2:0] == channels_2_slot_status) begin
+            channels_2_read_word_d = channels_2_snap_status_q;
+        end
+        if (channels_2_reset) begin
+            channels_2_index_d = 32'h0;
+            channels_2_err_d = 1'b0;
+            channels_2_err_count_d = 8'h0;
+            channels_2_err_sat_d = 1'b0;
+            channels_2_seen_d = 1'b0;
+            channels_2_armed_d = 1'b0;
+            channels_2_load_q_d = 1'b0;
+            channels_2_err_q_d = 1'b0;
+            channels_2_index_latch_q_d = 1'b0;
+            channels_2_index_clear_q_d = 1'b0;
+            channels_2_ctrl_d = 32'h0;
+            channels_2_snap_count_d = 32'h0;
+            channels_2_snap_index_d = 32'h0;
+            channels_2_snap_status_d = 32'h0;
+            channels_2_read_sel_d = 1'b0;
+        end
         channels_2_rdata = 32'h0;
-        if (channels_2_read_ctrl_q) begin
-            channels_2_rdata = channels_2_rdata | channels_2_ctrl_q;
-        end
-        if (channels_2_read_count_q) begin
-            channels_2_rdata = channels_2_rdata | channels_2_count_read;
-        end
-        if (channels_2_read_index_q) begin
-            channels_2_rdata = channels_2_rdata | channels_2_index_read;
-        end
-        if (channels_2_read_status_q) begin
-            channels_2_rdata = channels_2_rdata | channels_2_snap_status_q;
+        if (channels_2_read_sel_q) begin
+            channels_2_rdata = channels_2_read_word_q;
         end
     end
 
@@ -1721,21 +1882,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_filter_a_sync2_d = channels_2_filter_a_sync2_q;
         channels_2_filter_a_accepted_d = channels_2_filter_a_accepted_q;
         channels_2_filter_a_count_d = channels_2_filter_a_count_q;
+        channels_2_filter_a_count_nonzero_d = channels_2_filter_a_count_nonzero_q;
         channels_2_filter_a_sync1_d = channels_2_filter_a_pin;
         channels_2_filter_a_sync2_d = channels_2_filter_a_sync1_q;
         if (channels_2_filter_a_reset) begin
             channels_2_filter_a_accepted_d = channels_2_filter_a_sync2_q;
             channels_2_filter_a_count_d = 4'h0;
+            channels_2_filter_a_count_nonzero_d = 1'b0;
         end
         else if (channels_2_filter_a_sync2_q == channels_2_filter_a_accepted_q) begin
-            channels_2_filter_a_count_d = 4'h0;
+            channels_2_filter_a_count_d = channels_2_filter_a_setting;
+            channels_2_filter_a_count_nonzero_d = |channels_2_filter_a_setting;
         end
-        else if (channels_2_filter_a_count_q == channels_2_filter_a_setting) begin
+        else if (~channels_2_filter_a_count_nonzero_q) begin
             channels_2_filter_a_accepted_d = channels_2_filter_a_sync2_q;
-            channels_2_filter_a_count_d = 4'h0;
+            channels_2_filter_a_count_d = channels_2_filter_a_setting;
+            channels_2_filter_a_count_nonzero_d = |channels_2_filter_a_setting;
         end
         else begin
-            channels_2_filter_a_count_d = channels_2_filter_a_count_q + 4'h1;
+            channels_2_filter_a_count_d = channels_2_filter_a_count_q - 4'h1;
+            channels_2_filter_a_count_nonzero_d = channels_2_filter_a_count_q != channels_2_filter_a_one;
         end
         channels_2_filter_a_level = channels_2_filter_a_accepted_q;
     end
@@ -1745,21 +1911,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_filter_b_sync2_d = channels_2_filter_b_sync2_q;
         channels_2_filter_b_accepted_d = channels_2_filter_b_accepted_q;
         channels_2_filter_b_count_d = channels_2_filter_b_count_q;
+        channels_2_filter_b_count_nonzero_d = channels_2_filter_b_count_nonzero_q;
         channels_2_filter_b_sync1_d = channels_2_filter_b_pin;
         channels_2_filter_b_sync2_d = channels_2_filter_b_sync1_q;
         if (channels_2_filter_b_reset) begin
             channels_2_filter_b_accepted_d = channels_2_filter_b_sync2_q;
             channels_2_filter_b_count_d = 4'h0;
+            channels_2_filter_b_count_nonzero_d = 1'b0;
         end
         else if (channels_2_filter_b_sync2_q == channels_2_filter_b_accepted_q) begin
-            channels_2_filter_b_count_d = 4'h0;
+            channels_2_filter_b_count_d = channels_2_filter_b_setting;
+            channels_2_filter_b_count_nonzero_d = |channels_2_filter_b_setting;
         end
-        else if (channels_2_filter_b_count_q == channels_2_filter_b_setting) begin
+        else if (~channels_2_filter_b_count_nonzero_q) begin
             channels_2_filter_b_accepted_d = channels_2_filter_b_sync2_q;
-            channels_2_filter_b_count_d = 4'h0;
+            channels_2_filter_b_count_d = channels_2_filter_b_setting;
+            channels_2_filter_b_count_nonzero_d = |channels_2_filter_b_setting;
         end
         else begin
-            channels_2_filter_b_count_d = channels_2_filter_b_count_q + 4'h1;
+            channels_2_filter_b_count_d = channels_2_filter_b_count_q - 4'h1;
+            channels_2_filter_b_count_nonzero_d = channels_2_filter_b_count_q != channels_2_filter_b_one;
         end
         channels_2_filter_b_level = channels_2_filter_b_accepted_q;
     end
@@ -1769,21 +1940,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_filter_z_sync2_d = channels_2_filter_z_sync2_q;
         channels_2_filter_z_accepted_d = channels_2_filter_z_accepted_q;
         channels_2_filter_z_count_d = channels_2_filter_z_count_q;
+        channels_2_filter_z_count_nonzero_d = channels_2_filter_z_count_nonzero_q;
         channels_2_filter_z_sync1_d = channels_2_filter_z_pin;
         channels_2_filter_z_sync2_d = channels_2_filter_z_sync1_q;
         if (channels_2_filter_z_reset) begin
             channels_2_filter_z_accepted_d = channels_2_filter_z_sync2_q;
             channels_2_filter_z_count_d = 4'h0;
+            channels_2_filter_z_count_nonzero_d = 1'b0;
         end
         else if (channels_2_filter_z_sync2_q == channels_2_filter_z_accepted_q) begin
-            channels_2_filter_z_count_d = 4'h0;
+            channels_2_filter_z_count_d = channels_2_filter_z_setting;
+            channels_2_filter_z_count_nonzero_d = |channels_2_filter_z_setting;
         end
-        else if (channels_2_filter_z_count_q == channels_2_filter_z_setting) begin
+        else if (~channels_2_filter_z_count_nonzero_q) begin
             channels_2_filter_z_accepted_d = channels_2_filter_z_sync2_q;
-            channels_2_filter_z_count_d = 4'h0;
+            channels_2_filter_z_count_d = channels_2_filter_z_setting;
+            channels_2_filter_z_count_nonzero_d = |channels_2_filter_z_setting;
         end
         else begin
-            channels_2_filter_z_count_d = channels_2_filter_z_count_q + 4'h1;
+            channels_2_filter_z_count_d = channels_2_filter_z_count_q - 4'h1;
+            channels_2_filter_z_count_nonzero_d = channels_2_filter_z_count_q != channels_2_filter_z_one;
         end
         channels_2_filter_z_level = channels_2_filter_z_accepted_q;
     end
@@ -1839,19 +2015,16 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_counter_hi_d = channels_2_counter_hi_q;
         channels_2_counter_lo_max_d = channels_2_counter_lo_max_q;
         channels_2_counter_lo_nonzero_d = channels_2_counter_lo_nonzero_q;
-        channels_2_counter_lo_ones_above = (channels_2_counter_lo_q & channels_2_counter_lo_upper_mask) == channels_2_counter_lo_upper_mask;
-        channels_2_counter_lo_zeros_above = ~|(channels_2_counter_lo_q & channels_2_counter_lo_upper_mask);
+        channels_2_counter_mid_ones_d = channels_2_counter_mid_ones_q;
+        channels_2_counter_mid_zero_d = channels_2_counter_mid_zero_q;
+        channels_2_counter_base = channels_2_counter_lo_q & channels_2_counter_base_mask;
         channels_2_counter_load_lo = channels_2_counter_load_value & channels_2_counter_lo_mask;
         channels_2_counter_load_hi = (channels_2_counter_load_value >> channels_2_counter_lo_bits) & channels_2_counter_hi_mask;
         channels_2_counter_lo_step = 32'h0;
         channels_2_counter_hi_step = 32'h0;
         channels_2_counter_lo_carry_in = 32'h0;
-        channels_2_counter_hi_carry_in = 32'h0;
         if (channels_2_counter_up) begin
             channels_2_counter_lo_carry_in = channels_2_counter_one;
-            if (channels_2_counter_lo_max_q) begin
-                channels_2_counter_hi_carry_in = channels_2_counter_one;
-            end
         end
         if (channels_2_counter_down) begin
             channels_2_counter_lo_step = channels_2_counter_lo_mask;
@@ -1864,23 +2037,35 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_counter_hi_step = channels_2_counter_load_hi;
         end
         channels_2_counter_lo_d = (channels_2_counter_lo_q + channels_2_counter_lo_step + channels_2_counter_lo_carry_in) & channels_2_counter_lo_mask;
-        channels_2_counter_hi_d = (channels_2_counter_hi_q + channels_2_counter_hi_step + channels_2_counter_hi_carry_in) & channels_2_counter_hi_mask;
+        channels_2_counter_hi_a = channels_2_counter_hi_q << channels_2_counter_shift1;
+        channels_2_counter_hi_b = channels_2_counter_hi_step << channels_2_counter_shift1;
+        if (channels_2_counter_up) begin
+            channels_2_counter_hi_a = (channels_2_counter_hi_q << channels_2_counter_shift1) | channels_2_counter_one;
+        end
+        if (channels_2_counter_lo_max_q) begin
+            channels_2_counter_hi_b = (channels_2_counter_hi_step << channels_2_counter_shift1) | channels_2_counter_one;
+        end
+        channels_2_counter_hi_d = ((channels_2_counter_hi_a + channels_2_counter_hi_b) >> channels_2_counter_shift1) & channels_2_counter_hi_mask;
         if (channels_2_counter_load) begin
             channels_2_counter_lo_max_d = channels_2_counter_load_low_is_max;
             channels_2_counter_lo_nonzero_d = channels_2_counter_load_low_is_nonzero;
         end
         else if (channels_2_counter_up) begin
-            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & ~channels_2_counter_lo_q[0];
-            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0]);
+            channels_2_counter_lo_max_d = (channels_2_counter_base == channels_2_counter_base_max_minus_one) & channels_2_counter_mid_ones_q;
+            channels_2_counter_lo_nonzero_d = ~channels_2_counter_lo_max_q;
         end
         else if (channels_2_counter_down) begin
-            channels_2_counter_lo_max_d = channels_2_counter_lo_zeros_above & ~channels_2_counter_lo_q[0];
-            channels_2_counter_lo_nonzero_d = ~(channels_2_counter_lo_zeros_above & channels_2_counter_lo_q[0]);
+            channels_2_counter_lo_max_d = ~channels_2_counter_lo_nonzero_q;
+            channels_2_counter_lo_nonzero_d = ~((channels_2_counter_base == channels_2_counter_one) & channels_2_counter_mid_zero_q);
+        end
+        if (channels_2_counter_load) begin
+            channels_2_counter_mid_source = channels_2_counter_load_value & channels_2_counter_mid_mask;
         end
         else begin
-            channels_2_counter_lo_max_d = channels_2_counter_lo_ones_above & channels_2_counter_lo_q[0];
-            channels_2_counter_lo_nonzero_d = ~channels_2_counter_lo_zeros_above | channels_2_counter_lo_q[0];
+            channels_2_counter_mid_source = channels_2_counter_lo_q & channels_2_counter_mid_mask;
         end
+        channels_2_counter_mid_ones_d = channels_2_counter_mid_source == channels_2_counter_mid_mask;
+        channels_2_counter_mid_zero_d = ~|channels_2_counter_mid_source;
         if (channels_2_counter_clear) begin
             channels_2_counter_lo_d = 32'h0;
             channels_2_counter_hi_d = 32'h0;
@@ -1894,22 +2079,23 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_a_prev_d = channels_3_a_prev_q;
         channels_3_b_prev_d = channels_3_b_prev_q;
         channels_3_zg_prev_d = channels_3_zg_prev_q;
+        channels_3_zg_q_d = channels_3_zg_q_q;
         channels_3_load_q_d = channels_3_load_q_q;
+        channels_3_err_q_d = channels_3_err_q_q;
         channels_3_index_latch_q_d = channels_3_index_latch_q_q;
         channels_3_index_clear_q_d = channels_3_index_clear_q_q;
         channels_3_index_d = channels_3_index_q;
         channels_3_err_d = channels_3_err_q;
         channels_3_err_count_d = channels_3_err_count_q;
+        channels_3_err_sat_d = channels_3_err_sat_q;
         channels_3_seen_d = channels_3_seen_q;
         channels_3_armed_d = channels_3_armed_q;
         channels_3_ctrl_d = channels_3_ctrl_q;
         channels_3_snap_count_d = channels_3_snap_count_q;
         channels_3_snap_index_d = channels_3_snap_index_q;
         channels_3_snap_status_d = channels_3_snap_status_q;
-        channels_3_read_ctrl_d = channels_3_read_ctrl_q;
-        channels_3_read_count_d = channels_3_read_count_q;
-        channels_3_read_index_d = channels_3_read_index_q;
-        channels_3_read_status_d = channels_3_read_status_q;
+        channels_3_read_sel_d = channels_3_read_sel_q;
+        channels_3_read_word_d = channels_3_read_word_q;
         channels_3_filter_a_reset = channels_3_reset;
         channels_3_filter_b_reset = channels_3_reset;
         channels_3_filter_z_reset = channels_3_reset;
@@ -1934,7 +2120,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_decoder_reverse = channels_3_ctrl_q[channels_3_reverse_bit];
         channels_3_illegal = (channels_3_level_a ^ channels_3_a_prev_q) & (channels_3_level_b ^ channels_3_b_prev_q) & (channels_3_ctrl_q[(channels_3_mode_lsb)+:(3)] < channels_3_quadrature_modes);
         channels_3_zg = (channels_3_level_z ^ channels_3_ctrl_q[channels_3_idx_invert_bit]) & (~channels_3_ctrl_q[channels_3_idx_gate_bit] | (channels_3_level_a & channels_3_level_b));
-        channels_3_index_event = channels_3_zg & ~channels_3_zg_prev_q;
+        channels_3_index_event = channels_3_zg_q_q & ~channels_3_zg_prev_q;
         channels_3_index_act = channels_3_index_event & (~channels_3_ctrl_q[channels_3_idx_oneshot_bit] | channels_3_armed_q);
         channels_3_counter_up = channels_3_decoder_up_q;
         channels_3_counter_down = channels_3_decoder_down_q;
@@ -1949,14 +2135,22 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_index_clear_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_clear_bit];
         channels_3_a_prev_d = channels_3_level_a;
         channels_3_b_prev_d = channels_3_level_b;
-        channels_3_zg_prev_d = channels_3_zg;
+        channels_3_zg_q_d = channels_3_zg;
+        if (channels_3_reset) begin
+            channels_3_zg_prev_d = channels_3_zg;
+        end
+        else begin
+            channels_3_zg_prev_d = channels_3_zg_q_q;
+        end
+        channels_3_err_q_d = channels_3_illegal & channels_3_ctrl_q[channels_3_err_en_bit];
         if (channels_3_index_latch_q_q) begin
             channels_3_index_d = channels_3_count_now;
         end
-        if (channels_3_illegal & channels_3_ctrl_q[channels_3_err_en_bit]) begin
+        if (channels_3_err_q_q) begin
             channels_3_err_d = 1'b1;
-            if (channels_3_err_count_q != channels_3_err_max) begin
+            if (~channels_3_err_sat_q) begin
                 channels_3_err_count_d = channels_3_err_count_q + 8'h1;
+                channels_3_err_sat_d = channels_3_err_count_q == channels_3_err_max_minus_one;
             end
         end
         if (channels_3_index_event) begin
@@ -1972,6 +2166,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             if (channels_3_wdata[channels_3_cmd_clear_status_bit]) begin
                 channels_3_err_d = 1'b0;
                 channels_3_err_count_d = 8'h0;
+                channels_3_err_sat_d = 1'b0;
                 channels_3_seen_d = 1'b0;
             end
         end
@@ -2002,28 +2197,6 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_snap_index_d = channels_3_index_q;
             channels_3_snap_status_d = channels_3_status;
         end
-        channels_3_read_ctrl_d = channels_3_re & (channels_3_addr == channels_3_addr_ctrl);
-        channels_3_read_count_d = channels_3_re & (channels_3_addr == channels_3_addr_count);
-        channels_3_read_index_d = channels_3_re & (channels_3_addr == channels_3_addr_index);
-        channels_3_read_status_d = channels_3_re & (channels_3_addr == channels_3_addr_status);
-        if (channels_3_reset) begin
-            channels_3_index_d = 32'h0;
-            channels_3_err_d = 1'b0;
-            channels_3_err_count_d = 8'h0;
-            channels_3_seen_d = 1'b0;
-            channels_3_armed_d = 1'b0;
-            channels_3_load_q_d = 1'b0;
-            channels_3_index_latch_q_d = 1'b0;
-            channels_3_index_clear_q_d = 1'b0;
-            channels_3_ctrl_d = 32'h0;
-            channels_3_snap_count_d = 32'h0;
-            channels_3_snap_index_d = 32'h0;
-            channels_3_snap_status_d = 32'h0;
-            channels_3_read_ctrl_d = 1'b0;
-            channels_3_read_count_d = 1'b0;
-            channels_3_read_index_d = 1'b0;
-            channels_3_read_status_d = 1'b0;
-        end
         if (|(channels_3_snap_count_q & channels_3_sign_bit)) begin
             channels_3_count_read = channels_3_snap_count_q | channels_3_sign_extension;
         end
@@ -2036,18 +2209,40 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_3_index_read = channels_3_snap_index_q;
         end
+        channels_3_read_sel_d = channels_3_re & (channels_3_addr[7:3] == channels_3_channel_page);
+        channels_3_read_word_d = 32'h0;
+        if (channels_3_addr[2:0] == channels_3_slot_ctrl) begin
+            channels_3_read_word_d = channels_3_ctrl_q;
+        end
+        if (channels_3_addr[2:0] == channels_3_slot_count) begin
+            channels_3_read_word_d = channels_3_count_read;
+        end
+        if (channels_3_addr[2:0] == channels_3_slot_index) begin
+            channels_3_read_word_d = channels_3_index_read;
+        end
+        if (channels_3_addr[2:0] == channels_3_slot_status) begin
+            channels_3_read_word_d = channels_3_snap_status_q;
+        end
+        if (channels_3_reset) begin
+            channels_3_index_d = 32'h0;
+            channels_3_err_d = 1'b0;
+            channels_3_err_count_d = 8'h0;
+            channels_3_err_sat_d = 1'b0;
+            channels_3_seen_d = 1'b0;
+            channels_3_armed_d = 1'b0;
+            channels_3_load_q_d = 1'b0;
+            channels_3_err_q_d = 1'b0;
+            channels_3_index_latch_q_d = 1'b0;
+            channels_3_index_clear_q_d = 1'b0;
+            channels_3_ctrl_d = 32'h0;
+            channels_3_snap_count_d = 32'h0;
+            channels_3_snap_index_d = 32'h0;
+            channels_3_snap_status_d = 32'h0;
+            channels_3_read_sel_d = 1'b0;
+        end
         channels_3_rdata = 32'h0;
-        if (channels_3_read_ctrl_q) begin
-            channels_3_rdata = channels_3_rdata | channels_3_ctrl_q;
-        end
-        if (channels_3_read_count_q) begin
-            channels_3_rdata = channels_3_rdata | channels_3_count_read;
-        end
-        if (channels_3_read_index_q) begin
-            channels_3_rdata = channels_3_rdata | channels_3_index_read;
-        end
-        if (channels_3_read_status_q) begin
-            channels_3_rdata = channels_3_rdata | channels_3_snap_status_q;
+        if (channels_3_read_sel_q) begin
+            channels_3_rdata = channels_3_read_word_q;
         end
     end
 
@@ -2056,21 +2251,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_filter_a_sync2_d = channels_3_filter_a_sync2_q;
         channels_3_filter_a_accepted_d = channels_3_filter_a_accepted_q;
         channels_3_filter_a_count_d = channels_3_filter_a_count_q;
+        channels_3_filter_a_count_nonzero_d = channels_3_filter_a_count_nonzero_q;
         channels_3_filter_a_sync1_d = channels_3_filter_a_pin;
         channels_3_filter_a_sync2_d = channels_3_filter_a_sync1_q;
         if (channels_3_filter_a_reset) begin
             channels_3_filter_a_accepted_d = channels_3_filter_a_sync2_q;
             channels_3_filter_a_count_d = 4'h0;
+            channels_3_filter_a_count_nonzero_d = 1'b0;
         end
         else if (channels_3_filter_a_sync2_q == channels_3_filter_a_accepted_q) begin
-            channels_3_filter_a_count_d = 4'h0;
+            channels_3_filter_a_count_d = channels_3_filter_a_setting;
+            channels_3_filter_a_count_nonzero_d = |channels_3_filter_a_setting;
         end
-        else if (channels_3_filter_a_count_q == channels_3_filter_a_setting) begin
+        else if (~channels_3_filter_a_count_nonzero_q) begin
             channels_3_filter_a_accepted_d = channels_3_filter_a_sync2_q;
-            channels_3_filter_a_count_d = 4'h0;
+            channels_3_filter_a_count_d = channels_3_filter_a_setting;
+            channels_3_filter_a_count_nonzero_d = |channels_3_filter_a_setting;
         end
         else begin
-            channels_3_filter_a_count_d = channels_3_filter_a_count_q + 4'h1;
+            channels_3_filter_a_count_d = channels_3_filter_a_count_q - 4'h1;
+            channels_3_filter_a_count_nonzero_d = channels_3_filter_a_count_q != channels_3_filter_a_one;
         end
         channels_3_filter_a_level = channels_3_filter_a_accepted_q;
     end
@@ -2080,21 +2280,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_filter_b_sync2_d = channels_3_filter_b_sync2_q;
         channels_3_filter_b_accepted_d = channels_3_filter_b_accepted_q;
         channels_3_filter_b_count_d = channels_3_filter_b_count_q;
+        channels_3_filter_b_count_nonzero_d = channels_3_filter_b_count_nonzero_q;
         channels_3_filter_b_sync1_d = channels_3_filter_b_pin;
         channels_3_filter_b_sync2_d = channels_3_filter_b_sync1_q;
         if (channels_3_filter_b_reset) begin
             channels_3_filter_b_accepted_d = channels_3_filter_b_sync2_q;
             channels_3_filter_b_count_d = 4'h0;
+            channels_3_filter_b_count_nonzero_d = 1'b0;
         end
         else if (channels_3_filter_b_sync2_q == channels_3_filter_b_accepted_q) begin
-            channels_3_filter_b_count_d = 4'h0;
+            channels_3_filter_b_count_d = channels_3_filter_b_setting;
+            channels_3_filter_b_count_nonzero_d = |channels_3_filter_b_setting;
         end
-        else if (channels_3_filter_b_count_q == channels_3_filter_b_setting) begin
+        else if (~channels_3_filter_b_count_nonzero_q) begin
             channels_3_filter_b_accepted_d = channels_3_filter_b_sync2_q;
-            channels_3_filter_b_count_d = 4'h0;
+            channels_3_filter_b_count_d = channels_3_filter_b_setting;
+            channels_3_filter_b_count_nonzero_d = |channels_3_filter_b_setting;
         end
         else begin
-            channels_3_filter_b_count_d = channels_3_filter_b_count_q + 4'h1;
+            channels_3_filter_b_count_d = channels_3_filter_b_count_q - 4'h1;
+            channels_3_filter_b_count_nonzero_d = channels_3_filter_b_count_q != channels_3_filter_b_one;
         end
         channels_3_filter_b_level = channels_3_filter_b_accepted_q;
     end
@@ -2104,21 +2309,26 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_filter_z_sync2_d = channels_3_filter_z_sync2_q;
         channels_3_filter_z_accepted_d = channels_3_filter_z_accepted_q;
         channels_3_filter_z_count_d = channels_3_filter_z_count_q;
+        channels_3_filter_z_count_nonzero_d = channels_3_filter_z_count_nonzero_q;
         channels_3_filter_z_sync1_d = channels_3_filter_z_pin;
         channels_3_filter_z_sync2_d = channels_3_filter_z_sync1_q;
         if (channels_3_filter_z_reset) begin
             channels_3_filter_z_accepted_d = channels_3_filter_z_sync2_q;
             channels_3_filter_z_count_d = 4'h0;
+            channels_3_filter_z_count_nonzero_d = 1'b0;
         end
         else if (channels_3_filter_z_sync2_q == channels_3_filter_z_accepted_q) begin
-            channels_3_filter_z_count_d = 4'h0;
+            channels_3_filter_z_count_d = channels_3_filter_z_setting;
+            channels_3_filter_z_count_nonzero_d = |channels_3_filter_z_setting;
         end
-        else if (channels_3_filter_z_count_q == channels_3_filter_z_setting) begin
+        else if (~channels_3_filter_z_count_nonzero_q) begin
             channels_3_filter_z_accepted_d = channels_3_filter_z_sync2_q;
-            channels_3_filter_z_count_d = 4'h0;
+            channels_3_filter_z_count_d = channels_3_filter_z_setting;
+            channels_3_filter_z_count_nonzero_d = |channels_3_filter_z_setting;
         end
         else begin
-            channels_3_filter_z_count_d = channels_3_filter_z_count_q + 4'h1;
+            channels_3_filter_z_count_d = channels_3_filter_z_count_q - 4'h1;
+            channels_3_filter_z_count_nonzero_d = channels_3_filter_z_count_q != channels_3_filter_z_one;
         end
         channels_3_filter_z_level = channels_3_filter_z_accepted_q;
     end
@@ -2174,19 +2384,16 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_counter_hi_d = channels_3_counter_hi_q;
         channels_3_counter_lo_max_d = channels_3_counter_lo_max_q;
         channels_3_counter_lo_nonzero_d = channels_3_counter_lo_nonzero_q;
-        channels_3_counter_lo_ones_above = (channels_3_counter_lo_q & channels_3_counter_lo_upper_mask) == channels_3_counter_lo_upper_mask;
-        channels_3_counter_lo_zeros_above = ~|(channels_3_counter_lo_q & channels_3_counter_lo_upper_mask);
+        channels_3_counter_mid_ones_d = channels_3_counter_mid_ones_q;
+        channels_3_counter_mid_zero_d = channels_3_counter_mid_zero_q;
+        channels_3_counter_base = channels_3_counter_lo_q & channels_3_counter_base_mask;
         channels_3_counter_load_lo = channels_3_counter_load_value & channels_3_counter_lo_mask;
         channels_3_counter_load_hi = (channels_3_counter_load_value >> channels_3_counter_lo_bits) & channels_3_counter_hi_mask;
         channels_3_counter_lo_step = 32'h0;
         channels_3_counter_hi_step = 32'h0;
         channels_3_counter_lo_carry_in = 32'h0;
-        channels_3_counter_hi_carry_in = 32'h0;
         if (channels_3_counter_up) begin
             channels_3_counter_lo_carry_in = channels_3_counter_one;
-            if (channels_3_counter_lo_max_q) begin
-                channels_3_counter_hi_carry_in = channels_3_counter_one;
-            end
         end
         if (channels_3_counter_down) begin
             channels_3_counter_lo_step = channels_3_counter_lo_mask;
@@ -2199,23 +2406,35 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_counter_hi_step = channels_3_counter_load_hi;
         end
         channels_3_counter_lo_d = (channels_3_counter_lo_q + channels_3_counter_lo_step + channels_3_counter_lo_carry_in) & channels_3_counter_lo_mask;
-        channels_3_counter_hi_d = (channels_3_counter_hi_q + channels_3_counter_hi_step + channels_3_counter_hi_carry_in) & channels_3_counter_hi_mask;
+        channels_3_counter_hi_a = channels_3_counter_hi_q << channels_3_counter_shift1;
+        channels_3_counter_hi_b = channels_3_counter_hi_step << channels_3_counter_shift1;
+        if (channels_3_counter_up) begin
+            channels_3_counter_hi_a = (channels_3_counter_hi_q << channels_3_counter_shift1) | channels_3_counter_one;
+        end
+        if (channels_3_counter_lo_max_q) begin
+            channels_3_counter_hi_b = (channels_3_counter_hi_step << channels_3_counter_shift1) | channels_3_counter_one;
+        end
+        channels_3_counter_hi_d = ((channels_3_counter_hi_a + channels_3_counter_hi_b) >> channels_3_counter_shift1) & channels_3_counter_hi_mask;
         if (channels_3_counter_load) begin
             channels_3_counter_lo_max_d = channels_3_counter_load_low_is_max;
             channels_3_counter_lo_nonzero_d = channels_3_counter_load_low_is_nonzero;
         end
         else if (channels_3_counter_up) begin
-            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & ~channels_3_counter_lo_q[0];
-            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0]);
+            channels_3_counter_lo_max_d = (channels_3_counter_base == channels_3_counter_base_max_minus_one) & channels_3_counter_mid_ones_q;
+            channels_3_counter_lo_nonzero_d = ~channels_3_counter_lo_max_q;
         end
         else if (channels_3_counter_down) begin
-            channels_3_counter_lo_max_d = channels_3_counter_lo_zeros_above & ~channels_3_counter_lo_q[0];
-            channels_3_counter_lo_nonzero_d = ~(channels_3_counter_lo_zeros_above & channels_3_counter_lo_q[0]);
+            channels_3_counter_lo_max_d = ~channels_3_counter_lo_nonzero_q;
+            channels_3_counter_lo_nonzero_d = ~((channels_3_counter_base == channels_3_counter_one) & channels_3_counter_mid_zero_q);
+        end
+        if (channels_3_counter_load) begin
+            channels_3_counter_mid_source = channels_3_counter_load_value & channels_3_counter_mid_mask;
         end
         else begin
-            channels_3_counter_lo_max_d = channels_3_counter_lo_ones_above & channels_3_counter_lo_q[0];
-            channels_3_counter_lo_nonzero_d = ~channels_3_counter_lo_zeros_above | channels_3_counter_lo_q[0];
+            channels_3_counter_mid_source = channels_3_counter_lo_q & channels_3_counter_mid_mask;
         end
+        channels_3_counter_mid_ones_d = channels_3_counter_mid_source == channels_3_counter_mid_mask;
+        channels_3_counter_mid_zero_d = ~|channels_3_counter_mid_source;
         if (channels_3_counter_clear) begin
             channels_3_counter_lo_d = 32'h0;
             channels_3_counter_hi_d = 32'h0;
@@ -2229,157 +2448,181 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) channels_0_filter_a_sync2_q <= channels_0_filter_a_sync2_d;
     always @(posedge clock) channels_0_filter_a_accepted_q <= channels_0_filter_a_accepted_d;
     always @(posedge clock) channels_0_filter_a_count_q <= channels_0_filter_a_count_d;
+    always @(posedge clock) channels_0_filter_a_count_nonzero_q <= channels_0_filter_a_count_nonzero_d;
     always @(posedge clock) channels_0_filter_b_sync1_q <= channels_0_filter_b_sync1_d;
     always @(posedge clock) channels_0_filter_b_sync2_q <= channels_0_filter_b_sync2_d;
     always @(posedge clock) channels_0_filter_b_accepted_q <= channels_0_filter_b_accepted_d;
     always @(posedge clock) channels_0_filter_b_count_q <= channels_0_filter_b_count_d;
+    always @(posedge clock) channels_0_filter_b_count_nonzero_q <= channels_0_filter_b_count_nonzero_d;
     always @(posedge clock) channels_0_filter_z_sync1_q <= channels_0_filter_z_sync1_d;
     always @(posedge clock) channels_0_filter_z_sync2_q <= channels_0_filter_z_sync2_d;
     always @(posedge clock) channels_0_filter_z_accepted_q <= channels_0_filter_z_accepted_d;
     always @(posedge clock) channels_0_filter_z_count_q <= channels_0_filter_z_count_d;
+    always @(posedge clock) channels_0_filter_z_count_nonzero_q <= channels_0_filter_z_count_nonzero_d;
     always @(posedge clock) channels_0_a_prev_q <= channels_0_a_prev_d;
     always @(posedge clock) channels_0_b_prev_q <= channels_0_b_prev_d;
     always @(posedge clock) channels_0_zg_prev_q <= channels_0_zg_prev_d;
+    always @(posedge clock) channels_0_zg_q_q <= channels_0_zg_q_d;
     always @(posedge clock) channels_0_decoder_up_reg_q <= channels_0_decoder_up_reg_d;
     always @(posedge clock) channels_0_decoder_down_reg_q <= channels_0_decoder_down_reg_d;
     always @(posedge clock) channels_0_counter_lo_q <= channels_0_counter_lo_d;
     always @(posedge clock) channels_0_counter_hi_q <= channels_0_counter_hi_d;
     always @(posedge clock) channels_0_counter_lo_max_q <= channels_0_counter_lo_max_d;
     always @(posedge clock) channels_0_counter_lo_nonzero_q <= channels_0_counter_lo_nonzero_d;
+    always @(posedge clock) channels_0_counter_mid_ones_q <= channels_0_counter_mid_ones_d;
+    always @(posedge clock) channels_0_counter_mid_zero_q <= channels_0_counter_mid_zero_d;
     always @(posedge clock) channels_0_load_q_q <= channels_0_load_q_d;
+    always @(posedge clock) channels_0_err_q_q <= channels_0_err_q_d;
     always @(posedge clock) channels_0_index_latch_q_q <= channels_0_index_latch_q_d;
     always @(posedge clock) channels_0_index_clear_q_q <= channels_0_index_clear_q_d;
     always @(posedge clock) channels_0_index_q <= channels_0_index_d;
     always @(posedge clock) channels_0_err_q <= channels_0_err_d;
     always @(posedge clock) channels_0_err_count_q <= channels_0_err_count_d;
+    always @(posedge clock) channels_0_err_sat_q <= channels_0_err_sat_d;
     always @(posedge clock) channels_0_seen_q <= channels_0_seen_d;
     always @(posedge clock) channels_0_armed_q <= channels_0_armed_d;
     always @(posedge clock) channels_0_ctrl_q <= channels_0_ctrl_d;
     always @(posedge clock) channels_0_snap_count_q <= channels_0_snap_count_d;
     always @(posedge clock) channels_0_snap_index_q <= channels_0_snap_index_d;
     always @(posedge clock) channels_0_snap_status_q <= channels_0_snap_status_d;
-    always @(posedge clock) channels_0_read_ctrl_q <= channels_0_read_ctrl_d;
-    always @(posedge clock) channels_0_read_count_q <= channels_0_read_count_d;
-    always @(posedge clock) channels_0_read_index_q <= channels_0_read_index_d;
-    always @(posedge clock) channels_0_read_status_q <= channels_0_read_status_d;
+    always @(posedge clock) channels_0_read_sel_q <= channels_0_read_sel_d;
+    always @(posedge clock) channels_0_read_word_q <= channels_0_read_word_d;
     always @(posedge clock) channels_1_filter_a_sync1_q <= channels_1_filter_a_sync1_d;
     always @(posedge clock) channels_1_filter_a_sync2_q <= channels_1_filter_a_sync2_d;
     always @(posedge clock) channels_1_filter_a_accepted_q <= channels_1_filter_a_accepted_d;
     always @(posedge clock) channels_1_filter_a_count_q <= channels_1_filter_a_count_d;
+    always @(posedge clock) channels_1_filter_a_count_nonzero_q <= channels_1_filter_a_count_nonzero_d;
     always @(posedge clock) channels_1_filter_b_sync1_q <= channels_1_filter_b_sync1_d;
     always @(posedge clock) channels_1_filter_b_sync2_q <= channels_1_filter_b_sync2_d;
     always @(posedge clock) channels_1_filter_b_accepted_q <= channels_1_filter_b_accepted_d;
     always @(posedge clock) channels_1_filter_b_count_q <= channels_1_filter_b_count_d;
+    always @(posedge clock) channels_1_filter_b_count_nonzero_q <= channels_1_filter_b_count_nonzero_d;
     always @(posedge clock) channels_1_filter_z_sync1_q <= channels_1_filter_z_sync1_d;
     always @(posedge clock) channels_1_filter_z_sync2_q <= channels_1_filter_z_sync2_d;
     always @(posedge clock) channels_1_filter_z_accepted_q <= channels_1_filter_z_accepted_d;
     always @(posedge clock) channels_1_filter_z_count_q <= channels_1_filter_z_count_d;
+    always @(posedge clock) channels_1_filter_z_count_nonzero_q <= channels_1_filter_z_count_nonzero_d;
     always @(posedge clock) channels_1_a_prev_q <= channels_1_a_prev_d;
     always @(posedge clock) channels_1_b_prev_q <= channels_1_b_prev_d;
     always @(posedge clock) channels_1_zg_prev_q <= channels_1_zg_prev_d;
+    always @(posedge clock) channels_1_zg_q_q <= channels_1_zg_q_d;
     always @(posedge clock) channels_1_decoder_up_reg_q <= channels_1_decoder_up_reg_d;
     always @(posedge clock) channels_1_decoder_down_reg_q <= channels_1_decoder_down_reg_d;
     always @(posedge clock) channels_1_counter_lo_q <= channels_1_counter_lo_d;
     always @(posedge clock) channels_1_counter_hi_q <= channels_1_counter_hi_d;
     always @(posedge clock) channels_1_counter_lo_max_q <= channels_1_counter_lo_max_d;
     always @(posedge clock) channels_1_counter_lo_nonzero_q <= channels_1_counter_lo_nonzero_d;
+    always @(posedge clock) channels_1_counter_mid_ones_q <= channels_1_counter_mid_ones_d;
+    always @(posedge clock) channels_1_counter_mid_zero_q <= channels_1_counter_mid_zero_d;
     always @(posedge clock) channels_1_load_q_q <= channels_1_load_q_d;
+    always @(posedge clock) channels_1_err_q_q <= channels_1_err_q_d;
     always @(posedge clock) channels_1_index_latch_q_q <= channels_1_index_latch_q_d;
     always @(posedge clock) channels_1_index_clear_q_q <= channels_1_index_clear_q_d;
     always @(posedge clock) channels_1_index_q <= channels_1_index_d;
     always @(posedge clock) channels_1_err_q <= channels_1_err_d;
     always @(posedge clock) channels_1_err_count_q <= channels_1_err_count_d;
+    always @(posedge clock) channels_1_err_sat_q <= channels_1_err_sat_d;
     always @(posedge clock) channels_1_seen_q <= channels_1_seen_d;
     always @(posedge clock) channels_1_armed_q <= channels_1_armed_d;
     always @(posedge clock) channels_1_ctrl_q <= channels_1_ctrl_d;
     always @(posedge clock) channels_1_snap_count_q <= channels_1_snap_count_d;
     always @(posedge clock) channels_1_snap_index_q <= channels_1_snap_index_d;
     always @(posedge clock) channels_1_snap_status_q <= channels_1_snap_status_d;
-    always @(posedge clock) channels_1_read_ctrl_q <= channels_1_read_ctrl_d;
-    always @(posedge clock) channels_1_read_count_q <= channels_1_read_count_d;
-    always @(posedge clock) channels_1_read_index_q <= channels_1_read_index_d;
-    always @(posedge clock) channels_1_read_status_q <= channels_1_read_status_d;
+    always @(posedge clock) channels_1_read_sel_q <= channels_1_read_sel_d;
+    always @(posedge clock) channels_1_read_word_q <= channels_1_read_word_d;
     always @(posedge clock) channels_2_filter_a_sync1_q <= channels_2_filter_a_sync1_d;
     always @(posedge clock) channels_2_filter_a_sync2_q <= channels_2_filter_a_sync2_d;
     always @(posedge clock) channels_2_filter_a_accepted_q <= channels_2_filter_a_accepted_d;
     always @(posedge clock) channels_2_filter_a_count_q <= channels_2_filter_a_count_d;
+    always @(posedge clock) channels_2_filter_a_count_nonzero_q <= channels_2_filter_a_count_nonzero_d;
     always @(posedge clock) channels_2_filter_b_sync1_q <= channels_2_filter_b_sync1_d;
     always @(posedge clock) channels_2_filter_b_sync2_q <= channels_2_filter_b_sync2_d;
     always @(posedge clock) channels_2_filter_b_accepted_q <= channels_2_filter_b_accepted_d;
     always @(posedge clock) channels_2_filter_b_count_q <= channels_2_filter_b_count_d;
+    always @(posedge clock) channels_2_filter_b_count_nonzero_q <= channels_2_filter_b_count_nonzero_d;
     always @(posedge clock) channels_2_filter_z_sync1_q <= channels_2_filter_z_sync1_d;
     always @(posedge clock) channels_2_filter_z_sync2_q <= channels_2_filter_z_sync2_d;
     always @(posedge clock) channels_2_filter_z_accepted_q <= channels_2_filter_z_accepted_d;
     always @(posedge clock) channels_2_filter_z_count_q <= channels_2_filter_z_count_d;
+    always @(posedge clock) channels_2_filter_z_count_nonzero_q <= channels_2_filter_z_count_nonzero_d;
     always @(posedge clock) channels_2_a_prev_q <= channels_2_a_prev_d;
     always @(posedge clock) channels_2_b_prev_q <= channels_2_b_prev_d;
     always @(posedge clock) channels_2_zg_prev_q <= channels_2_zg_prev_d;
+    always @(posedge clock) channels_2_zg_q_q <= channels_2_zg_q_d;
     always @(posedge clock) channels_2_decoder_up_reg_q <= channels_2_decoder_up_reg_d;
     always @(posedge clock) channels_2_decoder_down_reg_q <= channels_2_decoder_down_reg_d;
     always @(posedge clock) channels_2_counter_lo_q <= channels_2_counter_lo_d;
     always @(posedge clock) channels_2_counter_hi_q <= channels_2_counter_hi_d;
     always @(posedge clock) channels_2_counter_lo_max_q <= channels_2_counter_lo_max_d;
     always @(posedge clock) channels_2_counter_lo_nonzero_q <= channels_2_counter_lo_nonzero_d;
+    always @(posedge clock) channels_2_counter_mid_ones_q <= channels_2_counter_mid_ones_d;
+    always @(posedge clock) channels_2_counter_mid_zero_q <= channels_2_counter_mid_zero_d;
     always @(posedge clock) channels_2_load_q_q <= channels_2_load_q_d;
+    always @(posedge clock) channels_2_err_q_q <= channels_2_err_q_d;
     always @(posedge clock) channels_2_index_latch_q_q <= channels_2_index_latch_q_d;
     always @(posedge clock) channels_2_index_clear_q_q <= channels_2_index_clear_q_d;
     always @(posedge clock) channels_2_index_q <= channels_2_index_d;
     always @(posedge clock) channels_2_err_q <= channels_2_err_d;
     always @(posedge clock) channels_2_err_count_q <= channels_2_err_count_d;
+    always @(posedge clock) channels_2_err_sat_q <= channels_2_err_sat_d;
     always @(posedge clock) channels_2_seen_q <= channels_2_seen_d;
     always @(posedge clock) channels_2_armed_q <= channels_2_armed_d;
     always @(posedge clock) channels_2_ctrl_q <= channels_2_ctrl_d;
     always @(posedge clock) channels_2_snap_count_q <= channels_2_snap_count_d;
     always @(posedge clock) channels_2_snap_index_q <= channels_2_snap_index_d;
     always @(posedge clock) channels_2_snap_status_q <= channels_2_snap_status_d;
-    always @(posedge clock) channels_2_read_ctrl_q <= channels_2_read_ctrl_d;
-    always @(posedge clock) channels_2_read_count_q <= channels_2_read_count_d;
-    always @(posedge clock) channels_2_read_index_q <= channels_2_read_index_d;
-    always @(posedge clock) channels_2_read_status_q <= channels_2_read_status_d;
+    always @(posedge clock) channels_2_read_sel_q <= channels_2_read_sel_d;
+    always @(posedge clock) channels_2_read_word_q <= channels_2_read_word_d;
     always @(posedge clock) channels_3_filter_a_sync1_q <= channels_3_filter_a_sync1_d;
     always @(posedge clock) channels_3_filter_a_sync2_q <= channels_3_filter_a_sync2_d;
     always @(posedge clock) channels_3_filter_a_accepted_q <= channels_3_filter_a_accepted_d;
     always @(posedge clock) channels_3_filter_a_count_q <= channels_3_filter_a_count_d;
+    always @(posedge clock) channels_3_filter_a_count_nonzero_q <= channels_3_filter_a_count_nonzero_d;
     always @(posedge clock) channels_3_filter_b_sync1_q <= channels_3_filter_b_sync1_d;
     always @(posedge clock) channels_3_filter_b_sync2_q <= channels_3_filter_b_sync2_d;
     always @(posedge clock) channels_3_filter_b_accepted_q <= channels_3_filter_b_accepted_d;
     always @(posedge clock) channels_3_filter_b_count_q <= channels_3_filter_b_count_d;
+    always @(posedge clock) channels_3_filter_b_count_nonzero_q <= channels_3_filter_b_count_nonzero_d;
     always @(posedge clock) channels_3_filter_z_sync1_q <= channels_3_filter_z_sync1_d;
     always @(posedge clock) channels_3_filter_z_sync2_q <= channels_3_filter_z_sync2_d;
     always @(posedge clock) channels_3_filter_z_accepted_q <= channels_3_filter_z_accepted_d;
     always @(posedge clock) channels_3_filter_z_count_q <= channels_3_filter_z_count_d;
+    always @(posedge clock) channels_3_filter_z_count_nonzero_q <= channels_3_filter_z_count_nonzero_d;
     always @(posedge clock) channels_3_a_prev_q <= channels_3_a_prev_d;
     always @(posedge clock) channels_3_b_prev_q <= channels_3_b_prev_d;
     always @(posedge clock) channels_3_zg_prev_q <= channels_3_zg_prev_d;
+    always @(posedge clock) channels_3_zg_q_q <= channels_3_zg_q_d;
     always @(posedge clock) channels_3_decoder_up_reg_q <= channels_3_decoder_up_reg_d;
     always @(posedge clock) channels_3_decoder_down_reg_q <= channels_3_decoder_down_reg_d;
     always @(posedge clock) channels_3_counter_lo_q <= channels_3_counter_lo_d;
     always @(posedge clock) channels_3_counter_hi_q <= channels_3_counter_hi_d;
     always @(posedge clock) channels_3_counter_lo_max_q <= channels_3_counter_lo_max_d;
     always @(posedge clock) channels_3_counter_lo_nonzero_q <= channels_3_counter_lo_nonzero_d;
+    always @(posedge clock) channels_3_counter_mid_ones_q <= channels_3_counter_mid_ones_d;
+    always @(posedge clock) channels_3_counter_mid_zero_q <= channels_3_counter_mid_zero_d;
     always @(posedge clock) channels_3_load_q_q <= channels_3_load_q_d;
+    always @(posedge clock) channels_3_err_q_q <= channels_3_err_q_d;
     always @(posedge clock) channels_3_index_latch_q_q <= channels_3_index_latch_q_d;
     always @(posedge clock) channels_3_index_clear_q_q <= channels_3_index_clear_q_d;
     always @(posedge clock) channels_3_index_q <= channels_3_index_d;
     always @(posedge clock) channels_3_err_q <= channels_3_err_d;
     always @(posedge clock) channels_3_err_count_q <= channels_3_err_count_d;
+    always @(posedge clock) channels_3_err_sat_q <= channels_3_err_sat_d;
     always @(posedge clock) channels_3_seen_q <= channels_3_seen_d;
     always @(posedge clock) channels_3_armed_q <= channels_3_armed_d;
     always @(posedge clock) channels_3_ctrl_q <= channels_3_ctrl_d;
     always @(posedge clock) channels_3_snap_count_q <= channels_3_snap_count_d;
     always @(posedge clock) channels_3_snap_index_q <= channels_3_snap_index_d;
     always @(posedge clock) channels_3_snap_status_q <= channels_3_snap_status_d;
-    always @(posedge clock) channels_3_read_ctrl_q <= channels_3_read_ctrl_d;
-    always @(posedge clock) channels_3_read_count_q <= channels_3_read_count_d;
-    always @(posedge clock) channels_3_read_index_q <= channels_3_read_index_d;
-    always @(posedge clock) channels_3_read_status_q <= channels_3_read_status_d;
+    always @(posedge clock) channels_3_read_sel_q <= channels_3_read_sel_d;
+    always @(posedge clock) channels_3_read_word_q <= channels_3_read_word_d;
     always @(posedge clock) preset_q <= preset_d;
     always @(posedge clock) read_data_q <= read_data_d;
     always @(posedge clock) preset_low_is_max_q <= preset_low_is_max_d;
     always @(posedge clock) preset_low_is_nonzero_q <= preset_low_is_nonzero_d;
     always @(posedge clock) read_pending_q <= read_pending_d;
-    always @(posedge clock) read_info_q <= read_info_d;
-    always @(posedge clock) read_preset_q <= read_preset_d;
+    always @(posedge clock) read_sel_q <= read_sel_d;
+    always @(posedge clock) read_word_q <= read_word_d;
 endmodule // counter_bank
 
 `default_nettype wire

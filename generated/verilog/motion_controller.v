@@ -82,9 +82,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_0_addr_ctrl = 8'h8;
     localparam mcu_counters_channels_0_addr_cmd = 8'h9;
-    localparam mcu_counters_channels_0_addr_count = 8'ha;
-    localparam mcu_counters_channels_0_addr_index = 8'hb;
-    localparam mcu_counters_channels_0_addr_status = 8'hc;
+    localparam mcu_counters_channels_0_channel_page = 5'b1;
+    localparam mcu_counters_channels_0_slot_ctrl = 3'b0;
+    localparam mcu_counters_channels_0_slot_count = 3'b10;
+    localparam mcu_counters_channels_0_slot_index = 3'b11;
+    localparam mcu_counters_channels_0_slot_status = 3'b100;
     localparam mcu_counters_channels_0_ctrl_writable = 32'hff03ff;
     localparam mcu_counters_channels_0_mode_lsb = 5'b0;
     localparam mcu_counters_channels_0_reverse_bit = 5'b11;
@@ -110,22 +112,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_0_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_0_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_0_sign_extension = 32'hf0000000;
-    localparam mcu_counters_channels_0_err_max = 8'hff;
+    localparam mcu_counters_channels_0_err_max_minus_one = 8'hfe;
+    localparam mcu_counters_channels_0_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_0_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_0_filter_z_one = 4'h1;
     localparam mcu_counters_channels_0_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_0_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_0_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_0_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_0_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_0_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_0_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_0_counter_base_mask = 32'h3;
+    localparam mcu_counters_channels_0_counter_base_max_minus_one = 32'h2;
+    localparam mcu_counters_channels_0_counter_mid_mask = 32'h3ffc;
     localparam mcu_counters_channels_0_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_0_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_0_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_0_counter_one = 32'h1;
     localparam mcu_counters_channels_1_addr_ctrl = 8'h10;
     localparam mcu_counters_channels_1_addr_cmd = 8'h11;
-    localparam mcu_counters_channels_1_addr_count = 8'h12;
-    localparam mcu_counters_channels_1_addr_index = 8'h13;
-    localparam mcu_counters_channels_1_addr_status = 8'h14;
+    localparam mcu_counters_channels_1_channel_page = 5'b10;
+    localparam mcu_counters_channels_1_slot_ctrl = 3'b0;
+    localparam mcu_counters_channels_1_slot_count = 3'b10;
+    localparam mcu_counters_channels_1_slot_index = 3'b11;
+    localparam mcu_counters_channels_1_slot_status = 3'b100;
     localparam mcu_counters_channels_1_ctrl_writable = 32'hff03ff;
     localparam mcu_counters_channels_1_mode_lsb = 5'b0;
     localparam mcu_counters_channels_1_reverse_bit = 5'b11;
@@ -151,22 +161,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_1_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_1_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_1_sign_extension = 32'hf0000000;
-    localparam mcu_counters_channels_1_err_max = 8'hff;
+    localparam mcu_counters_channels_1_err_max_minus_one = 8'hfe;
+    localparam mcu_counters_channels_1_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_1_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_1_filter_z_one = 4'h1;
     localparam mcu_counters_channels_1_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_1_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_1_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_1_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_1_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_1_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_1_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_1_counter_base_mask = 32'h3;
+    localparam mcu_counters_channels_1_counter_base_max_minus_one = 32'h2;
+    localparam mcu_counters_channels_1_counter_mid_mask = 32'h3ffc;
     localparam mcu_counters_channels_1_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_1_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_1_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_1_counter_one = 32'h1;
     localparam mcu_counters_channels_2_addr_ctrl = 8'h18;
     localparam mcu_counters_channels_2_addr_cmd = 8'h19;
-    localparam mcu_counters_channels_2_addr_count = 8'h1a;
-    localparam mcu_counters_channels_2_addr_index = 8'h1b;
-    localparam mcu_counters_channels_2_addr_status = 8'h1c;
+    localparam mcu_counters_channels_2_channel_page = 5'b11;
+    localparam mcu_counters_channels_2_slot_ctrl = 3'b0;
+    localparam mcu_counters_channels_2_slot_count = 3'b10;
+    localparam mcu_counters_channels_2_slot_index = 3'b11;
+    localparam mcu_counters_channels_2_slot_status = 3'b100;
     localparam mcu_counters_channels_2_ctrl_writable = 32'hff03ff;
     localparam mcu_counters_channels_2_mode_lsb = 5'b0;
     localparam mcu_counters_channels_2_reverse_bit = 5'b11;
@@ -192,22 +210,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_2_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_2_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_2_sign_extension = 32'hf0000000;
-    localparam mcu_counters_channels_2_err_max = 8'hff;
+    localparam mcu_counters_channels_2_err_max_minus_one = 8'hfe;
+    localparam mcu_counters_channels_2_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_2_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_2_filter_z_one = 4'h1;
     localparam mcu_counters_channels_2_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_2_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_2_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_2_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_2_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_2_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_2_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_2_counter_base_mask = 32'h3;
+    localparam mcu_counters_channels_2_counter_base_max_minus_one = 32'h2;
+    localparam mcu_counters_channels_2_counter_mid_mask = 32'h3ffc;
     localparam mcu_counters_channels_2_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_2_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_2_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_2_counter_one = 32'h1;
     localparam mcu_counters_channels_3_addr_ctrl = 8'h20;
     localparam mcu_counters_channels_3_addr_cmd = 8'h21;
-    localparam mcu_counters_channels_3_addr_count = 8'h22;
-    localparam mcu_counters_channels_3_addr_index = 8'h23;
-    localparam mcu_counters_channels_3_addr_status = 8'h24;
+    localparam mcu_counters_channels_3_channel_page = 5'b100;
+    localparam mcu_counters_channels_3_slot_ctrl = 3'b0;
+    localparam mcu_counters_channels_3_slot_count = 3'b10;
+    localparam mcu_counters_channels_3_slot_index = 3'b11;
+    localparam mcu_counters_channels_3_slot_status = 3'b100;
     localparam mcu_counters_channels_3_ctrl_writable = 32'hff03ff;
     localparam mcu_counters_channels_3_mode_lsb = 5'b0;
     localparam mcu_counters_channels_3_reverse_bit = 5'b11;
@@ -233,16 +259,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_3_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_3_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_3_sign_extension = 32'hf0000000;
-    localparam mcu_counters_channels_3_err_max = 8'hff;
+    localparam mcu_counters_channels_3_err_max_minus_one = 8'hfe;
+    localparam mcu_counters_channels_3_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_3_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_3_filter_z_one = 4'h1;
     localparam mcu_counters_channels_3_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_3_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_3_decoder_mode_x1 = 3'b10;
     localparam mcu_counters_channels_3_decoder_mode_pulse_dir = 3'b11;
     localparam mcu_counters_channels_3_decoder_mode_cw_ccw = 3'b100;
     localparam mcu_counters_channels_3_counter_lo_mask = 32'h3fff;
-    localparam mcu_counters_channels_3_counter_lo_upper_mask = 32'h3ffe;
+    localparam mcu_counters_channels_3_counter_base_mask = 32'h3;
+    localparam mcu_counters_channels_3_counter_base_max_minus_one = 32'h2;
+    localparam mcu_counters_channels_3_counter_mid_mask = 32'h3ffc;
     localparam mcu_counters_channels_3_counter_hi_mask = 32'h3fff;
     localparam mcu_counters_channels_3_counter_lo_bits = 5'b1110;
+    localparam mcu_counters_channels_3_counter_shift1 = 5'b1;
     localparam mcu_counters_channels_3_counter_one = 32'h1;
     localparam mcu_pulses_addr_info = 9'b0;
     localparam mcu_pulses_addr_run = 9'b1;
@@ -578,10 +610,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_preset_low_is_nonzero_q = 1'h0;
     reg mcu_counters_read_pending_d;
     reg mcu_counters_read_pending_q = 1'h0;
-    reg mcu_counters_read_info_d;
-    reg mcu_counters_read_info_q = 1'h0;
-    reg mcu_counters_read_preset_d;
-    reg mcu_counters_read_preset_q = 1'h0;
+    reg mcu_counters_read_sel_d;
+    reg mcu_counters_read_sel_q = 1'h0;
+    reg [31:0] mcu_counters_read_word_d;
+    reg [31:0] mcu_counters_read_word_q = 32'h0;
     reg mcu_counters_snapshot;
     reg [31:0] mcu_counters_preset_read;
     reg [31:0] mcu_counters_read_value;
@@ -603,6 +635,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_b_prev_q = 1'h0;
     reg mcu_counters_channels_0_zg_prev_d;
     reg mcu_counters_channels_0_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_0_zg_q_d;
+    reg mcu_counters_channels_0_zg_q_q = 1'h0;
     reg mcu_counters_channels_0_decoder_hold;
     reg mcu_counters_channels_0_decoder_a;
     reg mcu_counters_channels_0_decoder_b;
@@ -622,6 +656,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_0_counter_count;
     reg mcu_counters_channels_0_load_q_d;
     reg mcu_counters_channels_0_load_q_q = 1'h0;
+    reg mcu_counters_channels_0_err_q_d;
+    reg mcu_counters_channels_0_err_q_q = 1'h0;
     reg mcu_counters_channels_0_index_latch_q_d;
     reg mcu_counters_channels_0_index_latch_q_q = 1'h0;
     reg mcu_counters_channels_0_index_clear_q_d;
@@ -632,6 +668,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_0_err_count_d;
     reg [7:0] mcu_counters_channels_0_err_count_q = 8'h0;
+    reg mcu_counters_channels_0_err_sat_d;
+    reg mcu_counters_channels_0_err_sat_q = 1'h0;
     reg mcu_counters_channels_0_seen_d;
     reg mcu_counters_channels_0_seen_q = 1'h0;
     reg mcu_counters_channels_0_armed_d;
@@ -644,14 +682,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_0_snap_index_q = 32'h0;
     reg [31:0] mcu_counters_channels_0_snap_status_d;
     reg [31:0] mcu_counters_channels_0_snap_status_q = 32'h0;
-    reg mcu_counters_channels_0_read_ctrl_d;
-    reg mcu_counters_channels_0_read_ctrl_q = 1'h0;
-    reg mcu_counters_channels_0_read_count_d;
-    reg mcu_counters_channels_0_read_count_q = 1'h0;
-    reg mcu_counters_channels_0_read_index_d;
-    reg mcu_counters_channels_0_read_index_q = 1'h0;
-    reg mcu_counters_channels_0_read_status_d;
-    reg mcu_counters_channels_0_read_status_q = 1'h0;
+    reg mcu_counters_channels_0_read_sel_d;
+    reg mcu_counters_channels_0_read_sel_q = 1'h0;
+    reg [31:0] mcu_counters_channels_0_read_word_d;
+    reg [31:0] mcu_counters_channels_0_read_word_q = 32'h0;
     reg mcu_counters_channels_0_level_a;
     reg mcu_counters_channels_0_level_b;
     reg mcu_counters_channels_0_level_z;
@@ -674,6 +708,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_filter_a_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_0_filter_a_count_d;
     reg [3:0] mcu_counters_channels_0_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_0_filter_a_count_nonzero_d;
+    reg mcu_counters_channels_0_filter_a_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_0_filter_b_sync1_d;
     reg mcu_counters_channels_0_filter_b_sync1_q = 1'h0;
     reg mcu_counters_channels_0_filter_b_sync2_d;
@@ -682,6 +718,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_filter_b_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_0_filter_b_count_d;
     reg [3:0] mcu_counters_channels_0_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_0_filter_b_count_nonzero_d;
+    reg mcu_counters_channels_0_filter_b_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_0_filter_z_sync1_d;
     reg mcu_counters_channels_0_filter_z_sync1_q = 1'h0;
     reg mcu_counters_channels_0_filter_z_sync2_d;
@@ -690,6 +728,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_filter_z_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_0_filter_z_count_d;
     reg [3:0] mcu_counters_channels_0_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_0_filter_z_count_nonzero_d;
+    reg mcu_counters_channels_0_filter_z_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_0_decoder_up_reg_d;
     reg mcu_counters_channels_0_decoder_up_reg_q = 1'h0;
     reg mcu_counters_channels_0_decoder_down_reg_d;
@@ -709,13 +749,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_0_counter_lo_nonzero_d;
     reg mcu_counters_channels_0_counter_lo_nonzero_q = 1'h0;
+    reg mcu_counters_channels_0_counter_mid_ones_d;
+    reg mcu_counters_channels_0_counter_mid_ones_q = 1'h0;
+    reg mcu_counters_channels_0_counter_mid_zero_d;
+    reg mcu_counters_channels_0_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_0_counter_load_hi;
-    reg mcu_counters_channels_0_counter_lo_ones_above;
-    reg mcu_counters_channels_0_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_0_counter_base;
+    reg [31:0] mcu_counters_channels_0_counter_mid_source;
     reg [31:0] mcu_counters_channels_0_counter_lo_step;
     reg [31:0] mcu_counters_channels_0_counter_hi_step;
     reg [31:0] mcu_counters_channels_0_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_0_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_0_counter_hi_a;
+    reg [31:0] mcu_counters_channels_0_counter_hi_b;
     reg [31:0] mcu_counters_channels_0_counter_load_lo;
     reg mcu_counters_channels_1_filter_a_reset;
     reg mcu_counters_channels_1_filter_a_pin;
@@ -735,6 +780,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_b_prev_q = 1'h0;
     reg mcu_counters_channels_1_zg_prev_d;
     reg mcu_counters_channels_1_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_1_zg_q_d;
+    reg mcu_counters_channels_1_zg_q_q = 1'h0;
     reg mcu_counters_channels_1_decoder_hold;
     reg mcu_counters_channels_1_decoder_a;
     reg mcu_counters_channels_1_decoder_b;
@@ -754,6 +801,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_1_counter_count;
     reg mcu_counters_channels_1_load_q_d;
     reg mcu_counters_channels_1_load_q_q = 1'h0;
+    reg mcu_counters_channels_1_err_q_d;
+    reg mcu_counters_channels_1_err_q_q = 1'h0;
     reg mcu_counters_channels_1_index_latch_q_d;
     reg mcu_counters_channels_1_index_latch_q_q = 1'h0;
     reg mcu_counters_channels_1_index_clear_q_d;
@@ -764,6 +813,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_1_err_count_d;
     reg [7:0] mcu_counters_channels_1_err_count_q = 8'h0;
+    reg mcu_counters_channels_1_err_sat_d;
+    reg mcu_counters_channels_1_err_sat_q = 1'h0;
     reg mcu_counters_channels_1_seen_d;
     reg mcu_counters_channels_1_seen_q = 1'h0;
     reg mcu_counters_channels_1_armed_d;
@@ -776,14 +827,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_1_snap_index_q = 32'h0;
     reg [31:0] mcu_counters_channels_1_snap_status_d;
     reg [31:0] mcu_counters_channels_1_snap_status_q = 32'h0;
-    reg mcu_counters_channels_1_read_ctrl_d;
-    reg mcu_counters_channels_1_read_ctrl_q = 1'h0;
-    reg mcu_counters_channels_1_read_count_d;
-    reg mcu_counters_channels_1_read_count_q = 1'h0;
-    reg mcu_counters_channels_1_read_index_d;
-    reg mcu_counters_channels_1_read_index_q = 1'h0;
-    reg mcu_counters_channels_1_read_status_d;
-    reg mcu_counters_channels_1_read_status_q = 1'h0;
+    reg mcu_counters_channels_1_read_sel_d;
+    reg mcu_counters_channels_1_read_sel_q = 1'h0;
+    reg [31:0] mcu_counters_channels_1_read_word_d;
+    reg [31:0] mcu_counters_channels_1_read_word_q = 32'h0;
     reg mcu_counters_channels_1_level_a;
     reg mcu_counters_channels_1_level_b;
     reg mcu_counters_channels_1_level_z;
@@ -806,6 +853,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_filter_a_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_1_filter_a_count_d;
     reg [3:0] mcu_counters_channels_1_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_1_filter_a_count_nonzero_d;
+    reg mcu_counters_channels_1_filter_a_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_1_filter_b_sync1_d;
     reg mcu_counters_channels_1_filter_b_sync1_q = 1'h0;
     reg mcu_counters_channels_1_filter_b_sync2_d;
@@ -814,6 +863,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_filter_b_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_1_filter_b_count_d;
     reg [3:0] mcu_counters_channels_1_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_1_filter_b_count_nonzero_d;
+    reg mcu_counters_channels_1_filter_b_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_1_filter_z_sync1_d;
     reg mcu_counters_channels_1_filter_z_sync1_q = 1'h0;
     reg mcu_counters_channels_1_filter_z_sync2_d;
@@ -822,6 +873,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_filter_z_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_1_filter_z_count_d;
     reg [3:0] mcu_counters_channels_1_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_1_filter_z_count_nonzero_d;
+    reg mcu_counters_channels_1_filter_z_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_1_decoder_up_reg_d;
     reg mcu_counters_channels_1_decoder_up_reg_q = 1'h0;
     reg mcu_counters_channels_1_decoder_down_reg_d;
@@ -841,13 +894,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_1_counter_lo_nonzero_d;
     reg mcu_counters_channels_1_counter_lo_nonzero_q = 1'h0;
+    reg mcu_counters_channels_1_counter_mid_ones_d;
+    reg mcu_counters_channels_1_counter_mid_ones_q = 1'h0;
+    reg mcu_counters_channels_1_counter_mid_zero_d;
+    reg mcu_counters_channels_1_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_1_counter_load_hi;
-    reg mcu_counters_channels_1_counter_lo_ones_above;
-    reg mcu_counters_channels_1_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_1_counter_base;
+    reg [31:0] mcu_counters_channels_1_counter_mid_source;
     reg [31:0] mcu_counters_channels_1_counter_lo_step;
     reg [31:0] mcu_counters_channels_1_counter_hi_step;
     reg [31:0] mcu_counters_channels_1_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_1_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_1_counter_hi_a;
+    reg [31:0] mcu_counters_channels_1_counter_hi_b;
     reg [31:0] mcu_counters_channels_1_counter_load_lo;
     reg mcu_counters_channels_2_filter_a_reset;
     reg mcu_counters_channels_2_filter_a_pin;
@@ -867,6 +925,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_b_prev_q = 1'h0;
     reg mcu_counters_channels_2_zg_prev_d;
     reg mcu_counters_channels_2_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_2_zg_q_d;
+    reg mcu_counters_channels_2_zg_q_q = 1'h0;
     reg mcu_counters_channels_2_decoder_hold;
     reg mcu_counters_channels_2_decoder_a;
     reg mcu_counters_channels_2_decoder_b;
@@ -886,6 +946,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_2_counter_count;
     reg mcu_counters_channels_2_load_q_d;
     reg mcu_counters_channels_2_load_q_q = 1'h0;
+    reg mcu_counters_channels_2_err_q_d;
+    reg mcu_counters_channels_2_err_q_q = 1'h0;
     reg mcu_counters_channels_2_index_latch_q_d;
     reg mcu_counters_channels_2_index_latch_q_q = 1'h0;
     reg mcu_counters_channels_2_index_clear_q_d;
@@ -896,6 +958,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_2_err_count_d;
     reg [7:0] mcu_counters_channels_2_err_count_q = 8'h0;
+    reg mcu_counters_channels_2_err_sat_d;
+    reg mcu_counters_channels_2_err_sat_q = 1'h0;
     reg mcu_counters_channels_2_seen_d;
     reg mcu_counters_channels_2_seen_q = 1'h0;
     reg mcu_counters_channels_2_armed_d;
@@ -908,14 +972,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_2_snap_index_q = 32'h0;
     reg [31:0] mcu_counters_channels_2_snap_status_d;
     reg [31:0] mcu_counters_channels_2_snap_status_q = 32'h0;
-    reg mcu_counters_channels_2_read_ctrl_d;
-    reg mcu_counters_channels_2_read_ctrl_q = 1'h0;
-    reg mcu_counters_channels_2_read_count_d;
-    reg mcu_counters_channels_2_read_count_q = 1'h0;
-    reg mcu_counters_channels_2_read_index_d;
-    reg mcu_counters_channels_2_read_index_q = 1'h0;
-    reg mcu_counters_channels_2_read_status_d;
-    reg mcu_counters_channels_2_read_status_q = 1'h0;
+    reg mcu_counters_channels_2_read_sel_d;
+    reg mcu_counters_channels_2_read_sel_q = 1'h0;
+    reg [31:0] mcu_counters_channels_2_read_word_d;
+    reg [31:0] mcu_counters_channels_2_read_word_q = 32'h0;
     reg mcu_counters_channels_2_level_a;
     reg mcu_counters_channels_2_level_b;
     reg mcu_counters_channels_2_level_z;
@@ -938,6 +998,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_filter_a_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_2_filter_a_count_d;
     reg [3:0] mcu_counters_channels_2_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_2_filter_a_count_nonzero_d;
+    reg mcu_counters_channels_2_filter_a_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_2_filter_b_sync1_d;
     reg mcu_counters_channels_2_filter_b_sync1_q = 1'h0;
     reg mcu_counters_channels_2_filter_b_sync2_d;
@@ -946,6 +1008,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_filter_b_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_2_filter_b_count_d;
     reg [3:0] mcu_counters_channels_2_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_2_filter_b_count_nonzero_d;
+    reg mcu_counters_channels_2_filter_b_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_2_filter_z_sync1_d;
     reg mcu_counters_channels_2_filter_z_sync1_q = 1'h0;
     reg mcu_counters_channels_2_filter_z_sync2_d;
@@ -954,6 +1018,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_filter_z_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_2_filter_z_count_d;
     reg [3:0] mcu_counters_channels_2_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_2_filter_z_count_nonzero_d;
+    reg mcu_counters_channels_2_filter_z_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_2_decoder_up_reg_d;
     reg mcu_counters_channels_2_decoder_up_reg_q = 1'h0;
     reg mcu_counters_channels_2_decoder_down_reg_d;
@@ -973,13 +1039,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_2_counter_lo_nonzero_d;
     reg mcu_counters_channels_2_counter_lo_nonzero_q = 1'h0;
+    reg mcu_counters_channels_2_counter_mid_ones_d;
+    reg mcu_counters_channels_2_counter_mid_ones_q = 1'h0;
+    reg mcu_counters_channels_2_counter_mid_zero_d;
+    reg mcu_counters_channels_2_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_2_counter_load_hi;
-    reg mcu_counters_channels_2_counter_lo_ones_above;
-    reg mcu_counters_channels_2_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_2_counter_base;
+    reg [31:0] mcu_counters_channels_2_counter_mid_source;
     reg [31:0] mcu_counters_channels_2_counter_lo_step;
     reg [31:0] mcu_counters_channels_2_counter_hi_step;
     reg [31:0] mcu_counters_channels_2_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_2_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_2_counter_hi_a;
+    reg [31:0] mcu_counters_channels_2_counter_hi_b;
     reg [31:0] mcu_counters_channels_2_counter_load_lo;
     reg mcu_counters_channels_3_filter_a_reset;
     reg mcu_counters_channels_3_filter_a_pin;
@@ -999,6 +1070,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_b_prev_q = 1'h0;
     reg mcu_counters_channels_3_zg_prev_d;
     reg mcu_counters_channels_3_zg_prev_q = 1'h0;
+    reg mcu_counters_channels_3_zg_q_d;
+    reg mcu_counters_channels_3_zg_q_q = 1'h0;
     reg mcu_counters_channels_3_decoder_hold;
     reg mcu_counters_channels_3_decoder_a;
     reg mcu_counters_channels_3_decoder_b;
@@ -1018,6 +1091,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_3_counter_count;
     reg mcu_counters_channels_3_load_q_d;
     reg mcu_counters_channels_3_load_q_q = 1'h0;
+    reg mcu_counters_channels_3_err_q_d;
+    reg mcu_counters_channels_3_err_q_q = 1'h0;
     reg mcu_counters_channels_3_index_latch_q_d;
     reg mcu_counters_channels_3_index_latch_q_q = 1'h0;
     reg mcu_counters_channels_3_index_clear_q_d;
@@ -1028,6 +1103,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_err_q = 1'h0;
     reg [7:0] mcu_counters_channels_3_err_count_d;
     reg [7:0] mcu_counters_channels_3_err_count_q = 8'h0;
+    reg mcu_counters_channels_3_err_sat_d;
+    reg mcu_counters_channels_3_err_sat_q = 1'h0;
     reg mcu_counters_channels_3_seen_d;
     reg mcu_counters_channels_3_seen_q = 1'h0;
     reg mcu_counters_channels_3_armed_d;
@@ -1040,14 +1117,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_3_snap_index_q = 32'h0;
     reg [31:0] mcu_counters_channels_3_snap_status_d;
     reg [31:0] mcu_counters_channels_3_snap_status_q = 32'h0;
-    reg mcu_counters_channels_3_read_ctrl_d;
-    reg mcu_counters_channels_3_read_ctrl_q = 1'h0;
-    reg mcu_counters_channels_3_read_count_d;
-    reg mcu_counters_channels_3_read_count_q = 1'h0;
-    reg mcu_counters_channels_3_read_index_d;
-    reg mcu_counters_channels_3_read_index_q = 1'h0;
-    reg mcu_counters_channels_3_read_status_d;
-    reg mcu_counters_channels_3_read_status_q = 1'h0;
+    reg mcu_counters_channels_3_read_sel_d;
+    reg mcu_counters_channels_3_read_sel_q = 1'h0;
+    reg [31:0] mcu_counters_channels_3_read_word_d;
+    reg [31:0] mcu_counters_channels_3_read_word_q = 32'h0;
     reg mcu_counters_channels_3_level_a;
     reg mcu_counters_channels_3_level_b;
     reg mcu_counters_channels_3_level_z;
@@ -1070,6 +1143,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_filter_a_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_3_filter_a_count_d;
     reg [3:0] mcu_counters_channels_3_filter_a_count_q = 4'h0;
+    reg mcu_counters_channels_3_filter_a_count_nonzero_d;
+    reg mcu_counters_channels_3_filter_a_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_3_filter_b_sync1_d;
     reg mcu_counters_channels_3_filter_b_sync1_q = 1'h0;
     reg mcu_counters_channels_3_filter_b_sync2_d;
@@ -1078,6 +1153,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_filter_b_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_3_filter_b_count_d;
     reg [3:0] mcu_counters_channels_3_filter_b_count_q = 4'h0;
+    reg mcu_counters_channels_3_filter_b_count_nonzero_d;
+    reg mcu_counters_channels_3_filter_b_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_3_filter_z_sync1_d;
     reg mcu_counters_channels_3_filter_z_sync1_q = 1'h0;
     reg mcu_counters_channels_3_filter_z_sync2_d;
@@ -1086,6 +1163,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_filter_z_accepted_q = 1'h0;
     reg [3:0] mcu_counters_channels_3_filter_z_count_d;
     reg [3:0] mcu_counters_channels_3_filter_z_count_q = 4'h0;
+    reg mcu_counters_channels_3_filter_z_count_nonzero_d;
+    reg mcu_counters_channels_3_filter_z_count_nonzero_q = 1'h0;
     reg mcu_counters_channels_3_decoder_up_reg_d;
     reg mcu_counters_channels_3_decoder_up_reg_q = 1'h0;
     reg mcu_counters_channels_3_decoder_down_reg_d;
@@ -1105,13 +1184,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_counter_lo_max_q = 1'h0;
     reg mcu_counters_channels_3_counter_lo_nonzero_d;
     reg mcu_counters_channels_3_counter_lo_nonzero_q = 1'h0;
+    reg mcu_counters_channels_3_counter_mid_ones_d;
+    reg mcu_counters_channels_3_counter_mid_ones_q = 1'h0;
+    reg mcu_counters_channels_3_counter_mid_zero_d;
+    reg mcu_counters_channels_3_counter_mid_zero_q = 1'h0;
     reg [31:0] mcu_counters_channels_3_counter_load_hi;
-    reg mcu_counters_channels_3_counter_lo_ones_above;
-    reg mcu_counters_channels_3_counter_lo_zeros_above;
+    reg [31:0] mcu_counters_channels_3_counter_base;
+    reg [31:0] mcu_counters_channels_3_counter_mid_source;
     reg [31:0] mcu_counters_channels_3_counter_lo_step;
     reg [31:0] mcu_counters_channels_3_counter_hi_step;
     reg [31:0] mcu_counters_channels_3_counter_lo_carry_in;
-    reg [31:0] mcu_counters_channels_3_counter_hi_carry_in;
+    reg [31:0] mcu_counters_channels_3_counter_hi_a;
+    reg [31:0] mcu_counters_channels_3_counter_hi_b;
     reg [31:0] mcu_counters_channels_3_counter_load_lo;
     reg mcu_pulses_generators_0_reset;
     reg mcu_pulses_generators_0_enable;
@@ -2101,8 +2185,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_preset_low_is_max_d = mcu_counters_preset_low_is_max_q;
         mcu_counters_preset_low_is_nonzero_d = mcu_counters_preset_low_is_nonzero_q;
         mcu_counters_read_pending_d = mcu_counters_read_pending_q;
-        mcu_counters_read_info_d = mcu_counters_read_info_q;
-        mcu_counters_read_preset_d = mcu_counters_read_preset_q;
+        mcu_counters_read_sel_d = mcu_counters_read_sel_q;
+        mcu_counters_read_word_d = mcu_counters_read_word_q;
         mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot);
         mcu_counters_channels_0_reset = mcu_counters_reset;
         mcu_counters_channels_0_a = mcu_counters_a[0];
@@ -2159,14 +2243,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_preset_read = mcu_counters_preset_q & mcu_counters_width_mask;
         end
         mcu_counters_read_pending_d = mcu_counters_re;
-        mcu_counters_read_info_d = mcu_counters_re & (mcu_counters_addr == mcu_counters_addr_info);
-        mcu_counters_read_preset_d = mcu_counters_re & (mcu_counters_addr == mcu_counters_addr_preset);
-        mcu_counters_read_value = 32'h0;
-        if (mcu_counters_read_info_q) begin
-            mcu_counters_read_value = mcu_counters_info;
+        mcu_counters_read_sel_d = mcu_counters_re & ((mcu_counters_addr == mcu_counters_addr_info) | (mcu_counters_addr == mcu_counters_addr_preset));
+        mcu_counters_read_word_d = mcu_counters_info;
+        if (mcu_counters_addr == mcu_counters_addr_preset) begin
+            mcu_counters_read_word_d = mcu_counters_preset_read;
         end
-        if (mcu_counters_read_preset_q) begin
-            mcu_counters_read_value = mcu_counters_read_value | mcu_counters_preset_read;
+        mcu_counters_read_value = 32'h0;
+        if (mcu_counters_read_sel_q) begin
+            mcu_counters_read_value = mcu_counters_read_word_q;
         end
         mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_0_rdata;
         mcu_counters_read_value = mcu_counters_read_value | mcu_counters_channels_1_rdata;
@@ -2186,8 +2270,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_preset_low_is_nonzero_d = 1'b0;
             mcu_counters_read_data_d = 32'h0;
             mcu_counters_read_pending_d = 1'b0;
-            mcu_counters_read_info_d = 1'b0;
-            mcu_counters_read_preset_d = 1'b0;
+            mcu_counters_read_sel_d = 1'b0;
         end
         mcu_counters_rdata = mcu_counters_read_data_q;
     end
@@ -2196,22 +2279,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_a_prev_d = mcu_counters_channels_0_a_prev_q;
         mcu_counters_channels_0_b_prev_d = mcu_counters_channels_0_b_prev_q;
         mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg_prev_q;
+        mcu_counters_channels_0_zg_q_d = mcu_counters_channels_0_zg_q_q;
         mcu_counters_channels_0_load_q_d = mcu_counters_channels_0_load_q_q;
+        mcu_counters_channels_0_err_q_d = mcu_counters_channels_0_err_q_q;
         mcu_counters_channels_0_index_latch_q_d = mcu_counters_channels_0_index_latch_q_q;
         mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_clear_q_q;
         mcu_counters_channels_0_index_d = mcu_counters_channels_0_index_q;
         mcu_counters_channels_0_err_d = mcu_counters_channels_0_err_q;
         mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q;
+        mcu_counters_channels_0_err_sat_d = mcu_counters_channels_0_err_sat_q;
         mcu_counters_channels_0_seen_d = mcu_counters_channels_0_seen_q;
         mcu_counters_channels_0_armed_d = mcu_counters_channels_0_armed_q;
         mcu_counters_channels_0_ctrl_d = mcu_counters_channels_0_ctrl_q;
         mcu_counters_channels_0_snap_count_d = mcu_counters_channels_0_snap_count_q;
         mcu_counters_channels_0_snap_index_d = mcu_counters_channels_0_snap_index_q;
         mcu_counters_channels_0_snap_status_d = mcu_counters_channels_0_snap_status_q;
-        mcu_counters_channels_0_read_ctrl_d = mcu_counters_channels_0_read_ctrl_q;
-        mcu_counters_channels_0_read_count_d = mcu_counters_channels_0_read_count_q;
-        mcu_counters_channels_0_read_index_d = mcu_counters_channels_0_read_index_q;
-        mcu_counters_channels_0_read_status_d = mcu_counters_channels_0_read_status_q;
+        mcu_counters_channels_0_read_sel_d = mcu_counters_channels_0_read_sel_q;
+        mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_read_word_q;
         mcu_counters_channels_0_filter_a_reset = mcu_counters_channels_0_reset;
         mcu_counters_channels_0_filter_b_reset = mcu_counters_channels_0_reset;
         mcu_counters_channels_0_filter_z_reset = mcu_counters_channels_0_reset;
@@ -2236,7 +2320,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_decoder_reverse = mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_reverse_bit];
         mcu_counters_channels_0_illegal = (mcu_counters_channels_0_level_a ^ mcu_counters_channels_0_a_prev_q) & (mcu_counters_channels_0_level_b ^ mcu_counters_channels_0_b_prev_q) & (mcu_counters_channels_0_ctrl_q[(mcu_counters_channels_0_mode_lsb)+:(3)] < mcu_counters_channels_0_quadrature_modes);
         mcu_counters_channels_0_zg = (mcu_counters_channels_0_level_z ^ mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_invert_bit]) & (~mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_gate_bit] | (mcu_counters_channels_0_level_a & mcu_counters_channels_0_level_b));
-        mcu_counters_channels_0_index_event = mcu_counters_channels_0_zg & ~mcu_counters_channels_0_zg_prev_q;
+        mcu_counters_channels_0_index_event = mcu_counters_channels_0_zg_q_q & ~mcu_counters_channels_0_zg_prev_q;
         mcu_counters_channels_0_index_act = mcu_counters_channels_0_index_event & (~mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_oneshot_bit] | mcu_counters_channels_0_armed_q);
         mcu_counters_channels_0_counter_up = mcu_counters_channels_0_decoder_up_q;
         mcu_counters_channels_0_counter_down = mcu_counters_channels_0_decoder_down_q;
@@ -2251,14 +2335,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_clear_bit];
         mcu_counters_channels_0_a_prev_d = mcu_counters_channels_0_level_a;
         mcu_counters_channels_0_b_prev_d = mcu_counters_channels_0_level_b;
-        mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg;
+        mcu_counters_channels_0_zg_q_d = mcu_counters_channels_0_zg;
+        if (mcu_counters_channels_0_reset) begin
+            mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg;
+        end
+        else begin
+            mcu_counters_channels_0_zg_prev_d = mcu_counters_channels_0_zg_q_q;
+        end
+        mcu_counters_channels_0_err_q_d = mcu_counters_channels_0_illegal & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_err_en_bit];
         if (mcu_counters_channels_0_index_latch_q_q) begin
             mcu_counters_channels_0_index_d = mcu_counters_channels_0_count_now;
         end
-        if (mcu_counters_channels_0_illegal & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_err_en_bit]) begin
+        if (mcu_counters_channels_0_err_q_q) begin
             mcu_counters_channels_0_err_d = 1'b1;
-            if (mcu_counters_channels_0_err_count_q != mcu_counters_channels_0_err_max) begin
+            if (~mcu_counters_channels_0_err_sat_q) begin
                 mcu_counters_channels_0_err_count_d = mcu_counters_channels_0_err_count_q + 8'h1;
+                mcu_counters_channels_0_err_sat_d = mcu_counters_channels_0_err_count_q == mcu_counters_channels_0_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_0_index_event) begin
@@ -2274,6 +2366,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_status_bit]) begin
                 mcu_counters_channels_0_err_d = 1'b0;
                 mcu_counters_channels_0_err_count_d = 8'h0;
+                mcu_counters_channels_0_err_sat_d = 1'b0;
                 mcu_counters_channels_0_seen_d = 1'b0;
             end
         end
@@ -2304,28 +2397,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_snap_index_d = mcu_counters_channels_0_index_q;
             mcu_counters_channels_0_snap_status_d = mcu_counters_channels_0_status;
         end
-        mcu_counters_channels_0_read_ctrl_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_ctrl);
-        mcu_counters_channels_0_read_count_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_count);
-        mcu_counters_channels_0_read_index_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_index);
-        mcu_counters_channels_0_read_status_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_status);
-        if (mcu_counters_channels_0_reset) begin
-            mcu_counters_channels_0_index_d = 32'h0;
-            mcu_counters_channels_0_err_d = 1'b0;
-            mcu_counters_channels_0_err_count_d = 8'h0;
-            mcu_counters_channels_0_seen_d = 1'b0;
-            mcu_counters_channels_0_armed_d = 1'b0;
-            mcu_counters_channels_0_load_q_d = 1'b0;
-            mcu_counters_channels_0_index_latch_q_d = 1'b0;
-            mcu_counters_channels_0_index_clear_q_d = 1'b0;
-            mcu_counters_channels_0_ctrl_d = 32'h0;
-            mcu_counters_channels_0_snap_count_d = 32'h0;
-            mcu_counters_channels_0_snap_index_d = 32'h0;
-            mcu_counters_channels_0_snap_status_d = 32'h0;
-            mcu_counters_channels_0_read_ctrl_d = 1'b0;
-            mcu_counters_channels_0_read_count_d = 1'b0;
-            mcu_counters_channels_0_read_index_d = 1'b0;
-            mcu_counters_channels_0_read_status_d = 1'b0;
-        end
         if (|(mcu_counters_channels_0_snap_count_q & mcu_counters_channels_0_sign_bit)) begin
             mcu_counters_channels_0_count_read = mcu_counters_channels_0_snap_count_q | mcu_counters_channels_0_sign_extension;
         end
@@ -2338,18 +2409,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_0_index_read = mcu_counters_channels_0_snap_index_q;
         end
+        mcu_counters_channels_0_read_sel_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr[7:3] == mcu_counters_channels_0_channel_page);
+        mcu_counters_channels_0_read_word_d = 32'h0;
+        if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_ctrl) begin
+            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_ctrl_q;
+        end
+        if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_count) begin
+            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_count_read;
+        end
+        if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_index) begin
+            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_index_read;
+        end
+        if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_status) begin
+            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_snap_status_q;
+        end
+        if (mcu_counters_channels_0_reset) begin
+            mcu_counters_channels_0_index_d = 32'h0;
+            mcu_counters_channels_0_err_d = 1'b0;
+            mcu_counters_channels_0_err_count_d = 8'h0;
+            mcu_counters_channels_0_err_sat_d = 1'b0;
+            mcu_counters_channels_0_seen_d = 1'b0;
+            mcu_counters_channels_0_armed_d = 1'b0;
+            mcu_counters_channels_0_load_q_d = 1'b0;
+            mcu_counters_channels_0_err_q_d = 1'b0;
+            mcu_counters_channels_0_index_latch_q_d = 1'b0;
+            mcu_counters_channels_0_index_clear_q_d = 1'b0;
+            mcu_counters_channels_0_ctrl_d = 32'h0;
+            mcu_counters_channels_0_snap_count_d = 32'h0;
+            mcu_counters_channels_0_snap_index_d = 32'h0;
+            mcu_counters_channels_0_snap_status_d = 32'h0;
+            mcu_counters_channels_0_read_sel_d = 1'b0;
+        end
         mcu_counters_channels_0_rdata = 32'h0;
-        if (mcu_counters_channels_0_read_ctrl_q) begin
-            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_ctrl_q;
-        end
-        if (mcu_counters_channels_0_read_count_q) begin
-            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_count_read;
-        end
-        if (mcu_counters_channels_0_read_index_q) begin
-            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_index_read;
-        end
-        if (mcu_counters_channels_0_read_status_q) begin
-            mcu_counters_channels_0_rdata = mcu_counters_channels_0_rdata | mcu_counters_channels_0_snap_status_q;
+        if (mcu_counters_channels_0_read_sel_q) begin
+            mcu_counters_channels_0_rdata = mcu_counters_channels_0_read_word_q;
         end
     end
 
@@ -2358,21 +2451,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_filter_a_sync2_d = mcu_counters_channels_0_filter_a_sync2_q;
         mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_accepted_q;
         mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q;
+        mcu_counters_channels_0_filter_a_count_nonzero_d = mcu_counters_channels_0_filter_a_count_nonzero_q;
         mcu_counters_channels_0_filter_a_sync1_d = mcu_counters_channels_0_filter_a_pin;
         mcu_counters_channels_0_filter_a_sync2_d = mcu_counters_channels_0_filter_a_sync1_q;
         if (mcu_counters_channels_0_filter_a_reset) begin
             mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_sync2_q;
             mcu_counters_channels_0_filter_a_count_d = 4'h0;
+            mcu_counters_channels_0_filter_a_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_0_filter_a_sync2_q == mcu_counters_channels_0_filter_a_accepted_q) begin
-            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_setting;
+            mcu_counters_channels_0_filter_a_count_nonzero_d = |mcu_counters_channels_0_filter_a_setting;
         end
-        else if (mcu_counters_channels_0_filter_a_count_q == mcu_counters_channels_0_filter_a_setting) begin
+        else if (~mcu_counters_channels_0_filter_a_count_nonzero_q) begin
             mcu_counters_channels_0_filter_a_accepted_d = mcu_counters_channels_0_filter_a_sync2_q;
-            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_setting;
+            mcu_counters_channels_0_filter_a_count_nonzero_d = |mcu_counters_channels_0_filter_a_setting;
         end
         else begin
-            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q + 4'h1;
+            mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q - 4'h1;
+            mcu_counters_channels_0_filter_a_count_nonzero_d = mcu_counters_channels_0_filter_a_count_q != mcu_counters_channels_0_filter_a_one;
         end
         mcu_counters_channels_0_filter_a_level = mcu_counters_channels_0_filter_a_accepted_q;
     end
@@ -2382,21 +2480,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_filter_b_sync2_d = mcu_counters_channels_0_filter_b_sync2_q;
         mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_accepted_q;
         mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q;
+        mcu_counters_channels_0_filter_b_count_nonzero_d = mcu_counters_channels_0_filter_b_count_nonzero_q;
         mcu_counters_channels_0_filter_b_sync1_d = mcu_counters_channels_0_filter_b_pin;
         mcu_counters_channels_0_filter_b_sync2_d = mcu_counters_channels_0_filter_b_sync1_q;
         if (mcu_counters_channels_0_filter_b_reset) begin
             mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_sync2_q;
             mcu_counters_channels_0_filter_b_count_d = 4'h0;
+            mcu_counters_channels_0_filter_b_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_0_filter_b_sync2_q == mcu_counters_channels_0_filter_b_accepted_q) begin
-            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_setting;
+            mcu_counters_channels_0_filter_b_count_nonzero_d = |mcu_counters_channels_0_filter_b_setting;
         end
-        else if (mcu_counters_channels_0_filter_b_count_q == mcu_counters_channels_0_filter_b_setting) begin
+        else if (~mcu_counters_channels_0_filter_b_count_nonzero_q) begin
             mcu_counters_channels_0_filter_b_accepted_d = mcu_counters_channels_0_filter_b_sync2_q;
-            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_setting;
+            mcu_counters_channels_0_filter_b_count_nonzero_d = |mcu_counters_channels_0_filter_b_setting;
         end
         else begin
-            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q + 4'h1;
+            mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q - 4'h1;
+            mcu_counters_channels_0_filter_b_count_nonzero_d = mcu_counters_channels_0_filter_b_count_q != mcu_counters_channels_0_filter_b_one;
         end
         mcu_counters_channels_0_filter_b_level = mcu_counters_channels_0_filter_b_accepted_q;
     end
@@ -2406,21 +2509,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_filter_z_sync2_d = mcu_counters_channels_0_filter_z_sync2_q;
         mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_accepted_q;
         mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q;
+        mcu_counters_channels_0_filter_z_count_nonzero_d = mcu_counters_channels_0_filter_z_count_nonzero_q;
         mcu_counters_channels_0_filter_z_sync1_d = mcu_counters_channels_0_filter_z_pin;
         mcu_counters_channels_0_filter_z_sync2_d = mcu_counters_channels_0_filter_z_sync1_q;
         if (mcu_counters_channels_0_filter_z_reset) begin
             mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_sync2_q;
             mcu_counters_channels_0_filter_z_count_d = 4'h0;
+            mcu_counters_channels_0_filter_z_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_0_filter_z_sync2_q == mcu_counters_channels_0_filter_z_accepted_q) begin
-            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_setting;
+            mcu_counters_channels_0_filter_z_count_nonzero_d = |mcu_counters_channels_0_filter_z_setting;
         end
-        else if (mcu_counters_channels_0_filter_z_count_q == mcu_counters_channels_0_filter_z_setting) begin
+        else if (~mcu_counters_channels_0_filter_z_count_nonzero_q) begin
             mcu_counters_channels_0_filter_z_accepted_d = mcu_counters_channels_0_filter_z_sync2_q;
-            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_setting;
+            mcu_counters_channels_0_filter_z_count_nonzero_d = |mcu_counters_channels_0_filter_z_setting;
         end
         else begin
-            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q + 4'h1;
+            mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q - 4'h1;
+            mcu_counters_channels_0_filter_z_count_nonzero_d = mcu_counters_channels_0_filter_z_count_q != mcu_counters_channels_0_filter_z_one;
         end
         mcu_counters_channels_0_filter_z_level = mcu_counters_channels_0_filter_z_accepted_q;
     end
@@ -2476,19 +2584,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_counter_hi_d = mcu_counters_channels_0_counter_hi_q;
         mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_max_q;
         mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_lo_nonzero_q;
-        mcu_counters_channels_0_counter_lo_ones_above = (mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask) == mcu_counters_channels_0_counter_lo_upper_mask;
-        mcu_counters_channels_0_counter_lo_zeros_above = ~|(mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_lo_upper_mask);
+        mcu_counters_channels_0_counter_mid_ones_d = mcu_counters_channels_0_counter_mid_ones_q;
+        mcu_counters_channels_0_counter_mid_zero_d = mcu_counters_channels_0_counter_mid_zero_q;
+        mcu_counters_channels_0_counter_base = mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_base_mask;
         mcu_counters_channels_0_counter_load_lo = mcu_counters_channels_0_counter_load_value & mcu_counters_channels_0_counter_lo_mask;
         mcu_counters_channels_0_counter_load_hi = (mcu_counters_channels_0_counter_load_value >> mcu_counters_channels_0_counter_lo_bits) & mcu_counters_channels_0_counter_hi_mask;
         mcu_counters_channels_0_counter_lo_step = 32'h0;
         mcu_counters_channels_0_counter_hi_step = 32'h0;
         mcu_counters_channels_0_counter_lo_carry_in = 32'h0;
-        mcu_counters_channels_0_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_0_counter_up) begin
             mcu_counters_channels_0_counter_lo_carry_in = mcu_counters_channels_0_counter_one;
-            if (mcu_counters_channels_0_counter_lo_max_q) begin
-                mcu_counters_channels_0_counter_hi_carry_in = mcu_counters_channels_0_counter_one;
-            end
         end
         if (mcu_counters_channels_0_counter_down) begin
             mcu_counters_channels_0_counter_lo_step = mcu_counters_channels_0_counter_lo_mask;
@@ -2501,23 +2606,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_counter_hi_step = mcu_counters_channels_0_counter_load_hi;
         end
         mcu_counters_channels_0_counter_lo_d = (mcu_counters_channels_0_counter_lo_q + mcu_counters_channels_0_counter_lo_step + mcu_counters_channels_0_counter_lo_carry_in) & mcu_counters_channels_0_counter_lo_mask;
-        mcu_counters_channels_0_counter_hi_d = (mcu_counters_channels_0_counter_hi_q + mcu_counters_channels_0_counter_hi_step + mcu_counters_channels_0_counter_hi_carry_in) & mcu_counters_channels_0_counter_hi_mask;
+        mcu_counters_channels_0_counter_hi_a = mcu_counters_channels_0_counter_hi_q << mcu_counters_channels_0_counter_shift1;
+        mcu_counters_channels_0_counter_hi_b = mcu_counters_channels_0_counter_hi_step << mcu_counters_channels_0_counter_shift1;
+        if (mcu_counters_channels_0_counter_up) begin
+            mcu_counters_channels_0_counter_hi_a = (mcu_counters_channels_0_counter_hi_q << mcu_counters_channels_0_counter_shift1) | mcu_counters_channels_0_counter_one;
+        end
+        if (mcu_counters_channels_0_counter_lo_max_q) begin
+            mcu_counters_channels_0_counter_hi_b = (mcu_counters_channels_0_counter_hi_step << mcu_counters_channels_0_counter_shift1) | mcu_counters_channels_0_counter_one;
+        end
+        mcu_counters_channels_0_counter_hi_d = ((mcu_counters_channels_0_counter_hi_a + mcu_counters_channels_0_counter_hi_b) >> mcu_counters_channels_0_counter_shift1) & mcu_counters_channels_0_counter_hi_mask;
         if (mcu_counters_channels_0_counter_load) begin
             mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_load_low_is_max;
             mcu_counters_channels_0_counter_lo_nonzero_d = mcu_counters_channels_0_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_0_counter_up) begin
-            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & ~mcu_counters_channels_0_counter_lo_q[0];
-            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0]);
+            mcu_counters_channels_0_counter_lo_max_d = (mcu_counters_channels_0_counter_base == mcu_counters_channels_0_counter_base_max_minus_one) & mcu_counters_channels_0_counter_mid_ones_q;
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~mcu_counters_channels_0_counter_lo_max_q;
         end
         else if (mcu_counters_channels_0_counter_down) begin
-            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_zeros_above & ~mcu_counters_channels_0_counter_lo_q[0];
-            mcu_counters_channels_0_counter_lo_nonzero_d = ~(mcu_counters_channels_0_counter_lo_zeros_above & mcu_counters_channels_0_counter_lo_q[0]);
+            mcu_counters_channels_0_counter_lo_max_d = ~mcu_counters_channels_0_counter_lo_nonzero_q;
+            mcu_counters_channels_0_counter_lo_nonzero_d = ~((mcu_counters_channels_0_counter_base == mcu_counters_channels_0_counter_one) & mcu_counters_channels_0_counter_mid_zero_q);
+        end
+        if (mcu_counters_channels_0_counter_load) begin
+            mcu_counters_channels_0_counter_mid_source = mcu_counters_channels_0_counter_load_value & mcu_counters_channels_0_counter_mid_mask;
         end
         else begin
-            mcu_counters_channels_0_counter_lo_max_d = mcu_counters_channels_0_counter_lo_ones_above & mcu_counters_channels_0_counter_lo_q[0];
-            mcu_counters_channels_0_counter_lo_nonzero_d = ~mcu_counters_channels_0_counter_lo_zeros_above | mcu_counters_channels_0_counter_lo_q[0];
+            mcu_counters_channels_0_counter_mid_source = mcu_counters_channels_0_counter_lo_q & mcu_counters_channels_0_counter_mid_mask;
         end
+        mcu_counters_channels_0_counter_mid_ones_d = mcu_counters_channels_0_counter_mid_source == mcu_counters_channels_0_counter_mid_mask;
+        mcu_counters_channels_0_counter_mid_zero_d = ~|mcu_counters_channels_0_counter_mid_source;
         if (mcu_counters_channels_0_counter_clear) begin
             mcu_counters_channels_0_counter_lo_d = 32'h0;
             mcu_counters_channels_0_counter_hi_d = 32'h0;
@@ -2531,22 +2648,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_a_prev_d = mcu_counters_channels_1_a_prev_q;
         mcu_counters_channels_1_b_prev_d = mcu_counters_channels_1_b_prev_q;
         mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg_prev_q;
+        mcu_counters_channels_1_zg_q_d = mcu_counters_channels_1_zg_q_q;
         mcu_counters_channels_1_load_q_d = mcu_counters_channels_1_load_q_q;
+        mcu_counters_channels_1_err_q_d = mcu_counters_channels_1_err_q_q;
         mcu_counters_channels_1_index_latch_q_d = mcu_counters_channels_1_index_latch_q_q;
         mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_clear_q_q;
         mcu_counters_channels_1_index_d = mcu_counters_channels_1_index_q;
         mcu_counters_channels_1_err_d = mcu_counters_channels_1_err_q;
         mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q;
+        mcu_counters_channels_1_err_sat_d = mcu_counters_channels_1_err_sat_q;
         mcu_counters_channels_1_seen_d = mcu_counters_channels_1_seen_q;
         mcu_counters_channels_1_armed_d = mcu_counters_channels_1_armed_q;
         mcu_counters_channels_1_ctrl_d = mcu_counters_channels_1_ctrl_q;
         mcu_counters_channels_1_snap_count_d = mcu_counters_channels_1_snap_count_q;
         mcu_counters_channels_1_snap_index_d = mcu_counters_channels_1_snap_index_q;
         mcu_counters_channels_1_snap_status_d = mcu_counters_channels_1_snap_status_q;
-        mcu_counters_channels_1_read_ctrl_d = mcu_counters_channels_1_read_ctrl_q;
-        mcu_counters_channels_1_read_count_d = mcu_counters_channels_1_read_count_q;
-        mcu_counters_channels_1_read_index_d = mcu_counters_channels_1_read_index_q;
-        mcu_counters_channels_1_read_status_d = mcu_counters_channels_1_read_status_q;
+        mcu_counters_channels_1_read_sel_d = mcu_counters_channels_1_read_sel_q;
+        mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_read_word_q;
         mcu_counters_channels_1_filter_a_reset = mcu_counters_channels_1_reset;
         mcu_counters_channels_1_filter_b_reset = mcu_counters_channels_1_reset;
         mcu_counters_channels_1_filter_z_reset = mcu_counters_channels_1_reset;
@@ -2571,7 +2689,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_decoder_reverse = mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_reverse_bit];
         mcu_counters_channels_1_illegal = (mcu_counters_channels_1_level_a ^ mcu_counters_channels_1_a_prev_q) & (mcu_counters_channels_1_level_b ^ mcu_counters_channels_1_b_prev_q) & (mcu_counters_channels_1_ctrl_q[(mcu_counters_channels_1_mode_lsb)+:(3)] < mcu_counters_channels_1_quadrature_modes);
         mcu_counters_channels_1_zg = (mcu_counters_channels_1_level_z ^ mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_invert_bit]) & (~mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_gate_bit] | (mcu_counters_channels_1_level_a & mcu_counters_channels_1_level_b));
-        mcu_counters_channels_1_index_event = mcu_counters_channels_1_zg & ~mcu_counters_channels_1_zg_prev_q;
+        mcu_counters_channels_1_index_event = mcu_counters_channels_1_zg_q_q & ~mcu_counters_channels_1_zg_prev_q;
         mcu_counters_channels_1_index_act = mcu_counters_channels_1_index_event & (~mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_oneshot_bit] | mcu_counters_channels_1_armed_q);
         mcu_counters_channels_1_counter_up = mcu_counters_channels_1_decoder_up_q;
         mcu_counters_channels_1_counter_down = mcu_counters_channels_1_decoder_down_q;
@@ -2586,14 +2704,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_clear_bit];
         mcu_counters_channels_1_a_prev_d = mcu_counters_channels_1_level_a;
         mcu_counters_channels_1_b_prev_d = mcu_counters_channels_1_level_b;
-        mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg;
+        mcu_counters_channels_1_zg_q_d = mcu_counters_channels_1_zg;
+        if (mcu_counters_channels_1_reset) begin
+            mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg;
+        end
+        else begin
+            mcu_counters_channels_1_zg_prev_d = mcu_counters_channels_1_zg_q_q;
+        end
+        mcu_counters_channels_1_err_q_d = mcu_counters_channels_1_illegal & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_err_en_bit];
         if (mcu_counters_channels_1_index_latch_q_q) begin
             mcu_counters_channels_1_index_d = mcu_counters_channels_1_count_now;
         end
-        if (mcu_counters_channels_1_illegal & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_err_en_bit]) begin
+        if (mcu_counters_channels_1_err_q_q) begin
             mcu_counters_channels_1_err_d = 1'b1;
-            if (mcu_counters_channels_1_err_count_q != mcu_counters_channels_1_err_max) begin
+            if (~mcu_counters_channels_1_err_sat_q) begin
                 mcu_counters_channels_1_err_count_d = mcu_counters_channels_1_err_count_q + 8'h1;
+                mcu_counters_channels_1_err_sat_d = mcu_counters_channels_1_err_count_q == mcu_counters_channels_1_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_1_index_event) begin
@@ -2609,6 +2735,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_status_bit]) begin
                 mcu_counters_channels_1_err_d = 1'b0;
                 mcu_counters_channels_1_err_count_d = 8'h0;
+                mcu_counters_channels_1_err_sat_d = 1'b0;
                 mcu_counters_channels_1_seen_d = 1'b0;
             end
         end
@@ -2639,28 +2766,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_snap_index_d = mcu_counters_channels_1_index_q;
             mcu_counters_channels_1_snap_status_d = mcu_counters_channels_1_status;
         end
-        mcu_counters_channels_1_read_ctrl_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_ctrl);
-        mcu_counters_channels_1_read_count_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_count);
-        mcu_counters_channels_1_read_index_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_index);
-        mcu_counters_channels_1_read_status_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_status);
-        if (mcu_counters_channels_1_reset) begin
-            mcu_counters_channels_1_index_d = 32'h0;
-            mcu_counters_channels_1_err_d = 1'b0;
-            mcu_counters_channels_1_err_count_d = 8'h0;
-            mcu_counters_channels_1_seen_d = 1'b0;
-            mcu_counters_channels_1_armed_d = 1'b0;
-            mcu_counters_channels_1_load_q_d = 1'b0;
-            mcu_counters_channels_1_index_latch_q_d = 1'b0;
-            mcu_counters_channels_1_index_clear_q_d = 1'b0;
-            mcu_counters_channels_1_ctrl_d = 32'h0;
-            mcu_counters_channels_1_snap_count_d = 32'h0;
-            mcu_counters_channels_1_snap_index_d = 32'h0;
-            mcu_counters_channels_1_snap_status_d = 32'h0;
-            mcu_counters_channels_1_read_ctrl_d = 1'b0;
-            mcu_counters_channels_1_read_count_d = 1'b0;
-            mcu_counters_channels_1_read_index_d = 1'b0;
-            mcu_counters_channels_1_read_status_d = 1'b0;
-        end
         if (|(mcu_counters_channels_1_snap_count_q & mcu_counters_channels_1_sign_bit)) begin
             mcu_counters_channels_1_count_read = mcu_counters_channels_1_snap_count_q | mcu_counters_channels_1_sign_extension;
         end
@@ -2673,18 +2778,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_1_index_read = mcu_counters_channels_1_snap_index_q;
         end
+        mcu_counters_channels_1_read_sel_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr[7:3] == mcu_counters_channels_1_channel_page);
+        mcu_counters_channels_1_read_word_d = 32'h0;
+        if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_ctrl) begin
+            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_ctrl_q;
+        end
+        if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_count) begin
+            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_count_read;
+        end
+        if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_index) begin
+            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_index_read;
+        end
+        if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_status) begin
+            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_snap_status_q;
+        end
+        if (mcu_counters_channels_1_reset) begin
+            mcu_counters_channels_1_index_d = 32'h0;
+            mcu_counters_channels_1_err_d = 1'b0;
+            mcu_counters_channels_1_err_count_d = 8'h0;
+            mcu_counters_channels_1_err_sat_d = 1'b0;
+            mcu_counters_channels_1_seen_d = 1'b0;
+            mcu_counters_channels_1_armed_d = 1'b0;
+            mcu_counters_channels_1_load_q_d = 1'b0;
+            mcu_counters_channels_1_err_q_d = 1'b0;
+            mcu_counters_channels_1_index_latch_q_d = 1'b0;
+            mcu_counters_channels_1_index_clear_q_d = 1'b0;
+            mcu_counters_channels_1_ctrl_d = 32'h0;
+            mcu_counters_channels_1_snap_count_d = 32'h0;
+            mcu_counters_channels_1_snap_index_d = 32'h0;
+            mcu_counters_channels_1_snap_status_d = 32'h0;
+            mcu_counters_channels_1_read_sel_d = 1'b0;
+        end
         mcu_counters_channels_1_rdata = 32'h0;
-        if (mcu_counters_channels_1_read_ctrl_q) begin
-            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_ctrl_q;
-        end
-        if (mcu_counters_channels_1_read_count_q) begin
-            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_count_read;
-        end
-        if (mcu_counters_channels_1_read_index_q) begin
-            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_index_read;
-        end
-        if (mcu_counters_channels_1_read_status_q) begin
-            mcu_counters_channels_1_rdata = mcu_counters_channels_1_rdata | mcu_counters_channels_1_snap_status_q;
+        if (mcu_counters_channels_1_read_sel_q) begin
+            mcu_counters_channels_1_rdata = mcu_counters_channels_1_read_word_q;
         end
     end
 
@@ -2693,21 +2820,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_filter_a_sync2_d = mcu_counters_channels_1_filter_a_sync2_q;
         mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_accepted_q;
         mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q;
+        mcu_counters_channels_1_filter_a_count_nonzero_d = mcu_counters_channels_1_filter_a_count_nonzero_q;
         mcu_counters_channels_1_filter_a_sync1_d = mcu_counters_channels_1_filter_a_pin;
         mcu_counters_channels_1_filter_a_sync2_d = mcu_counters_channels_1_filter_a_sync1_q;
         if (mcu_counters_channels_1_filter_a_reset) begin
             mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_sync2_q;
             mcu_counters_channels_1_filter_a_count_d = 4'h0;
+            mcu_counters_channels_1_filter_a_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_1_filter_a_sync2_q == mcu_counters_channels_1_filter_a_accepted_q) begin
-            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_setting;
+            mcu_counters_channels_1_filter_a_count_nonzero_d = |mcu_counters_channels_1_filter_a_setting;
         end
-        else if (mcu_counters_channels_1_filter_a_count_q == mcu_counters_channels_1_filter_a_setting) begin
+        else if (~mcu_counters_channels_1_filter_a_count_nonzero_q) begin
             mcu_counters_channels_1_filter_a_accepted_d = mcu_counters_channels_1_filter_a_sync2_q;
-            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_setting;
+            mcu_counters_channels_1_filter_a_count_nonzero_d = |mcu_counters_channels_1_filter_a_setting;
         end
         else begin
-            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q + 4'h1;
+            mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q - 4'h1;
+            mcu_counters_channels_1_filter_a_count_nonzero_d = mcu_counters_channels_1_filter_a_count_q != mcu_counters_channels_1_filter_a_one;
         end
         mcu_counters_channels_1_filter_a_level = mcu_counters_channels_1_filter_a_accepted_q;
     end
@@ -2717,21 +2849,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_filter_b_sync2_d = mcu_counters_channels_1_filter_b_sync2_q;
         mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_accepted_q;
         mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q;
+        mcu_counters_channels_1_filter_b_count_nonzero_d = mcu_counters_channels_1_filter_b_count_nonzero_q;
         mcu_counters_channels_1_filter_b_sync1_d = mcu_counters_channels_1_filter_b_pin;
         mcu_counters_channels_1_filter_b_sync2_d = mcu_counters_channels_1_filter_b_sync1_q;
         if (mcu_counters_channels_1_filter_b_reset) begin
             mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_sync2_q;
             mcu_counters_channels_1_filter_b_count_d = 4'h0;
+            mcu_counters_channels_1_filter_b_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_1_filter_b_sync2_q == mcu_counters_channels_1_filter_b_accepted_q) begin
-            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_setting;
+            mcu_counters_channels_1_filter_b_count_nonzero_d = |mcu_counters_channels_1_filter_b_setting;
         end
-        else if (mcu_counters_channels_1_filter_b_count_q == mcu_counters_channels_1_filter_b_setting) begin
+        else if (~mcu_counters_channels_1_filter_b_count_nonzero_q) begin
             mcu_counters_channels_1_filter_b_accepted_d = mcu_counters_channels_1_filter_b_sync2_q;
-            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_setting;
+            mcu_counters_channels_1_filter_b_count_nonzero_d = |mcu_counters_channels_1_filter_b_setting;
         end
         else begin
-            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q + 4'h1;
+            mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q - 4'h1;
+            mcu_counters_channels_1_filter_b_count_nonzero_d = mcu_counters_channels_1_filter_b_count_q != mcu_counters_channels_1_filter_b_one;
         end
         mcu_counters_channels_1_filter_b_level = mcu_counters_channels_1_filter_b_accepted_q;
     end
@@ -2741,21 +2878,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_filter_z_sync2_d = mcu_counters_channels_1_filter_z_sync2_q;
         mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_accepted_q;
         mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q;
+        mcu_counters_channels_1_filter_z_count_nonzero_d = mcu_counters_channels_1_filter_z_count_nonzero_q;
         mcu_counters_channels_1_filter_z_sync1_d = mcu_counters_channels_1_filter_z_pin;
         mcu_counters_channels_1_filter_z_sync2_d = mcu_counters_channels_1_filter_z_sync1_q;
         if (mcu_counters_channels_1_filter_z_reset) begin
             mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_sync2_q;
             mcu_counters_channels_1_filter_z_count_d = 4'h0;
+            mcu_counters_channels_1_filter_z_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_1_filter_z_sync2_q == mcu_counters_channels_1_filter_z_accepted_q) begin
-            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_setting;
+            mcu_counters_channels_1_filter_z_count_nonzero_d = |mcu_counters_channels_1_filter_z_setting;
         end
-        else if (mcu_counters_channels_1_filter_z_count_q == mcu_counters_channels_1_filter_z_setting) begin
+        else if (~mcu_counters_channels_1_filter_z_count_nonzero_q) begin
             mcu_counters_channels_1_filter_z_accepted_d = mcu_counters_channels_1_filter_z_sync2_q;
-            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_setting;
+            mcu_counters_channels_1_filter_z_count_nonzero_d = |mcu_counters_channels_1_filter_z_setting;
         end
         else begin
-            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q + 4'h1;
+            mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q - 4'h1;
+            mcu_counters_channels_1_filter_z_count_nonzero_d = mcu_counters_channels_1_filter_z_count_q != mcu_counters_channels_1_filter_z_one;
         end
         mcu_counters_channels_1_filter_z_level = mcu_counters_channels_1_filter_z_accepted_q;
     end
@@ -2811,19 +2953,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_counter_hi_d = mcu_counters_channels_1_counter_hi_q;
         mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_max_q;
         mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_lo_nonzero_q;
-        mcu_counters_channels_1_counter_lo_ones_above = (mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask) == mcu_counters_channels_1_counter_lo_upper_mask;
-        mcu_counters_channels_1_counter_lo_zeros_above = ~|(mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_lo_upper_mask);
+        mcu_counters_channels_1_counter_mid_ones_d = mcu_counters_channels_1_counter_mid_ones_q;
+        mcu_counters_channels_1_counter_mid_zero_d = mcu_counters_channels_1_counter_mid_zero_q;
+        mcu_counters_channels_1_counter_base = mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_base_mask;
         mcu_counters_channels_1_counter_load_lo = mcu_counters_channels_1_counter_load_value & mcu_counters_channels_1_counter_lo_mask;
         mcu_counters_channels_1_counter_load_hi = (mcu_counters_channels_1_counter_load_value >> mcu_counters_channels_1_counter_lo_bits) & mcu_counters_channels_1_counter_hi_mask;
         mcu_counters_channels_1_counter_lo_step = 32'h0;
         mcu_counters_channels_1_counter_hi_step = 32'h0;
         mcu_counters_channels_1_counter_lo_carry_in = 32'h0;
-        mcu_counters_channels_1_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_1_counter_up) begin
             mcu_counters_channels_1_counter_lo_carry_in = mcu_counters_channels_1_counter_one;
-            if (mcu_counters_channels_1_counter_lo_max_q) begin
-                mcu_counters_channels_1_counter_hi_carry_in = mcu_counters_channels_1_counter_one;
-            end
         end
         if (mcu_counters_channels_1_counter_down) begin
             mcu_counters_channels_1_counter_lo_step = mcu_counters_channels_1_counter_lo_mask;
@@ -2836,23 +2975,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_counter_hi_step = mcu_counters_channels_1_counter_load_hi;
         end
         mcu_counters_channels_1_counter_lo_d = (mcu_counters_channels_1_counter_lo_q + mcu_counters_channels_1_counter_lo_step + mcu_counters_channels_1_counter_lo_carry_in) & mcu_counters_channels_1_counter_lo_mask;
-        mcu_counters_channels_1_counter_hi_d = (mcu_counters_channels_1_counter_hi_q + mcu_counters_channels_1_counter_hi_step + mcu_counters_channels_1_counter_hi_carry_in) & mcu_counters_channels_1_counter_hi_mask;
+        mcu_counters_channels_1_counter_hi_a = mcu_counters_channels_1_counter_hi_q << mcu_counters_channels_1_counter_shift1;
+        mcu_counters_channels_1_counter_hi_b = mcu_counters_channels_1_counter_hi_step << mcu_counters_channels_1_counter_shift1;
+        if (mcu_counters_channels_1_counter_up) begin
+            mcu_counters_channels_1_counter_hi_a = (mcu_counters_channels_1_counter_hi_q << mcu_counters_channels_1_counter_shift1) | mcu_counters_channels_1_counter_one;
+        end
+        if (mcu_counters_channels_1_counter_lo_max_q) begin
+            mcu_counters_channels_1_counter_hi_b = (mcu_counters_channels_1_counter_hi_step << mcu_counters_channels_1_counter_shift1) | mcu_counters_channels_1_counter_one;
+        end
+        mcu_counters_channels_1_counter_hi_d = ((mcu_counters_channels_1_counter_hi_a + mcu_counters_channels_1_counter_hi_b) >> mcu_counters_channels_1_counter_shift1) & mcu_counters_channels_1_counter_hi_mask;
         if (mcu_counters_channels_1_counter_load) begin
             mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_load_low_is_max;
             mcu_counters_channels_1_counter_lo_nonzero_d = mcu_counters_channels_1_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_1_counter_up) begin
-            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & ~mcu_counters_channels_1_counter_lo_q[0];
-            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0]);
+            mcu_counters_channels_1_counter_lo_max_d = (mcu_counters_channels_1_counter_base == mcu_counters_channels_1_counter_base_max_minus_one) & mcu_counters_channels_1_counter_mid_ones_q;
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~mcu_counters_channels_1_counter_lo_max_q;
         end
         else if (mcu_counters_channels_1_counter_down) begin
-            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_zeros_above & ~mcu_counters_channels_1_counter_lo_q[0];
-            mcu_counters_channels_1_counter_lo_nonzero_d = ~(mcu_counters_channels_1_counter_lo_zeros_above & mcu_counters_channels_1_counter_lo_q[0]);
+            mcu_counters_channels_1_counter_lo_max_d = ~mcu_counters_channels_1_counter_lo_nonzero_q;
+            mcu_counters_channels_1_counter_lo_nonzero_d = ~((mcu_counters_channels_1_counter_base == mcu_counters_channels_1_counter_one) & mcu_counters_channels_1_counter_mid_zero_q);
+        end
+        if (mcu_counters_channels_1_counter_load) begin
+            mcu_counters_channels_1_counter_mid_source = mcu_counters_channels_1_counter_load_value & mcu_counters_channels_1_counter_mid_mask;
         end
         else begin
-            mcu_counters_channels_1_counter_lo_max_d = mcu_counters_channels_1_counter_lo_ones_above & mcu_counters_channels_1_counter_lo_q[0];
-            mcu_counters_channels_1_counter_lo_nonzero_d = ~mcu_counters_channels_1_counter_lo_zeros_above | mcu_counters_channels_1_counter_lo_q[0];
+            mcu_counters_channels_1_counter_mid_source = mcu_counters_channels_1_counter_lo_q & mcu_counters_channels_1_counter_mid_mask;
         end
+        mcu_counters_channels_1_counter_mid_ones_d = mcu_counters_channels_1_counter_mid_source == mcu_counters_channels_1_counter_mid_mask;
+        mcu_counters_channels_1_counter_mid_zero_d = ~|mcu_counters_channels_1_counter_mid_source;
         if (mcu_counters_channels_1_counter_clear) begin
             mcu_counters_channels_1_counter_lo_d = 32'h0;
             mcu_counters_channels_1_counter_hi_d = 32'h0;
@@ -2866,22 +3017,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_a_prev_d = mcu_counters_channels_2_a_prev_q;
         mcu_counters_channels_2_b_prev_d = mcu_counters_channels_2_b_prev_q;
         mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg_prev_q;
+        mcu_counters_channels_2_zg_q_d = mcu_counters_channels_2_zg_q_q;
         mcu_counters_channels_2_load_q_d = mcu_counters_channels_2_load_q_q;
+        mcu_counters_channels_2_err_q_d = mcu_counters_channels_2_err_q_q;
         mcu_counters_channels_2_index_latch_q_d = mcu_counters_channels_2_index_latch_q_q;
         mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_clear_q_q;
         mcu_counters_channels_2_index_d = mcu_counters_channels_2_index_q;
         mcu_counters_channels_2_err_d = mcu_counters_channels_2_err_q;
         mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q;
+        mcu_counters_channels_2_err_sat_d = mcu_counters_channels_2_err_sat_q;
         mcu_counters_channels_2_seen_d = mcu_counters_channels_2_seen_q;
         mcu_counters_channels_2_armed_d = mcu_counters_channels_2_armed_q;
         mcu_counters_channels_2_ctrl_d = mcu_counters_channels_2_ctrl_q;
         mcu_counters_channels_2_snap_count_d = mcu_counters_channels_2_snap_count_q;
         mcu_counters_channels_2_snap_index_d = mcu_counters_channels_2_snap_index_q;
         mcu_counters_channels_2_snap_status_d = mcu_counters_channels_2_snap_status_q;
-        mcu_counters_channels_2_read_ctrl_d = mcu_counters_channels_2_read_ctrl_q;
-        mcu_counters_channels_2_read_count_d = mcu_counters_channels_2_read_count_q;
-        mcu_counters_channels_2_read_index_d = mcu_counters_channels_2_read_index_q;
-        mcu_counters_channels_2_read_status_d = mcu_counters_channels_2_read_status_q;
+        mcu_counters_channels_2_read_sel_d = mcu_counters_channels_2_read_sel_q;
+        mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_read_word_q;
         mcu_counters_channels_2_filter_a_reset = mcu_counters_channels_2_reset;
         mcu_counters_channels_2_filter_b_reset = mcu_counters_channels_2_reset;
         mcu_counters_channels_2_filter_z_reset = mcu_counters_channels_2_reset;
@@ -2906,7 +3058,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_decoder_reverse = mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_reverse_bit];
         mcu_counters_channels_2_illegal = (mcu_counters_channels_2_level_a ^ mcu_counters_channels_2_a_prev_q) & (mcu_counters_channels_2_level_b ^ mcu_counters_channels_2_b_prev_q) & (mcu_counters_channels_2_ctrl_q[(mcu_counters_channels_2_mode_lsb)+:(3)] < mcu_counters_channels_2_quadrature_modes);
         mcu_counters_channels_2_zg = (mcu_counters_channels_2_level_z ^ mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_invert_bit]) & (~mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_gate_bit] | (mcu_counters_channels_2_level_a & mcu_counters_channels_2_level_b));
-        mcu_counters_channels_2_index_event = mcu_counters_channels_2_zg & ~mcu_counters_channels_2_zg_prev_q;
+        mcu_counters_channels_2_index_event = mcu_counters_channels_2_zg_q_q & ~mcu_counters_channels_2_zg_prev_q;
         mcu_counters_channels_2_index_act = mcu_counters_channels_2_index_event & (~mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_oneshot_bit] | mcu_counters_channels_2_armed_q);
         mcu_counters_channels_2_counter_up = mcu_counters_channels_2_decoder_up_q;
         mcu_counters_channels_2_counter_down = mcu_counters_channels_2_decoder_down_q;
@@ -2921,14 +3073,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_clear_bit];
         mcu_counters_channels_2_a_prev_d = mcu_counters_channels_2_level_a;
         mcu_counters_channels_2_b_prev_d = mcu_counters_channels_2_level_b;
-        mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg;
+        mcu_counters_channels_2_zg_q_d = mcu_counters_channels_2_zg;
+        if (mcu_counters_channels_2_reset) begin
+            mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg;
+        end
+        else begin
+            mcu_counters_channels_2_zg_prev_d = mcu_counters_channels_2_zg_q_q;
+        end
+        mcu_counters_channels_2_err_q_d = mcu_counters_channels_2_illegal & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_err_en_bit];
         if (mcu_counters_channels_2_index_latch_q_q) begin
             mcu_counters_channels_2_index_d = mcu_counters_channels_2_count_now;
         end
-        if (mcu_counters_channels_2_illegal & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_err_en_bit]) begin
+        if (mcu_counters_channels_2_err_q_q) begin
             mcu_counters_channels_2_err_d = 1'b1;
-            if (mcu_counters_channels_2_err_count_q != mcu_counters_channels_2_err_max) begin
+            if (~mcu_counters_channels_2_err_sat_q) begin
                 mcu_counters_channels_2_err_count_d = mcu_counters_channels_2_err_count_q + 8'h1;
+                mcu_counters_channels_2_err_sat_d = mcu_counters_channels_2_err_count_q == mcu_counters_channels_2_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_2_index_event) begin
@@ -2944,6 +3104,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_status_bit]) begin
                 mcu_counters_channels_2_err_d = 1'b0;
                 mcu_counters_channels_2_err_count_d = 8'h0;
+                mcu_counters_channels_2_err_sat_d = 1'b0;
                 mcu_counters_channels_2_seen_d = 1'b0;
             end
         end
@@ -2974,28 +3135,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_snap_index_d = mcu_counters_channels_2_index_q;
             mcu_counters_channels_2_snap_status_d = mcu_counters_channels_2_status;
         end
-        mcu_counters_channels_2_read_ctrl_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_ctrl);
-        mcu_counters_channels_2_read_count_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_count);
-        mcu_counters_channels_2_read_index_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_index);
-        mcu_counters_channels_2_read_status_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_status);
-        if (mcu_counters_channels_2_reset) begin
-            mcu_counters_channels_2_index_d = 32'h0;
-            mcu_counters_channels_2_err_d = 1'b0;
-            mcu_counters_channels_2_err_count_d = 8'h0;
-            mcu_counters_channels_2_seen_d = 1'b0;
-            mcu_counters_channels_2_armed_d = 1'b0;
-            mcu_counters_channels_2_load_q_d = 1'b0;
-            mcu_counters_channels_2_index_latch_q_d = 1'b0;
-            mcu_counters_channels_2_index_clear_q_d = 1'b0;
-            mcu_counters_channels_2_ctrl_d = 32'h0;
-            mcu_counters_channels_2_snap_count_d = 32'h0;
-            mcu_counters_channels_2_snap_index_d = 32'h0;
-            mcu_counters_channels_2_snap_status_d = 32'h0;
-            mcu_counters_channels_2_read_ctrl_d = 1'b0;
-            mcu_counters_channels_2_read_count_d = 1'b0;
-            mcu_counters_channels_2_read_index_d = 1'b0;
-            mcu_counters_channels_2_read_status_d = 1'b0;
-        end
         if (|(mcu_counters_channels_2_snap_count_q & mcu_counters_channels_2_sign_bit)) begin
             mcu_counters_channels_2_count_read = mcu_counters_channels_2_snap_count_q | mcu_counters_channels_2_sign_extension;
         end
@@ -3008,18 +3147,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_2_index_read = mcu_counters_channels_2_snap_index_q;
         end
+        mcu_counters_channels_2_read_sel_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr[7:3] == mcu_counters_channels_2_channel_page);
+        mcu_counters_channels_2_read_word_d = 32'h0;
+        if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_ctrl) begin
+            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_ctrl_q;
+        end
+        if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_count) begin
+            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_count_read;
+        end
+        if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_index) begin
+            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_index_read;
+        end
+        if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_status) begin
+            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_snap_status_q;
+        end
+        if (mcu_counters_channels_2_reset) begin
+            mcu_counters_channels_2_index_d = 32'h0;
+            mcu_counters_channels_2_err_d = 1'b0;
+            mcu_counters_channels_2_err_count_d = 8'h0;
+            mcu_counters_channels_2_err_sat_d = 1'b0;
+            mcu_counters_channels_2_seen_d = 1'b0;
+            mcu_counters_channels_2_armed_d = 1'b0;
+            mcu_counters_channels_2_load_q_d = 1'b0;
+            mcu_counters_channels_2_err_q_d = 1'b0;
+            mcu_counters_channels_2_index_latch_q_d = 1'b0;
+            mcu_counters_channels_2_index_clear_q_d = 1'b0;
+            mcu_counters_channels_2_ctrl_d = 32'h0;
+            mcu_counters_channels_2_snap_count_d = 32'h0;
+            mcu_counters_channels_2_snap_index_d = 32'h0;
+            mcu_counters_channels_2_snap_status_d = 32'h0;
+            mcu_counters_channels_2_read_sel_d = 1'b0;
+        end
         mcu_counters_channels_2_rdata = 32'h0;
-        if (mcu_counters_channels_2_read_ctrl_q) begin
-            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_ctrl_q;
-        end
-        if (mcu_counters_channels_2_read_count_q) begin
-            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_count_read;
-        end
-        if (mcu_counters_channels_2_read_index_q) begin
-            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_index_read;
-        end
-        if (mcu_counters_channels_2_read_status_q) begin
-            mcu_counters_channels_2_rdata = mcu_counters_channels_2_rdata | mcu_counters_channels_2_snap_status_q;
+        if (mcu_counters_channels_2_read_sel_q) begin
+            mcu_counters_channels_2_rdata = mcu_counters_channels_2_read_word_q;
         end
     end
 
@@ -3028,21 +3189,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_filter_a_sync2_d = mcu_counters_channels_2_filter_a_sync2_q;
         mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_accepted_q;
         mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q;
+        mcu_counters_channels_2_filter_a_count_nonzero_d = mcu_counters_channels_2_filter_a_count_nonzero_q;
         mcu_counters_channels_2_filter_a_sync1_d = mcu_counters_channels_2_filter_a_pin;
         mcu_counters_channels_2_filter_a_sync2_d = mcu_counters_channels_2_filter_a_sync1_q;
         if (mcu_counters_channels_2_filter_a_reset) begin
             mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_sync2_q;
             mcu_counters_channels_2_filter_a_count_d = 4'h0;
+            mcu_counters_channels_2_filter_a_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_2_filter_a_sync2_q == mcu_counters_channels_2_filter_a_accepted_q) begin
-            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_setting;
+            mcu_counters_channels_2_filter_a_count_nonzero_d = |mcu_counters_channels_2_filter_a_setting;
         end
-        else if (mcu_counters_channels_2_filter_a_count_q == mcu_counters_channels_2_filter_a_setting) begin
+        else if (~mcu_counters_channels_2_filter_a_count_nonzero_q) begin
             mcu_counters_channels_2_filter_a_accepted_d = mcu_counters_channels_2_filter_a_sync2_q;
-            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_setting;
+            mcu_counters_channels_2_filter_a_count_nonzero_d = |mcu_counters_channels_2_filter_a_setting;
         end
         else begin
-            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q + 4'h1;
+            mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q - 4'h1;
+            mcu_counters_channels_2_filter_a_count_nonzero_d = mcu_counters_channels_2_filter_a_count_q != mcu_counters_channels_2_filter_a_one;
         end
         mcu_counters_channels_2_filter_a_level = mcu_counters_channels_2_filter_a_accepted_q;
     end
@@ -3052,21 +3218,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_filter_b_sync2_d = mcu_counters_channels_2_filter_b_sync2_q;
         mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_accepted_q;
         mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q;
+        mcu_counters_channels_2_filter_b_count_nonzero_d = mcu_counters_channels_2_filter_b_count_nonzero_q;
         mcu_counters_channels_2_filter_b_sync1_d = mcu_counters_channels_2_filter_b_pin;
         mcu_counters_channels_2_filter_b_sync2_d = mcu_counters_channels_2_filter_b_sync1_q;
         if (mcu_counters_channels_2_filter_b_reset) begin
             mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_sync2_q;
             mcu_counters_channels_2_filter_b_count_d = 4'h0;
+            mcu_counters_channels_2_filter_b_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_2_filter_b_sync2_q == mcu_counters_channels_2_filter_b_accepted_q) begin
-            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_setting;
+            mcu_counters_channels_2_filter_b_count_nonzero_d = |mcu_counters_channels_2_filter_b_setting;
         end
-        else if (mcu_counters_channels_2_filter_b_count_q == mcu_counters_channels_2_filter_b_setting) begin
+        else if (~mcu_counters_channels_2_filter_b_count_nonzero_q) begin
             mcu_counters_channels_2_filter_b_accepted_d = mcu_counters_channels_2_filter_b_sync2_q;
-            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_setting;
+            mcu_counters_channels_2_filter_b_count_nonzero_d = |mcu_counters_channels_2_filter_b_setting;
         end
         else begin
-            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q + 4'h1;
+            mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q - 4'h1;
+            mcu_counters_channels_2_filter_b_count_nonzero_d = mcu_counters_channels_2_filter_b_count_q != mcu_counters_channels_2_filter_b_one;
         end
         mcu_counters_channels_2_filter_b_level = mcu_counters_channels_2_filter_b_accepted_q;
     end
@@ -3076,21 +3247,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_filter_z_sync2_d = mcu_counters_channels_2_filter_z_sync2_q;
         mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_accepted_q;
         mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q;
+        mcu_counters_channels_2_filter_z_count_nonzero_d = mcu_counters_channels_2_filter_z_count_nonzero_q;
         mcu_counters_channels_2_filter_z_sync1_d = mcu_counters_channels_2_filter_z_pin;
         mcu_counters_channels_2_filter_z_sync2_d = mcu_counters_channels_2_filter_z_sync1_q;
         if (mcu_counters_channels_2_filter_z_reset) begin
             mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_sync2_q;
             mcu_counters_channels_2_filter_z_count_d = 4'h0;
+            mcu_counters_channels_2_filter_z_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_2_filter_z_sync2_q == mcu_counters_channels_2_filter_z_accepted_q) begin
-            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_setting;
+            mcu_counters_channels_2_filter_z_count_nonzero_d = |mcu_counters_channels_2_filter_z_setting;
         end
-        else if (mcu_counters_channels_2_filter_z_count_q == mcu_counters_channels_2_filter_z_setting) begin
+        else if (~mcu_counters_channels_2_filter_z_count_nonzero_q) begin
             mcu_counters_channels_2_filter_z_accepted_d = mcu_counters_channels_2_filter_z_sync2_q;
-            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_setting;
+            mcu_counters_channels_2_filter_z_count_nonzero_d = |mcu_counters_channels_2_filter_z_setting;
         end
         else begin
-            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q + 4'h1;
+            mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q - 4'h1;
+            mcu_counters_channels_2_filter_z_count_nonzero_d = mcu_counters_channels_2_filter_z_count_q != mcu_counters_channels_2_filter_z_one;
         end
         mcu_counters_channels_2_filter_z_level = mcu_counters_channels_2_filter_z_accepted_q;
     end
@@ -3146,19 +3322,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_counter_hi_d = mcu_counters_channels_2_counter_hi_q;
         mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_max_q;
         mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_lo_nonzero_q;
-        mcu_counters_channels_2_counter_lo_ones_above = (mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask) == mcu_counters_channels_2_counter_lo_upper_mask;
-        mcu_counters_channels_2_counter_lo_zeros_above = ~|(mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_lo_upper_mask);
+        mcu_counters_channels_2_counter_mid_ones_d = mcu_counters_channels_2_counter_mid_ones_q;
+        mcu_counters_channels_2_counter_mid_zero_d = mcu_counters_channels_2_counter_mid_zero_q;
+        mcu_counters_channels_2_counter_base = mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_base_mask;
         mcu_counters_channels_2_counter_load_lo = mcu_counters_channels_2_counter_load_value & mcu_counters_channels_2_counter_lo_mask;
         mcu_counters_channels_2_counter_load_hi = (mcu_counters_channels_2_counter_load_value >> mcu_counters_channels_2_counter_lo_bits) & mcu_counters_channels_2_counter_hi_mask;
         mcu_counters_channels_2_counter_lo_step = 32'h0;
         mcu_counters_channels_2_counter_hi_step = 32'h0;
         mcu_counters_channels_2_counter_lo_carry_in = 32'h0;
-        mcu_counters_channels_2_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_2_counter_up) begin
             mcu_counters_channels_2_counter_lo_carry_in = mcu_counters_channels_2_counter_one;
-            if (mcu_counters_channels_2_counter_lo_max_q) begin
-                mcu_counters_channels_2_counter_hi_carry_in = mcu_counters_channels_2_counter_one;
-            end
         end
         if (mcu_counters_channels_2_counter_down) begin
             mcu_counters_channels_2_counter_lo_step = mcu_counters_channels_2_counter_lo_mask;
@@ -3171,23 +3344,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_counter_hi_step = mcu_counters_channels_2_counter_load_hi;
         end
         mcu_counters_channels_2_counter_lo_d = (mcu_counters_channels_2_counter_lo_q + mcu_counters_channels_2_counter_lo_step + mcu_counters_channels_2_counter_lo_carry_in) & mcu_counters_channels_2_counter_lo_mask;
-        mcu_counters_channels_2_counter_hi_d = (mcu_counters_channels_2_counter_hi_q + mcu_counters_channels_2_counter_hi_step + mcu_counters_channels_2_counter_hi_carry_in) & mcu_counters_channels_2_counter_hi_mask;
+        mcu_counters_channels_2_counter_hi_a = mcu_counters_channels_2_counter_hi_q << mcu_counters_channels_2_counter_shift1;
+        mcu_counters_channels_2_counter_hi_b = mcu_counters_channels_2_counter_hi_step << mcu_counters_channels_2_counter_shift1;
+        if (mcu_counters_channels_2_counter_up) begin
+            mcu_counters_channels_2_counter_hi_a = (mcu_counters_channels_2_counter_hi_q << mcu_counters_channels_2_counter_shift1) | mcu_counters_channels_2_counter_one;
+        end
+        if (mcu_counters_channels_2_counter_lo_max_q) begin
+            mcu_counters_channels_2_counter_hi_b = (mcu_counters_channels_2_counter_hi_step << mcu_counters_channels_2_counter_shift1) | mcu_counters_channels_2_counter_one;
+        end
+        mcu_counters_channels_2_counter_hi_d = ((mcu_counters_channels_2_counter_hi_a + mcu_counters_channels_2_counter_hi_b) >> mcu_counters_channels_2_counter_shift1) & mcu_counters_channels_2_counter_hi_mask;
         if (mcu_counters_channels_2_counter_load) begin
             mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_load_low_is_max;
             mcu_counters_channels_2_counter_lo_nonzero_d = mcu_counters_channels_2_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_2_counter_up) begin
-            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & ~mcu_counters_channels_2_counter_lo_q[0];
-            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0]);
+            mcu_counters_channels_2_counter_lo_max_d = (mcu_counters_channels_2_counter_base == mcu_counters_channels_2_counter_base_max_minus_one) & mcu_counters_channels_2_counter_mid_ones_q;
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~mcu_counters_channels_2_counter_lo_max_q;
         end
         else if (mcu_counters_channels_2_counter_down) begin
-            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_zeros_above & ~mcu_counters_channels_2_counter_lo_q[0];
-            mcu_counters_channels_2_counter_lo_nonzero_d = ~(mcu_counters_channels_2_counter_lo_zeros_above & mcu_counters_channels_2_counter_lo_q[0]);
+            mcu_counters_channels_2_counter_lo_max_d = ~mcu_counters_channels_2_counter_lo_nonzero_q;
+            mcu_counters_channels_2_counter_lo_nonzero_d = ~((mcu_counters_channels_2_counter_base == mcu_counters_channels_2_counter_one) & mcu_counters_channels_2_counter_mid_zero_q);
+        end
+        if (mcu_counters_channels_2_counter_load) begin
+            mcu_counters_channels_2_counter_mid_source = mcu_counters_channels_2_counter_load_value & mcu_counters_channels_2_counter_mid_mask;
         end
         else begin
-            mcu_counters_channels_2_counter_lo_max_d = mcu_counters_channels_2_counter_lo_ones_above & mcu_counters_channels_2_counter_lo_q[0];
-            mcu_counters_channels_2_counter_lo_nonzero_d = ~mcu_counters_channels_2_counter_lo_zeros_above | mcu_counters_channels_2_counter_lo_q[0];
+            mcu_counters_channels_2_counter_mid_source = mcu_counters_channels_2_counter_lo_q & mcu_counters_channels_2_counter_mid_mask;
         end
+        mcu_counters_channels_2_counter_mid_ones_d = mcu_counters_channels_2_counter_mid_source == mcu_counters_channels_2_counter_mid_mask;
+        mcu_counters_channels_2_counter_mid_zero_d = ~|mcu_counters_channels_2_counter_mid_source;
         if (mcu_counters_channels_2_counter_clear) begin
             mcu_counters_channels_2_counter_lo_d = 32'h0;
             mcu_counters_channels_2_counter_hi_d = 32'h0;
@@ -3201,22 +3386,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_a_prev_d = mcu_counters_channels_3_a_prev_q;
         mcu_counters_channels_3_b_prev_d = mcu_counters_channels_3_b_prev_q;
         mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg_prev_q;
+        mcu_counters_channels_3_zg_q_d = mcu_counters_channels_3_zg_q_q;
         mcu_counters_channels_3_load_q_d = mcu_counters_channels_3_load_q_q;
+        mcu_counters_channels_3_err_q_d = mcu_counters_channels_3_err_q_q;
         mcu_counters_channels_3_index_latch_q_d = mcu_counters_channels_3_index_latch_q_q;
         mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_clear_q_q;
         mcu_counters_channels_3_index_d = mcu_counters_channels_3_index_q;
         mcu_counters_channels_3_err_d = mcu_counters_channels_3_err_q;
         mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q;
+        mcu_counters_channels_3_err_sat_d = mcu_counters_channels_3_err_sat_q;
         mcu_counters_channels_3_seen_d = mcu_counters_channels_3_seen_q;
         mcu_counters_channels_3_armed_d = mcu_counters_channels_3_armed_q;
         mcu_counters_channels_3_ctrl_d = mcu_counters_channels_3_ctrl_q;
         mcu_counters_channels_3_snap_count_d = mcu_counters_channels_3_snap_count_q;
         mcu_counters_channels_3_snap_index_d = mcu_counters_channels_3_snap_index_q;
         mcu_counters_channels_3_snap_status_d = mcu_counters_channels_3_snap_status_q;
-        mcu_counters_channels_3_read_ctrl_d = mcu_counters_channels_3_read_ctrl_q;
-        mcu_counters_channels_3_read_count_d = mcu_counters_channels_3_read_count_q;
-        mcu_counters_channels_3_read_index_d = mcu_counters_channels_3_read_index_q;
-        mcu_counters_channels_3_read_status_d = mcu_counters_channels_3_read_status_q;
+        mcu_counters_channels_3_read_sel_d = mcu_counters_channels_3_read_sel_q;
+        mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_read_word_q;
         mcu_counters_channels_3_filter_a_reset = mcu_counters_channels_3_reset;
         mcu_counters_channels_3_filter_b_reset = mcu_counters_channels_3_reset;
         mcu_counters_channels_3_filter_z_reset = mcu_counters_channels_3_reset;
@@ -3241,7 +3427,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_decoder_reverse = mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_reverse_bit];
         mcu_counters_channels_3_illegal = (mcu_counters_channels_3_level_a ^ mcu_counters_channels_3_a_prev_q) & (mcu_counters_channels_3_level_b ^ mcu_counters_channels_3_b_prev_q) & (mcu_counters_channels_3_ctrl_q[(mcu_counters_channels_3_mode_lsb)+:(3)] < mcu_counters_channels_3_quadrature_modes);
         mcu_counters_channels_3_zg = (mcu_counters_channels_3_level_z ^ mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_invert_bit]) & (~mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_gate_bit] | (mcu_counters_channels_3_level_a & mcu_counters_channels_3_level_b));
-        mcu_counters_channels_3_index_event = mcu_counters_channels_3_zg & ~mcu_counters_channels_3_zg_prev_q;
+        mcu_counters_channels_3_index_event = mcu_counters_channels_3_zg_q_q & ~mcu_counters_channels_3_zg_prev_q;
         mcu_counters_channels_3_index_act = mcu_counters_channels_3_index_event & (~mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_oneshot_bit] | mcu_counters_channels_3_armed_q);
         mcu_counters_channels_3_counter_up = mcu_counters_channels_3_decoder_up_q;
         mcu_counters_channels_3_counter_down = mcu_counters_channels_3_decoder_down_q;
@@ -3256,14 +3442,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_clear_bit];
         mcu_counters_channels_3_a_prev_d = mcu_counters_channels_3_level_a;
         mcu_counters_channels_3_b_prev_d = mcu_counters_channels_3_level_b;
-        mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg;
+        mcu_counters_channels_3_zg_q_d = mcu_counters_channels_3_zg;
+        if (mcu_counters_channels_3_reset) begin
+            mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg;
+        end
+        else begin
+            mcu_counters_channels_3_zg_prev_d = mcu_counters_channels_3_zg_q_q;
+        end
+        mcu_counters_channels_3_err_q_d = mcu_counters_channels_3_illegal & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_err_en_bit];
         if (mcu_counters_channels_3_index_latch_q_q) begin
             mcu_counters_channels_3_index_d = mcu_counters_channels_3_count_now;
         end
-        if (mcu_counters_channels_3_illegal & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_err_en_bit]) begin
+        if (mcu_counters_channels_3_err_q_q) begin
             mcu_counters_channels_3_err_d = 1'b1;
-            if (mcu_counters_channels_3_err_count_q != mcu_counters_channels_3_err_max) begin
+            if (~mcu_counters_channels_3_err_sat_q) begin
                 mcu_counters_channels_3_err_count_d = mcu_counters_channels_3_err_count_q + 8'h1;
+                mcu_counters_channels_3_err_sat_d = mcu_counters_channels_3_err_count_q == mcu_counters_channels_3_err_max_minus_one;
             end
         end
         if (mcu_counters_channels_3_index_event) begin
@@ -3279,6 +3473,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_status_bit]) begin
                 mcu_counters_channels_3_err_d = 1'b0;
                 mcu_counters_channels_3_err_count_d = 8'h0;
+                mcu_counters_channels_3_err_sat_d = 1'b0;
                 mcu_counters_channels_3_seen_d = 1'b0;
             end
         end
@@ -3309,28 +3504,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_snap_index_d = mcu_counters_channels_3_index_q;
             mcu_counters_channels_3_snap_status_d = mcu_counters_channels_3_status;
         end
-        mcu_counters_channels_3_read_ctrl_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_ctrl);
-        mcu_counters_channels_3_read_count_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_count);
-        mcu_counters_channels_3_read_index_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_index);
-        mcu_counters_channels_3_read_status_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_status);
-        if (mcu_counters_channels_3_reset) begin
-            mcu_counters_channels_3_index_d = 32'h0;
-            mcu_counters_channels_3_err_d = 1'b0;
-            mcu_counters_channels_3_err_count_d = 8'h0;
-            mcu_counters_channels_3_seen_d = 1'b0;
-            mcu_counters_channels_3_armed_d = 1'b0;
-            mcu_counters_channels_3_load_q_d = 1'b0;
-            mcu_counters_channels_3_index_latch_q_d = 1'b0;
-            mcu_counters_channels_3_index_clear_q_d = 1'b0;
-            mcu_counters_channels_3_ctrl_d = 32'h0;
-            mcu_counters_channels_3_snap_count_d = 32'h0;
-            mcu_counters_channels_3_snap_index_d = 32'h0;
-            mcu_counters_channels_3_snap_status_d = 32'h0;
-            mcu_counters_channels_3_read_ctrl_d = 1'b0;
-            mcu_counters_channels_3_read_count_d = 1'b0;
-            mcu_counters_channels_3_read_index_d = 1'b0;
-            mcu_counters_channels_3_read_status_d = 1'b0;
-        end
         if (|(mcu_counters_channels_3_snap_count_q & mcu_counters_channels_3_sign_bit)) begin
             mcu_counters_channels_3_count_read = mcu_counters_channels_3_snap_count_q | mcu_counters_channels_3_sign_extension;
         end
@@ -3343,18 +3516,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_3_index_read = mcu_counters_channels_3_snap_index_q;
         end
+        mcu_counters_channels_3_read_sel_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr[7:3] == mcu_counters_channels_3_channel_page);
+        mcu_counters_channels_3_read_word_d = 32'h0;
+        if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_ctrl) begin
+            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_ctrl_q;
+        end
+        if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_count) begin
+            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_count_read;
+        end
+        if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_index) begin
+            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_index_read;
+        end
+        if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_status) begin
+            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_snap_status_q;
+        end
+        if (mcu_counters_channels_3_reset) begin
+            mcu_counters_channels_3_index_d = 32'h0;
+            mcu_counters_channels_3_err_d = 1'b0;
+            mcu_counters_channels_3_err_count_d = 8'h0;
+            mcu_counters_channels_3_err_sat_d = 1'b0;
+            mcu_counters_channels_3_seen_d = 1'b0;
+            mcu_counters_channels_3_armed_d = 1'b0;
+            mcu_counters_channels_3_load_q_d = 1'b0;
+            mcu_counters_channels_3_err_q_d = 1'b0;
+            mcu_counters_channels_3_index_latch_q_d = 1'b0;
+            mcu_counters_channels_3_index_clear_q_d = 1'b0;
+            mcu_counters_channels_3_ctrl_d = 32'h0;
+            mcu_counters_channels_3_snap_count_d = 32'h0;
+            mcu_counters_channels_3_snap_index_d = 32'h0;
+            mcu_counters_channels_3_snap_status_d = 32'h0;
+            mcu_counters_channels_3_read_sel_d = 1'b0;
+        end
         mcu_counters_channels_3_rdata = 32'h0;
-        if (mcu_counters_channels_3_read_ctrl_q) begin
-            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_ctrl_q;
-        end
-        if (mcu_counters_channels_3_read_count_q) begin
-            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_count_read;
-        end
-        if (mcu_counters_channels_3_read_index_q) begin
-            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_index_read;
-        end
-        if (mcu_counters_channels_3_read_status_q) begin
-            mcu_counters_channels_3_rdata = mcu_counters_channels_3_rdata | mcu_counters_channels_3_snap_status_q;
+        if (mcu_counters_channels_3_read_sel_q) begin
+            mcu_counters_channels_3_rdata = mcu_counters_channels_3_read_word_q;
         end
     end
 
@@ -3363,21 +3558,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_filter_a_sync2_d = mcu_counters_channels_3_filter_a_sync2_q;
         mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_accepted_q;
         mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q;
+        mcu_counters_channels_3_filter_a_count_nonzero_d = mcu_counters_channels_3_filter_a_count_nonzero_q;
         mcu_counters_channels_3_filter_a_sync1_d = mcu_counters_channels_3_filter_a_pin;
         mcu_counters_channels_3_filter_a_sync2_d = mcu_counters_channels_3_filter_a_sync1_q;
         if (mcu_counters_channels_3_filter_a_reset) begin
             mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_sync2_q;
             mcu_counters_channels_3_filter_a_count_d = 4'h0;
+            mcu_counters_channels_3_filter_a_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_3_filter_a_sync2_q == mcu_counters_channels_3_filter_a_accepted_q) begin
-            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_setting;
+            mcu_counters_channels_3_filter_a_count_nonzero_d = |mcu_counters_channels_3_filter_a_setting;
         end
-        else if (mcu_counters_channels_3_filter_a_count_q == mcu_counters_channels_3_filter_a_setting) begin
+        else if (~mcu_counters_channels_3_filter_a_count_nonzero_q) begin
             mcu_counters_channels_3_filter_a_accepted_d = mcu_counters_channels_3_filter_a_sync2_q;
-            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_setting;
+            mcu_counters_channels_3_filter_a_count_nonzero_d = |mcu_counters_channels_3_filter_a_setting;
         end
         else begin
-            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q + 4'h1;
+            mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q - 4'h1;
+            mcu_counters_channels_3_filter_a_count_nonzero_d = mcu_counters_channels_3_filter_a_count_q != mcu_counters_channels_3_filter_a_one;
         end
         mcu_counters_channels_3_filter_a_level = mcu_counters_channels_3_filter_a_accepted_q;
     end
@@ -3387,21 +3587,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_filter_b_sync2_d = mcu_counters_channels_3_filter_b_sync2_q;
         mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_accepted_q;
         mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q;
+        mcu_counters_channels_3_filter_b_count_nonzero_d = mcu_counters_channels_3_filter_b_count_nonzero_q;
         mcu_counters_channels_3_filter_b_sync1_d = mcu_counters_channels_3_filter_b_pin;
         mcu_counters_channels_3_filter_b_sync2_d = mcu_counters_channels_3_filter_b_sync1_q;
         if (mcu_counters_channels_3_filter_b_reset) begin
             mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_sync2_q;
             mcu_counters_channels_3_filter_b_count_d = 4'h0;
+            mcu_counters_channels_3_filter_b_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_3_filter_b_sync2_q == mcu_counters_channels_3_filter_b_accepted_q) begin
-            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_setting;
+            mcu_counters_channels_3_filter_b_count_nonzero_d = |mcu_counters_channels_3_filter_b_setting;
         end
-        else if (mcu_counters_channels_3_filter_b_count_q == mcu_counters_channels_3_filter_b_setting) begin
+        else if (~mcu_counters_channels_3_filter_b_count_nonzero_q) begin
             mcu_counters_channels_3_filter_b_accepted_d = mcu_counters_channels_3_filter_b_sync2_q;
-            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_setting;
+            mcu_counters_channels_3_filter_b_count_nonzero_d = |mcu_counters_channels_3_filter_b_setting;
         end
         else begin
-            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q + 4'h1;
+            mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q - 4'h1;
+            mcu_counters_channels_3_filter_b_count_nonzero_d = mcu_counters_channels_3_filter_b_count_q != mcu_counters_channels_3_filter_b_one;
         end
         mcu_counters_channels_3_filter_b_level = mcu_counters_channels_3_filter_b_accepted_q;
     end
@@ -3411,21 +3616,26 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_filter_z_sync2_d = mcu_counters_channels_3_filter_z_sync2_q;
         mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_accepted_q;
         mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q;
+        mcu_counters_channels_3_filter_z_count_nonzero_d = mcu_counters_channels_3_filter_z_count_nonzero_q;
         mcu_counters_channels_3_filter_z_sync1_d = mcu_counters_channels_3_filter_z_pin;
         mcu_counters_channels_3_filter_z_sync2_d = mcu_counters_channels_3_filter_z_sync1_q;
         if (mcu_counters_channels_3_filter_z_reset) begin
             mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_sync2_q;
             mcu_counters_channels_3_filter_z_count_d = 4'h0;
+            mcu_counters_channels_3_filter_z_count_nonzero_d = 1'b0;
         end
         else if (mcu_counters_channels_3_filter_z_sync2_q == mcu_counters_channels_3_filter_z_accepted_q) begin
-            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_setting;
+            mcu_counters_channels_3_filter_z_count_nonzero_d = |mcu_counters_channels_3_filter_z_setting;
         end
-        else if (mcu_counters_channels_3_filter_z_count_q == mcu_counters_channels_3_filter_z_setting) begin
+        else if (~mcu_counters_channels_3_filter_z_count_nonzero_q) begin
             mcu_counters_channels_3_filter_z_accepted_d = mcu_counters_channels_3_filter_z_sync2_q;
-            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_setting;
+            mcu_counters_channels_3_filter_z_count_nonzero_d = |mcu_counters_channels_3_filter_z_setting;
         end
         else begin
-            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q + 4'h1;
+            mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q - 4'h1;
+            mcu_counters_channels_3_filter_z_count_nonzero_d = mcu_counters_channels_3_filter_z_count_q != mcu_counters_channels_3_filter_z_one;
         end
         mcu_counters_channels_3_filter_z_level = mcu_counters_channels_3_filter_z_accepted_q;
     end
@@ -3481,19 +3691,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_counter_hi_d = mcu_counters_channels_3_counter_hi_q;
         mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_max_q;
         mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_lo_nonzero_q;
-        mcu_counters_channels_3_counter_lo_ones_above = (mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask) == mcu_counters_channels_3_counter_lo_upper_mask;
-        mcu_counters_channels_3_counter_lo_zeros_above = ~|(mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_lo_upper_mask);
+        mcu_counters_channels_3_counter_mid_ones_d = mcu_counters_channels_3_counter_mid_ones_q;
+        mcu_counters_channels_3_counter_mid_zero_d = mcu_counters_channels_3_counter_mid_zero_q;
+        mcu_counters_channels_3_counter_base = mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_base_mask;
         mcu_counters_channels_3_counter_load_lo = mcu_counters_channels_3_counter_load_value & mcu_counters_channels_3_counter_lo_mask;
         mcu_counters_channels_3_counter_load_hi = (mcu_counters_channels_3_counter_load_value >> mcu_counters_channels_3_counter_lo_bits) & mcu_counters_channels_3_counter_hi_mask;
         mcu_counters_channels_3_counter_lo_step = 32'h0;
         mcu_counters_channels_3_counter_hi_step = 32'h0;
         mcu_counters_channels_3_counter_lo_carry_in = 32'h0;
-        mcu_counters_channels_3_counter_hi_carry_in = 32'h0;
         if (mcu_counters_channels_3_counter_up) begin
             mcu_counters_channels_3_counter_lo_carry_in = mcu_counters_channels_3_counter_one;
-            if (mcu_counters_channels_3_counter_lo_max_q) begin
-                mcu_counters_channels_3_counter_hi_carry_in = mcu_counters_channels_3_counter_one;
-            end
         end
         if (mcu_counters_channels_3_counter_down) begin
             mcu_counters_channels_3_counter_lo_step = mcu_counters_channels_3_counter_lo_mask;
@@ -3506,23 +3713,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_counter_hi_step = mcu_counters_channels_3_counter_load_hi;
         end
         mcu_counters_channels_3_counter_lo_d = (mcu_counters_channels_3_counter_lo_q + mcu_counters_channels_3_counter_lo_step + mcu_counters_channels_3_counter_lo_carry_in) & mcu_counters_channels_3_counter_lo_mask;
-        mcu_counters_channels_3_counter_hi_d = (mcu_counters_channels_3_counter_hi_q + mcu_counters_channels_3_counter_hi_step + mcu_counters_channels_3_counter_hi_carry_in) & mcu_counters_channels_3_counter_hi_mask;
+        mcu_counters_channels_3_counter_hi_a = mcu_counters_channels_3_counter_hi_q << mcu_counters_channels_3_counter_shift1;
+        mcu_counters_channels_3_counter_hi_b = mcu_counters_channels_3_counter_hi_step << mcu_counters_channels_3_counter_shift1;
+        if (mcu_counters_channels_3_counter_up) begin
+            mcu_counters_channels_3_counter_hi_a = (mcu_counters_channels_3_counter_hi_q << mcu_counters_channels_3_counter_shift1) | mcu_counters_channels_3_counter_one;
+        end
+        if (mcu_counters_channels_3_counter_lo_max_q) begin
+            mcu_counters_channels_3_counter_hi_b = (mcu_counters_channels_3_counter_hi_step << mcu_counters_channels_3_counter_shift1) | mcu_counters_channels_3_counter_one;
+        end
+        mcu_counters_channels_3_counter_hi_d = ((mcu_counters_channels_3_counter_hi_a + mcu_counters_channels_3_counter_hi_b) >> mcu_counters_channels_3_counter_shift1) & mcu_counters_channels_3_counter_hi_mask;
         if (mcu_counters_channels_3_counter_load) begin
             mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_load_low_is_max;
             mcu_counters_channels_3_counter_lo_nonzero_d = mcu_counters_channels_3_counter_load_low_is_nonzero;
         end
         else if (mcu_counters_channels_3_counter_up) begin
-            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & ~mcu_counters_channels_3_counter_lo_q[0];
-            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0]);
+            mcu_counters_channels_3_counter_lo_max_d = (mcu_counters_channels_3_counter_base == mcu_counters_channels_3_counter_base_max_minus_one) & mcu_counters_channels_3_counter_mid_ones_q;
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~mcu_counters_channels_3_counter_lo_max_q;
         end
         else if (mcu_counters_channels_3_counter_down) begin
-            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_zeros_above & ~mcu_counters_channels_3_counter_lo_q[0];
-            mcu_counters_channels_3_counter_lo_nonzero_d = ~(mcu_counters_channels_3_counter_lo_zeros_above & mcu_counters_channels_3_counter_lo_q[0]);
+            mcu_counters_channels_3_counter_lo_max_d = ~mcu_counters_channels_3_counter_lo_nonzero_q;
+            mcu_counters_channels_3_counter_lo_nonzero_d = ~((mcu_counters_channels_3_counter_base == mcu_counters_channels_3_counter_one) & mcu_counters_channels_3_counter_mid_zero_q);
+        end
+        if (mcu_counters_channels_3_counter_load) begin
+            mcu_counters_channels_3_counter_mid_source = mcu_counters_channels_3_counter_load_value & mcu_counters_channels_3_counter_mid_mask;
         end
         else begin
-            mcu_counters_channels_3_counter_lo_max_d = mcu_counters_channels_3_counter_lo_ones_above & mcu_counters_channels_3_counter_lo_q[0];
-            mcu_counters_channels_3_counter_lo_nonzero_d = ~mcu_counters_channels_3_counter_lo_zeros_above | mcu_counters_channels_3_counter_lo_q[0];
+            mcu_counters_channels_3_counter_mid_source = mcu_counters_channels_3_counter_lo_q & mcu_counters_channels_3_counter_mid_mask;
         end
+        mcu_counters_channels_3_counter_mid_ones_d = mcu_counters_channels_3_counter_mid_source == mcu_counters_channels_3_counter_mid_mask;
+        mcu_counters_channels_3_counter_mid_zero_d = ~|mcu_counters_channels_3_counter_mid_source;
         if (mcu_counters_channels_3_counter_clear) begin
             mcu_counters_channels_3_counter_lo_d = 32'h0;
             mcu_counters_channels_3_counter_hi_d = 32'h0;
@@ -5456,157 +5675,181 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_channels_0_filter_a_sync2_q <= mcu_counters_channels_0_filter_a_sync2_d;
     always @(posedge clock) mcu_counters_channels_0_filter_a_accepted_q <= mcu_counters_channels_0_filter_a_accepted_d;
     always @(posedge clock) mcu_counters_channels_0_filter_a_count_q <= mcu_counters_channels_0_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_a_count_nonzero_q <= mcu_counters_channels_0_filter_a_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_0_filter_b_sync1_q <= mcu_counters_channels_0_filter_b_sync1_d;
     always @(posedge clock) mcu_counters_channels_0_filter_b_sync2_q <= mcu_counters_channels_0_filter_b_sync2_d;
     always @(posedge clock) mcu_counters_channels_0_filter_b_accepted_q <= mcu_counters_channels_0_filter_b_accepted_d;
     always @(posedge clock) mcu_counters_channels_0_filter_b_count_q <= mcu_counters_channels_0_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_b_count_nonzero_q <= mcu_counters_channels_0_filter_b_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_0_filter_z_sync1_q <= mcu_counters_channels_0_filter_z_sync1_d;
     always @(posedge clock) mcu_counters_channels_0_filter_z_sync2_q <= mcu_counters_channels_0_filter_z_sync2_d;
     always @(posedge clock) mcu_counters_channels_0_filter_z_accepted_q <= mcu_counters_channels_0_filter_z_accepted_d;
     always @(posedge clock) mcu_counters_channels_0_filter_z_count_q <= mcu_counters_channels_0_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_0_filter_z_count_nonzero_q <= mcu_counters_channels_0_filter_z_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_0_a_prev_q <= mcu_counters_channels_0_a_prev_d;
     always @(posedge clock) mcu_counters_channels_0_b_prev_q <= mcu_counters_channels_0_b_prev_d;
     always @(posedge clock) mcu_counters_channels_0_zg_prev_q <= mcu_counters_channels_0_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_0_zg_q_q <= mcu_counters_channels_0_zg_q_d;
     always @(posedge clock) mcu_counters_channels_0_decoder_up_reg_q <= mcu_counters_channels_0_decoder_up_reg_d;
     always @(posedge clock) mcu_counters_channels_0_decoder_down_reg_q <= mcu_counters_channels_0_decoder_down_reg_d;
     always @(posedge clock) mcu_counters_channels_0_counter_lo_q <= mcu_counters_channels_0_counter_lo_d;
     always @(posedge clock) mcu_counters_channels_0_counter_hi_q <= mcu_counters_channels_0_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_0_counter_lo_max_q <= mcu_counters_channels_0_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_0_counter_lo_nonzero_q <= mcu_counters_channels_0_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_mid_ones_q <= mcu_counters_channels_0_counter_mid_ones_d;
+    always @(posedge clock) mcu_counters_channels_0_counter_mid_zero_q <= mcu_counters_channels_0_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_0_load_q_q <= mcu_counters_channels_0_load_q_d;
+    always @(posedge clock) mcu_counters_channels_0_err_q_q <= mcu_counters_channels_0_err_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_latch_q_q <= mcu_counters_channels_0_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_clear_q_q <= mcu_counters_channels_0_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_0_index_q <= mcu_counters_channels_0_index_d;
     always @(posedge clock) mcu_counters_channels_0_err_q <= mcu_counters_channels_0_err_d;
     always @(posedge clock) mcu_counters_channels_0_err_count_q <= mcu_counters_channels_0_err_count_d;
+    always @(posedge clock) mcu_counters_channels_0_err_sat_q <= mcu_counters_channels_0_err_sat_d;
     always @(posedge clock) mcu_counters_channels_0_seen_q <= mcu_counters_channels_0_seen_d;
     always @(posedge clock) mcu_counters_channels_0_armed_q <= mcu_counters_channels_0_armed_d;
     always @(posedge clock) mcu_counters_channels_0_ctrl_q <= mcu_counters_channels_0_ctrl_d;
     always @(posedge clock) mcu_counters_channels_0_snap_count_q <= mcu_counters_channels_0_snap_count_d;
     always @(posedge clock) mcu_counters_channels_0_snap_index_q <= mcu_counters_channels_0_snap_index_d;
     always @(posedge clock) mcu_counters_channels_0_snap_status_q <= mcu_counters_channels_0_snap_status_d;
-    always @(posedge clock) mcu_counters_channels_0_read_ctrl_q <= mcu_counters_channels_0_read_ctrl_d;
-    always @(posedge clock) mcu_counters_channels_0_read_count_q <= mcu_counters_channels_0_read_count_d;
-    always @(posedge clock) mcu_counters_channels_0_read_index_q <= mcu_counters_channels_0_read_index_d;
-    always @(posedge clock) mcu_counters_channels_0_read_status_q <= mcu_counters_channels_0_read_status_d;
+    always @(posedge clock) mcu_counters_channels_0_read_sel_q <= mcu_counters_channels_0_read_sel_d;
+    always @(posedge clock) mcu_counters_channels_0_read_word_q <= mcu_counters_channels_0_read_word_d;
     always @(posedge clock) mcu_counters_channels_1_filter_a_sync1_q <= mcu_counters_channels_1_filter_a_sync1_d;
     always @(posedge clock) mcu_counters_channels_1_filter_a_sync2_q <= mcu_counters_channels_1_filter_a_sync2_d;
     always @(posedge clock) mcu_counters_channels_1_filter_a_accepted_q <= mcu_counters_channels_1_filter_a_accepted_d;
     always @(posedge clock) mcu_counters_channels_1_filter_a_count_q <= mcu_counters_channels_1_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_a_count_nonzero_q <= mcu_counters_channels_1_filter_a_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_1_filter_b_sync1_q <= mcu_counters_channels_1_filter_b_sync1_d;
     always @(posedge clock) mcu_counters_channels_1_filter_b_sync2_q <= mcu_counters_channels_1_filter_b_sync2_d;
     always @(posedge clock) mcu_counters_channels_1_filter_b_accepted_q <= mcu_counters_channels_1_filter_b_accepted_d;
     always @(posedge clock) mcu_counters_channels_1_filter_b_count_q <= mcu_counters_channels_1_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_b_count_nonzero_q <= mcu_counters_channels_1_filter_b_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_1_filter_z_sync1_q <= mcu_counters_channels_1_filter_z_sync1_d;
     always @(posedge clock) mcu_counters_channels_1_filter_z_sync2_q <= mcu_counters_channels_1_filter_z_sync2_d;
     always @(posedge clock) mcu_counters_channels_1_filter_z_accepted_q <= mcu_counters_channels_1_filter_z_accepted_d;
     always @(posedge clock) mcu_counters_channels_1_filter_z_count_q <= mcu_counters_channels_1_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_1_filter_z_count_nonzero_q <= mcu_counters_channels_1_filter_z_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_1_a_prev_q <= mcu_counters_channels_1_a_prev_d;
     always @(posedge clock) mcu_counters_channels_1_b_prev_q <= mcu_counters_channels_1_b_prev_d;
     always @(posedge clock) mcu_counters_channels_1_zg_prev_q <= mcu_counters_channels_1_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_1_zg_q_q <= mcu_counters_channels_1_zg_q_d;
     always @(posedge clock) mcu_counters_channels_1_decoder_up_reg_q <= mcu_counters_channels_1_decoder_up_reg_d;
     always @(posedge clock) mcu_counters_channels_1_decoder_down_reg_q <= mcu_counters_channels_1_decoder_down_reg_d;
     always @(posedge clock) mcu_counters_channels_1_counter_lo_q <= mcu_counters_channels_1_counter_lo_d;
     always @(posedge clock) mcu_counters_channels_1_counter_hi_q <= mcu_counters_channels_1_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_1_counter_lo_max_q <= mcu_counters_channels_1_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_1_counter_lo_nonzero_q <= mcu_counters_channels_1_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_mid_ones_q <= mcu_counters_channels_1_counter_mid_ones_d;
+    always @(posedge clock) mcu_counters_channels_1_counter_mid_zero_q <= mcu_counters_channels_1_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_1_load_q_q <= mcu_counters_channels_1_load_q_d;
+    always @(posedge clock) mcu_counters_channels_1_err_q_q <= mcu_counters_channels_1_err_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_latch_q_q <= mcu_counters_channels_1_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_clear_q_q <= mcu_counters_channels_1_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_1_index_q <= mcu_counters_channels_1_index_d;
     always @(posedge clock) mcu_counters_channels_1_err_q <= mcu_counters_channels_1_err_d;
     always @(posedge clock) mcu_counters_channels_1_err_count_q <= mcu_counters_channels_1_err_count_d;
+    always @(posedge clock) mcu_counters_channels_1_err_sat_q <= mcu_counters_channels_1_err_sat_d;
     always @(posedge clock) mcu_counters_channels_1_seen_q <= mcu_counters_channels_1_seen_d;
     always @(posedge clock) mcu_counters_channels_1_armed_q <= mcu_counters_channels_1_armed_d;
     always @(posedge clock) mcu_counters_channels_1_ctrl_q <= mcu_counters_channels_1_ctrl_d;
     always @(posedge clock) mcu_counters_channels_1_snap_count_q <= mcu_counters_channels_1_snap_count_d;
     always @(posedge clock) mcu_counters_channels_1_snap_index_q <= mcu_counters_channels_1_snap_index_d;
     always @(posedge clock) mcu_counters_channels_1_snap_status_q <= mcu_counters_channels_1_snap_status_d;
-    always @(posedge clock) mcu_counters_channels_1_read_ctrl_q <= mcu_counters_channels_1_read_ctrl_d;
-    always @(posedge clock) mcu_counters_channels_1_read_count_q <= mcu_counters_channels_1_read_count_d;
-    always @(posedge clock) mcu_counters_channels_1_read_index_q <= mcu_counters_channels_1_read_index_d;
-    always @(posedge clock) mcu_counters_channels_1_read_status_q <= mcu_counters_channels_1_read_status_d;
+    always @(posedge clock) mcu_counters_channels_1_read_sel_q <= mcu_counters_channels_1_read_sel_d;
+    always @(posedge clock) mcu_counters_channels_1_read_word_q <= mcu_counters_channels_1_read_word_d;
     always @(posedge clock) mcu_counters_channels_2_filter_a_sync1_q <= mcu_counters_channels_2_filter_a_sync1_d;
     always @(posedge clock) mcu_counters_channels_2_filter_a_sync2_q <= mcu_counters_channels_2_filter_a_sync2_d;
     always @(posedge clock) mcu_counters_channels_2_filter_a_accepted_q <= mcu_counters_channels_2_filter_a_accepted_d;
     always @(posedge clock) mcu_counters_channels_2_filter_a_count_q <= mcu_counters_channels_2_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_a_count_nonzero_q <= mcu_counters_channels_2_filter_a_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_2_filter_b_sync1_q <= mcu_counters_channels_2_filter_b_sync1_d;
     always @(posedge clock) mcu_counters_channels_2_filter_b_sync2_q <= mcu_counters_channels_2_filter_b_sync2_d;
     always @(posedge clock) mcu_counters_channels_2_filter_b_accepted_q <= mcu_counters_channels_2_filter_b_accepted_d;
     always @(posedge clock) mcu_counters_channels_2_filter_b_count_q <= mcu_counters_channels_2_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_b_count_nonzero_q <= mcu_counters_channels_2_filter_b_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_2_filter_z_sync1_q <= mcu_counters_channels_2_filter_z_sync1_d;
     always @(posedge clock) mcu_counters_channels_2_filter_z_sync2_q <= mcu_counters_channels_2_filter_z_sync2_d;
     always @(posedge clock) mcu_counters_channels_2_filter_z_accepted_q <= mcu_counters_channels_2_filter_z_accepted_d;
     always @(posedge clock) mcu_counters_channels_2_filter_z_count_q <= mcu_counters_channels_2_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_2_filter_z_count_nonzero_q <= mcu_counters_channels_2_filter_z_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_2_a_prev_q <= mcu_counters_channels_2_a_prev_d;
     always @(posedge clock) mcu_counters_channels_2_b_prev_q <= mcu_counters_channels_2_b_prev_d;
     always @(posedge clock) mcu_counters_channels_2_zg_prev_q <= mcu_counters_channels_2_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_2_zg_q_q <= mcu_counters_channels_2_zg_q_d;
     always @(posedge clock) mcu_counters_channels_2_decoder_up_reg_q <= mcu_counters_channels_2_decoder_up_reg_d;
     always @(posedge clock) mcu_counters_channels_2_decoder_down_reg_q <= mcu_counters_channels_2_decoder_down_reg_d;
     always @(posedge clock) mcu_counters_channels_2_counter_lo_q <= mcu_counters_channels_2_counter_lo_d;
     always @(posedge clock) mcu_counters_channels_2_counter_hi_q <= mcu_counters_channels_2_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_2_counter_lo_max_q <= mcu_counters_channels_2_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_2_counter_lo_nonzero_q <= mcu_counters_channels_2_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_mid_ones_q <= mcu_counters_channels_2_counter_mid_ones_d;
+    always @(posedge clock) mcu_counters_channels_2_counter_mid_zero_q <= mcu_counters_channels_2_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_2_load_q_q <= mcu_counters_channels_2_load_q_d;
+    always @(posedge clock) mcu_counters_channels_2_err_q_q <= mcu_counters_channels_2_err_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_latch_q_q <= mcu_counters_channels_2_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_clear_q_q <= mcu_counters_channels_2_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_2_index_q <= mcu_counters_channels_2_index_d;
     always @(posedge clock) mcu_counters_channels_2_err_q <= mcu_counters_channels_2_err_d;
     always @(posedge clock) mcu_counters_channels_2_err_count_q <= mcu_counters_channels_2_err_count_d;
+    always @(posedge clock) mcu_counters_channels_2_err_sat_q <= mcu_counters_channels_2_err_sat_d;
     always @(posedge clock) mcu_counters_channels_2_seen_q <= mcu_counters_channels_2_seen_d;
     always @(posedge clock) mcu_counters_channels_2_armed_q <= mcu_counters_channels_2_armed_d;
     always @(posedge clock) mcu_counters_channels_2_ctrl_q <= mcu_counters_channels_2_ctrl_d;
     always @(posedge clock) mcu_counters_channels_2_snap_count_q <= mcu_counters_channels_2_snap_count_d;
     always @(posedge clock) mcu_counters_channels_2_snap_index_q <= mcu_counters_channels_2_snap_index_d;
     always @(posedge clock) mcu_counters_channels_2_snap_status_q <= mcu_counters_channels_2_snap_status_d;
-    always @(posedge clock) mcu_counters_channels_2_read_ctrl_q <= mcu_counters_channels_2_read_ctrl_d;
-    always @(posedge clock) mcu_counters_channels_2_read_count_q <= mcu_counters_channels_2_read_count_d;
-    always @(posedge clock) mcu_counters_channels_2_read_index_q <= mcu_counters_channels_2_read_index_d;
-    always @(posedge clock) mcu_counters_channels_2_read_status_q <= mcu_counters_channels_2_read_status_d;
+    always @(posedge clock) mcu_counters_channels_2_read_sel_q <= mcu_counters_channels_2_read_sel_d;
+    always @(posedge clock) mcu_counters_channels_2_read_word_q <= mcu_counters_channels_2_read_word_d;
     always @(posedge clock) mcu_counters_channels_3_filter_a_sync1_q <= mcu_counters_channels_3_filter_a_sync1_d;
     always @(posedge clock) mcu_counters_channels_3_filter_a_sync2_q <= mcu_counters_channels_3_filter_a_sync2_d;
     always @(posedge clock) mcu_counters_channels_3_filter_a_accepted_q <= mcu_counters_channels_3_filter_a_accepted_d;
     always @(posedge clock) mcu_counters_channels_3_filter_a_count_q <= mcu_counters_channels_3_filter_a_count_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_a_count_nonzero_q <= mcu_counters_channels_3_filter_a_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_3_filter_b_sync1_q <= mcu_counters_channels_3_filter_b_sync1_d;
     always @(posedge clock) mcu_counters_channels_3_filter_b_sync2_q <= mcu_counters_channels_3_filter_b_sync2_d;
     always @(posedge clock) mcu_counters_channels_3_filter_b_accepted_q <= mcu_counters_channels_3_filter_b_accepted_d;
     always @(posedge clock) mcu_counters_channels_3_filter_b_count_q <= mcu_counters_channels_3_filter_b_count_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_b_count_nonzero_q <= mcu_counters_channels_3_filter_b_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_3_filter_z_sync1_q <= mcu_counters_channels_3_filter_z_sync1_d;
     always @(posedge clock) mcu_counters_channels_3_filter_z_sync2_q <= mcu_counters_channels_3_filter_z_sync2_d;
     always @(posedge clock) mcu_counters_channels_3_filter_z_accepted_q <= mcu_counters_channels_3_filter_z_accepted_d;
     always @(posedge clock) mcu_counters_channels_3_filter_z_count_q <= mcu_counters_channels_3_filter_z_count_d;
+    always @(posedge clock) mcu_counters_channels_3_filter_z_count_nonzero_q <= mcu_counters_channels_3_filter_z_count_nonzero_d;
     always @(posedge clock) mcu_counters_channels_3_a_prev_q <= mcu_counters_channels_3_a_prev_d;
     always @(posedge clock) mcu_counters_channels_3_b_prev_q <= mcu_counters_channels_3_b_prev_d;
     always @(posedge clock) mcu_counters_channels_3_zg_prev_q <= mcu_counters_channels_3_zg_prev_d;
+    always @(posedge clock) mcu_counters_channels_3_zg_q_q <= mcu_counters_channels_3_zg_q_d;
     always @(posedge clock) mcu_counters_channels_3_decoder_up_reg_q <= mcu_counters_channels_3_decoder_up_reg_d;
     always @(posedge clock) mcu_counters_channels_3_decoder_down_reg_q <= mcu_counters_channels_3_decoder_down_reg_d;
     always @(posedge clock) mcu_counters_channels_3_counter_lo_q <= mcu_counters_channels_3_counter_lo_d;
     always @(posedge clock) mcu_counters_channels_3_counter_hi_q <= mcu_counters_channels_3_counter_hi_d;
     always @(posedge clock) mcu_counters_channels_3_counter_lo_max_q <= mcu_counters_channels_3_counter_lo_max_d;
     always @(posedge clock) mcu_counters_channels_3_counter_lo_nonzero_q <= mcu_counters_channels_3_counter_lo_nonzero_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_mid_ones_q <= mcu_counters_channels_3_counter_mid_ones_d;
+    always @(posedge clock) mcu_counters_channels_3_counter_mid_zero_q <= mcu_counters_channels_3_counter_mid_zero_d;
     always @(posedge clock) mcu_counters_channels_3_load_q_q <= mcu_counters_channels_3_load_q_d;
+    always @(posedge clock) mcu_counters_channels_3_err_q_q <= mcu_counters_channels_3_err_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_latch_q_q <= mcu_counters_channels_3_index_latch_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_clear_q_q <= mcu_counters_channels_3_index_clear_q_d;
     always @(posedge clock) mcu_counters_channels_3_index_q <= mcu_counters_channels_3_index_d;
     always @(posedge clock) mcu_counters_channels_3_err_q <= mcu_counters_channels_3_err_d;
     always @(posedge clock) mcu_counters_channels_3_err_count_q <= mcu_counters_channels_3_err_count_d;
+    always @(posedge clock) mcu_counters_channels_3_err_sat_q <= mcu_counters_channels_3_err_sat_d;
     always @(posedge clock) mcu_counters_channels_3_seen_q <= mcu_counters_channels_3_seen_d;
     always @(posedge clock) mcu_counters_channels_3_armed_q <= mcu_counters_channels_3_armed_d;
     always @(posedge clock) mcu_counters_channels_3_ctrl_q <= mcu_counters_channels_3_ctrl_d;
     always @(posedge clock) mcu_counters_channels_3_snap_count_q <= mcu_counters_channels_3_snap_count_d;
     always @(posedge clock) mcu_counters_channels_3_snap_index_q <= mcu_counters_channels_3_snap_index_d;
     always @(posedge clock) mcu_counters_channels_3_snap_status_q <= mcu_counters_channels_3_snap_status_d;
-    always @(posedge clock) mcu_counters_channels_3_read_ctrl_q <= mcu_counters_channels_3_read_ctrl_d;
-    always @(posedge clock) mcu_counters_channels_3_read_count_q <= mcu_counters_channels_3_read_count_d;
-    always @(posedge clock) mcu_counters_channels_3_read_index_q <= mcu_counters_channels_3_read_index_d;
-    always @(posedge clock) mcu_counters_channels_3_read_status_q <= mcu_counters_channels_3_read_status_d;
+    always @(posedge clock) mcu_counters_channels_3_read_sel_q <= mcu_counters_channels_3_read_sel_d;
+    always @(posedge clock) mcu_counters_channels_3_read_word_q <= mcu_counters_channels_3_read_word_d;
     always @(posedge clock) mcu_counters_preset_q <= mcu_counters_preset_d;
     always @(posedge clock) mcu_counters_read_data_q <= mcu_counters_read_data_d;
     always @(posedge clock) mcu_counters_preset_low_is_max_q <= mcu_counters_preset_low_is_max_d;
     always @(posedge clock) mcu_counters_preset_low_is_nonzero_q <= mcu_counters_preset_low_is_nonzero_d;
     always @(posedge clock) mcu_counters_read_pending_q <= mcu_counters_read_pending_d;
-    always @(posedge clock) mcu_counters_read_info_q <= mcu_counters_read_info_d;
-    always @(posedge clock) mcu_counters_read_preset_q <= mcu_counters_read_preset_d;
+    always @(posedge clock) mcu_counters_read_sel_q <= mcu_counters_read_sel_d;
+    always @(posedge clock) mcu_counters_read_word_q <= mcu_counters_read_word_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_pending_q_q <= mcu_pulses_generators_0_timer_pending_q_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_step_q_q <= mcu_pulses_generators_0_timer_step_q_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_dir_q_q <= mcu_pulses_generators_0_timer_dir_q_d;

@@ -18,9 +18,12 @@ module quadrature_core(clock, reset, a, b, count);
     localparam decoder_mode_pulse_dir = 3'b11;
     localparam decoder_mode_cw_ccw = 3'b100;
     localparam counter_lo_mask = 32'h3fff;
-    localparam counter_lo_upper_mask = 32'h3ffe;
+    localparam counter_base_mask = 32'h3;
+    localparam counter_base_max_minus_one = 32'h2;
+    localparam counter_mid_mask = 32'h3ffc;
     localparam counter_hi_mask = 32'h3fff;
     localparam counter_lo_bits = 5'b1110;
+    localparam counter_shift1 = 5'b1;
     localparam counter_one = 32'h1;
 
     reg sync1_a_d;
@@ -75,13 +78,18 @@ module quadrature_core(clock, reset, a, b, count);
     reg counter_lo_max_q = 1'h0;
     reg counter_lo_nonzero_d;
     reg counter_lo_nonzero_q = 1'h0;
+    reg counter_mid_ones_d;
+    reg counter_mid_ones_q = 1'h0;
+    reg counter_mid_zero_d;
+    reg counter_mid_zero_q = 1'h0;
     reg [31:0] counter_load_hi;
-    reg counter_lo_ones_above;
-    reg counter_lo_zeros_above;
+    reg [31:0] counter_base;
+    reg [31:0] counter_mid_source;
     reg [31:0] counter_lo_step;
     reg [31:0] counter_hi_step;
     reg [31:0] counter_lo_carry_in;
-    reg [31:0] counter_hi_carry_in;
+    reg [31:0] counter_hi_a;
+    reg [31:0] counter_hi_b;
     reg [31:0] counter_load_lo;
 
     assign count = counter_count;
@@ -170,19 +178,16 @@ module quadrature_core(clock, reset, a, b, count);
         counter_hi_d = counter_hi_q;
         counter_lo_max_d = counter_lo_max_q;
         counter_lo_nonzero_d = counter_lo_nonzero_q;
-        counter_lo_ones_above = (counter_lo_q & counter_lo_upper_mask) == counter_lo_upper_mask;
-        counter_lo_zeros_above = ~|(counter_lo_q & counter_lo_upper_mask);
+        counter_mid_ones_d = counter_mid_ones_q;
+        counter_mid_zero_d = counter_mid_zero_q;
+        counter_base = counter_lo_q & counter_base_mask;
         counter_load_lo = counter_load_value & counter_lo_mask;
         counter_load_hi = (counter_load_value >> counter_lo_bits) & counter_hi_mask;
         counter_lo_step = 32'h0;
         counter_hi_step = 32'h0;
         counter_lo_carry_in = 32'h0;
-        counter_hi_carry_in = 32'h0;
         if (counter_up) begin
             counter_lo_carry_in = counter_one;
-            if (counter_lo_max_q) begin
-                counter_hi_carry_in = counter_one;
-            end
         end
         if (counter_down) begin
             counter_lo_step = counter_lo_mask;
@@ -195,23 +200,35 @@ module quadrature_core(clock, reset, a, b, count);
             counter_hi_step = counter_load_hi;
         end
         counter_lo_d = (counter_lo_q + counter_lo_step + counter_lo_carry_in) & counter_lo_mask;
-        counter_hi_d = (counter_hi_q + counter_hi_step + counter_hi_carry_in) & counter_hi_mask;
+        counter_hi_a = counter_hi_q << counter_shift1;
+        counter_hi_b = counter_hi_step << counter_shift1;
+        if (counter_up) begin
+            counter_hi_a = (counter_hi_q << counter_shift1) | counter_one;
+        end
+        if (counter_lo_max_q) begin
+            counter_hi_b = (counter_hi_step << counter_shift1) | counter_one;
+        end
+        counter_hi_d = ((counter_hi_a + counter_hi_b) >> counter_shift1) & counter_hi_mask;
         if (counter_load) begin
             counter_lo_max_d = counter_load_low_is_max;
             counter_lo_nonzero_d = counter_load_low_is_nonzero;
         end
         else if (counter_up) begin
-            counter_lo_max_d = counter_lo_ones_above & ~counter_lo_q[0];
-            counter_lo_nonzero_d = ~(counter_lo_ones_above & counter_lo_q[0]);
+            counter_lo_max_d = (counter_base == counter_base_max_minus_one) & counter_mid_ones_q;
+            counter_lo_nonzero_d = ~counter_lo_max_q;
         end
         else if (counter_down) begin
-            counter_lo_max_d = counter_lo_zeros_above & ~counter_lo_q[0];
-            counter_lo_nonzero_d = ~(counter_lo_zeros_above & counter_lo_q[0]);
+            counter_lo_max_d = ~counter_lo_nonzero_q;
+            counter_lo_nonzero_d = ~((counter_base == counter_one) & counter_mid_zero_q);
+        end
+        if (counter_load) begin
+            counter_mid_source = counter_load_value & counter_mid_mask;
         end
         else begin
-            counter_lo_max_d = counter_lo_ones_above & counter_lo_q[0];
-            counter_lo_nonzero_d = ~counter_lo_zeros_above | counter_lo_q[0];
+            counter_mid_source = counter_lo_q & counter_mid_mask;
         end
+        counter_mid_ones_d = counter_mid_source == counter_mid_mask;
+        counter_mid_zero_d = ~|counter_mid_source;
         if (counter_clear) begin
             counter_lo_d = 32'h0;
             counter_hi_d = 32'h0;
@@ -235,6 +252,8 @@ module quadrature_core(clock, reset, a, b, count);
     always @(posedge clock) counter_hi_q <= counter_hi_d;
     always @(posedge clock) counter_lo_max_q <= counter_lo_max_d;
     always @(posedge clock) counter_lo_nonzero_q <= counter_lo_nonzero_d;
+    always @(posedge clock) counter_mid_ones_q <= counter_mid_ones_d;
+    always @(posedge clock) counter_mid_zero_q <= counter_mid_zero_d;
 endmodule // quadrature_core
 
 `default_nettype wire

@@ -11,8 +11,9 @@ use rust_hdl::prelude::*;
 /// width is a constructor parameter.
 ///
 /// Bus: a write takes effect at the edge where `we` is high. A read is
-/// pipelined: the edge where `re` is high registers which register is
-/// addressed, the next edge loads it into `rdata`, which then holds.
+/// pipelined: the edge where `re` is high captures the addressed register's
+/// value as it stands in that clock, the next edge loads it into `rdata`,
+/// which then holds.
 #[derive(LogicBlock)]
 pub struct CounterBank<const N: usize> {
     /// FPGA clock.
@@ -43,8 +44,9 @@ pub struct CounterBank<const N: usize> {
     preset_low_is_max: DFF<Bit>,
     preset_low_is_nonzero: DFF<Bit>,
     read_pending: DFF<Bit>,
-    read_info: DFF<Bit>,
-    read_preset: DFF<Bit>,
+    // Read stage 1 for the bank's own registers, like each channel's.
+    read_sel: DFF<Bit>,
+    read_word: DFF<Bits<32>>,
     addr_info: Constant<Bits<8>>,
     addr_snapshot: Constant<Bits<8>>,
     addr_preset: Constant<Bits<8>>,
@@ -92,8 +94,8 @@ impl<const N: usize> CounterBank<N> {
             preset_low_is_max: Default::default(),
             preset_low_is_nonzero: Default::default(),
             read_pending: Default::default(),
-            read_info: Default::default(),
-            read_preset: Default::default(),
+            read_sel: Default::default(),
+            read_word: Default::default(),
             addr_info: addr("INFO"),
             addr_snapshot: addr("SNAPSHOT"),
             addr_preset: addr("PRESET"),
@@ -125,8 +127,8 @@ impl<const N: usize> Logic for CounterBank<N> {
             preset_low_is_max,
             preset_low_is_nonzero,
             read_pending,
-            read_info,
-            read_preset
+            read_sel,
+            read_word
         );
         self.snapshot.next = self.we.val() & (self.addr.val() == self.addr_snapshot.val());
         for i in 0..N {
@@ -150,17 +152,19 @@ impl<const N: usize> Logic for CounterBank<N> {
         } else {
             self.preset_read.next = self.preset.q.val() & self.width_mask.val();
         }
-        // Reads, stage 1: registered selects (each channel has its own).
+        // Reads, stage 1: the addressed word (each channel has its own).
         self.read_pending.d.next = self.re.val();
-        self.read_info.d.next = self.re.val() & (self.addr.val() == self.addr_info.val());
-        self.read_preset.d.next = self.re.val() & (self.addr.val() == self.addr_preset.val());
-        // Stage 2: AND-OR of the selected registers into `rdata`.
-        self.read_value.next = 0.into();
-        if self.read_info.q.val() {
-            self.read_value.next = self.info.val();
+        self.read_sel.d.next = self.re.val()
+            & ((self.addr.val() == self.addr_info.val())
+                | (self.addr.val() == self.addr_preset.val()));
+        self.read_word.d.next = self.info.val();
+        if self.addr.val() == self.addr_preset.val() {
+            self.read_word.d.next = self.preset_read.val();
         }
-        if self.read_preset.q.val() {
-            self.read_value.next = self.read_value.val() | self.preset_read.val();
+        // Stage 2: AND-OR of one word per channel into `rdata`.
+        self.read_value.next = 0.into();
+        if self.read_sel.q.val() {
+            self.read_value.next = self.read_word.q.val();
         }
         for i in 0..N {
             self.read_value.next = self.read_value.val() | self.channels[i].rdata.val();
@@ -180,8 +184,7 @@ impl<const N: usize> Logic for CounterBank<N> {
             self.preset_low_is_nonzero.d.next = false;
             self.read_data.d.next = 0.into();
             self.read_pending.d.next = false;
-            self.read_info.d.next = false;
-            self.read_preset.d.next = false;
+            self.read_sel.d.next = false;
         }
         self.rdata.next = self.read_data.q.val();
     }

@@ -43,8 +43,9 @@ pub struct CounterChannel {
     pub preset_low_is_max: Signal<In, Bit>,
     /// PRESET's bits in the counter's low half are not all 0.
     pub preset_low_is_nonzero: Signal<In, Bit>,
-    /// The register of this channel addressed by the read one clock
-    /// earlier, or 0 (the bank ORs the channels and registers the result).
+    /// The register of this channel that the read one clock earlier
+    /// addressed, as it stood in that clock, or 0 (the bank ORs the
+    /// channels and registers the result).
     pub rdata: Signal<Out, Bits<32>>,
 
     filter_a: InputFilter,
@@ -53,33 +54,39 @@ pub struct CounterChannel {
     a_prev: DFF<Bit>,
     b_prev: DFF<Bit>,
     zg_prev: DFF<Bit>,
+    zg_q: DFF<Bit>,
     decoder: StepDecoder,
     counter: UpDownCounter,
     load_q: DFF<Bit>,
+    err_q: DFF<Bit>,
     index_latch_q: DFF<Bit>,
     index_clear_q: DFF<Bit>,
     index: DFF<Bits<32>>,
     err: DFF<Bit>,
     err_count: DFF<Bits<8>>,
+    // err_count == 2^E − 1, kept beside it so that the increment enable is
+    // not an 8-bit compare (not a register of the specification).
+    err_sat: DFF<Bit>,
     seen: DFF<Bit>,
     armed: DFF<Bit>,
     ctrl: DFF<Bits<32>>,
     snap_count: DFF<Bits<32>>,
     snap_index: DFF<Bits<32>>,
     snap_status: DFF<Bits<32>>,
-    // One-hot read selects, registered from the address so that the read
-    // path is only an AND-OR of registers.
-    read_ctrl: DFF<Bit>,
-    read_count: DFF<Bit>,
-    read_index: DFF<Bit>,
-    read_status: DFF<Bit>,
+    // Read stage 1: the addressed register's value, chosen by the address
+    // bits within the channel's stride, and whether the read is for this
+    // channel. So the bank's stage 2 is an AND-OR of one word per channel.
+    read_sel: DFF<Bit>,
+    read_word: DFF<Bits<32>>,
 
     // Addresses and field positions, from the register map.
     addr_ctrl: Constant<Bits<8>>,
     addr_cmd: Constant<Bits<8>>,
-    addr_count: Constant<Bits<8>>,
-    addr_index: Constant<Bits<8>>,
-    addr_status: Constant<Bits<8>>,
+    channel_page: Constant<Bits<5>>,
+    slot_ctrl: Constant<Bits<3>>,
+    slot_count: Constant<Bits<3>>,
+    slot_index: Constant<Bits<3>>,
+    slot_status: Constant<Bits<3>>,
     ctrl_writable: Constant<Bits<32>>,
     mode_lsb: Constant<Bits<5>>,
     reverse_bit: Constant<Bits<5>>,
@@ -106,7 +113,7 @@ pub struct CounterChannel {
     quadrature_modes: Constant<Bits<3>>,
     sign_bit: Constant<Bits<32>>,
     sign_extension: Constant<Bits<32>>,
-    err_max: Constant<Bits<8>>,
+    err_max_minus_one: Constant<Bits<8>>,
 
     // Combinational temporaries.
     level_a: Signal<Local, Bit>,
@@ -149,6 +156,12 @@ impl CounterChannel {
         let map = regmap::counter_bank(axes, width);
         let ch = map.array("CH");
         let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
+        // Read stage 1 splits the address into the channel's page (bits 7..3)
+        // and the register's slot in it (bits 2..0).
+        assert_eq!(ch.stride, 8, "read stage 1 assumes a stride of 8 words");
+        assert_eq!(ch.offset % 8, 0, "channel pages start at a multiple of 8");
+        assert_eq!(map.address_bits, 8);
+        let slot = |reg: &str| Constant::new(((ch.address(channel, reg) % 8) as u64).into());
         // `illegal` tests MODE < PULSE_DIR for "a quadrature mode".
         assert!(
             [regmap::mode::X4, regmap::mode::X2, regmap::mode::X1]
@@ -180,29 +193,32 @@ impl CounterChannel {
             a_prev: Default::default(),
             b_prev: Default::default(),
             zg_prev: Default::default(),
+            zg_q: Default::default(),
             decoder: Default::default(),
             counter: UpDownCounter::new(width),
             load_q: Default::default(),
+            err_q: Default::default(),
             index_latch_q: Default::default(),
             index_clear_q: Default::default(),
             index: Default::default(),
             err: Default::default(),
             err_count: Default::default(),
+            err_sat: Default::default(),
             seen: Default::default(),
             armed: Default::default(),
             ctrl: Default::default(),
             snap_count: Default::default(),
             snap_index: Default::default(),
             snap_status: Default::default(),
-            read_ctrl: Default::default(),
-            read_count: Default::default(),
-            read_index: Default::default(),
-            read_status: Default::default(),
+            read_sel: Default::default(),
+            read_word: Default::default(),
             addr_ctrl: addr("CTRL"),
             addr_cmd: addr("CMD"),
-            addr_count: addr("COUNT"),
-            addr_index: addr("INDEX"),
-            addr_status: addr("STATUS"),
+            channel_page: Constant::new(((ch.address(channel, "CTRL") / 8) as u64).into()),
+            slot_ctrl: slot("CTRL"),
+            slot_count: slot("COUNT"),
+            slot_index: slot("INDEX"),
+            slot_status: slot("STATUS"),
             ctrl_writable: k32(ch.register("CTRL").writable_mask()),
             mode_lsb: bit_of(&map, "CTRL", "MODE"),
             reverse_bit: bit_of(&map, "CTRL", "REVERSE"),
@@ -228,7 +244,7 @@ impl CounterChannel {
             quadrature_modes: Constant::new((regmap::mode::PULSE_DIR as u64).into()),
             sign_bit: k32(sign_bit),
             sign_extension: k32(!width_mask),
-            err_max: Constant::new((((1u32 << err_bits) - 1) as u64).into()),
+            err_max_minus_one: Constant::new((((1u32 << err_bits) - 2) as u64).into()),
             level_a: Default::default(),
             level_b: Default::default(),
             level_z: Default::default(),
@@ -255,6 +271,8 @@ impl CounterChannel {
             a_prev: self.a_prev.q.val(),
             b_prev: self.b_prev.q.val(),
             zg_prev: self.zg_prev.q.val(),
+            zg_q: self.zg_q.q.val(),
+            err_q: self.err_q.q.val(),
             up_q: self.decoder.up_q.val(),
             down_q: self.decoder.down_q.val(),
             count: self.counter.value(),
@@ -273,10 +291,16 @@ impl CounterChannel {
         }
     }
 
-    /// The counter's look-ahead flags describe its low half (a contract
-    /// property the model does not see).
+    /// The counter's look-ahead flags describe its low half, the filters'
+    /// flags their counters and the error counter's saturation flag the
+    /// error counter (contract properties the model does not see).
     pub fn lookahead_consistent(&self) -> bool {
+        let err_max = self.err_max_minus_one.val().to_u32() + 1;
         self.counter.lookahead_consistent()
+            && self.filter_a.consistent()
+            && self.filter_b.consistent()
+            && self.filter_z.consistent()
+            && self.err_sat.q.val() == (self.err_count.q.val().to_u32() == err_max)
     }
 }
 
@@ -289,22 +313,23 @@ impl Logic for CounterChannel {
             a_prev,
             b_prev,
             zg_prev,
+            zg_q,
             load_q,
+            err_q,
             index_latch_q,
             index_clear_q,
             index,
             err,
             err_count,
+            err_sat,
             seen,
             armed,
             ctrl,
             snap_count,
             snap_index,
             snap_status,
-            read_ctrl,
-            read_count,
-            read_index,
-            read_status
+            read_sel,
+            read_word
         );
         // Input conditioning.
         self.filter_a.clock.next = self.clock.val();
@@ -365,7 +390,7 @@ impl Logic for CounterChannel {
             ^ self.ctrl.q.val().get_bit(self.idx_invert_bit.val().index()))
             & (!self.ctrl.q.val().get_bit(self.idx_gate_bit.val().index())
                 | (self.level_a.val() & self.level_b.val()));
-        self.index_event.next = self.zg.val() & !self.zg_prev.q.val();
+        self.index_event.next = self.zg_q.q.val() & !self.zg_prev.q.val();
         self.index_act.next = self.index_event.val()
             & (!self
                 .ctrl
@@ -400,14 +425,22 @@ impl Logic for CounterChannel {
         // Next state. Later assignments take priority.
         self.a_prev.d.next = self.level_a.val();
         self.b_prev.d.next = self.level_b.val();
-        self.zg_prev.d.next = self.zg.val();
+        self.zg_q.d.next = self.zg.val();
+        if self.reset.val() {
+            self.zg_prev.d.next = self.zg.val();
+        } else {
+            self.zg_prev.d.next = self.zg_q.q.val();
+        }
+        self.err_q.d.next =
+            self.illegal.val() & self.ctrl.q.val().get_bit(self.err_en_bit.val().index());
         if self.index_latch_q.q.val() {
             self.index.d.next = self.count_now.val();
         }
-        if self.illegal.val() & self.ctrl.q.val().get_bit(self.err_en_bit.val().index()) {
+        if self.err_q.q.val() {
             self.err.d.next = true;
-            if self.err_count.q.val() != self.err_max.val() {
+            if !self.err_sat.q.val() {
                 self.err_count.d.next = self.err_count.q.val() + 1;
+                self.err_sat.d.next = self.err_count.q.val() == self.err_max_minus_one.val();
             }
         }
         if self.index_event.val() {
@@ -433,6 +466,7 @@ impl Logic for CounterChannel {
             {
                 self.err.d.next = false;
                 self.err_count.d.next = 0.into();
+                self.err_sat.d.next = false;
                 self.seen.d.next = false;
             }
         }
@@ -467,32 +501,7 @@ impl Logic for CounterChannel {
             self.snap_status.d.next = self.status.val();
         }
 
-        // Reads, stage 1: which register the bus addressed.
-        self.read_ctrl.d.next = self.re.val() & (self.addr.val() == self.addr_ctrl.val());
-        self.read_count.d.next = self.re.val() & (self.addr.val() == self.addr_count.val());
-        self.read_index.d.next = self.re.val() & (self.addr.val() == self.addr_index.val());
-        self.read_status.d.next = self.re.val() & (self.addr.val() == self.addr_status.val());
-
-        if self.reset.val() {
-            self.index.d.next = 0.into();
-            self.err.d.next = false;
-            self.err_count.d.next = 0.into();
-            self.seen.d.next = false;
-            self.armed.d.next = false;
-            self.load_q.d.next = false;
-            self.index_latch_q.d.next = false;
-            self.index_clear_q.d.next = false;
-            self.ctrl.d.next = 0.into();
-            self.snap_count.d.next = 0.into();
-            self.snap_index.d.next = 0.into();
-            self.snap_status.d.next = 0.into();
-            self.read_ctrl.d.next = false;
-            self.read_count.d.next = false;
-            self.read_index.d.next = false;
-            self.read_status.d.next = false;
-        }
-
-        // Reads, stage 2: AND-OR of the selected register; W-bit values
+        // Reads, stage 1: the addressed register's value now; W-bit values
         // sign-extended to 32 bits.
         if (self.snap_count.q.val() & self.sign_bit.val()).any() {
             self.count_read.next = self.snap_count.q.val() | self.sign_extension.val();
@@ -504,18 +513,44 @@ impl Logic for CounterChannel {
         } else {
             self.index_read.next = self.snap_index.q.val();
         }
+        self.read_sel.d.next =
+            self.re.val() & (self.addr.val().get_bits::<5>(3) == self.channel_page.val());
+        self.read_word.d.next = 0.into();
+        if self.addr.val().get_bits::<3>(0) == self.slot_ctrl.val() {
+            self.read_word.d.next = self.ctrl.q.val();
+        }
+        if self.addr.val().get_bits::<3>(0) == self.slot_count.val() {
+            self.read_word.d.next = self.count_read.val();
+        }
+        if self.addr.val().get_bits::<3>(0) == self.slot_index.val() {
+            self.read_word.d.next = self.index_read.val();
+        }
+        if self.addr.val().get_bits::<3>(0) == self.slot_status.val() {
+            self.read_word.d.next = self.snap_status.q.val();
+        }
+
+        if self.reset.val() {
+            self.index.d.next = 0.into();
+            self.err.d.next = false;
+            self.err_count.d.next = 0.into();
+            self.err_sat.d.next = false;
+            self.seen.d.next = false;
+            self.armed.d.next = false;
+            self.load_q.d.next = false;
+            self.err_q.d.next = false;
+            self.index_latch_q.d.next = false;
+            self.index_clear_q.d.next = false;
+            self.ctrl.d.next = 0.into();
+            self.snap_count.d.next = 0.into();
+            self.snap_index.d.next = 0.into();
+            self.snap_status.d.next = 0.into();
+            self.read_sel.d.next = false;
+        }
+
+        // Reads, stage 2: the word, if the read was for this channel.
         self.rdata.next = 0.into();
-        if self.read_ctrl.q.val() {
-            self.rdata.next = self.rdata.val() | self.ctrl.q.val();
-        }
-        if self.read_count.q.val() {
-            self.rdata.next = self.rdata.val() | self.count_read.val();
-        }
-        if self.read_index.q.val() {
-            self.rdata.next = self.rdata.val() | self.index_read.val();
-        }
-        if self.read_status.q.val() {
-            self.rdata.next = self.rdata.val() | self.snap_status.q.val();
+        if self.read_sel.q.val() {
+            self.rdata.next = self.read_word.q.val();
         }
     }
 }

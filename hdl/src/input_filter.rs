@@ -6,7 +6,13 @@ use rust_hdl::prelude::*;
 /// has been seen on `setting`+1 consecutive clocks (docs/counter_bank.md,
 /// "Input conditioning"). During reset the accepted level follows the
 /// synchronised pin, so a resting input never looks like a change.
-#[derive(LogicBlock, Default)]
+///
+/// The counter counts down: it is loaded with F while the sample equals the
+/// accepted level and the change is accepted when it reaches 0, so the
+/// accept test does not read CTRL, which only feeds the counter's load
+/// value. A registered `count_nonzero` flag beside the counter makes the
+/// accept test a single LUT (not a register of the specification).
+#[derive(LogicBlock)]
 pub struct InputFilter {
     /// FPGA clock.
     pub clock: Signal<In, Clock>,
@@ -14,7 +20,8 @@ pub struct InputFilter {
     pub reset: Signal<In, Bit>,
     /// The asynchronous pin.
     pub pin: Signal<In, Bit>,
-    /// Filter setting F: a change must be seen on F+1 clocks (0 = off).
+    /// Filter setting F: a change must be seen on F+1 clocks (0 = off); read
+    /// on the clocks where the sample equals the accepted level.
     pub setting: Signal<In, Bits<4>>,
     /// The accepted level.
     pub level: Signal<Out, Bit>,
@@ -22,9 +29,34 @@ pub struct InputFilter {
     sync2: DFF<Bit>,
     accepted: DFF<Bit>,
     count: DFF<Bits<4>>,
+    count_nonzero: DFF<Bit>,
+    one: Constant<Bits<4>>,
+}
+
+impl Default for InputFilter {
+    fn default() -> Self {
+        Self {
+            clock: Default::default(),
+            reset: Default::default(),
+            pin: Default::default(),
+            setting: Default::default(),
+            level: Default::default(),
+            sync1: Default::default(),
+            sync2: Default::default(),
+            accepted: Default::default(),
+            count: Default::default(),
+            count_nonzero: Default::default(),
+            one: Constant::new(1u64.into()),
+        }
+    }
 }
 
 impl InputFilter {
+    /// Contract: the `count_nonzero` flag describes the counter.
+    pub fn consistent(&self) -> bool {
+        self.count_nonzero.q.val() == self.count.q.val().any()
+    }
+
     /// Every register, for comparison with the model.
     pub fn probe(&self) -> motionhdl_model::counter::InputFilter {
         motionhdl_model::counter::InputFilter {
@@ -39,19 +71,23 @@ impl InputFilter {
 impl Logic for InputFilter {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, sync1, sync2, accepted, count);
+        dff_setup!(self, clock, sync1, sync2, accepted, count, count_nonzero);
         self.sync1.d.next = self.pin.val();
         self.sync2.d.next = self.sync1.q.val();
         if self.reset.val() {
             self.accepted.d.next = self.sync2.q.val();
             self.count.d.next = 0.into();
+            self.count_nonzero.d.next = false;
         } else if self.sync2.q.val() == self.accepted.q.val() {
-            self.count.d.next = 0.into();
-        } else if self.count.q.val() == self.setting.val() {
+            self.count.d.next = self.setting.val();
+            self.count_nonzero.d.next = self.setting.val().any();
+        } else if !self.count_nonzero.q.val() {
             self.accepted.d.next = self.sync2.q.val();
-            self.count.d.next = 0.into();
+            self.count.d.next = self.setting.val();
+            self.count_nonzero.d.next = self.setting.val().any();
         } else {
-            self.count.d.next = self.count.q.val() + 1;
+            self.count.d.next = self.count.q.val() - 1;
+            self.count_nonzero.d.next = self.count.q.val() != self.one.val();
         }
         self.level.next = self.accepted.q.val();
     }

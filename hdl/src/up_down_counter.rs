@@ -20,6 +20,19 @@ use rust_hdl::prelude::*;
 /// (iCE40 HX8K: a 28-bit chain alone reaches 147 MHz, two 14-bit ones 180).
 /// `lo_nonzero` rather than `lo_zero` so that the all-zero power-up state is
 /// consistent even before reset.
+///
+/// The flags' next state needs "low half = max − 1" (an up step reaches
+/// max) and "low half = 1" (a down step reaches 0); the other cases are the
+/// flags themselves (up from max wraps to 0, down from 0 to max). Both
+/// compares are split: the low half's two lowest bits (the "base") are
+/// compared directly, the bits above them (the "mid" bits) through two more
+/// registered flags, `mid_ones` and `mid_zero`. Those are loaded every clock
+/// from the mid bits as they stand (from `load_value`'s mid bits on a load),
+/// so they lag the mid bits by one clock only after the base wrapped (it is
+/// then 00 or 11, never the 10 or 01 the compares look for) and after a clear
+/// (the base is then 00). So the look-ahead is a 2-bit compare and a
+/// multiplexer, not a W/2-bit reduction, and the mid flags are a bare
+/// reduction.
 #[derive(LogicBlock)]
 pub struct UpDownCounter {
     /// FPGA clock.
@@ -46,18 +59,24 @@ pub struct UpDownCounter {
     hi: DFF<Bits<32>>,
     lo_max: DFF<Bit>,
     lo_nonzero: DFF<Bit>,
+    mid_ones: DFF<Bit>,
+    mid_zero: DFF<Bit>,
     lo_mask: Constant<Bits<32>>,
-    lo_upper_mask: Constant<Bits<32>>,
+    base_mask: Constant<Bits<32>>,
+    base_max_minus_one: Constant<Bits<32>>,
+    mid_mask: Constant<Bits<32>>,
     hi_mask: Constant<Bits<32>>,
     lo_bits: Constant<Bits<5>>,
+    shift1: Constant<Bits<5>>,
     one: Constant<Bits<32>>,
     load_hi: Signal<Local, Bits<32>>,
-    lo_ones_above: Signal<Local, Bit>,
-    lo_zeros_above: Signal<Local, Bit>,
+    base: Signal<Local, Bits<32>>,
+    mid_source: Signal<Local, Bits<32>>,
     lo_step: Signal<Local, Bits<32>>,
     hi_step: Signal<Local, Bits<32>>,
     lo_carry_in: Signal<Local, Bits<32>>,
-    hi_carry_in: Signal<Local, Bits<32>>,
+    hi_a: Signal<Local, Bits<32>>,
+    hi_b: Signal<Local, Bits<32>>,
     load_lo: Signal<Local, Bits<32>>,
 }
 
@@ -86,18 +105,24 @@ impl UpDownCounter {
             hi: Default::default(),
             lo_max: Default::default(),
             lo_nonzero: Default::default(),
+            mid_ones: Default::default(),
+            mid_zero: Default::default(),
             lo_mask: k32(lo_mask),
-            lo_upper_mask: k32(lo_mask & !1),
+            base_mask: k32(Self::base_mask(width)),
+            base_max_minus_one: k32(Self::base_mask(width) - 1),
+            mid_mask: k32(Self::mid_mask(width)),
             hi_mask: k32(hi_mask),
             lo_bits: Constant::new((lo_bits as u64).into()),
+            shift1: Constant::new(1u64.into()),
             one: k32(1),
             load_hi: Default::default(),
-            lo_ones_above: Default::default(),
-            lo_zeros_above: Default::default(),
+            base: Default::default(),
+            mid_source: Default::default(),
             lo_step: Default::default(),
             hi_step: Default::default(),
             lo_carry_in: Default::default(),
-            hi_carry_in: Default::default(),
+            hi_a: Default::default(),
+            hi_b: Default::default(),
             load_lo: Default::default(),
         }
     }
@@ -107,41 +132,60 @@ impl UpDownCounter {
         (1u32 << (width / 2)) - 1
     }
 
+    /// The low half's lowest bits, compared directly by the look-ahead: two
+    /// (one when the low half has only one bit).
+    pub fn base_mask(width: u32) -> u32 {
+        Self::low_mask(width) & 3
+    }
+
+    /// The low half's bits above [`UpDownCounter::base_mask`], summarised by
+    /// the `mid_ones` / `mid_zero` flags (0 for W < 6: no such bits).
+    pub fn mid_mask(width: u32) -> u32 {
+        Self::low_mask(width) & !3
+    }
+
     /// The count as a number.
     pub fn value(&self) -> u32 {
         self.count.val().to_u32()
     }
 
-    /// The look-ahead contract: the flags describe the low half exactly.
+    /// The look-ahead contract: `lo_max` and `lo_nonzero` describe the low
+    /// half exactly; `mid_ones` and `mid_zero` describe its mid bits
+    /// whenever a step is pending (`up` or `down`) and the base is neither
+    /// 00 nor 11, the only case in which they are read.
     pub fn lookahead_consistent(&self) -> bool {
         let lo = self.lo.q.val().to_u32();
         let mask = self.lo_mask.val().to_u32();
-        self.lo_max.q.val() == (lo == mask) && self.lo_nonzero.q.val() == (lo != 0)
+        let base_mask = self.base_mask.val().to_u32();
+        let base = lo & base_mask;
+        let mid_mask = self.mid_mask.val().to_u32();
+        let mid = lo & mid_mask;
+        let mid_ok =
+            self.mid_ones.q.val() == (mid == mid_mask) && self.mid_zero.q.val() == (mid == 0);
+        let base_wrapped = base == 0 || base == base_mask;
+        let stepping = self.up.val() || self.down.val();
+        self.lo_max.q.val() == (lo == mask)
+            && self.lo_nonzero.q.val() == (lo != 0)
+            && (!stepping || base_wrapped || mid_ok)
     }
 }
 
 impl Logic for UpDownCounter {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, lo, hi, lo_max, lo_nonzero);
-        self.lo_ones_above.next =
-            (self.lo.q.val() & self.lo_upper_mask.val()) == self.lo_upper_mask.val();
-        self.lo_zeros_above.next = !(self.lo.q.val() & self.lo_upper_mask.val()).any();
+        dff_setup!(self, clock, lo, hi, lo_max, lo_nonzero, mid_ones, mid_zero);
+        self.base.next = self.lo.q.val() & self.base_mask.val();
 
         // One adder per half: half + operand + carry-in. +1 is a carry-in
         // of 1, −1 an all-ones operand, a load the value as operand: each
-        // operand bit and the carry-in are one LUT from flip-flops.
+        // operand bit is one LUT from flip-flops.
         self.load_lo.next = self.load_value.val() & self.lo_mask.val();
         self.load_hi.next = (self.load_value.val() >> self.lo_bits.val()) & self.hi_mask.val();
         self.lo_step.next = 0.into();
         self.hi_step.next = 0.into();
         self.lo_carry_in.next = 0.into();
-        self.hi_carry_in.next = 0.into();
         if self.up.val() {
             self.lo_carry_in.next = self.one.val();
-            if self.lo_max.q.val() {
-                self.hi_carry_in.next = self.one.val();
-            }
         }
         if self.down.val() {
             self.lo_step.next = self.lo_mask.val();
@@ -155,23 +199,44 @@ impl Logic for UpDownCounter {
         }
         self.lo.d.next =
             (self.lo.q.val() + self.lo_step.val() + self.lo_carry_in.val()) & self.lo_mask.val();
+        // The high half's carry-in is `up` and `lo_max`, two flip-flops: it
+        // is the carry out of an extra bottom bit that adds them, so no LUT
+        // sits in front of the chain.
+        self.hi_a.next = self.hi.q.val() << self.shift1.val();
+        self.hi_b.next = self.hi_step.val() << self.shift1.val();
+        if self.up.val() {
+            self.hi_a.next = (self.hi.q.val() << self.shift1.val()) | self.one.val();
+        }
+        if self.lo_max.q.val() {
+            self.hi_b.next = (self.hi_step.val() << self.shift1.val()) | self.one.val();
+        }
         self.hi.d.next =
-            (self.hi.q.val() + self.hi_step.val() + self.hi_carry_in.val()) & self.hi_mask.val();
+            ((self.hi_a.val() + self.hi_b.val()) >> self.shift1.val()) & self.hi_mask.val();
 
-        // Flags of the low half after this edge, from the low half now.
+        // Flags of the low half after this edge. Up from max wraps to 0 and
+        // down from 0 to max, so only "= max − 1" and "= 1" are compares,
+        // of the base and the registered mid flags.
         if self.load.val() {
             self.lo_max.d.next = self.load_low_is_max.val();
             self.lo_nonzero.d.next = self.load_low_is_nonzero.val();
         } else if self.up.val() {
-            self.lo_max.d.next = self.lo_ones_above.val() & !self.lo.q.val().get_bit(0);
-            self.lo_nonzero.d.next = !(self.lo_ones_above.val() & self.lo.q.val().get_bit(0));
+            self.lo_max.d.next =
+                (self.base.val() == self.base_max_minus_one.val()) & self.mid_ones.q.val();
+            self.lo_nonzero.d.next = !self.lo_max.q.val();
         } else if self.down.val() {
-            self.lo_max.d.next = self.lo_zeros_above.val() & !self.lo.q.val().get_bit(0);
-            self.lo_nonzero.d.next = !(self.lo_zeros_above.val() & self.lo.q.val().get_bit(0));
-        } else {
-            self.lo_max.d.next = self.lo_ones_above.val() & self.lo.q.val().get_bit(0);
-            self.lo_nonzero.d.next = !self.lo_zeros_above.val() | self.lo.q.val().get_bit(0);
+            self.lo_max.d.next = !self.lo_nonzero.q.val();
+            self.lo_nonzero.d.next = !((self.base.val() == self.one.val()) & self.mid_zero.q.val());
         }
+        // The mid flags follow the mid bits one clock behind, with no
+        // clear or enable; on a load they take `load_value`'s mid bits, which
+        // the low half holds after the edge.
+        if self.load.val() {
+            self.mid_source.next = self.load_value.val() & self.mid_mask.val();
+        } else {
+            self.mid_source.next = self.lo.q.val() & self.mid_mask.val();
+        }
+        self.mid_ones.d.next = self.mid_source.val() == self.mid_mask.val();
+        self.mid_zero.d.next = !self.mid_source.val().any();
         if self.clear.val() {
             self.lo.d.next = 0.into();
             self.hi.d.next = 0.into();

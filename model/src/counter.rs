@@ -79,7 +79,8 @@ pub struct InputFilter {
     pub s2: bool,
     /// Accepted level.
     pub level: bool,
-    /// Clocks `s2` has differed from `level` (a 4-bit register).
+    /// Clocks still to see before a change of `s2` is accepted (a 4-bit
+    /// register counting down from F).
     pub cnt: u8,
 }
 
@@ -88,9 +89,10 @@ impl InputFilter {
     const CNT_MASK: u8 = 0xf;
 
     /// One rising edge. `setting` is F; only its low 4 bits exist in
-    /// hardware. `cnt + 1` wraps in 4 bits: `cnt` can exceed a lowered F when
-    /// CTRL is rewritten mid-count, and then runs round to 0 before it can
-    /// equal F again.
+    /// hardware. `cnt` counts down: it is loaded with F on every clock where
+    /// `s2` equals `level` (and when a change is accepted), and a change is
+    /// accepted when it reaches 0. So F is taken on the last clock before a
+    /// change starts; writing CTRL during a change does not alter it.
     pub fn clock(&mut self, pin: bool, setting: u8, reset: bool) {
         let f = setting & Self::CNT_MASK;
         let before = *self;
@@ -100,12 +102,12 @@ impl InputFilter {
             self.level = before.s2;
             self.cnt = 0;
         } else if before.s2 == before.level {
-            self.cnt = 0;
-        } else if before.cnt == f {
+            self.cnt = f;
+        } else if before.cnt == 0 {
             self.level = before.s2;
-            self.cnt = 0;
+            self.cnt = f;
         } else {
-            self.cnt = before.cnt.wrapping_add(1) & Self::CNT_MASK;
+            self.cnt = before.cnt - 1;
         }
     }
 }
@@ -143,14 +145,20 @@ pub struct ChannelState {
     pub a_prev: bool,
     /// Accepted B of the previous clock.
     pub b_prev: bool,
-    /// Gated index of the previous clock.
+    /// `zg_q` of the previous clock (`zg` in reset).
     pub zg_prev: bool,
+    /// `zg` registered: the index edge detector reads it, one clock after
+    /// the levels it is computed from.
+    pub zg_q: bool,
     /// Registered up decision: the adder's input (spec "Counting").
     pub up_q: bool,
     /// Registered down decision.
     pub down_q: bool,
     /// Second edge of a LOAD pending: the adder adds PRESET instead of the step.
     pub load_q: bool,
+    /// Registered illegal transition with CTRL.ERR_EN: ERR and ERR_COUNT
+    /// latch at the next edge.
+    pub err_q: bool,
     /// Registered index action: latch the count at the next edge.
     pub index_latch_q: bool,
     /// Registered index action: clear the count at the next edge.
@@ -374,7 +382,7 @@ impl Channel {
 
         let zi = z ^ l.idx_invert.flag(s.ctrl);
         let zg = zi && (!l.idx_gate.flag(s.ctrl) || (a && b));
-        let event = zg && !s.zg_prev;
+        let event = s.zg_q && !s.zg_prev;
         let act = event && (!l.idx_oneshot.flag(s.ctrl) || s.armed);
         Decision {
             up,
@@ -409,12 +417,14 @@ impl Channel {
         // no step or index event follows reset.
         n.a_prev = s.fa.level;
         n.b_prev = s.fb.level;
-        n.zg_prev = d.zg;
+        n.zg_q = d.zg;
+        n.zg_prev = if inp.reset { d.zg } else { s.zg_q };
 
         if inp.reset {
             n.up_q = false;
             n.down_q = false;
             n.load_q = false;
+            n.err_q = false;
             n.index_latch_q = false;
             n.index_clear_q = false;
             n.count = 0;
@@ -466,11 +476,11 @@ impl Channel {
             n.index = s.count;
         }
 
-        let latch_err = d.illegal && l.err_en.flag(s.ctrl);
+        n.err_q = d.illegal && l.err_en.flag(s.ctrl);
         if clear_status {
             n.err = false;
             n.err_count = 0;
-        } else if latch_err {
+        } else if s.err_q {
             n.err = true;
             n.err_count = s.err_count.saturating_add(1).min(self.params.err_max());
         }
@@ -585,7 +595,7 @@ pub struct Bank {
     decode: Vec<Slot>,
     channels: Vec<Channel>,
     preset: u32,
-    /// The address of a read registered at the last edge (stage 1 of the
+    /// The value a read captured at the last edge (stage 1 of the
     /// two-edge read).
     read_pending: Option<u32>,
     rdata: u32,
@@ -664,8 +674,9 @@ impl Bank {
         self.decode[wrap(addr, self.map.address_bits) as usize]
     }
 
-    /// What `rdata` would load for a read of `addr` whose second edge is
-    /// the next one (0 for unmapped and write-only addresses).
+    /// What a read of `addr` with `re` high in this clock returns: the
+    /// register as it stands now, before this clock's edge (0 for unmapped
+    /// and write-only addresses).
     pub fn read_value(&self, addr: u32) -> u32 {
         match self.slot(addr) {
             Slot::Unmapped | Slot::Snapshot => 0,
@@ -695,14 +706,16 @@ impl Bank {
         } else {
             Slot::Unmapped
         };
-        // Reads take two edges: the edge with `re` registers the address,
-        // the next one loads that register's value at that time.
+        // Reads take two edges: the edge with `re` captures the addressed
+        // register's value as it stands in that clock (before this edge's
+        // write), the next one loads it into `rdata`.
         let rdata = match (reset, self.read_pending) {
             (true, _) => 0,
-            (false, Some(addr)) => self.read_value(addr),
+            (false, Some(value)) => value,
             (false, None) => self.rdata,
         };
-        self.read_pending = (!reset && bus.re).then_some(bus.addr);
+        let captured = self.read_value(bus.addr);
+        self.read_pending = (!reset && bus.re).then_some(captured);
         let preset = self.preset;
         for (i, (ch, &(a, b, z))) in self.channels.iter_mut().zip(pins).enumerate() {
             ch.clock(&ChannelInputs {
@@ -733,6 +746,10 @@ mod tests {
     /// Edges from a pin change to the count with F = 0: two synchroniser
     /// flops, the filter's accept, `up_q`, the count.
     const PIN_TO_COUNT: usize = 5;
+
+    /// Edges from a Z change to INDEX with F = 0: two synchroniser flops,
+    /// the filter's accept, `zg_q`, `index_latch_q`, the index register.
+    const PIN_TO_INDEX: usize = 6;
 
     fn ctrl_field(name: &str, value: u32) -> u32 {
         let map = regmap::counter_bank(1, 28);
@@ -814,12 +831,12 @@ mod tests {
                 self.pins.1 = b;
                 self.idle(1);
             }
-            self.idle(PIN_TO_COUNT);
+            self.idle(PIN_TO_INDEX);
         }
 
         fn z(&mut self, z: bool) {
             self.pins.2 = z;
-            self.idle(PIN_TO_COUNT);
+            self.idle(PIN_TO_INDEX);
         }
 
         fn cmd(&mut self, name: &str) {
@@ -1044,9 +1061,13 @@ mod tests {
     #[test]
     fn filter_rejects_f_clocks_and_accepts_f_plus_one() {
         for f in 0u8..=15 {
-            // Drive s2 directly: a pulse of `len` clocks at s2.
+            // Drive s2 directly: a pulse of `len` clocks at s2, from the
+            // idle state of setting F (`cnt` = F).
             let run = |len: u8| {
-                let mut flt = InputFilter::default();
+                let mut flt = InputFilter {
+                    cnt: f,
+                    ..Default::default()
+                };
                 let mut accepted = false;
                 for t in 0..(len as usize + 20) {
                     flt.s2 = t < len as usize;
@@ -1075,30 +1096,42 @@ mod tests {
                 assert!(edges < 40);
             }
             assert_eq!(edges, u32::from(f) + 3, "F = {f}");
-            assert_eq!(flt.cnt, 0);
+            assert_eq!(flt.cnt, f, "reloaded with F on acceptance");
         }
     }
 
     #[test]
-    fn filter_counter_wraps_in_four_bits_when_f_is_lowered() {
+    fn filter_takes_f_before_the_change_starts() {
+        // Idle: cnt follows F every clock.
+        let mut flt = InputFilter::default();
+        flt.clock(false, 9, false);
+        assert_eq!(flt.cnt, 9);
+        flt.clock(false, 3, false);
+        assert_eq!(flt.cnt, 3, "reloaded while s2 equals level");
+        // A change starts: F is lowered to 0 mid-count, the change still
+        // needs the 3 + 1 clocks of the F it started with.
+        flt.s2 = true;
+        flt.s1 = true;
+        for left in [2, 1, 0] {
+            flt.clock(true, 0, false);
+            assert!(!flt.level);
+            assert_eq!(flt.cnt, left);
+        }
+        flt.clock(true, 0, false);
+        assert!(flt.level, "accepted on the fourth clock");
+        assert_eq!(flt.cnt, 0, "and reloaded with the F of that clock");
+        // Raised mid-count: the change is accepted after the old F too.
         let mut flt = InputFilter {
             s1: true,
             s2: true,
             level: false,
-            cnt: 10,
+            cnt: 1,
         };
-        flt.clock(true, 3, false);
-        assert_eq!(flt.cnt, 11);
-        for _ in 0..5 {
-            flt.clock(true, 3, false);
-        }
-        assert_eq!(flt.cnt, 0, "15 + 1 wraps to 0");
-        for _ in 0..3 {
-            flt.clock(true, 3, false);
-        }
+        flt.clock(true, 15, false);
         assert!(!flt.level);
-        flt.clock(true, 3, false);
+        flt.clock(true, 15, false);
         assert!(flt.level);
+        assert_eq!(flt.cnt, 15);
     }
 
     #[test]
@@ -1171,6 +1204,7 @@ mod tests {
                 s2: true,
                 cnt: 0,
             },
+            zg_q: true,
             ..Default::default()
         });
         let z_high = ChannelInputs {
@@ -1215,6 +1249,7 @@ mod tests {
                 level: true,
                 ..Default::default()
             },
+            zg_q: true,
             ..Default::default()
         });
         ch.clock(&ChannelInputs::default());
@@ -1269,6 +1304,7 @@ mod tests {
                 level: true,
                 ..Default::default()
             },
+            zg_q: true,
             ..Default::default()
         });
         ch.clock(&ChannelInputs {
@@ -1287,18 +1323,18 @@ mod tests {
         r.walk(&FWD[..1]); // (1,0), count 1
         r.z(true);
         assert!(!r.ch.state().seen, "gated off at (1,0)");
-        // (1,1): the gate opens with Z high. The step into (1,1) is decided
-        // in the same clock as the event and is still in `up_q`, so the
-        // latch holds the count before it.
+        // (1,1): the gate opens with Z high. The event is detected one
+        // clock after the levels open the gate (`zg_q`), when the step into
+        // (1,1) has reached the count, so the latch holds it.
         r.walk(&FWD[1..2]);
         assert!(r.ch.state().seen);
         assert_eq!(r.count(), 2);
-        assert_eq!(r.ch.state().index, 1);
+        assert_eq!(r.ch.state().index, 2);
         r.walk(&FWD[2..]); // gate closes, count 4
-        r.walk(&FWD); // reopens at (1,1) from count 5
+        r.walk(&FWD); // reopens at (1,1), count 6
         assert_eq!(
             r.ch.state().index,
-            5,
+            6,
             "reopening with Z still high is a new event"
         );
     }
@@ -1536,8 +1572,8 @@ mod tests {
         let (preset, info) = (r.reg("PRESET"), r.reg("INFO"));
         r.write(preset, 42);
         assert_eq!(r.bank.rdata(), 0);
-        // Read and write in the same clock: the write lands at the first
-        // edge, the value is taken at the second, so the read sees it.
+        // Read and write in the same clock: the read takes the register as
+        // it stands in that clock, before the write lands at the edge.
         r.clock(
             false,
             BusCycle {
@@ -1549,6 +1585,8 @@ mod tests {
         );
         assert_eq!(r.bank.rdata(), 0, "not yet after one edge");
         // Back-to-back reads come out in order, one per clock.
+        r.clock(false, BusCycle::read(preset));
+        assert_eq!(r.bank.rdata(), 42, "PRESET before the write");
         r.clock(false, BusCycle::read(info));
         assert_eq!(r.bank.rdata(), 7);
         r.idle(1);
@@ -1641,13 +1679,14 @@ mod tests {
         // Pin changes 1..=21 were applied before edges 1..=21 (channel 2 on
         // the odd ones); a change reaches the count at its fifth edge, so the
         // 20 edges before the snapshot counted changes 1..=16: 16, -16, 8.
-        // The index event comes with the tenth change, while the ninth step
-        // is in `up_q`: INDEX = 9, -9; channel 2's tenth change (edge 19)
-        // latches only after the snapshot edge.
+        // The index event is detected one clock after the tenth change is
+        // accepted (`zg_q`), when the tenth step is in the count: INDEX =
+        // 10, -10; channel 2's tenth change (edge 19) latches only after the
+        // snapshot edge.
         let counts: Vec<i32> = expect.iter().map(|e| e[0] as i32).collect();
         let indexes: Vec<i32> = expect.iter().map(|e| e[1] as i32).collect();
         assert_eq!(counts, vec![16, -16, 8]);
-        assert_eq!(indexes, vec![9, -9, 0]);
+        assert_eq!(indexes, vec![10, -10, 0]);
         // Keep counting and read in scrambled order: nothing changes.
         for round in 0..3u32 {
             for k in 0..9u32 {
@@ -1771,6 +1810,8 @@ mod tests {
                 b_prev: false,
                 // zg with the pre-edge CTRL: z = 1 inverted.
                 zg_prev: false,
+                zg_q: false,
+                err_q: false,
                 ..Default::default()
             }
         );

@@ -176,6 +176,8 @@ pub struct Core {
     pub a_prev: bool,
     pub b_prev: bool,
     pub zg_prev: bool,
+    pub zg_q: bool,
+    pub err_q: bool,
     pub up_q: bool,
     pub down_q: bool,
     pub load_q: bool,
@@ -195,6 +197,8 @@ impl Core {
             a_prev: s.a_prev,
             b_prev: s.b_prev,
             zg_prev: s.zg_prev,
+            zg_q: s.zg_q,
+            err_q: s.err_q,
             up_q: s.up_q,
             down_q: s.down_q,
             load_q: s.load_q,
@@ -263,6 +267,8 @@ pub fn core_exhaustive(
         s.a_prev = c.a_prev;
         s.b_prev = c.b_prev;
         s.zg_prev = c.zg_prev;
+        s.zg_q = c.zg_q;
+        s.err_q = c.err_q;
         s.up_q = c.up_q;
         s.down_q = c.down_q;
         s.load_q = c.load_q;
