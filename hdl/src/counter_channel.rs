@@ -294,7 +294,7 @@ impl CounterChannel {
     /// The counter's look-ahead flags describe its low half, the filters'
     /// flags their counters and the error counter's saturation flag the
     /// error counter (contract properties the model does not see).
-    pub fn lookahead_consistent(&self) -> bool {
+    pub fn flags_consistent(&self) -> bool {
         let err_max = self.err_max_minus_one.val().to_u32() + 1;
         self.counter.lookahead_consistent()
             && self.filter_a.consistent()

@@ -714,8 +714,7 @@ impl Bank {
             (false, Some(value)) => value,
             (false, None) => self.rdata,
         };
-        let captured = self.read_value(bus.addr);
-        self.read_pending = (!reset && bus.re).then_some(captured);
+        self.read_pending = (!reset && bus.re).then(|| self.read_value(bus.addr));
         let preset = self.preset;
         for (i, (ch, &(a, b, z))) in self.channels.iter_mut().zip(pins).enumerate() {
             ch.clock(&ChannelInputs {

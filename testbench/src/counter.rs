@@ -84,9 +84,9 @@ impl<const N: usize> BankPair<N> {
                     self.cycles
                 ));
             }
-            if !self.hdl.channel(i).lookahead_consistent() {
+            if !self.hdl.channel(i).flags_consistent() {
                 return Err(format!(
-                    "cycle {}: channel {i}: counter look-ahead flags do not match its low half",
+                    "cycle {}: channel {i}: a derived flag (counter look-ahead, filter count, error saturation) does not match what it summarises",
                     self.cycles
                 ));
             }
