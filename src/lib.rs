@@ -6,6 +6,7 @@ pub mod board;
 pub mod config_file;
 pub mod constraints;
 pub mod fusesoc;
+pub mod interrupt;
 pub mod isa_header;
 pub mod output;
 pub mod regmap_export;

@@ -2,6 +2,7 @@
 //! and verify the HDL against the bit-accurate model.
 
 use clap::{Parser, Subcommand};
+use motionhdl::output::generated_dir;
 use motionhdl::{artifacts, config_file, output, verify, CliError};
 use motionhdl_testbench::scenarios;
 use std::path::PathBuf;
@@ -23,19 +24,32 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Write every generated file: Verilog, VCD traces and C headers.
+    /// Write every generated file: Verilog (blocks, top, board wrapper), VCD
+    /// traces with GTKWave save files, C headers and their self-test, the
+    /// Rust register module, SVD, JSON and Markdown register maps, pin and
+    /// timing constraints, a FuseSoC core, and MANIFEST.sha256.
     ///
-    /// The output directory is replaced as a whole, and only once every file
-    /// has been produced: on any error nothing is written. Without --config
-    /// the built-in default is used (4 axes, 28-bit counters, 50 MHz clock).
+    /// The output directory is replaced as a whole, in one atomic swap, and
+    /// only once every file has been produced: on any error nothing is
+    /// written. It is replaced only while it holds a previous motionhdl
+    /// output and nothing else (see MANIFEST.sha256); the current, home and
+    /// root directories, a repository root and the configuration file's
+    /// directory are refused. Without --config the built-in default is used
+    /// (4 axes, 28-bit counters, 50 MHz clock).
     Generate {
-        /// Output directory; its previous contents are replaced.
+        /// Output directory: new, empty, or a previous motionhdl output.
         #[arg(long, default_value = "generated")]
         out: PathBuf,
         /// Configuration file (TOML): axes (1..=16), counter_width (8..=32),
-        /// clock_hz (1000000..=400000000). Missing keys keep their defaults.
+        /// clock_hz (1000000..=400000000), isa_ram ("internal" or
+        /// "external"). Missing keys keep their defaults.
         #[arg(long)]
         config: Option<PathBuf>,
+        /// Write even though the directory holds files motionhdl did not
+        /// write, or edited ones: motionhdl's own files are replaced, every
+        /// other file is kept as it is; refused where one is in the way.
+        #[arg(long)]
+        force: bool,
     },
     /// Run the exhaustive model-vs-HDL checks and print covered/expected per check.
     ///
@@ -62,7 +76,8 @@ enum Command {
         /// Clock cycles per engine. Counter bank: the model runs 10×, the
         /// rust-hdl block and Icarus 1/10, Verilator 10×. Top: the model and
         /// Verilator 5×, the rust-hdl top 1/20, Icarus 1/100.
-        #[arg(long, default_value_t = 1_000_000)]
+        #[arg(long, default_value_t = 1_000_000,
+              value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
         cycles: u64,
     },
     /// Synthesise, place and route the board-level top with yosys and nextpnr.
@@ -80,8 +95,9 @@ enum Command {
         /// Configuration file (TOML), as for `generate`.
         #[arg(long)]
         config: Option<PathBuf>,
-        /// nextpnr placement seed.
-        #[arg(long, default_value_t = 1)]
+        /// nextpnr placement seed (0..=2147483647, nextpnr's int).
+        #[arg(long, default_value_t = 1,
+              value_parser = clap::value_parser!(u64).range(0..=i32::MAX as u64))]
         seed: u64,
         /// Every block alone (no pins) and then the board top: one table row each.
         #[arg(long)]
@@ -96,11 +112,15 @@ enum Command {
         /// Scenario name (see the list below).
         name: String,
         /// Output VCD file; a GTKWave save file (.gtkw) is written beside it.
+        /// An existing file is replaced only if motionhdl wrote it.
         #[arg(long)]
         out: PathBuf,
         /// Configuration file (TOML), as for `generate`; sets the clock period.
         #[arg(long)]
         config: Option<PathBuf>,
+        /// Replace the trace or save file even if motionhdl did not write it.
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -114,21 +134,30 @@ fn scenario_help() -> String {
 
 fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Generate { out, config } => {
+        Command::Generate { out, config, force } => {
+            let options = generated_dir::Options {
+                force,
+                config: config.as_deref(),
+            };
             let config = config_file::load(config.as_deref())?;
+            // Refused before the work, so a wrong --out costs no time.
+            generated_dir::check(&out, options)?;
             let files: Vec<(PathBuf, Vec<u8>)> = artifacts::all(&config)
                 .into_iter()
                 .map(|a| (a.path, a.contents))
                 .collect();
-            output::replace_dir(&out, &files)
-                .map_err(|e| CliError::failure(format!("cannot write {}: {e}", out.display())))?;
+            let written = generated_dir::replace(&out, &files, options)?;
             println!(
-                "wrote {} files to {} ({} axes, {}-bit counters, {} Hz)",
-                files.len(),
+                "wrote {} files to {} ({} axes, {}-bit counters, {} Hz){}",
+                files.len() + 1,
                 out.display(),
                 config.axes(),
                 config.counter_width(),
-                config.clock_hz()
+                config.clock_hz(),
+                match written.kept {
+                    0 => String::new(),
+                    n => format!("; kept {n} file(s) motionhdl did not write"),
+                }
             );
             Ok(())
         }
@@ -294,7 +323,12 @@ fn run(cli: Cli) -> Result<(), CliError> {
             print!("{}", synth::describe(&r, target));
             Ok(())
         }
-        Command::Trace { name, out, config } => {
+        Command::Trace {
+            name,
+            out,
+            config,
+            force,
+        } => {
             let config = config_file::load(config.as_deref())?;
             let scenario = scenarios::find(&name).ok_or_else(|| {
                 CliError::input(format!(
@@ -302,21 +336,21 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     scenarios::names().join(", ")
                 ))
             })?;
-            let trace = scenario.trace(&config);
             // The GTKWave save file beside the trace, naming it relatively.
             let gtkw = out.with_extension("gtkw");
+            output::check_files(&[&out, &gtkw], force)?;
+            let trace = scenario.trace(&config);
             let vcd_name = out
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            for (path, text) in [
-                (&out, trace.to_vcd_string()),
-                (&gtkw, trace.to_gtkw(&vcd_name)),
-            ] {
-                output::write_file(path, text.as_bytes()).map_err(|e| {
-                    CliError::failure(format!("cannot write {}: {e}", path.display()))
-                })?;
-            }
+            output::write_files(
+                &[
+                    (out.clone(), trace.to_vcd_string().into_bytes()),
+                    (gtkw.clone(), trace.to_gtkw(&vcd_name).into_bytes()),
+                ],
+                force,
+            )?;
             println!(
                 "wrote {} and {} ({})",
                 out.display(),

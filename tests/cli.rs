@@ -32,22 +32,32 @@ fn files_under(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
+/// What `generate` writes for the default configuration: the artifacts
+/// and their manifest.
+fn generated_files() -> Vec<(PathBuf, Vec<u8>)> {
+    let files: Vec<(PathBuf, Vec<u8>)> = motionhdl::artifacts::all(&Default::default())
+        .into_iter()
+        .map(|a| (a.path, a.contents))
+        .collect();
+    motionhdl::output::manifest::with_manifest(&files)
+}
+
 #[test]
 fn generate_writes_exactly_the_artifacts() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("gen");
     let o = motionhdl(&["generate", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let want = motionhdl::artifacts::all(&Default::default());
-    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.path.clone()).collect();
+    let want = generated_files();
+    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.0.clone()).collect();
     want_paths.sort();
     assert_eq!(files_under(&out), want_paths);
-    for a in &want {
+    for (path, contents) in &want {
         assert_eq!(
-            fs::read(out.join(&a.path)).unwrap(),
-            a.contents,
+            &fs::read(out.join(path)).unwrap(),
+            contents,
             "{}",
-            a.path.display()
+            path.display()
         );
     }
     // Nothing left beside it.
@@ -57,20 +67,20 @@ fn generate_writes_exactly_the_artifacts() {
 #[test]
 fn committed_generated_dir_is_fresh() {
     let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated");
-    let want = motionhdl::artifacts::all(&Default::default());
-    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.path.clone()).collect();
+    let want = generated_files();
+    let mut want_paths: Vec<PathBuf> = want.iter().map(|a| a.0.clone()).collect();
     want_paths.sort();
     assert_eq!(
         files_under(&committed),
         want_paths,
         "generated/ has other files than `motionhdl generate` writes: run it and commit"
     );
-    for a in &want {
-        let got = fs::read(committed.join(&a.path)).unwrap();
+    for (path, contents) in &want {
+        let got = fs::read(committed.join(path)).unwrap();
         assert!(
-            got == a.contents,
+            got == *contents,
             "generated/{} differs from a fresh `motionhdl generate`: run it and commit",
-            a.path.display()
+            path.display()
         );
     }
 }

@@ -437,11 +437,7 @@ fn fusesoc_core_is_yaml_and_names_existing_generated_files() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     if stderr.contains("No module named 'yaml'") {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "python3-yaml missing: CI must install it (see .ci/install-tools)"
-        );
-        eprintln!("SKIPPED: python3 has no yaml module");
+        motionhdl_testbench::harness::skip_test("python3 has no yaml module (python3-yaml)");
         return;
     }
     assert!(out.status.success(), "not YAML: {stderr}");

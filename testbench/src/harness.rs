@@ -96,7 +96,7 @@ impl CheckReport {
                 self.block,
                 self.check
             );
-            eprintln!("SKIPPED {} / {}: {why}", self.block, self.check);
+            record_skip(&format!("{} / {}: {why}", self.block, self.check));
             return;
         }
         assert!(
@@ -135,11 +135,52 @@ pub fn tool(name: &str) -> Result<PathBuf, String> {
 pub fn require_tool(name: &str) -> Option<PathBuf> {
     match tool(name) {
         Ok(p) => Some(p),
-        Err(why) if in_ci() => panic!("{why}: CI must install it (see .ci/run)"),
         Err(why) => {
-            eprintln!("SKIPPED: {why}");
+            skip_test(&why);
             None
         }
+    }
+}
+
+/// A test that cannot run here: under CI a failure (CI installs every
+/// tool), elsewhere a skip that is recorded for the run's summary.
+pub fn skip_test(why: &str) {
+    assert!(
+        !in_ci(),
+        "{why}: CI must install it (scripts/install-tools)"
+    );
+    record_skip(why);
+}
+
+/// Where skips are recorded: `MOTIONHDL_SKIP_LOG`, which `scripts/test`
+/// sets and prints at the end of the run (cargo's capture hides a
+/// test's own output).
+pub const SKIP_LOG_VAR: &str = "MOTIONHDL_SKIP_LOG";
+
+/// Prints a skip and appends it, with the test's name, to the skip log.
+pub fn record_skip(what: &str) {
+    eprintln!("SKIPPED: {what}");
+    if let Some(log) = std::env::var_os(SKIP_LOG_VAR) {
+        append_skip(std::path::Path::new(&log), what);
+    }
+}
+
+/// Appends one line `TEST: WHAT` to `log` (one write, so that tests
+/// running in parallel do not interleave within a line).
+pub fn append_skip(log: &std::path::Path, what: &str) {
+    use std::io::Write;
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("a test")
+        .to_string();
+    let line = format!("{test}: {}\n", what.replace('\n', " "));
+    let appended = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(log)
+        .and_then(|mut f| f.write_all(line.as_bytes()));
+    if let Err(e) = appended {
+        eprintln!("cannot record the skip in {}: {e}", log.display());
     }
 }
 
@@ -163,5 +204,25 @@ pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
         x ^= x >> 7;
         x ^= x << 17;
         x
+    }
+}
+
+#[cfg(test)]
+mod skip_log_tests {
+    use super::append_skip;
+
+    #[test]
+    fn a_skip_is_appended_with_the_test_name_on_one_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("skipped.txt");
+        append_skip(&log, "`iverilog` not found on PATH");
+        append_skip(&log, "two\nlines");
+        let text = std::fs::read_to_string(&log).unwrap();
+        let me = std::thread::current().name().unwrap().to_string();
+        assert!(me.ends_with("a_skip_is_appended_with_the_test_name_on_one_line"));
+        assert_eq!(
+            text,
+            format!("{me}: `iverilog` not found on PATH\n{me}: two lines\n")
+        );
     }
 }
