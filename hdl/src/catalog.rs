@@ -5,7 +5,7 @@ use crate::{
     MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
     PulseModeSelectorRegistered, QuadratureCore,
 };
-use motionhdl_model::{Config, IsaRam};
+use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::Block;
 
 /// One exported module.

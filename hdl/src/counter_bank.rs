@@ -2,8 +2,8 @@
 
 use crate::counter_channel::CounterChannel;
 use crate::up_down_counter::UpDownCounter;
-use motionhdl_model::counter::CounterParams;
-use motionhdl_model::regmap::{self, ERR_COUNT_BITS};
+use motionhdl_spec::bus::CounterParams;
+use motionhdl_spec::regmap::{self, ERR_COUNT_BITS};
 use rust_hdl::prelude::*;
 
 /// N counter channels behind one synchronous register bus

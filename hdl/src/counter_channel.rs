@@ -2,11 +2,11 @@
 //! error detection, snapshot registers and the channel's register decode.
 
 use crate::input_filter::InputFilter;
+use crate::probe::ChannelRegisters;
 use crate::step_decoder::StepDecoder;
 use crate::up_down_counter::UpDownCounter;
-use motionhdl_model::counter::ChannelState;
-use motionhdl_model::counter::CounterParams;
-use motionhdl_model::regmap::{self, Block};
+use motionhdl_spec::bus::CounterParams;
+use motionhdl_spec::regmap::{self, Block};
 use rust_hdl::prelude::*;
 
 /// One counter channel (docs/counter_bank.md). Counts quadrature ×4/×2/×1,
@@ -263,8 +263,8 @@ impl CounterChannel {
     }
 
     /// Every register, for comparison with the model every clock.
-    pub fn probe(&self) -> ChannelState {
-        ChannelState {
+    pub fn probe(&self) -> ChannelRegisters {
+        ChannelRegisters {
             fa: self.filter_a.probe(),
             fb: self.filter_b.probe(),
             fz: self.filter_z.probe(),

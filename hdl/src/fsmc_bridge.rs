@@ -2,7 +2,7 @@
 //! mode 1, 16-bit, non-multiplexed, into a 32-bit register port and a
 //! 16-bit RAM port.
 
-use motionhdl_model::fsmc_bridge::{read_source, ADDRESS_BITS, RAM_WINDOW_BIT};
+use motionhdl_spec::fsmc::{read_source, ADDRESS_BITS, RAM_WINDOW_BIT};
 use rust_hdl::prelude::*;
 
 /// FSMC cycles to register-port and RAM-port transactions.

@@ -2,8 +2,8 @@
 //! tell firmware which gateware it talks to. Values come from the register
 //! map (`regmap::id_block`), so the header and the gateware cannot disagree.
 
-use motionhdl_model::regmap;
-use motionhdl_model::Config;
+use motionhdl_spec::regmap;
+use motionhdl_spec::Config;
 use rust_hdl::prelude::*;
 
 /// Word addresses the block decodes (`regmap::id_block` fits in them).

@@ -58,8 +58,8 @@ impl InputFilter {
     }
 
     /// Every register, for comparison with the model.
-    pub fn probe(&self) -> motionhdl_model::counter::InputFilter {
-        motionhdl_model::counter::InputFilter {
+    pub fn probe(&self) -> crate::probe::FilterRegisters {
+        crate::probe::FilterRegisters {
             s1: self.sync1.q.val(),
             s2: self.sync2.q.val(),
             level: self.accepted.q.val(),

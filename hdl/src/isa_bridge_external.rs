@@ -2,7 +2,7 @@
 //! (docs/isa_bridge.md, "External RAM").
 
 use crate::isa_bus_core::IsaBusCore;
-use motionhdl_model::isa_bridge::{sram_state, SRAM_READ_SETTLE_CLOCKS};
+use motionhdl_spec::isa::{sram_state, SRAM_READ_SETTLE_CLOCKS};
 use rust_hdl::prelude::*;
 
 /// ISA bus ↔ an external 1 K × 16 dual-port SRAM (IDT7025-style; the DSP

@@ -3,7 +3,7 @@
 //! the PC write queue and the read prefetch.
 
 use crate::ls688::Ls688;
-use motionhdl_model::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
+use motionhdl_spec::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
 use rust_hdl::prelude::*;
 
 /// Everything of the ISA bridge but the RAM: a 74LS688 compares SA9..SA2

@@ -2,8 +2,8 @@
 //! the identity block and the counter bank (docs/motion_controller.md).
 
 use crate::{CounterBank, FsmcBridge, IdBlock, PulseBank};
-use motionhdl_model::regmap;
-use motionhdl_model::Config;
+use motionhdl_spec::regmap;
+use motionhdl_spec::Config;
 use rust_hdl::prelude::*;
 
 /// `N` axes of encoder input behind the MCU's register bus, and the RAM

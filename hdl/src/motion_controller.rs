@@ -4,7 +4,7 @@
 //! external dual-port SRAM.
 
 use crate::{IsaBridge, IsaBridgeExternal, McuSide};
-use motionhdl_model::{Config, IsaRam};
+use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
 /// `N` axes, the MCU's register bus ([`McuSide`]) and the PC's ISA bridge

@@ -2,7 +2,7 @@
 //! (steps, start rate, rate increment per clock) and the running segment,
 //! which sets the NCO's rate (docs/pulse_generator.md).
 
-use motionhdl_model::pulse_generator::SEGMENT_FIFO_DEPTH;
+use motionhdl_spec::pulse::SEGMENT_FIFO_DEPTH;
 use rust_hdl::prelude::*;
 
 const DEPTH: usize = SEGMENT_FIFO_DEPTH;

@@ -2,8 +2,8 @@
 //! pulse-mode selector (docs/pulse_generator.md).
 
 use crate::{MoveEngine, PulseGenerator, PulseModeSelectorRegistered};
-use motionhdl_model::counter::CounterParams;
-use motionhdl_model::regmap;
+use motionhdl_spec::bus::CounterParams;
+use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
 /// The pulse generators of `N` axes and their registers

@@ -2,7 +2,7 @@
 //! (docs/pulse_generator.md). S1/S2 feed the pulse-mode selector.
 
 use crate::step_timer::StepTimer;
-use motionhdl_model::pulse_generator::{PENDING_BITS, TIMER_BITS};
+use motionhdl_spec::pulse::{PENDING_BITS, TIMER_BITS};
 use rust_hdl::prelude::*;
 
 const P: usize = PENDING_BITS as usize;
@@ -112,7 +112,7 @@ impl PulseGenerator {
     }
 
     /// Every register, for comparison with the model.
-    pub fn probe(&self) -> (u32, u32, motionhdl_model::pulse_generator::StepTimerState) {
+    pub fn probe(&self) -> (u32, u32, crate::probe::StepTimerRegisters) {
         (
             self.phase.q.val().index() as u32,
             self.position_q.q.val().index() as u32,

@@ -3,7 +3,7 @@
 
 use crate::step_decoder::StepDecoder;
 use crate::up_down_counter::UpDownCounter;
-use motionhdl_model::regmap;
+use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
 /// Two-flop synchronisers, ×4 quadrature decoding and a `width`-bit

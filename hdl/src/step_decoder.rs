@@ -1,7 +1,7 @@
 //! Registered step decision of a counter channel: quadrature ×4/×2/×1, pulse+direction
 //! or CW/CCW, from the previous and current accepted levels of A and B.
 
-use motionhdl_model::regmap;
+use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
 /// The up/down decision for one accepted sample (docs/counter_bank.md,

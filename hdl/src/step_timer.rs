@@ -109,14 +109,14 @@ impl<const P: usize, const T: usize> StepTimer<P, T> {
     }
 
     /// Every register, for comparison with the model.
-    pub fn probe(&self) -> motionhdl_model::pulse_generator::StepTimerState {
+    pub fn probe(&self) -> crate::probe::StepTimerRegisters {
         let p = self.pending_q.q.val().index() as i64;
         let pending = if (p >> (P - 1)) & 1 == 1 {
             p - (1i64 << P)
         } else {
             p
         };
-        motionhdl_model::pulse_generator::StepTimerState {
+        crate::probe::StepTimerRegisters {
             pending: pending as i32,
             step: self.step_q.q.val(),
             dir: self.dir_q.q.val(),

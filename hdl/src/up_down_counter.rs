@@ -1,7 +1,7 @@
 //! W-bit up/down counter split into two carry chains with a registered
 //! look-ahead, so the longest carry path is W/2 bits instead of W.
 
-use motionhdl_model::counter::CounterParams;
+use motionhdl_spec::bus::CounterParams;
 use rust_hdl::prelude::*;
 
 /// `count <= 0 if clear, count + load_value if load, (count ± step) mod 2^W

@@ -4,36 +4,10 @@
 //! the gateware ([`IsaBridgeModel`]: one FPGA clock edge at a time).
 
 use crate::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
-
-/// Register numbers, selected by SA1..SA0 (from the register map).
-pub mod reg {
-    pub const DATA: u16 = 0;
-    pub const ADDR_CLEAR: u16 = 1;
-    pub const ADDR_INC: u16 = 2;
-    pub const STATUS: u16 = 3;
-}
-
-/// STATUS bits.
-pub mod status {
-    pub const ADDR_MASK: u16 = 0x03ff;
-    pub const AUTO_INC: u16 = 1 << 12;
-    pub const WRAPPED: u16 = 1 << 13;
-    pub const COLLISION: u16 = 1 << 14;
-}
+pub use motionhdl_spec::isa::*;
 
 const WORDS: usize = ISA_RAM_WORDS as usize;
 const ADDR_MASK: u16 = (1 << ISA_ADDR_BITS) - 1;
-
-/// The card answers at `port` when SA9..SA2 equal the base switches and AEN
-/// is low: what the 74LS688 (G̅ = AEN) decides.
-pub fn selected(port: u16, aen: bool, base: u8) -> bool {
-    !aen && ((port >> 2) & 0xff) as u8 == base
-}
-
-/// The I/O port of register `reg` on a card whose switches read `base`.
-pub fn port(base: u8, reg: u16) -> u16 {
-    (u16::from(base) << 2) | (reg & 3)
-}
 
 fn status_word(addr: u16, auto_inc: bool, wrapped: bool, collision: bool) -> u16 {
     addr | if auto_inc { status::AUTO_INC } else { 0 }
@@ -424,20 +398,6 @@ pub struct SramPins {
     pub oe_n: bool,
     pub we_n: bool,
 }
-
-/// States of the external-SRAM sequencer.
-pub mod sram_state {
-    pub const READ: u8 = 0;
-    pub const SETUP: u8 = 1;
-    pub const PULSE1: u8 = 2;
-    pub const PULSE2: u8 = 3;
-    pub const HOLD: u8 = 4;
-}
-
-/// Clocks the read address must be stable before the sampled data is
-/// taken: covers an SRAM access time of up to one clock minus the pad
-/// delays (35 ns parts at 50 MHz).
-pub const SRAM_READ_SETTLE_CLOCKS: u8 = 2;
 
 /// Cycle-accurate model of `isa_bridge` built for an external dual-port
 /// SRAM (IDT7025-style, the DSP on its other port): the bus core and the

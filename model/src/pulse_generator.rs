@@ -8,11 +8,7 @@
 use crate::counter::BusCycle;
 use crate::pulse_mode_selector::RegisteredSelector;
 use crate::regmap::{self, Block};
-
-/// Bits of the pending-step queue (two's complement) in the gateware.
-pub const PENDING_BITS: u32 = 16;
-/// Bits of the timing registers and of the timers that check them.
-pub const TIMER_BITS: u32 = 16;
+pub use motionhdl_spec::pulse::{Segment, PENDING_BITS, SEGMENT_FIFO_DEPTH, TIMER_BITS};
 
 /// Minimum times, in clocks (0 counts as 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -255,22 +251,6 @@ impl PulseGenerator {
         self.position = self.position.wrapping_add(emit as u32);
         self.timer.clock(request, &inp.timing);
     }
-}
-
-/// Segments the move FIFO holds, besides the one running: two, so the
-/// firmware refills one while the next waits (a 4-deep FIFO of 96-bit
-/// segments cost 1 540 flip-flops on 4 axes and no longer fit the HX8K).
-pub const SEGMENT_FIFO_DEPTH: usize = 2;
-
-/// One segment of a position move: the NCO starts at `rate` and adds
-/// `accel` to it on every clock it advances, until it has commanded
-/// `steps` steps (the sign of the rate is the direction; it should not
-/// change within a segment).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Segment {
-    pub steps: u32,
-    pub rate: i32,
-    pub accel: i32,
 }
 
 /// A field of the segment being written (the SEG_* registers).

@@ -2,6 +2,7 @@
 //! every register of every channel compared every clock.
 
 use crate::harness::{cycle, settle, CheckReport};
+use crate::state_map;
 use crate::tour::{explore, tour};
 use motionhdl_hdl::{CounterBank, InputFilter as HdlFilter};
 use motionhdl_model::counter::{
@@ -76,7 +77,7 @@ impl<const N: usize> BankPair<N> {
             ));
         }
         for i in 0..N {
-            let h = self.hdl.channel(i).probe();
+            let h = state_map::channel(self.hdl.channel(i).probe());
             let m = *self.model.channel(i).state();
             if h != m {
                 return Err(format!(
@@ -150,10 +151,10 @@ pub fn filter_exhaustive() -> CheckReport {
             settle(&mut hdl);
             cycle(&mut hdl, |h| &mut h.clock);
             model.clock(pin, setting, reset);
-            if hdl.probe() != model {
+            if state_map::filter(hdl.probe()) != model {
                 failures.push(format!(
                     "F={setting} step {n} pin={pin} reset={reset}: HDL {:?}, model {model:?}",
-                    hdl.probe()
+                    state_map::filter(hdl.probe())
                 ));
                 break;
             }

@@ -23,6 +23,7 @@ pub mod pulse_scenarios;
 pub mod quadrature_core;
 pub mod scenarios;
 pub mod selector;
+pub mod state_map;
 pub mod system;
 pub mod top_model;
 pub mod tour;

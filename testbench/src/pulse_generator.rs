@@ -5,6 +5,7 @@
 //! Verilator), and contract properties of the emitted waveform.
 
 use crate::harness::{cycle, settle, xorshift, CheckReport};
+use crate::state_map;
 use crate::tour;
 use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
 use motionhdl_hdl::{catalog, PulseBank, PulseGenerator, StepTimer};
@@ -109,7 +110,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
         let before = model.state();
         model.clock(request, &timing);
         cycle(&mut uut, |u| &mut u.clock);
-        let got = uut.probe();
+        let got = state_map::step_timer(uut.probe());
         let want = model.state();
         let fresh = visited.insert((at, i));
         at = g.next[at][i];
@@ -234,7 +235,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
         settle(&mut uut);
         cycle(&mut uut, |u| &mut u.clock);
         g.clock(&v.inputs, v.reset);
-        let got = uut.probe();
+        let got = state_map::generator(uut.probe());
         let want = (g.phase, g.position, g.timer.state());
         r.case((got != want).then(|| format!("clock {k} {v:?}: HDL {got:?}, model {want:?}")));
         if r.failures.len() > 5 {
@@ -528,7 +529,7 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
             .then(|| format!("rdata HDL {got_rdata:#x}, model {:#x}", model.rdata()));
         for i in 0..N {
             let f = (uut.f1.val().get_bit(i), uut.f2.val().get_bit(i));
-            let g = uut.generator(i).probe();
+            let g = state_map::generator(uut.generator(i).probe());
             let mg = model.generator(i);
             let want_g = (mg.phase, mg.position, mg.timer.state());
             let e = uut.engine(i).probe();
@@ -757,7 +758,10 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
             model.clock(clocks < 4, &bus, false);
             clocks += 1;
             let a = 1;
-            let got = (uut.engine(a).probe(), uut.generator(a).probe());
+            let got = (
+                uut.engine(a).probe(),
+                state_map::generator(uut.generator(a).probe()),
+            );
             let g = model.generator(a);
             let want = (
                 model.engine(a).probe(),

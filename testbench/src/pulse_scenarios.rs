@@ -3,6 +3,7 @@
 //! register bus, S1/S2, F1/F2 and the axis's queue and position.
 
 use crate::harness::{cycle, settle};
+use crate::state_map;
 use crate::trace::{SignalId, Trace};
 use motionhdl_hdl::{banner_ascii, PulseBank};
 use motionhdl_model::counter::BusCycle;
@@ -83,7 +84,7 @@ impl Script {
         cycle(u, |u| &mut u.clock);
         self.model.clock(reset, &bus, false);
         let g = self.model.generator(0);
-        let (phase, position, timer) = u.generator(0).probe();
+        let (phase, position, timer) = state_map::generator(u.generator(0).probe());
         assert_eq!(
             (phase, position, timer),
             (g.phase, g.position, g.timer.state()),

@@ -13,9 +13,9 @@
 use crate::fsmc_bridge::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
+use motionhdl_firmware::segments::{direction, segments, SegmentConfig};
 use motionhdl_hdl::MotionController;
 use motionhdl_model::fsmc_bridge::FsmcPins;
-use motionhdl_model::motion::segments::{direction, segments, SegmentConfig};
 use motionhdl_model::pulse_generator::{quadrature, Segment, SEGMENT_FIFO_DEPTH};
 use motionhdl_model::regmap::{self, mode, BusMap};
 use motionhdl_model::Config;
@@ -403,14 +403,14 @@ pub fn trace(config: &Config) -> Trace {
         .expect("2 axes of a valid configuration");
     let clock_hz = u32::try_from(config.clock_hz()).expect("clock_hz fits u32");
     let tick_hz = clock_hz / 500;
-    let p = motionhdl_model::motion::scurve::SCurveParams::from_physical(
+    let p = motionhdl_firmware::scurve::SCurveParams::from_physical(
         8e13,
         4e9,
         2e6,
         200,
         f64::from(tick_hz),
     );
-    let master: Vec<i64> = motionhdl_model::motion::scurve::SCurve::new(p)
+    let master: Vec<i64> = motionhdl_firmware::scurve::SCurve::new(p)
         .expect("the trace's S-curve is within range")
         .samples()
         .map(|s| s.steps())

@@ -3,7 +3,7 @@
 //! out through the pulse generators and selectors to simulated drives whose
 //! encoders the counter bank counts, read back by the firmware.
 
-use motionhdl_model::motion::scurve::{SCurve, SCurveParams};
+use motionhdl_firmware::scurve::{SCurve, SCurveParams};
 use motionhdl_model::Config;
 use motionhdl_testbench::system::{net_steps, plan_segments, System};
 

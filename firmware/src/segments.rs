@@ -1,5 +1,5 @@
 //! A profile sampled per servo tick, as segments for the FPGA pulse
-//! generator's move FIFO ([`crate::pulse_generator::Segment`]).
+//! generator's move FIFO ([`motionhdl_spec::pulse::Segment`]).
 //!
 //! The pulse generator's NCO commands steps at rate/2^32 steps per clock
 //! (|rate| <= 2^31); a segment starts the NCO at `rate`, adds `accel` on every
@@ -7,7 +7,7 @@
 //! sign of the rate is the direction. The move engine spends one clock
 //! loading each segment (the NCO stands still on it) and the NCO's phase
 //! carries over from one segment to the next. The FIFO is shallow
-//! ([`crate::pulse_generator::SEGMENT_FIFO_DEPTH`]); the firmware streams
+//! ([`motionhdl_spec::pulse::SEGMENT_FIFO_DEPTH`]); the firmware streams
 //! segments as it drains, which is why [`SegmentBuilder`] is a streaming
 //! converter with no heap.
 //!
@@ -56,8 +56,8 @@
 //! the ramp does not rise, uses a constant rate that covers the steps in the
 //! tick's clocks); [`SegmentBuilder::adjusted`] counts those segments.
 
-use super::OutOfRange;
-use crate::pulse_generator::Segment;
+use crate::OutOfRange;
+use motionhdl_spec::pulse::Segment;
 
 /// Largest |rate| the builder emits: 2^31 − 1, so that both directions are
 /// representable as a positive or negative i32 (the NCO takes up to 2^31).
@@ -392,17 +392,18 @@ impl SegmentBuilder {
 }
 
 /// All segments of a profile; `positions[0]` is the start.
+#[cfg(feature = "alloc")]
 pub fn segments(
     positions: &[i64],
     frac_bits: u32,
     cfg: SegmentConfig,
-) -> Result<Vec<Segment>, SegmentError> {
+) -> Result<alloc::vec::Vec<Segment>, SegmentError> {
     let Some((&start, rest)) = positions.split_first() else {
         SegmentBuilder::new(cfg, frac_bits, 0)?;
-        return Ok(Vec::new());
+        return Ok(alloc::vec::Vec::new());
     };
     let mut b = SegmentBuilder::new(cfg, frac_bits, start)?;
-    let mut out = Vec::new();
+    let mut out = alloc::vec::Vec::new();
     for &p in rest {
         out.extend(b.push(p)?);
     }

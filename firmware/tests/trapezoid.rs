@@ -1,11 +1,11 @@
 //! Trapezoidal moves (seed 000): the master's phase point counts and the
 //! per-tick stepper.
 
-use motionhdl_model::motion::trapezoid::{
+use motionhdl_firmware::trapezoid::{
     plan, TrapezoidParams, TrapezoidPhase, TrapezoidPlan, TrapezoidSample, TrapezoidStepper,
     MAX_ACCEL, MAX_SPEED, MAX_STEPS,
 };
-use motionhdl_model::motion::{whole_steps, OutOfRange, ONE};
+use motionhdl_firmware::{whole_steps, OutOfRange, ONE};
 use proptest::prelude::*;
 
 fn params(v0: u32, a: u32, vt: u32, d: u32, n: u32) -> TrapezoidParams {

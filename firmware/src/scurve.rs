@@ -52,7 +52,7 @@
 //! a hundred ticks, about 0.1 s for 3000 on a PC; ramps longer than
 //! [`MAX_RAMP_TICKS`] are refused.
 
-use super::{OutOfRange, ONE};
+use crate::{OutOfRange, ONE};
 
 /// Jerk range, Q32.32 steps/tick³.
 pub const JERK_RANGE: (i64, i64) = (1 << 8, 1 << 40);
@@ -516,7 +516,7 @@ pub struct SCurveSample {
 impl SCurveSample {
     /// The whole steps commanded so far (floor of the position).
     pub fn steps(&self) -> i64 {
-        super::whole_steps(self.position)
+        crate::whole_steps(self.position)
     }
 }
 

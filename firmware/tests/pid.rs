@@ -1,6 +1,6 @@
 //! Incremental PID (seed 002, section 3.2).
 
-use motionhdl_model::motion::pid::{dac_offset_binary, IncrementalPid, PidGains, Q16_ONE};
+use motionhdl_firmware::pid::{dac_offset_binary, IncrementalPid, PidGains, Q16_ONE};
 use proptest::prelude::*;
 
 fn gains(kp: f64, ti_ratio: f64, td_ratio: f64) -> PidGains {

@@ -10,7 +10,7 @@
 //! output does. The direction is not part of the profile (the seed drives
 //! S2 separately); counts are magnitudes.
 
-use super::{OutOfRange, FRAC_BITS, ONE};
+use crate::{OutOfRange, FRAC_BITS, ONE};
 
 /// Highest target speed: half a 50 MHz pulse-generator clock.
 pub const MAX_SPEED: u32 = 25_000_000;

@@ -1,5 +1,6 @@
 //! Motion algorithms of the three seed controllers: the firmware half that
-//! runs on the MCU/DSP and feeds the FPGA.
+//! runs on the MCU/DSP and feeds the FPGA. `no_std`; the `alloc` feature
+//! (on by default) adds the helpers that return a `Vec`.
 //!
 //! | module | seed | what |
 //! |---|---|---|
@@ -23,6 +24,11 @@
 //! are its floor ([`whole_steps`]). The PID uses Q16.16 gains
 //! ([`pid`]); the B-spline is `f64`, as the TMS320C32 was a floating-point
 //! DSP.
+
+#![no_std]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
 
 pub mod bspline;
 pub mod frames;

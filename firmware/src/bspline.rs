@@ -169,17 +169,19 @@ impl<const N: usize> Iterator for FineInterpolator<'_, N> {
 }
 
 /// All fine points of `coarse`, `n` per span.
-pub fn fine_points<const N: usize>(coarse: &[[f64; N]], n: u32) -> Vec<[f64; N]> {
+#[cfg(feature = "alloc")]
+pub fn fine_points<const N: usize>(coarse: &[[f64; N]], n: u32) -> alloc::vec::Vec<[f64; N]> {
     FineInterpolator::new(coarse, n).collect()
 }
 
 /// `coarse` with its first and last points repeated twice more, so that the
 /// curve starts on the first point and ends on the last: (P + 4P + P)/6 = P.
-pub fn clamped<const N: usize>(coarse: &[[f64; N]]) -> Vec<[f64; N]> {
+#[cfg(feature = "alloc")]
+pub fn clamped<const N: usize>(coarse: &[[f64; N]]) -> alloc::vec::Vec<[f64; N]> {
     let (Some(first), Some(last)) = (coarse.first(), coarse.last()) else {
-        return Vec::new();
+        return alloc::vec::Vec::new();
     };
-    let mut v = Vec::with_capacity(coarse.len() + 4);
+    let mut v = alloc::vec::Vec::with_capacity(coarse.len() + 4);
     v.extend([*first, *first]);
     v.extend_from_slice(coarse);
     v.extend([*last, *last]);

@@ -1,13 +1,13 @@
 //! Profiles as pulse-generator segments: exact step counts, rates within the
 //! NCO's range, and the clock estimate against the move engine model.
 
-use motionhdl_model::motion::scurve::{SCurve, SCurveParams};
-use motionhdl_model::motion::segments::{
+use motionhdl_firmware::scurve::{SCurve, SCurveParams};
+use motionhdl_firmware::segments::{
     direction, segment_clocks, segments, SegmentBuilder, SegmentConfig, SegmentError, SegmentRun,
     CLOCK_LIMIT, RATE_MAX,
 };
-use motionhdl_model::motion::trapezoid::{TrapezoidParams, TrapezoidStepper};
-use motionhdl_model::motion::ONE;
+use motionhdl_firmware::trapezoid::{TrapezoidParams, TrapezoidStepper};
+use motionhdl_firmware::ONE;
 use motionhdl_model::pulse_generator::{
     MoveEngine, PulseGenerator, PulseInputs, Request, Segment, StepTiming, SEGMENT_FIFO_DEPTH,
 };

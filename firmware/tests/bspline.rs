@@ -1,6 +1,6 @@
 //! Cubic uniform B-spline fine interpolation (seed 002, section 3.1).
 
-use motionhdl_model::motion::bspline::{clamped, fine_len, fine_points, FineInterpolator, Span};
+use motionhdl_firmware::bspline::{clamped, fine_len, fine_points, FineInterpolator, Span};
 use proptest::prelude::*;
 
 type P3 = [f64; 3];

@@ -1,10 +1,10 @@
 //! 7-segment S-curves (seed 004, steps 1-5).
 
-use motionhdl_model::motion::scurve::{
+use motionhdl_firmware::scurve::{
     braking_distance, Phase, SCurve, SCurveError, SCurveParams, SCurveSample, ACCEL_RANGE,
     DISTANCE_MAX, JERK_RANGE, MAX_RAMP_TICKS, VELOCITY_RANGE,
 };
-use motionhdl_model::motion::{OutOfRange, ONE};
+use motionhdl_firmware::{OutOfRange, ONE};
 use proptest::prelude::*;
 
 fn samples(p: SCurveParams) -> Vec<SCurveSample> {

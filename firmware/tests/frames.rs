@@ -1,6 +1,6 @@
 //! "Virtual memory" frames of the dual-CPU card (seed 000, tables 1 and 2).
 
-use motionhdl_model::motion::frames::{
+use motionhdl_firmware::frames::{
     crc16_modbus, decode_reply, decode_request, encode_reply, encode_request, reply_vec,
     request_vec, serve, FrameError, Function, Header, MAX_FRAME, MAX_READ_WORDS, MAX_WRITE_WORDS,
 };

@@ -622,7 +622,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
 }
 
 // The SEG_PUSH and FIFO_LEVEL descriptions above say how deep the FIFO is.
-const _: () = assert!(crate::pulse_generator::SEGMENT_FIFO_DEPTH == 2);
+const _: () = assert!(crate::pulse::SEGMENT_FIFO_DEPTH == 2);
 
 /// Words in the shared dual-port RAM behind the ISA bridge (2 KB).
 pub const ISA_RAM_WORDS: u32 = 1024;

@@ -351,16 +351,18 @@ pub fn encode_reply(buf: &mut [u8], h: &Header, data: &[u16]) -> Result<usize, F
 }
 
 /// [`encode_request`] into a new `Vec`.
-pub fn request_vec(h: &Header, data: &[u16]) -> Result<Vec<u8>, FrameError> {
-    let mut v = vec![0; h.request_len()];
+#[cfg(feature = "alloc")]
+pub fn request_vec(h: &Header, data: &[u16]) -> Result<alloc::vec::Vec<u8>, FrameError> {
+    let mut v = alloc::vec![0; h.request_len()];
     let n = encode_request(&mut v, h, data)?;
     v.truncate(n);
     Ok(v)
 }
 
 /// [`encode_reply`] into a new `Vec`.
-pub fn reply_vec(h: &Header, data: &[u16]) -> Result<Vec<u8>, FrameError> {
-    let mut v = vec![0; h.reply_len()];
+#[cfg(feature = "alloc")]
+pub fn reply_vec(h: &Header, data: &[u16]) -> Result<alloc::vec::Vec<u8>, FrameError> {
+    let mut v = alloc::vec![0; h.reply_len()];
     let n = encode_reply(&mut v, h, data)?;
     v.truncate(n);
     Ok(v)

@@ -1,0 +1,51 @@
+//! Snapshots of a block's flip-flops as plain values, for the testbench.
+//! The testbench maps them onto the model's state types
+//! (`testbench/src/state_map.rs`); the HDL knows nothing of the model.
+
+/// One input filter: synchroniser, accepted level, countdown.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FilterRegisters {
+    pub s1: bool,
+    pub s2: bool,
+    pub level: bool,
+    pub cnt: u8,
+}
+
+/// The step timer: pending queue (read as two's complement), S1, S2 and
+/// the two hold timers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepTimerRegisters {
+    pub pending: i32,
+    pub step: bool,
+    pub dir: bool,
+    pub t_step: u32,
+    pub t_dir: u32,
+}
+
+/// Every register of one counter channel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ChannelRegisters {
+    pub fa: FilterRegisters,
+    pub fb: FilterRegisters,
+    pub fz: FilterRegisters,
+    pub a_prev: bool,
+    pub b_prev: bool,
+    pub zg_prev: bool,
+    pub zg_q: bool,
+    pub err_q: bool,
+    pub up_q: bool,
+    pub down_q: bool,
+    pub count: u32,
+    pub load_q: bool,
+    pub index_latch_q: bool,
+    pub index_clear_q: bool,
+    pub index: u32,
+    pub err: bool,
+    pub err_count: u32,
+    pub seen: bool,
+    pub armed: bool,
+    pub ctrl: u32,
+    pub snap_count: u32,
+    pub snap_index: u32,
+    pub snap_status: u32,
+}

@@ -1,0 +1,61 @@
+//! The HDL's register snapshots (`motionhdl_hdl::probe`) as the model's
+//! state types, so checks compare the two twins field by field. This is
+//! the one place that knows both sides.
+
+use motionhdl_hdl::probe::{ChannelRegisters, FilterRegisters, StepTimerRegisters};
+use motionhdl_model::counter::{ChannelState, InputFilter};
+use motionhdl_model::pulse_generator::StepTimerState;
+
+pub fn filter(r: FilterRegisters) -> InputFilter {
+    InputFilter {
+        s1: r.s1,
+        s2: r.s2,
+        level: r.level,
+        cnt: r.cnt,
+    }
+}
+
+pub fn step_timer(r: StepTimerRegisters) -> StepTimerState {
+    StepTimerState {
+        pending: r.pending,
+        step: r.step,
+        dir: r.dir,
+        t_step: r.t_step,
+        t_dir: r.t_dir,
+    }
+}
+
+/// A pulse generator's (NCO phase, position, step timer).
+pub fn generator(
+    (phase, position, timer): (u32, u32, StepTimerRegisters),
+) -> (u32, u32, StepTimerState) {
+    (phase, position, step_timer(timer))
+}
+
+pub fn channel(r: ChannelRegisters) -> ChannelState {
+    ChannelState {
+        fa: filter(r.fa),
+        fb: filter(r.fb),
+        fz: filter(r.fz),
+        a_prev: r.a_prev,
+        b_prev: r.b_prev,
+        zg_prev: r.zg_prev,
+        zg_q: r.zg_q,
+        err_q: r.err_q,
+        up_q: r.up_q,
+        down_q: r.down_q,
+        count: r.count,
+        load_q: r.load_q,
+        index_latch_q: r.index_latch_q,
+        index_clear_q: r.index_clear_q,
+        index: r.index,
+        err: r.err,
+        err_count: r.err_count,
+        seen: r.seen,
+        armed: r.armed,
+        ctrl: r.ctrl,
+        snap_count: r.snap_count,
+        snap_index: r.snap_index,
+        snap_status: r.snap_status,
+    }
+}
