@@ -4,6 +4,9 @@
 //! output enables, and nextpnr accepts the iCE40 and ECP5 pins without
 //! being told to allow unconstrained I/O.
 
+mod common;
+
+use common::run;
 use motionhdl::board::{self, PinKind};
 use motionhdl::{artifacts, constraints, fusesoc};
 use motionhdl_model::Config;
@@ -188,16 +191,6 @@ fn write_sources(dir: &Path, config: &Config) -> [String; 2] {
     ]
 }
 
-fn run(cmd: &mut Command) -> (bool, String) {
-    let out = cmd.output().unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (out.status.success(), text)
-}
-
 /// Both files together lint clean. The external-RAM top on its own has
 /// Verilator UNUSEDSIGNAL warnings of its own (`mcu_ram_*`, in
 /// motion_controller.v, not this wrapper), so for that build only warnings
@@ -213,10 +206,11 @@ fn wrapper_lints_clean_in_verilator_and_icarus_for_both_builds() {
             motionhdl::config_file::parse(&format!("isa_ram = \"{isa_ram}\""), "t").unwrap();
         let dir = scratch("lint");
         let files = write_sources(dir.path(), &config);
-        let (ok, text) = run(Command::new(&verilator)
+        let (ok, out, err) = run(Command::new(&verilator)
             .current_dir(dir.path())
             .args(["--lint-only", "-Wall", "--top-module", board::MODULE])
             .args(&files));
+        let text = out + &err;
         if isa_ram == "internal" {
             assert!(
                 ok && text.trim().is_empty(),
@@ -228,10 +222,11 @@ fn wrapper_lints_clean_in_verilator_and_icarus_for_both_builds() {
                 "verilator ({isa_ram}):\n{text}"
             );
         }
-        let (ok, text) = run(Command::new(&iverilog)
+        let (ok, out, err) = run(Command::new(&iverilog)
             .current_dir(dir.path())
             .args(["-Wall", "-o", "a.out", "-s", board::MODULE])
             .args(&files));
+        let text = out + &err;
         assert!(
             ok && text.trim().is_empty(),
             "iverilog ({isa_ram}):\n{text}"
@@ -267,7 +262,7 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
     let pcf = root()
         .join("constraints")
         .join(constraints::file_name(&constraints::ICE40_HX8K, "pcf"));
-    let (ok, text) = run(Command::new(&yosys).current_dir(dir.path()).args([
+    let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
         "-q",
         "-p",
         &format!(
@@ -276,6 +271,7 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
             board::MODULE
         ),
     ]));
+    let text = out + &err;
     assert!(ok, "yosys:\n{text}");
     let netlist: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("n.json")).unwrap()).unwrap();
@@ -294,7 +290,7 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
         tbufs == tristate_bits || sb_io >= tristate_bits,
         "yosys left {tbufs} $_TBUF_ and {sb_io} SB_IO for {tristate_bits} tri-state bits"
     );
-    let (ok, text) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
+    let (ok, out, err) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
         "--hx8k",
         "--package",
         "ct256",
@@ -307,6 +303,7 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
         "packed.json",
         "-q",
     ]));
+    let text = out + &err;
     assert!(ok, "nextpnr-ice40 with {}:\n{text}", pcf.display());
     let packed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("packed.json")).unwrap())
@@ -359,7 +356,7 @@ fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
         .join("constraints")
         .join(constraints::file_name(&constraints::ECP5_25K, "lpf"));
     std::fs::copy(&lpf, dir.path().join("pins.lpf")).unwrap();
-    let (ok, text) = run(Command::new(&yosys).current_dir(dir.path()).args([
+    let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
         "-q",
         "-p",
         &format!(
@@ -368,8 +365,9 @@ fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
             board::MODULE
         ),
     ]));
+    let text = out + &err;
     assert!(ok, "yosys:\n{text}");
-    let (ok, text) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
+    let (ok, out, err) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
         "--25k",
         "--package",
         "CABGA256",
@@ -383,6 +381,7 @@ fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
         "report.json",
         "-q",
     ]));
+    let text = out + &err;
     assert!(ok, "nextpnr-ecp5 with {}:\n{text}", lpf.display());
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())

@@ -2,20 +2,14 @@
 //! Icarus, yosys synthesis, GTKWave's vcd2fst, gcc. Under CI a missing tool
 //! fails the test; elsewhere it is reported as skipped.
 
+mod common;
+
+use common::run;
 use motionhdl::artifacts;
 use motionhdl_hdl::{banner, catalog};
 use motionhdl_testbench::harness::require_tool;
 use std::fs;
 use std::process::Command;
-
-fn run(cmd: &mut Command) -> (bool, String, String) {
-    let o = cmd.output().expect("start tool");
-    (
-        o.status.success(),
-        String::from_utf8_lossy(&o.stdout).to_string(),
-        String::from_utf8_lossy(&o.stderr).to_string(),
-    )
-}
 
 #[test]
 fn every_generated_file_starts_with_the_banner() {

@@ -4,6 +4,9 @@
 //! (`IsaCard`). Under CI a missing compiler fails the test; elsewhere it is
 //! reported as skipped.
 
+mod common;
+
+use common::{c_number, defines, run};
 use motionhdl::artifacts;
 use motionhdl::isa_header::{isa_header, FILE_NAME};
 use motionhdl_hdl::banner;
@@ -45,31 +48,6 @@ fn expected() -> Vec<(String, u64)> {
         }
     }
     v
-}
-
-/// A C integer literal: decimal or 0x hex, with optional u/l suffixes.
-fn c_number(s: &str) -> Option<u64> {
-    let t = s.trim_end_matches(['u', 'U', 'l', 'L']);
-    match t.strip_prefix("0x") {
-        Some(h) => u64::from_str_radix(h, 16).ok(),
-        None => t.parse().ok(),
-    }
-}
-
-/// Every `#define` of the header: (name, or name(params) for function-like
-/// macros; the replacement text).
-fn defines(h: &str) -> Vec<(String, String)> {
-    h.lines()
-        .filter_map(|l| l.strip_prefix("#define "))
-        .map(|rest| {
-            // A function-like macro's name runs to its closing parenthesis.
-            let end = match rest.find('(') {
-                Some(i) if !rest[..i].contains(' ') => rest.find(')').unwrap() + 1,
-                _ => rest.find(' ').unwrap_or(rest.len()),
-            };
-            (rest[..end].to_string(), rest[end..].trim().to_string())
-        })
-        .collect()
 }
 
 #[test]
@@ -207,15 +185,6 @@ fn header_is_bannered_deterministic_ascii_and_short_lined() {
         "order of generated files"
     );
     assert_eq!(all[cfg + 1].contents, h.as_bytes());
-}
-
-fn run(cmd: &mut Command) -> (bool, String, String) {
-    let o = cmd.output().expect("start tool");
-    (
-        o.status.success(),
-        String::from_utf8_lossy(&o.stdout).to_string(),
-        String::from_utf8_lossy(&o.stderr).to_string(),
-    )
 }
 
 /// The C test program: an emulation of the card (IsaCard's semantics, with

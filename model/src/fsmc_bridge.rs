@@ -265,11 +265,6 @@ impl FsmcBridgeModel {
         self.hold_valid.then_some((self.hold_word, self.hold_hi))
     }
 
-    /// The low half kept for the next high-half register write.
-    pub fn write_hold(&self) -> u16 {
-        self.hold_lo
-    }
-
     /// One rising clock edge with synchronous `reset`; `reg_rdata` and
     /// `ram_rdata` are the slave's outputs at this edge.
     pub fn clock(&mut self, pins: &FsmcPins, reset: bool, reg_rdata: u32, ram_rdata: u16) {

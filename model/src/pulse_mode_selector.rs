@@ -24,13 +24,6 @@ impl PulseMode {
     pub fn k(self) -> bool {
         self == PulseMode::CwCcw
     }
-    pub fn from_k(k: bool) -> Self {
-        if k {
-            PulseMode::CwCcw
-        } else {
-            PulseMode::PulseDirection
-        }
-    }
 }
 
 /// One row of the truth table.

@@ -1,13 +1,16 @@
 //! `regmap.json`: the register map, machine-readable, with absolute byte
-//! offsets (from the window base). Keys come in a fixed order; the first is
-//! `generated_by`.
+//! offsets (from the window base). Keys come in a fixed order (the field
+//! order of the structs below); the first is `generated_by`.
 
 use super::{
     access_rule, block_byte_offset, block_span_bytes, map_hash, memory_bytes, stride_bytes,
     FSMC_NE1_BASE, REGISTER_BYTES,
 };
 use motionhdl_hdl::{banner, VERSION};
-use motionhdl_model::regmap::{Access, BusMap, Field, Register};
+use motionhdl_model::regmap::{Access, Block, BusMap, Field, Memory, Register, RegisterArray};
+use serde::Serialize;
+use serde_json::ser::{CompactFormatter, Formatter};
+use std::io::{self, Write};
 
 /// The file name (at the top of the generated tree).
 pub const FILE_NAME: &str = "regmap.json";
@@ -22,242 +25,360 @@ pub fn access(a: Access) -> &'static str {
     }
 }
 
-/// A JSON value, built in order.
-enum J {
-    Str(String),
-    Num(u64),
-    Arr(Vec<J>),
-    Obj(Vec<(&'static str, J)>),
+#[derive(Serialize)]
+struct MapJ {
+    generated_by: String,
+    name: &'static str,
+    version: &'static str,
+    description: &'static str,
+    map_hash: u32,
+    bus: BusJ,
+    blocks: Vec<BlockJ>,
+    memories: Vec<MemoryJ>,
 }
 
-fn s(text: &str) -> J {
-    J::Str(text.to_string())
+#[derive(Serialize)]
+struct BusJ {
+    data_bits: u32,
+    register_bits: u32,
+    halfword_address_bits: u32,
+    window_bytes: u32,
+    default_base_address: u32,
+    access_rule: &'static str,
 }
 
-fn n(v: u32) -> J {
-    J::Num(u64::from(v))
+#[derive(Serialize)]
+struct BlockJ {
+    name: &'static str,
+    description: &'static str,
+    byte_offset: u32,
+    size_bytes: u32,
+    registers: Vec<RegisterJ>,
+    arrays: Vec<ArrayJ>,
 }
 
-fn string(out: &mut String, text: &str) {
-    out.push('"');
-    for c in text.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
-            c => out.push(c),
+#[derive(Serialize)]
+struct ArrayJ {
+    name: &'static str,
+    count: u32,
+    byte_offset: u32,
+    stride_bytes: u32,
+    registers: Vec<RegisterJ>,
+}
+
+#[derive(Serialize)]
+struct RegisterJ {
+    name: &'static str,
+    /// Right after the name, as firmware looks a register up by its place.
+    #[serde(flatten)]
+    place: Place,
+    access: &'static str,
+    reset: u32,
+    description: &'static str,
+    side_effects: &'static str,
+    fields: Vec<FieldJ>,
+}
+
+/// Where a register sits: a block register's absolute byte offset, or an
+/// array register's offset in the element and its absolute byte offset in
+/// every element.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Place {
+    Block {
+        byte_offset: u32,
+    },
+    Array {
+        element_offset: u32,
+        byte_offsets: Vec<u32>,
+    },
+}
+
+#[derive(Serialize)]
+struct FieldJ {
+    name: &'static str,
+    lsb: u32,
+    width: u32,
+    mask: u32,
+    access: &'static str,
+    reset: u32,
+    description: &'static str,
+    values: Vec<ValueJ>,
+}
+
+#[derive(Serialize)]
+struct ValueJ {
+    name: &'static str,
+    value: u32,
+    description: &'static str,
+}
+
+#[derive(Serialize)]
+struct MemoryJ {
+    name: &'static str,
+    description: &'static str,
+    byte_offset: u32,
+    words: u32,
+    word_bits: u32,
+    size_bytes: u32,
+}
+
+fn field(f: &Field) -> FieldJ {
+    FieldJ {
+        name: f.name,
+        lsb: f.lsb,
+        width: f.width,
+        mask: f.mask(),
+        access: access(f.access),
+        reset: f.reset,
+        description: f.description,
+        values: f
+            .values
+            .iter()
+            .map(|v| ValueJ {
+                name: v.name,
+                value: v.value,
+                description: v.description,
+            })
+            .collect(),
+    }
+}
+
+fn register(r: &Register, place: Place) -> RegisterJ {
+    RegisterJ {
+        name: r.name,
+        place,
+        access: access(r.access),
+        reset: r.reset,
+        description: r.description,
+        side_effects: r.side_effects,
+        fields: r.fields.iter().map(field).collect(),
+    }
+}
+
+fn array(base: u32, a: &RegisterArray) -> ArrayJ {
+    let first = base + a.offset * REGISTER_BYTES;
+    ArrayJ {
+        name: a.name,
+        count: a.count,
+        byte_offset: first,
+        stride_bytes: stride_bytes(a),
+        registers: a
+            .registers
+            .iter()
+            .map(|r| {
+                let off = r.offset * REGISTER_BYTES;
+                let place = Place::Array {
+                    element_offset: off,
+                    byte_offsets: (0..a.count)
+                        .map(|i| first + i * stride_bytes(a) + off)
+                        .collect(),
+                };
+                register(r, place)
+            })
+            .collect(),
+    }
+}
+
+fn block(b: &Block) -> BlockJ {
+    let base = block_byte_offset(b);
+    BlockJ {
+        name: b.name,
+        description: b.description,
+        byte_offset: base,
+        size_bytes: block_span_bytes(b),
+        registers: b
+            .registers
+            .iter()
+            .map(|r| {
+                let place = Place::Block {
+                    byte_offset: base + r.offset * REGISTER_BYTES,
+                };
+                register(r, place)
+            })
+            .collect(),
+        arrays: b.arrays.iter().map(|a| array(base, a)).collect(),
+    }
+}
+
+fn memory(m: &Memory) -> MemoryJ {
+    MemoryJ {
+        name: m.name,
+        description: m.description,
+        byte_offset: m.byte_offset,
+        words: m.words,
+        word_bits: m.word_bits,
+        size_bytes: memory_bytes(m),
+    }
+}
+
+/// serde_json's pretty layout (two-space indent, `": "`), except that an
+/// array whose first element is a number stays on one line,
+/// `[32, 96, 160, 224]`: a register's per-element offsets read as one row
+/// instead of one line each.
+#[derive(Default)]
+struct Layout {
+    indent: usize,
+    /// Per open array: whether it is written on one line.
+    one_line: Vec<bool>,
+    /// An array's first element comes next; its kind picks the array's
+    /// layout, so the line break before it waits until then.
+    first_pending: bool,
+    /// Whether the innermost open container holds a value yet.
+    has_value: bool,
+}
+
+impl Layout {
+    fn newline<W: ?Sized + Write>(&self, w: &mut W) -> io::Result<()> {
+        w.write_all(b"\n")?;
+        for _ in 0..self.indent {
+            w.write_all(b"  ")?;
+        }
+        Ok(())
+    }
+
+    /// Called before every value.
+    fn value<W: ?Sized + Write>(&mut self, w: &mut W, number: bool) -> io::Result<()> {
+        if !std::mem::take(&mut self.first_pending) {
+            return Ok(());
+        }
+        if number {
+            *self.one_line.last_mut().expect("in an array") = true;
+            Ok(())
+        } else {
+            self.newline(w)
         }
     }
-    out.push('"');
 }
 
-fn write(out: &mut String, v: &J, depth: usize) {
-    let pad = |out: &mut String, d: usize| {
-        out.push('\n');
-        out.push_str(&"  ".repeat(d));
-    };
-    match v {
-        J::Str(t) => string(out, t),
-        J::Num(x) => out.push_str(&x.to_string()),
-        J::Arr(items) if items.is_empty() => out.push_str("[]"),
-        J::Arr(items) if items.iter().all(|i| matches!(i, J::Num(_))) => {
-            let t: Vec<String> = items
-                .iter()
-                .map(|i| match i {
-                    J::Num(x) => x.to_string(),
-                    _ => unreachable!(),
-                })
-                .collect();
-            out.push('[');
-            out.push_str(&t.join(", "));
-            out.push(']');
+/// Each scalar writer: note the value's kind, then write it as serde_json does.
+macro_rules! scalar {
+    ($($name:ident($t:ty), $number:expr;)*) => {$(
+        fn $name<W: ?Sized + Write>(&mut self, w: &mut W, v: $t) -> io::Result<()> {
+            self.value(w, $number)?;
+            CompactFormatter.$name(w, v)
         }
-        J::Arr(items) => {
-            out.push('[');
-            for (k, i) in items.iter().enumerate() {
-                if k > 0 {
-                    out.push(',');
-                }
-                pad(out, depth + 1);
-                write(out, i, depth + 1);
-            }
-            pad(out, depth);
-            out.push(']');
+    )*};
+}
+
+impl Formatter for Layout {
+    scalar! {
+        write_bool(bool), false;
+        write_i8(i8), true;
+        write_i16(i16), true;
+        write_i32(i32), true;
+        write_i64(i64), true;
+        write_i128(i128), true;
+        write_u8(u8), true;
+        write_u16(u16), true;
+        write_u32(u32), true;
+        write_u64(u64), true;
+        write_u128(u128), true;
+        write_f32(f32), true;
+        write_f64(f64), true;
+        write_number_str(&str), true;
+        write_raw_fragment(&str), false;
+    }
+
+    fn write_null<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.value(w, false)?;
+        w.write_all(b"null")
+    }
+
+    fn begin_string<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.value(w, false)?;
+        w.write_all(b"\"")
+    }
+
+    fn begin_array<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.value(w, false)?;
+        self.indent += 1;
+        self.has_value = false;
+        self.one_line.push(false);
+        w.write_all(b"[")
+    }
+
+    fn end_array<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.indent -= 1;
+        let one_line = self.one_line.pop().expect("in an array");
+        if self.has_value && !one_line {
+            self.newline(w)?;
         }
-        J::Obj(members) => {
-            out.push('{');
-            for (k, (key, value)) in members.iter().enumerate() {
-                if k > 0 {
-                    out.push(',');
-                }
-                pad(out, depth + 1);
-                string(out, key);
-                out.push_str(": ");
-                write(out, value, depth + 1);
-            }
-            pad(out, depth);
-            out.push('}');
+        w.write_all(b"]")
+    }
+
+    fn begin_array_value<W: ?Sized + Write>(&mut self, w: &mut W, first: bool) -> io::Result<()> {
+        if first {
+            self.first_pending = true;
+            Ok(())
+        } else if *self.one_line.last().expect("in an array") {
+            w.write_all(b", ")
+        } else {
+            w.write_all(b",")?;
+            self.newline(w)
         }
     }
-}
 
-fn field(f: &Field) -> J {
-    J::Obj(vec![
-        ("name", s(f.name)),
-        ("lsb", n(f.lsb)),
-        ("width", n(f.width)),
-        ("mask", n(f.mask())),
-        ("access", s(access(f.access))),
-        ("reset", n(f.reset)),
-        ("description", s(f.description)),
-        (
-            "values",
-            J::Arr(
-                f.values
-                    .iter()
-                    .map(|v| {
-                        J::Obj(vec![
-                            ("name", s(v.name)),
-                            ("value", n(v.value)),
-                            ("description", s(v.description)),
-                        ])
-                    })
-                    .collect(),
-            ),
-        ),
-    ])
-}
+    fn end_array_value<W: ?Sized + Write>(&mut self, _w: &mut W) -> io::Result<()> {
+        self.has_value = true;
+        Ok(())
+    }
 
-/// A register; `place` is its byte offset (absolute for a block register),
-/// or for array registers its offset in the element and the absolute byte
-/// offset in every element.
-fn register(r: &Register, place: Vec<(&'static str, J)>) -> J {
-    let mut m = vec![("name", s(r.name))];
-    m.extend(place);
-    m.extend([
-        ("access", s(access(r.access))),
-        ("reset", n(r.reset)),
-        ("description", s(r.description)),
-        ("side_effects", s(r.side_effects)),
-        ("fields", J::Arr(r.fields.iter().map(field).collect())),
-    ]);
-    J::Obj(m)
+    fn begin_object<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.value(w, false)?;
+        self.indent += 1;
+        self.has_value = false;
+        w.write_all(b"{")
+    }
+
+    fn end_object<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.indent -= 1;
+        if self.has_value {
+            self.newline(w)?;
+        }
+        w.write_all(b"}")
+    }
+
+    fn begin_object_key<W: ?Sized + Write>(&mut self, w: &mut W, first: bool) -> io::Result<()> {
+        if !first {
+            w.write_all(b",")?;
+        }
+        self.newline(w)
+    }
+
+    fn begin_object_value<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+        w.write_all(b": ")
+    }
+
+    fn end_object_value<W: ?Sized + Write>(&mut self, _w: &mut W) -> io::Result<()> {
+        self.has_value = true;
+        Ok(())
+    }
 }
 
 /// The map as JSON text.
 pub fn json(map: &BusMap) -> String {
-    let blocks = map
-        .blocks
-        .iter()
-        .map(|b| {
-            let base = block_byte_offset(b);
-            J::Obj(vec![
-                ("name", s(b.name)),
-                ("description", s(b.description)),
-                ("byte_offset", n(base)),
-                ("size_bytes", n(block_span_bytes(b))),
-                (
-                    "registers",
-                    J::Arr(
-                        b.registers
-                            .iter()
-                            .map(|r| {
-                                register(
-                                    r,
-                                    vec![("byte_offset", n(base + r.offset * REGISTER_BYTES))],
-                                )
-                            })
-                            .collect(),
-                    ),
-                ),
-                (
-                    "arrays",
-                    J::Arr(
-                        b.arrays
-                            .iter()
-                            .map(|a| {
-                                let first = base + a.offset * REGISTER_BYTES;
-                                J::Obj(vec![
-                                    ("name", s(a.name)),
-                                    ("count", n(a.count)),
-                                    ("byte_offset", n(first)),
-                                    ("stride_bytes", n(stride_bytes(a))),
-                                    (
-                                        "registers",
-                                        J::Arr(
-                                            a.registers
-                                                .iter()
-                                                .map(|r| {
-                                                    let off = r.offset * REGISTER_BYTES;
-                                                    register(
-                                                        r,
-                                                        vec![
-                                                            ("element_offset", n(off)),
-                                                            (
-                                                                "byte_offsets",
-                                                                J::Arr(
-                                                                    (0..a.count)
-                                                                        .map(|i| {
-                                                                            n(first
-                                                                                + i * stride_bytes(
-                                                                                    a,
-                                                                                )
-                                                                                + off)
-                                                                        })
-                                                                        .collect(),
-                                                                ),
-                                                            ),
-                                                        ],
-                                                    )
-                                                })
-                                                .collect(),
-                                        ),
-                                    ),
-                                ])
-                            })
-                            .collect(),
-                    ),
-                ),
-            ])
-        })
-        .collect();
-    let memories = map
-        .memories
-        .iter()
-        .map(|m| {
-            J::Obj(vec![
-                ("name", s(m.name)),
-                ("description", s(m.description)),
-                ("byte_offset", n(m.byte_offset)),
-                ("words", n(m.words)),
-                ("word_bits", n(m.word_bits)),
-                ("size_bytes", n(memory_bytes(m))),
-            ])
-        })
-        .collect();
-    let top = J::Obj(vec![
-        ("generated_by", s(&banner())),
-        ("name", s(map.name)),
-        ("version", s(VERSION)),
-        ("description", s(map.description)),
-        ("map_hash", n(map_hash(map))),
-        (
-            "bus",
-            J::Obj(vec![
-                ("data_bits", n(16)),
-                ("register_bits", n(32)),
-                ("halfword_address_bits", n(map.halfword_address_bits)),
-                ("window_bytes", n(map.window_bytes())),
-                ("default_base_address", n(FSMC_NE1_BASE)),
-                ("access_rule", s(access_rule())),
-            ]),
-        ),
-        ("blocks", J::Arr(blocks)),
-        ("memories", J::Arr(memories)),
-    ]);
-    let mut out = String::new();
-    write(&mut out, &top, 0);
+    let top = MapJ {
+        generated_by: banner(),
+        name: map.name,
+        version: VERSION,
+        description: map.description,
+        map_hash: map_hash(map),
+        bus: BusJ {
+            data_bits: 16,
+            register_bits: 32,
+            halfword_address_bits: map.halfword_address_bits,
+            window_bytes: map.window_bytes(),
+            default_base_address: FSMC_NE1_BASE,
+            access_rule: access_rule(),
+        },
+        blocks: map.blocks.iter().map(block).collect(),
+        memories: map.memories.iter().map(memory).collect(),
+    };
+    let mut bytes = Vec::new();
+    let mut ser = serde_json::Serializer::with_formatter(&mut bytes, Layout::default());
+    top.serialize(&mut ser).expect("the map serializes");
+    let mut out = String::from_utf8(bytes).expect("serde_json writes UTF-8");
     out.push('\n');
     // The banner on the first line, as in every generated file.
     let first = "{\n  \"generated_by\": ";

@@ -349,14 +349,6 @@ fn parse_outputs(stdout: &str, n_out: usize, n_vec: usize) -> Result<Vec<Vec<u64
     Ok(rows)
 }
 
-/// Writes `source` to `dir/name.v` (the file name Verilator's DECLFILENAME
-/// expects) and returns the path.
-pub fn write_named(dir: &Path, name: &str, source: &str) -> std::io::Result<std::path::PathBuf> {
-    let p = dir.join(format!("{name}.v"));
-    fs::write(&p, source)?;
-    Ok(p)
-}
-
 /// Writes `files` (name, text) to a scratch directory, runs testbench
 /// `top` (the first file) in `sim` and parses its `SUMS a b ...` line: the
 /// checksums, and how long the simulation ran (compilation excluded).

@@ -1,0 +1,45 @@
+//! Helpers shared by the integration tests: running a tool and reading C
+//! headers back. `regmap` holds the register-map tests' table and the
+//! read-backs more than one of their files runs.
+
+// Every test crate compiles this module but uses only part of it.
+#![allow(dead_code)]
+
+pub mod regmap;
+
+use std::process::Command;
+
+/// Runs `cmd` to completion: (exit status was success, stdout, stderr).
+pub fn run(cmd: &mut Command) -> (bool, String, String) {
+    let o = cmd.output().expect("start tool");
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).to_string(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+/// A C integer literal: decimal or 0x hex, with optional u/l suffixes.
+pub fn c_number(s: &str) -> Option<u64> {
+    let t = s.trim_end_matches(['u', 'U', 'l', 'L']);
+    match t.strip_prefix("0x") {
+        Some(h) => u64::from_str_radix(h, 16).ok(),
+        None => t.parse().ok(),
+    }
+}
+
+/// Every `#define` of a header: (name, or name(params) for function-like
+/// macros; the replacement text).
+pub fn defines(h: &str) -> Vec<(String, String)> {
+    h.lines()
+        .filter_map(|l| l.strip_prefix("#define "))
+        .map(|rest| {
+            // A function-like macro's name runs to its closing parenthesis.
+            let end = match rest.find('(') {
+                Some(i) if !rest[..i].contains(' ') => rest.find(')').unwrap() + 1,
+                _ => rest.find(' ').unwrap_or(rest.len()),
+            };
+            (rest[..end].to_string(), rest[end..].trim().to_string())
+        })
+        .collect()
+}
