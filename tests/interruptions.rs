@@ -5,7 +5,7 @@
 
 mod fs_state;
 
-use fs_state::{assert_refused, command, expected_output, names, put, run, tree};
+use fs_state::{assert_refused, command, expected_output, finish, names, put, run, tree};
 use std::fs;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
@@ -33,10 +33,9 @@ fn old_output() -> tempfile::TempDir {
 }
 
 fn generate_with_hook(dir: &Path, hook: &str) -> Output {
-    command(dir, &["generate", "--out", "gen"])
-        .env("MOTIONHDL_TEST_HOOK", hook)
-        .output()
-        .unwrap()
+    let mut c = command(dir, &["generate", "--out", "gen"]);
+    c.env("MOTIONHDL_TEST_HOOK", hook);
+    finish(c)
 }
 
 #[test]
@@ -130,10 +129,9 @@ fn trace_interrupted_before_its_renames_leaves_the_old_files() {
     .status
     .success());
     let before = tree(t.path());
-    let o = command(t.path(), &args)
-        .env("MOTIONHDL_TEST_HOOK", "write-staged=sigint")
-        .output()
-        .unwrap();
+    let mut c = command(t.path(), &args);
+    c.env("MOTIONHDL_TEST_HOOK", "write-staged=sigint");
+    let o = finish(c);
     assert_refused(
         &o,
         130,
@@ -141,10 +139,9 @@ fn trace_interrupted_before_its_renames_leaves_the_old_files() {
     );
     assert_eq!(tree(t.path()), before);
     // A kill between the two renames: each file whole, and swept next time.
-    let o = command(t.path(), &args)
-        .env("MOTIONHDL_TEST_HOOK", "write-renamed=sigkill")
-        .output()
-        .unwrap();
+    let mut c = command(t.path(), &args);
+    c.env("MOTIONHDL_TEST_HOOK", "write-renamed=sigkill");
+    let o = finish(c);
     assert_eq!(o.status.signal(), Some(9));
     assert!(run(t.path(), &args).status.success());
     assert_eq!(names(t.path()), ["p.gtkw", "p.vcd"]);
@@ -178,7 +175,7 @@ fn trace_on_a_full_disk_fails_with_the_old_file_intact() {
             Ok(())
         });
     }
-    let o = c.output().unwrap();
+    let o = fs_state::finish(c);
     assert_refused(&o, 1, &["cannot write", "s.vcd", "File too large"]);
     assert_eq!(tree(t.path()), before);
 }
@@ -214,11 +211,9 @@ fn synth_with(yosys: &str) -> (Output, Vec<String>, Option<u32>) {
         bin.display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let o = command(t.path(), &["synth", "--config", "one.toml"])
-        .env("PATH", path)
-        .env("TMPDIR", &tmp)
-        .output()
-        .unwrap();
+    let mut c = command(t.path(), &["synth", "--config", "one.toml"]);
+    c.env("PATH", path).env("TMPDIR", &tmp);
+    let o = finish(c);
     let pid = fs::read_to_string(bin.join("yosys.pid"))
         .ok()
         .and_then(|s| s.trim().parse().ok());

@@ -67,10 +67,9 @@ fn home_and_root_are_refused() {
         (home.to_str().unwrap(), "it is your home directory"),
         ("/", "it is the root directory"),
     ] {
-        let o = fs_state::command(&work, &["generate", "--out", out])
-            .env("HOME", &home)
-            .output()
-            .unwrap();
+        let mut c = fs_state::command(&work, &["generate", "--out", out]);
+        c.env("HOME", &home);
+        let o = fs_state::finish(c);
         assert_refused(&o, 2, &[why]);
         assert_eq!(tree(t.path()), before, "--out {out}");
     }

@@ -27,7 +27,35 @@ pub fn command(cwd: &Path, args: &[&str]) -> Command {
 }
 
 pub fn run(cwd: &Path, args: &[&str]) -> Output {
-    command(cwd, args).output().expect("run motionhdl")
+    finish(command(cwd, args))
+}
+
+/// Runs `cmd` to its end, killing it after 120 s (a run that hangs, e.g.
+/// reading /dev/zero for ever, fails its test instead of stalling the suite;
+/// the slowest run here takes a few seconds).
+pub fn finish(mut cmd: Command) -> Output {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run motionhdl");
+    let pid = child.id();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(child.wait_with_output());
+    });
+    let start = Instant::now();
+    match rx.recv_timeout(Duration::from_secs(120)) {
+        Ok(out) => out.expect("wait for motionhdl"),
+        Err(_) => {
+            // SIGKILL by PID: the waiting thread still owns the child.
+            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
+            panic!("motionhdl did not finish in {:?}: killed", start.elapsed());
+        }
+    }
 }
 
 pub fn stderr(o: &Output) -> String {
