@@ -183,83 +183,37 @@ fn run(cli: Cli) -> Result<(), CliError> {
         Command::Bench { cycles } => {
             use motionhdl_testbench::bench;
             use motionhdl_testbench::verilog_sim::Simulator;
-            if cycles == 0 {
-                return Err(CliError::input(
-                    "--cycles = 0 is out of range: allowed 1..=18446744073709551615",
-                ));
-            }
-            let mut rows = vec![bench::model(cycles * 10), bench::rust_hdl(cycles / 10 + 1)];
-            for (sim, n) in [
+            let bank = [
                 (Simulator::Icarus, cycles / 10 + 1),
                 (Simulator::Verilator, cycles * 10),
-            ] {
-                match bench::verilog(sim, n) {
-                    Ok(t) => rows.push(t),
-                    Err(e) => println!(
-                        "{}: not measured: {}",
-                        sim.name(),
-                        e.lines().next().unwrap_or("")
-                    ),
-                }
-            }
-            println!("counter_bank 4 axes × 28 bits, random encoder and bus stimulus");
-            println!(
-                "{:<48} {:>12} {:>10} {:>14}",
-                "engine", "cycles", "seconds", "cycles/s"
+            ];
+            let mut rows = vec![bench::model(cycles * 10), bench::rust_hdl(cycles / 10 + 1)];
+            rows.extend(measured(bank, bench::verilog));
+            print_bench(
+                "counter_bank 4 axes × 28 bits, random encoder and bus stimulus",
+                &rows,
             );
-            for r in rows {
-                println!(
-                    "{:<48} {:>12} {:>10.3} {:>14.0}",
-                    r.engine,
-                    r.cycles,
-                    r.seconds,
-                    r.per_second()
-                );
-            }
             // The whole default top under one pin stimulus.
+            let top = [
+                (Simulator::Icarus, cycles / 100 + 1),
+                (Simulator::Verilator, cycles * 5),
+            ];
             let mut rows = vec![
                 bench::top_model(cycles * 5),
                 bench::top_rust_hdl(cycles / 20 + 1),
             ];
-            for (sim, n) in [
-                (Simulator::Icarus, cycles / 100 + 1),
-                (Simulator::Verilator, cycles * 5),
-            ] {
-                match bench::top_verilog(sim, n) {
-                    Ok(t) => rows.push(t),
-                    Err(e) => println!(
-                        "{}: not measured: {}",
-                        sim.name(),
-                        e.lines().next().unwrap_or("")
-                    ),
-                }
-            }
+            rows.extend(measured(top, bench::top_verilog));
             let c = bench::top_config();
             println!();
-            println!(
-                "motion_controller {} axes × {} bits, RAM {}: FSMC and ISA cycles, encoder motion",
-                c.axes(),
-                c.counter_width(),
-                c.isa_ram().name()
+            print_bench(
+                &format!(
+                    "motion_controller {} axes × {} bits, RAM {}: FSMC and ISA cycles, encoder motion",
+                    c.axes(),
+                    c.counter_width(),
+                    c.isa_ram().name()
+                ),
+                &rows,
             );
-            println!(
-                "{:<48} {:>12} {:>10} {:>14}  outputs = model",
-                "engine", "cycles", "seconds", "cycles/s"
-            );
-            for r in rows {
-                println!(
-                    "{:<48} {:>12} {:>10.3} {:>14.0}  {}",
-                    r.engine,
-                    r.cycles,
-                    r.seconds,
-                    r.per_second(),
-                    match r.agrees {
-                        None => "(reference)",
-                        Some(true) => "yes",
-                        Some(false) => "NO",
-                    }
-                );
-            }
             Ok(())
         }
         Command::Synth {
@@ -359,6 +313,58 @@ fn run(cli: Cli) -> Result<(), CliError> {
             );
             Ok(())
         }
+    }
+}
+
+/// Runs each simulator's measurement, saying which could not run.
+fn measured(
+    runs: [(motionhdl_testbench::verilog_sim::Simulator, u64); 2],
+    measure: fn(
+        motionhdl_testbench::verilog_sim::Simulator,
+        u64,
+    ) -> Result<motionhdl_testbench::bench::Throughput, String>,
+) -> Vec<motionhdl_testbench::bench::Throughput> {
+    let mut rows = Vec::new();
+    for (sim, n) in runs {
+        match measure(sim, n) {
+            Ok(t) => rows.push(t),
+            Err(e) => println!(
+                "{}: not measured: {}",
+                sim.name(),
+                e.lines().next().unwrap_or("")
+            ),
+        }
+    }
+    rows
+}
+
+/// One throughput table; the last column only where rows compare their
+/// outputs with the model.
+fn print_bench(title: &str, rows: &[motionhdl_testbench::bench::Throughput]) {
+    let compares = rows.iter().any(|r| r.agrees.is_some());
+    println!("{title}");
+    println!(
+        "{:<48} {:>12} {:>10} {:>14}{}",
+        "engine",
+        "cycles",
+        "seconds",
+        "cycles/s",
+        if compares { "  outputs = model" } else { "" }
+    );
+    for r in rows {
+        let agreement = match (compares, r.agrees) {
+            (false, _) => "",
+            (true, None) => "  (reference)",
+            (true, Some(true)) => "  yes",
+            (true, Some(false)) => "  NO",
+        };
+        println!(
+            "{:<48} {:>12} {:>10.3} {:>14.0}{agreement}",
+            r.engine,
+            r.cycles,
+            r.seconds,
+            r.per_second()
+        );
     }
 }
 

@@ -91,12 +91,10 @@ impl Target {
     }
 }
 
-/// Finds `name` on PATH.
+/// Finds `name` on PATH (the testbench's lookup, so tests and the CLI
+/// agree on what is installed).
 pub fn which(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|dir| dir.join(name))
-        .find(|p| p.is_file())
+    motionhdl_testbench::harness::tool(name).ok()
 }
 
 /// The programs a target runs.

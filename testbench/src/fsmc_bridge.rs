@@ -749,23 +749,7 @@ pub fn read_failing_phases(timing: &FsmcTiming) -> Vec<u16> {
         .collect()
 }
 
-/// A small deterministic generator (xorshift64*), so a seed names a run.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed ^ 0x9e37_79b9_7f4a_7c15 | 1)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    pub fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n
-    }
-}
+pub use crate::harness::Rng;
 
 /// Random traffic: 16- and 32-bit reads and writes of a few registers
 /// (so reads meet earlier writes), live registers, RAM words, other banks'

@@ -194,6 +194,26 @@ pub fn xorshift32(x: &mut u32) -> u32 {
     *x
 }
 
+/// The bus-traffic generator of the FSMC and ISA checks (xorshift64*), so
+/// a seed names a run.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Self(seed ^ 0x9e37_79b9_7f4a_7c15 | 1)
+    }
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    /// Uniform enough below `n` for stimulus (`n` ≪ 2^64).
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+}
+
 /// The testbenches' stimulus generator: xorshift64 (13, 7, 17) from
 /// `seed | 1`, one 64-bit word per call. Fixed here so that a seed names
 /// the same stimulus in every check.
