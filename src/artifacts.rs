@@ -15,10 +15,11 @@ pub struct Artifact {
 /// Every generated file for `config`, in a fixed order.
 pub fn all(config: &Config) -> Vec<Artifact> {
     let mut out = Vec::new();
-    for m in catalog::all(config) {
+    let modules = catalog::all(config);
+    for m in &modules {
         out.push(Artifact {
             path: PathBuf::from("verilog").join(format!("{}.v", m.name)),
-            contents: m.text.into_bytes(),
+            contents: m.text.clone().into_bytes(),
         });
     }
     for s in scenarios::SCENARIOS {
@@ -42,18 +43,23 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         contents: crate::isa_header::isa_header().into_bytes(),
     });
     out.extend(regmap_exports(config));
-    out.extend(fpga_flow(config));
+    let top = modules
+        .iter()
+        .find(|m| m.name == "motion_controller")
+        .expect("the catalog has the top level");
+    out.extend(fpga_flow(config, &top.ports));
     out
 }
 
-/// The FPGA flow's files: the board-level wrapper, its pin and timing
-/// constraints (for the boards whose pins suffice) and the FuseSoC core.
-pub fn fpga_flow(config: &Config) -> Vec<Artifact> {
+/// The FPGA flow's files for the top level with ports `top`: the
+/// board-level wrapper, its pin and timing constraints (for the boards
+/// whose pins suffice) and the FuseSoC core.
+pub fn fpga_flow(config: &Config, top: &[crate::board::CorePort]) -> Vec<Artifact> {
     let mut out = vec![Artifact {
         path: PathBuf::from("verilog").join(format!("{}.v", crate::board::MODULE)),
-        contents: crate::board::wrapper(config).into_bytes(),
+        contents: crate::board::wrapper_for(top).into_bytes(),
     }];
-    let constraints = crate::constraints::files(config);
+    let constraints = crate::constraints::files_for(config, &crate::board::board_ports(top));
     for f in &constraints {
         out.push(Artifact {
             path: PathBuf::from("constraints").join(&f.name),

@@ -2,9 +2,10 @@
 //! split tri-state ports (`X_in`, `X_out`, `X_oe`) joined into `inout X`
 //! pins and the open-collector `isa_iocs16_n` driven low or released.
 //!
-//! The port list is read from the generated `motion_controller.v` itself
-//! (its port declarations), so the wrapper's and the constraints' names
-//! cannot drift from the top level's.
+//! The port list is the exporter's own (`VerilogModule::ports`, read from
+//! the rust-hdl block), so the wrapper's and the constraints' names cannot
+//! drift from the top level's; a test checks it against the generated
+//! `motion_controller.v`'s declarations.
 
 use motionhdl_hdl::{banner, catalog};
 use motionhdl_model::Config;
@@ -17,20 +18,9 @@ pub const MODULE: &str = "motion_controller_board";
 /// when it is 1; the bus has the pull-up.
 pub const OPEN_COLLECTOR: &[&str] = &["isa_iocs16_n"];
 
-/// Direction of a port of the top level (`motion_controller`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dir {
-    Input,
-    Output,
-}
-
-/// One port declaration of the generated `motion_controller.v`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CorePort {
-    pub name: String,
-    pub dir: Dir,
-    pub width: u32,
-}
+/// A port of the top level, as the exporter reports it (from rust-hdl's
+/// probe API, not from the Verilog text).
+pub use motionhdl_hdl::ports::{Port as CorePort, PortDir as Dir};
 
 /// What a board pin is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,58 +71,6 @@ impl BoardPort {
     }
 }
 
-/// Parses the port declarations (`input wire [11:0] fsmc_a;`, `output reg
-/// x;`) of a generated module. Panics on a declaration it does not
-/// recognise: the exporter's format is fixed, and a silent miss would drop
-/// a pin.
-pub fn parse_ports(verilog: &str) -> Vec<CorePort> {
-    let mut ports = Vec::new();
-    for line in verilog.lines() {
-        let t = line.trim();
-        let dir = if let Some(rest) = t.strip_prefix("input ") {
-            (Dir::Input, rest)
-        } else if let Some(rest) = t.strip_prefix("output ") {
-            (Dir::Output, rest)
-        } else if t.starts_with("inout ") {
-            panic!("unexpected inout port in the top level: {t}");
-        } else {
-            continue;
-        };
-        let (dir, rest) = dir;
-        let rest = rest
-            .trim_start_matches("wire ")
-            .trim_start_matches("reg ")
-            .trim_end_matches(';')
-            .trim();
-        let (width, name) = match rest.strip_prefix('[') {
-            Some(r) => {
-                let (range, name) = r
-                    .split_once(']')
-                    .unwrap_or_else(|| panic!("bad port range: {t}"));
-                let (hi, lo) = range
-                    .split_once(':')
-                    .unwrap_or_else(|| panic!("bad port range: {t}"));
-                let hi: u32 = hi.trim().parse().expect("port msb");
-                let lo: u32 = lo.trim().parse().expect("port lsb");
-                assert_eq!(lo, 0, "port range must end at 0: {t}");
-                (hi + 1, name.trim())
-            }
-            None => (1, rest),
-        };
-        assert!(
-            !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
-            "bad port name in: {t}"
-        );
-        ports.push(CorePort {
-            name: name.to_string(),
-            dir,
-            width,
-        });
-    }
-    assert!(!ports.is_empty(), "no port declarations found");
-    ports
-}
-
 /// The board ports for a top level with `core` ports, in the core's order:
 /// every `X_in`/`X_out`/`X_oe` triple becomes one `inout X` at the position
 /// of `X_in`; [`OPEN_COLLECTOR`] outputs become open-collector pins.
@@ -172,6 +110,7 @@ pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
                 PinKind::OpenCollector
             }
             Dir::Output => PinKind::Output,
+            Dir::InOut => panic!("unexpected inout port {} in the top level", p.name),
         };
         out.push(BoardPort {
             name: p.name.clone(),
@@ -182,9 +121,10 @@ pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
     out
 }
 
-/// The board ports of the top level generated for `config`.
+/// The board ports of the top level generated for `config` (elaborates
+/// it; [`board_ports`] takes ports already at hand).
 pub fn ports(config: &Config) -> Vec<BoardPort> {
-    board_ports(&parse_ports(&catalog::motion_controller(config).text))
+    board_ports(&catalog::motion_controller(config).ports)
 }
 
 fn range(width: u32) -> String {
@@ -274,12 +214,78 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
 
 /// The wrapper's Verilog for `config`.
 pub fn wrapper(config: &Config) -> String {
-    wrapper_for(&parse_ports(&catalog::motion_controller(config).text))
+    wrapper_for(&catalog::motion_controller(config).ports)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Parses the port declarations (`input wire [11:0] fsmc_a;`, `output reg
+    /// x;`) of a generated module. Panics on a declaration it does not
+    /// recognise: the exporter's format is fixed, and a silent miss would drop
+    /// a pin.
+    fn parse_ports(verilog: &str) -> Vec<CorePort> {
+        let mut ports = Vec::new();
+        for line in verilog.lines() {
+            let t = line.trim();
+            let dir = if let Some(rest) = t.strip_prefix("input ") {
+                (Dir::Input, rest)
+            } else if let Some(rest) = t.strip_prefix("output ") {
+                (Dir::Output, rest)
+            } else if t.starts_with("inout ") {
+                panic!("unexpected inout port in the top level: {t}");
+            } else {
+                continue;
+            };
+            let (dir, rest) = dir;
+            let rest = rest
+                .trim_start_matches("wire ")
+                .trim_start_matches("reg ")
+                .trim_end_matches(';')
+                .trim();
+            let (width, name) = match rest.strip_prefix('[') {
+                Some(r) => {
+                    let (range, name) = r
+                        .split_once(']')
+                        .unwrap_or_else(|| panic!("bad port range: {t}"));
+                    let (hi, lo) = range
+                        .split_once(':')
+                        .unwrap_or_else(|| panic!("bad port range: {t}"));
+                    let hi: u32 = hi.trim().parse().expect("port msb");
+                    let lo: u32 = lo.trim().parse().expect("port lsb");
+                    assert_eq!(lo, 0, "port range must end at 0: {t}");
+                    (hi + 1, name.trim())
+                }
+                None => (1, rest),
+            };
+            assert!(
+                !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
+                "bad port name in: {t}"
+            );
+            ports.push(CorePort {
+                name: name.to_string(),
+                dir,
+                width,
+                signed: false,
+            });
+        }
+        assert!(!ports.is_empty(), "no port declarations found");
+        ports
+    }
+
+    #[test]
+    fn the_exporters_ports_are_the_generated_declarations() {
+        use motionhdl_model::IsaRam;
+        for config in [
+            Config::default(),
+            Config::default().with_isa_ram(IsaRam::External),
+            Config::new(1, 8, 50_000_000).unwrap(),
+        ] {
+            let top = catalog::motion_controller(&config);
+            assert_eq!(top.ports, parse_ports(&top.text), "{config:?}");
+        }
+    }
 
     #[test]
     fn triples_join_and_open_collector_is_kept() {

@@ -535,7 +535,12 @@ pub fn file_name(board: &Board, ext: &str) -> String {
 /// Every constraint file for `config`: the PCF, LPF, QSF and SDC whose
 /// pools have room for the board's pins (all of them for the default).
 pub fn files(config: &Config) -> Vec<ConstraintFile> {
-    let ports = board::ports(config);
+    files_for(config, &board::ports(config))
+}
+
+/// [`files`] for board ports already at hand.
+pub fn files_for(config: &Config, ports: &[board::BoardPort]) -> Vec<ConstraintFile> {
+    let ports = ports.to_vec();
     let mut out = Vec::new();
     if let Ok(a) = assign(&ICE40_HX8K, &ports) {
         out.push(ConstraintFile {

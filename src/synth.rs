@@ -142,7 +142,7 @@ pub struct Design {
 /// target's pool has room for them.
 pub fn board_design(config: &Config, target: Target) -> Design {
     let top = catalog::motion_controller(config);
-    let ports = board::ports(config);
+    let ports = board::board_ports(&top.ports);
     let pins = constraints::assign(target.board(), &ports)
         .ok()
         .map(|a| match target {
@@ -153,7 +153,10 @@ pub fn board_design(config: &Config, target: Target) -> Design {
         top: board::MODULE.to_string(),
         files: vec![
             (format!("{}.v", top.name), top.text),
-            (format!("{}.v", board::MODULE), board::wrapper(config)),
+            (
+                format!("{}.v", board::MODULE),
+                board::wrapper_for(&top.ports),
+            ),
         ],
         pins,
         out_of_context: false,

@@ -76,10 +76,13 @@ fn committed_constraints_are_what_the_generator_writes() {
         );
     }
     // And generate writes the same into generated/constraints/.
-    let generated: Vec<_> = artifacts::fpga_flow(&config)
-        .into_iter()
-        .filter(|a| a.path.starts_with("constraints"))
-        .collect();
+    let generated: Vec<_> = artifacts::fpga_flow(
+        &config,
+        &motionhdl_hdl::catalog::motion_controller(&config).ports,
+    )
+    .into_iter()
+    .filter(|a| a.path.starts_with("constraints"))
+    .collect();
     assert_eq!(generated.len(), files.len());
     for a in generated {
         let name = a.path.file_name().unwrap().to_string_lossy().to_string();

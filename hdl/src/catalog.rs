@@ -1,5 +1,6 @@
 //! The exported Verilog modules: one entry per `generated/verilog/*.v` file.
 
+use crate::ports::Port;
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
     MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
@@ -9,11 +10,14 @@ use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::Block;
 
 /// One exported module.
+#[derive(Clone, Debug)]
 pub struct VerilogModule {
     /// Module name, also the file stem.
     pub name: &'static str,
     /// What the module is, for the file banner.
     pub summary: &'static str,
+    /// Its ports in declaration order, from the rust-hdl block itself.
+    pub ports: Vec<Port>,
     /// The Verilog text.
     pub text: String,
 }
@@ -32,6 +36,7 @@ fn module<B: Block>(mut uut: B, name: &'static str, summary: &'static str) -> Ve
     VerilogModule {
         name,
         summary,
+        ports: crate::ports::ports(&uut),
         text,
     }
 }

@@ -18,6 +18,7 @@ pub mod ls688;
 pub mod mcu_side;
 pub mod motion_controller;
 pub mod move_engine;
+pub mod ports;
 pub mod probe;
 pub mod pulse_bank;
 pub mod pulse_generator;

@@ -18,6 +18,29 @@
 //!
 //! Anything outside the patterns rust-hdl emits for our blocks is a panic
 //! naming the line, never a silent mistranslation.
+//!
+//! # The rust-hdl subset it accepts
+//!
+//! What `generate_verilog` emits for blocks built from these, and nothing
+//! else:
+//!
+//! * `#[derive(LogicBlock)]` structs of `Signal<In|Out|Local, Bit|Bits<N>|
+//!   Signed<N>|Clock>` fields, `Constant`s (emitted as `localparam`) and
+//!   child blocks, with one `#[hdl_gen] fn update`: the parent's lines are
+//!   `module` headers, `input`/`output` `wire`/`reg` declarations (optionally
+//!   `signed`, ranges ending at 0), `reg`/`wire` locals, `localparam`s, one
+//!   `always @(*) begin … end` body and child instances with one
+//!   `.port(net)` per line;
+//! * `DFF<T>` children (rust-hdl's `dff_setup!`), recognised by shape
+//!   (`always @(posedge clock)`, `q <= d;`, a sized initial value) and
+//!   inlined as flops in the parent;
+//! * `RAM<T, N>` children with one read and one write port, recognised by
+//!   shape and inlined as a `reg` array;
+//! * integer literals only where their width follows from the signal they
+//!   are assigned to, compared with or combined with, or from a slice.
+//!
+//! Nesting inside an `always` body is counted on `begin`/`end` tokens, so
+//! a signal named `begin_x` or `end_y` is an ordinary identifier.
 
 use regex::Regex;
 use rust_hdl::prelude::{generate_verilog, Block};
@@ -315,15 +338,23 @@ fn flatten(
             let mut body = Vec::new();
             i += 1;
             loop {
-                let l = m.lines[i].trim();
-                depth += l.matches(" begin").count() + usize::from(l == "begin");
-                if l == "end" || l.starts_with("end ") || l.starts_with("end\t") {
-                    depth -= 1;
-                    if depth == 0 {
-                        break;
-                    }
+                let l = m.lines.get(i).unwrap_or_else(|| {
+                    panic!(
+                        "`always @(*) begin` in rust-hdl module {} has no matching `end`",
+                        m.name
+                    )
+                });
+                let (opens, closes) = begin_end_tokens(l);
+                depth = (depth + opens).checked_sub(closes).unwrap_or_else(|| {
+                    panic!(
+                        "more `end` than `begin` in rust-hdl module {}: `{l}`",
+                        m.name
+                    )
+                });
+                if depth == 0 {
+                    break;
                 }
-                body.push(m.lines[i].clone());
+                body.push(l.clone());
                 i += 1;
             }
             flat.comb.push(dedent(&body));
@@ -776,6 +807,17 @@ fn size_literals(line: &str, decls: &BTreeMap<String, usize>) -> String {
     l.replace("'#", "'h")
 }
 
+/// How many `begin` and `end` keywords a line holds, counted on whole
+/// identifier tokens (`begin_x` is neither).
+fn begin_end_tokens(line: &str) -> (usize, usize) {
+    let tokens = line.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'));
+    tokens.fold((0, 0), |(b, e), t| match t {
+        "begin" => (b + 1, e),
+        "end" => (b, e + 1),
+        _ => (b, e),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -828,6 +870,22 @@ mod tests {
     #[should_panic(expected = "cannot size")]
     fn unsizable_literal_is_rejected() {
         size_literals("    a = (32'h1 << b);", &decls(&[]));
+    }
+
+    #[test]
+    fn begin_and_end_count_as_whole_tokens_only() {
+        assert_eq!(begin_end_tokens("if (begin_x) begin"), (1, 0));
+        assert_eq!(begin_end_tokens("end else begin"), (1, 1));
+        assert_eq!(begin_end_tokens("    end_y = x$end;"), (0, 0));
+        assert_eq!(begin_end_tokens("end"), (0, 1));
+        assert_eq!(begin_end_tokens("endcase"), (0, 0));
+    }
+
+    #[test]
+    #[should_panic(expected = "unexpected line in rust-hdl module top: `initial begin`")]
+    fn an_unsupported_construct_panics_naming_its_line() {
+        let raw = "module top(a);\n    input wire a;\n    initial begin\n    end\nendmodule\n";
+        rewrite(raw, "t");
     }
 
     #[test]
