@@ -1,26 +1,11 @@
 //! `motionhdl verify`: every exhaustive check, as a table.
 
-use motionhdl_testbench::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, pulse_generator,
-    quadrature_core, selector, CheckReport,
-};
+use motionhdl_testbench::CheckReport;
 
-/// Runs every check. `external` includes the generated-Verilog runs in
-/// Icarus Verilog and Verilator, and each block's check on its
-/// post-synthesis yosys netlist in Icarus.
+/// Runs every check of the testbench's registry (see
+/// `motionhdl_testbench::registry`).
 pub fn run(external: bool) -> Vec<CheckReport> {
-    let mut v = selector::all(external);
-    v.extend(counter::all(external));
-    v.extend(quadrature_core::all(external));
-    v.extend(ls688::all(external));
-    v.extend(isa_bridge::all(external));
-    v.extend(fsmc_bridge::all(external));
-    v.extend(motion_controller::all(external));
-    v.extend(pulse_generator::all(external));
-    if external {
-        v.extend(netlist::checks());
-    }
-    v
+    motionhdl_testbench::registry::all(external)
 }
 
 /// The table `motionhdl verify` prints.

@@ -91,7 +91,7 @@ impl Script {
             pair: BankPair::new(width, regmap::ERR_COUNT_BITS),
             map: regmap::counter_bank(AXES as u32, width),
             trace,
-            half_ns: crate::scenarios::half_period_ns(config),
+            half_ns: crate::trace::half_period_ns(config),
             t: 0,
             pins: [(false, false, false); AXES],
             bus_ids,

@@ -21,6 +21,7 @@ pub mod netlist;
 pub mod pulse_generator;
 pub mod pulse_scenarios;
 pub mod quadrature_core;
+pub mod registry;
 pub mod scenarios;
 pub mod selector;
 pub mod state_map;

@@ -113,10 +113,7 @@ pub fn names() -> Vec<&'static str> {
     SCENARIOS.iter().map(|s| s.name).collect()
 }
 
-/// Half a clock period in whole nanoseconds (the traces' timescale is 1 ns).
-pub fn half_period_ns(config: &Config) -> u64 {
-    (config.clock_period_ps() / 2).div_ceil(1000).max(1)
-}
+pub use crate::trace::half_period_ns;
 
 struct ChipIds {
     pins: Vec<SignalId>,

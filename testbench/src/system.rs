@@ -424,7 +424,7 @@ pub fn trace(config: &Config) -> Trace {
             motionhdl_hdl::banner_ascii(),
             config.clock_hz()
         ),
-        crate::scenarios::half_period_ns(config),
+        crate::trace::half_period_ns(config),
     );
     sys.run_move(
         &[

@@ -240,3 +240,8 @@ impl Trace {
         String::from_utf8(buf).expect("VCD is ASCII/UTF-8")
     }
 }
+
+/// Half a clock period in whole nanoseconds (the traces' timescale is 1 ns).
+pub fn half_period_ns(config: &motionhdl_model::Config) -> u64 {
+    (config.clock_period_ps() / 2).div_ceil(1000).max(1)
+}

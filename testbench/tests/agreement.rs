@@ -24,7 +24,7 @@ use motionhdl_testbench::harness::require_tool;
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 use motionhdl_testbench::{
     counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, pulse_generator,
-    quadrature_core, selector, CheckReport,
+    quadrature_core, registry, selector, CheckReport,
 };
 
 fn tools() -> bool {
@@ -77,8 +77,8 @@ fn counter_bank_netlist_random_stimulus() {
     if tools() {
         // 4 axes × 28 bits, the Icarus run's seed and length: every clock's
         // read data in the checksum.
-        assert_eq!(netlist::COUNTER_BANK_CLOCKS, 30_000);
-        let r = counter::verilog_long_run(net(), netlist::COUNTER_BANK_CLOCKS);
+        assert_eq!(registry::COUNTER_BANK_CLOCKS, 30_000);
+        let r = counter::verilog_long_run(net(), registry::COUNTER_BANK_CLOCKS);
         passed(&r, 30_000);
     }
 }
@@ -105,12 +105,12 @@ fn pulse_generator_netlist_random_clocks() {
 #[test]
 fn quadrature_core_netlist_random_clocks() {
     if tools() {
-        assert_eq!(netlist::QUADRATURE_CLOCKS, 100_000);
-        for (w, seed) in netlist::QUADRATURE_RUNS {
+        assert_eq!(registry::QUADRATURE_CLOCKS, 100_000);
+        for (w, seed) in registry::QUADRATURE_RUNS {
             let r = quadrature_core::verilog_against_channel(
                 net(),
                 w,
-                netlist::QUADRATURE_CLOCKS,
+                registry::QUADRATURE_CLOCKS,
                 seed,
             );
             passed(&r, 100_000);

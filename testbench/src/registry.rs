@@ -1,0 +1,78 @@
+//! Every check `motionhdl verify` runs, in one list: each block's checks
+//! module contributes its `all`, and the post-synthesis netlist runs are
+//! listed here (they reuse the blocks' Verilog checks on a netlist target).
+
+use crate::{
+    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, pulse_generator, quadrature_core,
+    selector, CheckReport,
+};
+
+/// Runs every check. `external` includes the generated-Verilog runs in
+/// Icarus Verilog and Verilator, and each block's check on its
+/// post-synthesis yosys netlist in Icarus.
+pub fn all(external: bool) -> Vec<CheckReport> {
+    let mut v = selector::all(external);
+    v.extend(counter::all(external));
+    v.extend(quadrature_core::all(external));
+    v.extend(ls688::all(external));
+    v.extend(isa_bridge::all(external));
+    v.extend(fsmc_bridge::all(external));
+    v.extend(motion_controller::all(external));
+    v.extend(pulse_generator::all(external));
+    if external {
+        v.extend(netlist_checks());
+    }
+    v
+}
+
+/// Clocks of the counter bank's random stimulus run on its netlist (the
+/// generated file runs 30 000 in Icarus and 10^7 in Verilator).
+pub const COUNTER_BANK_CLOCKS: u64 = 30_000;
+
+/// Clocks per width of the quadrature core's random run on its netlist (as
+/// on the generated file).
+pub const QUADRATURE_CLOCKS: u64 = 100_000;
+
+/// The quadrature core runs: (width, seed), as on the generated file.
+pub const QUADRATURE_RUNS: [(u32, u64); 2] = [(4, 0x9e37_79b9), (32, 0x2545_f491)];
+
+/// Every block's Verilog check run on the block's post-synthesis netlist in
+/// Icarus, with the vectors and expected results of the generated-file run
+/// (shorter for the counter bank; see [`COUNTER_BANK_CLOCKS`]).
+pub fn netlist_checks() -> Vec<CheckReport> {
+    use crate::verilog_sim::{Simulator, Target};
+    use crate::{counter, fsmc_bridge, isa_bridge, ls688, motion_controller};
+    use crate::{quadrature_core, selector};
+    use motionhdl_model::{Config, IsaRam};
+    let t = Target::netlist(Simulator::Icarus);
+    let mut v = vec![
+        selector::ls153_verilog(t),
+        selector::selector_verilog(t),
+        selector::registered_verilog(t),
+        ls688::ls688_verilog(t),
+        counter::verilog_long_run(t, COUNTER_BANK_CLOCKS),
+    ];
+    for (w, seed) in QUADRATURE_RUNS {
+        v.push(quadrature_core::verilog_against_channel(
+            t,
+            w,
+            QUADRATURE_CLOCKS,
+            seed,
+        ));
+    }
+    for ram in [IsaRam::Internal, IsaRam::External] {
+        v.push(isa_bridge::exhaustive_verilog(t, ram));
+        v.push(isa_bridge::block_transfer_verilog(t, ram));
+        v.push(isa_bridge::random_verilog(t, ram));
+    }
+    v.push(isa_bridge::collision_check(Some(t)));
+    v.push(fsmc_bridge::sweep_verilog(t));
+    v.push(fsmc_bridge::random_verilog(t));
+    for ram in [IsaRam::Internal, IsaRam::External] {
+        v.push(motion_controller::check_verilog(
+            t,
+            &Config::default().with_isa_ram(ram),
+        ));
+    }
+    v
+}
