@@ -1,241 +1,227 @@
 //! `motionhdl.svd`: the register map as a CMSIS-SVD 1.3 device description,
 //! for debuggers (register views) and code generators such as svd2rust.
+//!
+//! The map becomes an `svd_rs::Device` and `svd_encoder` writes the XML, so
+//! the file is valid by the same library that svd2rust reads it with.
 
 use super::{
-    block_byte_offset, block_span_bytes, memory_bytes, register_doc, stride_bytes, FSMC_NE1_BASE,
-    REGISTER_BYTES,
+    block_byte_offset, block_span_bytes, layout, memory_bytes, register_doc, stride_bytes, Member,
+    FSMC_NE1_BASE, REGISTER_BYTES,
 };
 use motionhdl_hdl::{banner, VERSION};
-use motionhdl_model::regmap::{Access, BusMap, Field, Register};
-use std::fmt::Write;
+use motionhdl_model::regmap::{Access, Block, BusMap, Field, Memory, Register, RegisterArray};
+use svd_encoder::{Config, NumberFormat};
+use svd_rs::{
+    AddressBlock, AddressBlockUsage, BitRange, ClusterInfo, Device, DimElement, EnumeratedValue,
+    EnumeratedValues, FieldInfo, ModifiedWriteValues, Peripheral, PeripheralInfo, RegisterCluster,
+    RegisterInfo, RegisterProperties, SvdError, ValidateLevel,
+};
 
 /// The file name (at the top of the generated tree).
 pub const FILE_NAME: &str = "motionhdl.svd";
 
-/// `text` with XML's special characters escaped.
-pub fn escape(text: &str) -> String {
-    let mut s = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => s.push_str("&amp;"),
-            '<' => s.push_str("&lt;"),
-            '>' => s.push_str("&gt;"),
-            '"' => s.push_str("&quot;"),
-            '\'' => s.push_str("&apos;"),
-            c => s.push(c),
-        }
-    }
-    s
-}
-
-/// SVD's `<access>` value.
-pub fn access(a: Access) -> &'static str {
+/// SVD's access type; write-one-to-clear is read-write plus
+/// `modifiedWriteValues`.
+fn access(a: Access) -> svd_rs::Access {
     match a {
-        Access::ReadOnly => "read-only",
-        Access::WriteOnly => "write-only",
-        Access::ReadWrite | Access::WriteOneToClear => "read-write",
+        Access::ReadOnly => svd_rs::Access::ReadOnly,
+        Access::WriteOnly => svd_rs::Access::WriteOnly,
+        Access::ReadWrite | Access::WriteOneToClear => svd_rs::Access::ReadWrite,
     }
 }
 
-struct Xml {
-    text: String,
-    depth: usize,
+fn modified_write_values(a: Access) -> Option<ModifiedWriteValues> {
+    (a == Access::WriteOneToClear).then_some(ModifiedWriteValues::OneToClear)
 }
 
-impl Xml {
-    fn open(&mut self, tag: &str) {
-        let _ = writeln!(self.text, "{:w$}<{tag}>", "", w = 2 * self.depth);
-        self.depth += 1;
-    }
-    fn close(&mut self, tag: &str) {
-        self.depth -= 1;
-        let _ = writeln!(self.text, "{:w$}</{tag}>", "", w = 2 * self.depth);
-    }
-    fn leaf(&mut self, tag: &str, value: &str) {
-        let _ = writeln!(
-            self.text,
-            "{:w$}<{tag}>{}</{tag}>",
-            "",
-            escape(value),
-            w = 2 * self.depth
-        );
-    }
+/// Every builder validates strictly, so a map that svd-parser would reject
+/// fails `generate` before a byte is written rather than in a debugger.
+const LEVEL: ValidateLevel = ValidateLevel::Strict;
+
+fn properties(size: u32, reset: u32, mask: u32) -> Result<RegisterProperties, SvdError> {
+    RegisterProperties::new()
+        .size(Some(size))
+        .access(Some(svd_rs::Access::ReadWrite))
+        .reset_value(Some(reset.into()))
+        .reset_mask(Some(mask.into()))
+        .build(LEVEL)
 }
 
-fn hex(v: u32) -> String {
-    format!("0x{v:08X}")
+fn dim(count: u32, increment: u32, index: bool) -> Result<DimElement, SvdError> {
+    DimElement::builder()
+        .dim(count)
+        .dim_increment(increment)
+        .dim_index(index.then(|| (0..count).map(|i| i.to_string()).collect()))
+        .build(LEVEL)
 }
 
-fn field(x: &mut Xml, f: &Field) {
-    x.open("field");
-    x.leaf("name", f.name);
-    x.leaf("description", f.description);
-    x.leaf("bitOffset", &f.lsb.to_string());
-    x.leaf("bitWidth", &f.width.to_string());
-    x.leaf("access", access(f.access));
-    if f.access == Access::WriteOneToClear {
-        x.leaf("modifiedWriteValues", "oneToClear");
-    }
+fn field(f: &Field) -> Result<svd_rs::Field, SvdError> {
+    let mut values = Vec::new();
     if !f.values.is_empty() {
-        x.open("enumeratedValues");
-        for v in &f.values {
-            x.open("enumeratedValue");
-            x.leaf("name", v.name);
-            x.leaf("description", v.description);
-            x.leaf("value", &v.value.to_string());
-            x.close("enumeratedValue");
-        }
-        x.close("enumeratedValues");
+        let list = f
+            .values
+            .iter()
+            .map(|v| {
+                EnumeratedValue::builder()
+                    .name(v.name.into())
+                    .description(Some(v.description.into()))
+                    .value(Some(v.value.into()))
+                    .build(LEVEL)
+            })
+            .collect::<Result<_, _>>()?;
+        values.push(EnumeratedValues::builder().values(list).build(LEVEL)?);
     }
-    x.close("field");
+    Ok(FieldInfo::builder()
+        .name(f.name.into())
+        .description(Some(f.description.into()))
+        .bit_range(BitRange::from_offset_width(f.lsb, f.width))
+        .access(Some(access(f.access)))
+        .modified_write_values(modified_write_values(f.access))
+        .enumerated_values(values)
+        .build(LEVEL)?
+        .single())
 }
 
-fn register(x: &mut Xml, r: &Register) {
-    x.open("register");
-    x.leaf("name", r.name);
-    x.leaf("description", &register_doc(r));
-    x.leaf(
-        "addressOffset",
-        &format!("0x{:X}", r.offset * REGISTER_BYTES),
-    );
-    x.leaf("size", "32");
-    x.leaf("access", access(r.access));
-    x.leaf("resetValue", &hex(r.reset));
-    x.leaf("resetMask", &hex(u32::MAX));
-    if r.access == Access::WriteOneToClear {
-        x.leaf("modifiedWriteValues", "oneToClear");
-    }
-    if !r.fields.is_empty() {
-        x.open("fields");
-        for f in &r.fields {
-            field(x, f);
-        }
-        x.close("fields");
-    }
-    x.close("register");
+fn register(r: &Register) -> Result<RegisterCluster, SvdError> {
+    let fields = r.fields.iter().map(field).collect::<Result<Vec<_>, _>>()?;
+    let info = RegisterInfo::builder()
+        .name(r.name.into())
+        .description(Some(register_doc(r)))
+        .address_offset(r.offset * REGISTER_BYTES)
+        .properties(properties(32, r.reset, u32::MAX)?.access(Some(access(r.access))))
+        .modified_write_values(modified_write_values(r.access))
+        .fields((!fields.is_empty()).then_some(fields))
+        .build(LEVEL)?;
+    Ok(info.single().into())
 }
 
-/// The CMSIS-SVD 1.3 description of `map`, its peripherals at
-/// `FSMC_NE1_BASE` plus their byte offsets.
-pub fn svd(map: &BusMap) -> String {
-    let mut x = Xml {
-        text: String::new(),
-        depth: 0,
-    };
-    // The banner comes first, so the file has no XML declaration (optional;
-    // the encoding is UTF-8, XML's default).
-    let _ = writeln!(x.text, "<!-- {} -->", banner());
-    x.text.push_str(
-        "<device schemaVersion=\"1.3\" xmlns:xs=\"http://www.w3.org/2001/XMLSchema-instance\" \
-         xs:noNamespaceSchemaLocation=\"CMSIS-SVD.xsd\">\n",
-    );
-    x.depth = 1;
-    x.leaf("vendor", "motionhdl");
-    x.leaf("name", map.name);
-    x.leaf("version", VERSION);
-    x.leaf(
-        "description",
-        &format!(
+fn cluster(b: &Block, a: &RegisterArray) -> Result<RegisterCluster, SvdError> {
+    let children = a.registers.iter().map(register).collect::<Result<_, _>>()?;
+    let info = ClusterInfo::builder()
+        .name(format!("{}[%s]", a.name))
+        .description(Some(format!("{} {}: {} elements", b.name, a.name, a.count)))
+        .address_offset(a.offset * REGISTER_BYTES)
+        .children(children)
+        .build(LEVEL)?;
+    Ok(info.array(dim(a.count, stride_bytes(a), true)?).into())
+}
+
+fn peripheral(
+    map: &BusMap,
+    name: &str,
+    description: &str,
+    byte_offset: u32,
+    block: AddressBlock,
+    registers: Vec<RegisterCluster>,
+) -> Result<Peripheral, SvdError> {
+    Ok(PeripheralInfo::builder()
+        .name(name.into())
+        .description(Some(description.into()))
+        .group_name(Some(map.name.into()))
+        .base_address((FSMC_NE1_BASE + byte_offset).into())
+        .address_block(Some(vec![block]))
+        .registers(Some(registers))
+        .build(LEVEL)?
+        .single())
+}
+
+fn block_peripheral(map: &BusMap, b: &Block) -> Result<Peripheral, SvdError> {
+    let registers = layout(&b.registers, &b.arrays, None)
+        .0
+        .into_iter()
+        .filter_map(|(_, m)| match m {
+            Member::Register(r) => Some(register(r)),
+            Member::Array(a) => Some(cluster(b, a)),
+            Member::Reserved { .. } => None,
+        })
+        .collect::<Result<_, _>>()?;
+    let block = AddressBlock::builder()
+        .offset(0)
+        .size(block_span_bytes(b))
+        .usage(AddressBlockUsage::Registers)
+        .build(LEVEL)?;
+    peripheral(
+        map,
+        b.name,
+        b.description,
+        block_byte_offset(b),
+        block,
+        registers,
+    )
+}
+
+fn memory_peripheral(map: &BusMap, m: &Memory) -> Result<Peripheral, SvdError> {
+    let words = RegisterInfo::builder()
+        .name("WORD[%s]".into())
+        .description(Some(format!(
+            "One {}-bit word; access it as a {}-bit halfword.",
+            m.word_bits, m.word_bits
+        )))
+        .address_offset(0)
+        // The RAM's contents after reset are not defined: mask 0.
+        .properties(properties(m.word_bits, 0, 0)?)
+        .build(LEVEL)?
+        .array(dim(m.words, m.word_bits / 8, false)?);
+    let block = AddressBlock::builder()
+        .offset(0)
+        .size(memory_bytes(m))
+        .usage(AddressBlockUsage::Buffer)
+        .build(LEVEL)?;
+    peripheral(
+        map,
+        m.name,
+        m.description,
+        m.byte_offset,
+        block,
+        vec![words.into()],
+    )
+}
+
+/// The register map as an SVD device, its peripherals at `FSMC_NE1_BASE`
+/// plus their byte offsets.
+pub fn device(map: &BusMap) -> Result<Device, SvdError> {
+    let mut peripherals = Vec::new();
+    for b in &map.blocks {
+        peripherals.push(block_peripheral(map, b)?);
+    }
+    for m in &map.memories {
+        peripherals.push(memory_peripheral(map, m)?);
+    }
+    Device::builder()
+        .vendor(Some("motionhdl".into()))
+        .name(map.name.into())
+        .version(VERSION.into())
+        .description(format!(
             "{}. Base address: STM32F4 FSMC bank 1 region 1 (NE1); move every peripheral \
              for another chip select. {}",
             map.description,
             super::access_rule()
-        ),
-    );
-    x.leaf("addressUnitBits", "8");
-    x.leaf("width", "32");
-    x.leaf("size", "32");
-    x.leaf("access", "read-write");
-    x.leaf("resetValue", &hex(0));
-    x.leaf("resetMask", &hex(u32::MAX));
-    x.open("peripherals");
-    for b in &map.blocks {
-        x.open("peripheral");
-        x.leaf("name", b.name);
-        x.leaf("description", b.description);
-        x.leaf("groupName", map.name);
-        x.leaf("baseAddress", &hex(FSMC_NE1_BASE + block_byte_offset(b)));
-        x.open("addressBlock");
-        x.leaf("offset", "0x0");
-        x.leaf("size", &format!("0x{:X}", block_span_bytes(b)));
-        x.leaf("usage", "registers");
-        x.close("addressBlock");
-        x.open("registers");
-        let mut items: Vec<(u32, Option<usize>, Option<usize>)> = b
-            .registers
-            .iter()
-            .enumerate()
-            .map(|(i, r)| (r.offset, Some(i), None))
-            .chain(
-                b.arrays
-                    .iter()
-                    .enumerate()
-                    .map(|(i, a)| (a.offset, None, Some(i))),
-            )
-            .collect();
-        items.sort();
-        for (_, r, a) in items {
-            if let Some(r) = r {
-                register(&mut x, &b.registers[r]);
-            }
-            if let Some(a) = a {
-                let a = &b.arrays[a];
-                x.open("cluster");
-                x.leaf("dim", &a.count.to_string());
-                x.leaf("dimIncrement", &format!("0x{:X}", stride_bytes(a)));
-                x.leaf("dimIndex", &format!("0-{}", a.count - 1));
-                x.leaf("name", &format!("{}[%s]", a.name));
-                x.leaf(
-                    "description",
-                    &format!("{} {}: {} elements", b.name, a.name, a.count),
-                );
-                x.leaf(
-                    "addressOffset",
-                    &format!("0x{:X}", a.offset * REGISTER_BYTES),
-                );
-                for r in &a.registers {
-                    register(&mut x, r);
-                }
-                x.close("cluster");
-            }
-        }
-        x.close("registers");
-        x.close("peripheral");
-    }
-    for m in &map.memories {
-        x.open("peripheral");
-        x.leaf("name", m.name);
-        x.leaf("description", m.description);
-        x.leaf("groupName", map.name);
-        x.leaf("baseAddress", &hex(FSMC_NE1_BASE + m.byte_offset));
-        x.open("addressBlock");
-        x.leaf("offset", "0x0");
-        x.leaf("size", &format!("0x{:X}", memory_bytes(m)));
-        x.leaf("usage", "buffer");
-        x.close("addressBlock");
-        x.open("registers");
-        x.open("register");
-        x.leaf("dim", &m.words.to_string());
-        x.leaf("dimIncrement", &format!("0x{:X}", m.word_bits / 8));
-        x.leaf("name", "WORD[%s]");
-        x.leaf(
-            "description",
-            &format!(
-                "One {}-bit word; access it as a {}-bit halfword.",
-                m.word_bits, m.word_bits
-            ),
-        );
-        x.leaf("addressOffset", "0x0");
-        x.leaf("size", &m.word_bits.to_string());
-        x.leaf("access", "read-write");
-        x.leaf("resetValue", &hex(0));
-        // The RAM's contents after reset are not defined.
-        x.leaf("resetMask", &hex(0));
-        x.close("register");
-        x.close("registers");
-        x.close("peripheral");
-    }
-    x.close("peripherals");
-    x.text.push_str("</device>\n");
-    x.text
+        ))
+        .address_unit_bits(8)
+        .width(32)
+        .default_register_properties(properties(32, 0, u32::MAX)?)
+        .peripherals(peripherals)
+        .schema_version("1.3".into())
+        .xmlns_xs("http://www.w3.org/2001/XMLSchema-instance".into())
+        .no_namespace_schema_location("CMSIS-SVD.xsd".into())
+        .build(LEVEL)
+}
+
+/// The CMSIS-SVD 1.3 file of `map`: the banner comment, then the device.
+///
+/// Panics if the map is not a valid SVD device (a broken table, caught by
+/// the tests for every configuration they build).
+pub fn svd(map: &BusMap) -> String {
+    let dev = device(map).unwrap_or_else(|e| panic!("{} is not a valid SVD device: {e}", map.name));
+    // Register sizes in decimal (`<size>32</size>`), as SVD files usually
+    // spell them; the encoder's other defaults already match.
+    let config = Config::default().register_size(NumberFormat::Dec);
+    let xml = svd_encoder::encode_with_config(&dev, &config).expect("svd-encoder never fails");
+    // Every generated file starts with the banner, so the optional XML
+    // declaration goes (the encoding is UTF-8, XML's default).
+    let body = match xml.strip_prefix("<?xml") {
+        Some(rest) => rest.split_once("?>").expect("closed declaration").1,
+        None => &xml,
+    };
+    format!("<!-- {} -->\n{}\n", banner(), body.trim())
 }
