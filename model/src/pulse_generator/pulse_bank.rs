@@ -1,0 +1,220 @@
+//! The pulse generators behind the register bus, with their output stages.
+
+use super::{MoveEngine, PulseGenerator, PulseInputs, Request, SegmentField, StepTiming};
+use crate::counter::BusCycle;
+use crate::pulse_mode_selector::RegisteredSelector;
+use crate::regmap::{self, Block};
+
+/// Quadrature A/B for a position: Gray phase position mod 4 = 00, 10, 11,
+/// 01 (A leads B when the position rises).
+pub fn quadrature(position: u32) -> (bool, bool) {
+    let p = position & 3;
+    (p == 1 || p == 2, p == 2 || p == 3)
+}
+
+/// The bank of pulse generators behind the register bus
+/// (`regmap::pulse_bank`), each feeding a registered pulse-mode selector.
+/// Bus contract as the counter bank's: a write acts at the edge where `we`
+/// is high; the edge where `re` is high takes the address, the next loads
+/// `rdata`, which then holds.
+#[derive(Clone, Debug)]
+pub struct PulseBank {
+    map: Block,
+    width: u32,
+    run: u32,
+    ctrl: Vec<u32>,
+    rate: Vec<u32>,
+    step_timing: Vec<u32>,
+    dir_timing: Vec<u32>,
+    engines: Vec<MoveEngine>,
+    snap: Vec<u32>,
+    generators: Vec<PulseGenerator>,
+    selectors: Vec<RegisteredSelector>,
+    quadrature: Vec<(bool, bool)>,
+    out: Vec<(bool, bool)>,
+    read_pending: bool,
+    read_addr: u32,
+    rdata: u32,
+}
+
+impl PulseBank {
+    pub fn new(axes: u32, width: u32) -> Self {
+        let n = axes as usize;
+        Self {
+            map: regmap::pulse_bank(axes, width),
+            width,
+            run: 0,
+            ctrl: vec![0; n],
+            rate: vec![0; n],
+            step_timing: vec![0; n],
+            dir_timing: vec![0; n],
+            engines: vec![MoveEngine::default(); n],
+            snap: vec![0; n],
+            generators: vec![PulseGenerator::new(); n],
+            selectors: vec![RegisteredSelector::default(); n],
+            quadrature: vec![(false, false); n],
+            out: vec![(false, false); n],
+            read_pending: false,
+            read_addr: 0,
+            rdata: 0,
+        }
+    }
+
+    pub fn axes(&self) -> usize {
+        self.generators.len()
+    }
+
+    pub fn generator(&self, i: usize) -> &PulseGenerator {
+        &self.generators[i]
+    }
+
+    /// F1 and F2 of axis `i`: the registered selector's outputs, or with
+    /// CTRL.QUADRATURE the quadrature A/B, through one more register.
+    pub fn outputs(&self, i: usize) -> (bool, bool) {
+        self.out[i]
+    }
+
+    pub fn rdata(&self) -> u32 {
+        self.rdata
+    }
+
+    /// The move engine of axis `i`.
+    pub fn engine(&self, i: usize) -> &MoveEngine {
+        &self.engines[i]
+    }
+
+    fn moves(&self, i: usize) -> bool {
+        self.ctrl[i] >> 2 & 1 == 1
+    }
+
+    fn inputs(&self, i: usize) -> PulseInputs {
+        PulseInputs {
+            enable: self.run >> i & 1 == 1,
+            rate: if self.moves(i) {
+                self.engines[i].rate()
+            } else {
+                self.rate[i] as i32
+            },
+            timing: StepTiming {
+                step_len: self.step_timing[i] & 0xffff,
+                step_space: self.step_timing[i] >> 16,
+                dir_setup: self.dir_timing[i] & 0xffff,
+                dir_hold: self.dir_timing[i] >> 16,
+            },
+        }
+    }
+
+    /// Whether `addr` is register `name` of axis `i`.
+    fn is(&self, addr: u32, name: &str, i: usize) -> bool {
+        addr & ((1 << self.map.address_bits) - 1) == self.map.array("AX").address(i as u32, name)
+    }
+
+    /// What a read of `addr` returns (0 where nothing is decoded).
+    pub fn read_value(&self, addr: u32) -> u32 {
+        let addr = addr & ((1 << self.map.address_bits) - 1);
+        for (offset, r, index) in self.map.decoded() {
+            if offset != addr {
+                continue;
+            }
+            return match (r.name, index) {
+                ("INFO", None) => r.reset,
+                ("RUN", None) => self.run,
+                (name, Some(i)) => {
+                    let i = i as usize;
+                    match name {
+                        "CTRL" => self.ctrl[i],
+                        "RATE" => self.rate[i],
+                        "STEP_TIMING" => self.step_timing[i],
+                        "DIR_TIMING" => self.dir_timing[i],
+                        "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
+                        // Write-only: they write the FIFO's tail slot
+                        // (reading them back would cost a 96-bit read-mux
+                        // leg per axis).
+                        "SEG_STEPS" | "SEG_RATE" | "SEG_ACCEL" | "SEG_PUSH" => 0,
+                        "STATUS" => {
+                            let t = self.generators[i].timer.state();
+                            let e = &self.engines[i];
+                            let busy = t.pending != 0 || t.step;
+                            (t.pending as u32 & 0xffff)
+                                | u32::from(busy) << 16
+                                | u32::from(e.active()) << 17
+                                | u32::from(e.done()) << 18
+                                | u32::from(e.overflow()) << 19
+                                | (e.level() as u32) << 20
+                        }
+                        _ => unreachable!("PULSE.AX.{name}"),
+                    }
+                }
+                (name, None) => unreachable!("PULSE.{name}"),
+            };
+        }
+        0
+    }
+
+    /// One rising clock edge.
+    pub fn clock(&mut self, reset: bool, bus: &BusCycle, snapshot: bool) {
+        if reset {
+            *self = Self::new(self.axes() as u32, self.width);
+            return;
+        }
+        if self.read_pending {
+            self.rdata = self.read_value(self.read_addr);
+        }
+        self.read_pending = bus.re;
+        if bus.re {
+            self.read_addr = bus.addr;
+        }
+        for i in 0..self.axes() {
+            let inputs = self.inputs(i);
+            self.out[i] = if self.ctrl[i] >> 1 & 1 == 1 {
+                self.quadrature[i]
+            } else {
+                self.selectors[i].outputs()
+            };
+            self.quadrature[i] = quadrature(self.generators[i].position);
+            let (s1, s2) = self.generators[i].outputs();
+            self.selectors[i].clock(false, self.ctrl[i] & 1 == 1, s2, s1);
+            if snapshot {
+                self.snap[i] = crate::counter::wrap(self.generators[i].position, self.width);
+            }
+            let (request, blocked) = self.generators[i].request(&inputs);
+            let push = bus.we && self.is(bus.addr, "SEG_PUSH", i);
+            let writes: Vec<(SegmentField, u32)> = [
+                ("SEG_STEPS", SegmentField::Steps),
+                ("SEG_RATE", SegmentField::Rate),
+                ("SEG_ACCEL", SegmentField::Accel),
+            ]
+            .into_iter()
+            .filter(|(name, _)| bus.we && self.is(bus.addr, name, i))
+            .map(|(_, f)| (f, bus.wdata))
+            .collect();
+            let moves = self.moves(i);
+            self.engines[i].clock_bus(
+                moves && inputs.enable,
+                moves && request != Request::None,
+                moves && inputs.enable && !blocked,
+                &writes,
+                push,
+            );
+            self.generators[i].clock(&inputs, false);
+        }
+        if bus.we {
+            let addr = bus.addr & ((1 << self.map.address_bits) - 1);
+            let hit = self.map.decoded().into_iter().find(|(o, _, _)| *o == addr);
+            if let Some((_, r, index)) = hit {
+                let v = bus.wdata & r.writable_mask();
+                match (r.name, index) {
+                    ("RUN", None) => self.run = v,
+                    ("CTRL", Some(i)) => {
+                        self.ctrl[i as usize] = v;
+                        self.engines[i as usize].clear_overflow();
+                    }
+                    ("RATE", Some(i)) => self.rate[i as usize] = v,
+                    ("STEP_TIMING", Some(i)) => self.step_timing[i as usize] = v,
+                    ("DIR_TIMING", Some(i)) => self.dir_timing[i as usize] = v,
+                    _ => {}
+                }
+            }
+        }
+    }
+}

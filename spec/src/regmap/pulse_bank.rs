@@ -1,0 +1,191 @@
+//! The PULSE block: the pulse generators' registers
+//! (docs/pulse_generator.md).
+
+use super::{field, reg, Access, Block, EnumValue, RegisterArray};
+
+/// The pulse generators: per axis an NCO rate, step timing, output mode
+/// and the position of emitted steps; RUN starts and stops axes together.
+pub fn pulse_bank(axes: u32, width: u32) -> Block {
+    use Access::*;
+    assert!(
+        (1..=16).contains(&axes),
+        "axes = {axes} out of range 1..=16"
+    );
+    assert!(
+        (2..=32).contains(&width),
+        "width = {width} out of range 2..=32"
+    );
+    let mut info_axes = field("AXES", 0, 5, ReadOnly, "Number of pulse generators.");
+    info_axes.reset = axes;
+    let mut info_width = field("WIDTH", 8, 6, ReadOnly, "POSITION width in bits.");
+    info_width.reset = width;
+    let mut mode = field(
+        "MODE",
+        0,
+        1,
+        ReadWrite,
+        "Output mode: the pulse-mode selector's K input.",
+    );
+    mode.values = vec![
+        EnumValue {
+            name: "PULSE_DIR",
+            value: 0,
+            description: "F1 = step (S1), F2 = direction (S2, 1 = negative).",
+        },
+        EnumValue {
+            name: "CW_CCW",
+            value: 1,
+            description:
+                "F1 = steps in the positive direction, F2 = steps in the negative direction.",
+        },
+    ];
+    let timing = |lo: &'static str, hi: &'static str, lo_doc, hi_doc| {
+        vec![
+            field(lo, 0, 16, ReadWrite, lo_doc),
+            field(hi, 16, 16, ReadWrite, hi_doc),
+        ]
+    };
+    Block {
+        name: "PULSE",
+        description: "Step/pulse generators (docs/pulse_generator.md)",
+        base: 0,
+        address_bits: 9,
+        registers: vec![
+            reg("INFO", 0, ReadOnly, "Build parameters of the pulse generators.", "", vec![info_axes, info_width]),
+            reg(
+                "RUN",
+                1,
+                ReadWrite,
+                "Bit n runs axis n's NCO. One write starts (or stops) every axis it names in the same clock.",
+                "Stopping an axis stops new steps; steps already commanded still go out.",
+                vec![field("AXES", 0, axes, ReadWrite, "One bit per axis.")],
+            ),
+        ],
+        arrays: vec![RegisterArray {
+            name: "AX",
+            count: axes,
+            offset: 16,
+            stride: 16,
+            registers: vec![
+                reg(
+                    "CTRL",
+                    0,
+                    ReadWrite,
+                    "Output mode.",
+                    "",
+                    vec![
+                        mode,
+                        field(
+                            "QUADRATURE",
+                            1,
+                            1,
+                            ReadWrite,
+                            "F1/F2 = quadrature A/B instead of the selector: one A or B edge per step (count it x4).",
+                        ),
+                        field(
+                            "MOVES",
+                            2,
+                            1,
+                            ReadWrite,
+                            "The NCO runs the segment FIFO's moves instead of RATE.",
+                        ),
+                    ],
+                ),
+                reg(
+                    "RATE",
+                    1,
+                    ReadWrite,
+                    "Signed NCO rate: steps per clock = RATE / 2^32, up to half the clock.",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; the sign is the direction.")],
+                ),
+                reg(
+                    "STEP_TIMING",
+                    2,
+                    ReadWrite,
+                    "Minimum step pulse length and space, in clocks (0 counts as 1).",
+                    "",
+                    timing("STEP_LEN", "STEP_SPACE", "S1 high at least this long.", "S1 low at least this long between steps."),
+                ),
+                reg(
+                    "DIR_TIMING",
+                    3,
+                    ReadWrite,
+                    "Minimum direction set-up and hold, in clocks (0 counts as 1).",
+                    "",
+                    timing("DIR_SETUP", "DIR_HOLD", "S2 stable at least this long before S1 rises.", "S1 low at least this long before S2 changes."),
+                ),
+                reg(
+                    "POSITION",
+                    4,
+                    ReadOnly,
+                    "Steps emitted at the counter bank's last SNAPSHOT, sign-extended from WIDTH bits.",
+                    "",
+                    vec![field("VALUE", 0, 32, ReadOnly, "Two's complement; wraps modulo 2^WIDTH.")],
+                ),
+                reg(
+                    "STATUS",
+                    5,
+                    ReadOnly,
+                    "Live state of the axis.",
+                    "",
+                    vec![
+                        field("PENDING", 0, 16, ReadOnly, "Steps commanded but not yet emitted, signed."),
+                        field("BUSY", 16, 1, ReadOnly, "Steps pending or S1 high."),
+                        field("MOVING", 17, 1, ReadOnly, "A segment is running."),
+                        field(
+                            "DONE",
+                            18,
+                            1,
+                            ReadOnly,
+                            "Sticky: every pushed segment has commanded all its steps (cleared by SEG_PUSH). DONE and not BUSY: the move is out.",
+                        ),
+                        field(
+                            "OVERFLOW",
+                            19,
+                            1,
+                            ReadOnly,
+                            "Sticky: a SEG_PUSH found the FIFO full and was dropped (cleared by writing CTRL).",
+                        ),
+                        field("FIFO_LEVEL", 20, 3, ReadOnly, "Segments waiting in the FIFO (0..=2)."),
+                    ],
+                ),
+                reg(
+                    "SEG_STEPS",
+                    6,
+                    WriteOnly,
+                    "Next segment: steps to command (unsigned).",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Steps.")],
+                ),
+                reg(
+                    "SEG_RATE",
+                    7,
+                    WriteOnly,
+                    "Next segment: starting NCO rate (signed, as RATE).",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Two's complement; the sign is the direction.")],
+                ),
+                reg(
+                    "SEG_ACCEL",
+                    8,
+                    WriteOnly,
+                    "Next segment: added to the rate on every clock the NCO advances (signed).",
+                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    vec![field("VALUE", 0, 32, WriteOnly, "Two's complement.")],
+                ),
+                reg(
+                    "SEG_PUSH",
+                    9,
+                    WriteOnly,
+                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (2 deep, besides the segment running).",
+                    "Any write pushes; the data is ignored. A push into a full FIFO is dropped and sets STATUS.OVERFLOW.",
+                    vec![],
+                ),
+            ],
+        }],
+    }
+}
+
+// The SEG_PUSH and FIFO_LEVEL descriptions above say how deep the FIFO is.
+const _: () = assert!(crate::pulse::SEGMENT_FIFO_DEPTH == 2);
