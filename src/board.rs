@@ -318,7 +318,7 @@ mod tests {
         let ports = ports(&Config::default());
         let bits: usize = ports.iter().map(|p| p.bits().len()).sum();
         // clock, reset, FSMC 31, ISA 39, encoders 3 per axis, and whatever
-        // else the top grows (pulse outputs): at least the 84 of issue 6.
+        // else the top grows (pulse outputs): at least the 84 pins of the first pinned top.
         assert!(bits >= 84, "{bits}");
         assert!(ports
             .iter()

@@ -1,6 +1,6 @@
-//! The whole controller in simulation (issue 8): firmware on the MCU plans a
-//! move with the model's algorithms, streams it as segments over the FSMC
-//! bus into the rust-hdl top, the pulse generators drive simulated
+//! The whole controller in simulation: firmware on the MCU plans a move
+//! with the firmware crate's algorithms, streams it as segments over the
+//! FSMC bus into the rust-hdl top, the pulse generators drive simulated
 //! step/direction drives whose encoders feed the counter bank back, and the
 //! firmware reads the counts over the same bus.
 //!

@@ -1,4 +1,4 @@
-//! The whole controller in simulation (issue 8): moves planned by the
+//! The whole controller in simulation: moves planned by the
 //! model's algorithms, streamed over the FSMC bus into the rust-hdl top,
 //! out through the pulse generators and selectors to simulated drives whose
 //! encoders the counter bank counts, read back by the firmware.
