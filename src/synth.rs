@@ -289,12 +289,13 @@ pub fn synthesize(
     freq_mhz: f64,
     seed: u64,
 ) -> Result<Report, CliError> {
-    // Removed when dropped: on success, on error and after a caught signal.
+    // Signals are caught before the scratch directory exists, so that it
+    // is removed (when dropped) on success, on error and after a signal.
+    crate::interrupt::catch();
     let scratch = tempfile::Builder::new()
         .prefix("motionhdl-synth-")
         .tempdir()
         .map_err(|e| CliError::failure(format!("cannot make a scratch directory: {e}")))?;
-    crate::interrupt::catch();
     let dir = scratch.path();
     let io =
         |e: std::io::Error| CliError::failure(format!("cannot write into {}: {e}", dir.display()));
