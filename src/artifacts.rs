@@ -105,32 +105,61 @@ pub fn regmap_exports(config: &Config) -> Vec<Artifact> {
 /// The build configuration as a C header, so firmware can check at compile
 /// time that it matches the gateware it talks to.
 pub fn config_header(config: &Config) -> String {
-    format!(
-        "/* {banner} */
-/* motionhdl_config.h: build configuration of the motionhdl gateware. */
-#ifndef MOTIONHDL_CONFIG_H
-#define MOTIONHDL_CONFIG_H
-
-#include <stdint.h>
-
-#define MOTIONHDL_VERSION \"{VERSION}\"
-
-/* Number of axes in the counter bank and pulse generators. */
-#define MOTIONHDL_AXES {axes}u
-/* Counter width in bits; counts wrap modulo 2^width and read sign-extended. */
-#define MOTIONHDL_COUNTER_WIDTH {width}u
-/* FPGA clock frequency in Hz. */
-#define MOTIONHDL_CLOCK_HZ {clock}ul
-
-/* Pulse-mode selector K input (74LS153 wiring of the dual-CPU seed card). */
-#define MOTIONHDL_PULSE_MODE_PULSE_DIR 0u /* F1 = pulse, F2 = direction */
-#define MOTIONHDL_PULSE_MODE_CW_CCW 1u    /* F1 = CW pulses, F2 = CCW pulses */
-
-#endif /* MOTIONHDL_CONFIG_H */
-",
-        banner = banner(),
-        axes = config.axes(),
-        width = config.counter_width(),
-        clock = config.clock_hz(),
-    )
+    use crate::c_writer::{comment, define, line, IntWidth::Bits32};
+    let mut o = String::new();
+    comment(&mut o, "", &banner());
+    comment(
+        &mut o,
+        "",
+        "motionhdl_config.h: build configuration of the motionhdl gateware.",
+    );
+    line(&mut o, "#ifndef MOTIONHDL_CONFIG_H");
+    line(&mut o, "#define MOTIONHDL_CONFIG_H");
+    o.push('\n');
+    line(&mut o, "#include <stdint.h>");
+    o.push('\n');
+    define(&mut o, "MOTIONHDL_VERSION", &format!("\"{VERSION}\""));
+    o.push('\n');
+    comment(
+        &mut o,
+        "",
+        "Number of axes in the counter bank and pulse generators.",
+    );
+    define(&mut o, "MOTIONHDL_AXES", &Bits32.dec(config.axes()));
+    comment(
+        &mut o,
+        "",
+        "Counter width in bits; counts wrap modulo 2^width and read sign-extended.",
+    );
+    define(
+        &mut o,
+        "MOTIONHDL_COUNTER_WIDTH",
+        &Bits32.dec(config.counter_width()),
+    );
+    comment(&mut o, "", "FPGA clock frequency in Hz.");
+    // `ul`: the clock needs 32 bits even where int has 16.
+    define(
+        &mut o,
+        "MOTIONHDL_CLOCK_HZ",
+        &format!("{}ul", config.clock_hz()),
+    );
+    o.push('\n');
+    comment(
+        &mut o,
+        "",
+        "Pulse-mode selector K input (74LS153 wiring of the dual-CPU seed card).",
+    );
+    define(
+        &mut o,
+        "MOTIONHDL_PULSE_MODE_PULSE_DIR",
+        "0u /* F1 = pulse, F2 = direction */",
+    );
+    define(
+        &mut o,
+        "MOTIONHDL_PULSE_MODE_CW_CCW",
+        "1u    /* F1 = CW pulses, F2 = CCW pulses */",
+    );
+    o.push('\n');
+    line(&mut o, "#endif /* MOTIONHDL_CONFIG_H */");
+    o
 }

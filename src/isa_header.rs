@@ -13,26 +13,15 @@ pub const FILE_NAME: &str = "motionhdl_isa.h";
 /// Prefix of every macro and function the header defines.
 const PREFIX: &str = "MOTIONHDL_ISA";
 
-/// Longest line the header may have.
-const MAX_LINE: usize = 100;
+use crate::c_writer::{IntWidth, MAX_LINE};
 
-/// A value as a C literal of type `unsigned int` (at least 16 bits), or
-/// `unsigned long` when it needs more than 16 bits (DOS compilers have a
-/// 16-bit `int`).
+/// DOS compilers have a 16-bit `int`: literals past 16 bits are `ul`.
 fn hex(v: u32) -> String {
-    if v <= 0xffff {
-        format!("0x{v:04x}u")
-    } else {
-        format!("0x{v:08x}ul")
-    }
+    IntWidth::Bits16.hex(v)
 }
 
 fn dec(v: u32) -> String {
-    if v <= 0xffff {
-        format!("{v}u")
-    } else {
-        format!("{v}ul")
-    }
+    IntWidth::Bits16.dec(v)
 }
 
 fn access(a: Access) -> &'static str {
@@ -44,38 +33,12 @@ fn access(a: Access) -> &'static str {
     }
 }
 
-/// `text` as a C block comment, words wrapped so no line exceeds
-/// `MAX_LINE`; one line (`/* ... */`) when it fits.
 fn comment(out: &mut String, text: &str) {
-    let one = format!("/* {text} */");
-    if one.len() <= MAX_LINE && !text.contains('\n') {
-        out.push_str(&one);
-        out.push('\n');
-        return;
-    }
-    out.push_str("/*\n");
-    for para in text.split('\n') {
-        let mut line = String::from(" *");
-        for word in para.split_whitespace() {
-            if line.len() > 2 && line.len() + 1 + word.len() > MAX_LINE {
-                out.push_str(&line);
-                out.push('\n');
-                line = String::from(" *");
-            }
-            line.push(' ');
-            line.push_str(word);
-        }
-        out.push_str(&line);
-        out.push('\n');
-    }
-    out.push_str(" */\n");
+    crate::c_writer::comment(out, "", text);
 }
 
 fn define(out: &mut String, name: &str, value: &str) {
-    let line = format!("#define {name} {value}");
-    assert!(line.len() <= MAX_LINE, "line too long: {line}");
-    out.push_str(&line);
-    out.push('\n');
+    crate::c_writer::define(out, name, value);
 }
 
 fn offset_name(r: &Register) -> String {

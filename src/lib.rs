@@ -3,6 +3,7 @@
 
 pub mod artifacts;
 pub mod board;
+pub mod c_writer;
 pub mod config_file;
 pub mod constraints;
 pub mod fusesoc;

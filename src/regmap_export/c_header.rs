@@ -6,6 +6,7 @@ use super::{
     memory_bytes, register_doc, stride_bytes, window_layout, Member, WindowMember, FSMC_NE1_BASE,
     REGISTER_BYTES,
 };
+use crate::c_writer::{self, IntWidth};
 use motionhdl_hdl::banner;
 use motionhdl_model::fsmc_bridge;
 use motionhdl_model::regmap::{Access, Block, BusMap, Field, Register, RegisterArray};
@@ -17,9 +18,6 @@ pub const FILE_NAME: &str = "motionhdl_regs.h";
 
 /// Prefix of every macro and type.
 pub const PREFIX: &str = "MOTIONHDL";
-
-/// Longest line the header may have.
-const MAX_LINE: usize = 100;
 
 /// `MOTIONHDL_<BLOCK>`.
 pub fn block_prefix(b: &Block) -> String {
@@ -66,15 +64,11 @@ pub fn window_type() -> String {
 
 /// A value as an unsigned C literal: hex, at least 4 digits.
 pub fn hex(v: u32) -> String {
-    if v <= 0xffff {
-        format!("0x{v:04x}u")
-    } else {
-        format!("0x{v:08x}u")
-    }
+    IntWidth::Bits32.hex(v)
 }
 
 fn dec(v: u32) -> String {
-    format!("{v}u")
+    IntWidth::Bits32.dec(v)
 }
 
 fn qualifier(a: Access) -> &'static str {
@@ -93,36 +87,17 @@ struct Out {
 impl Out {
     /// `text` as a C block comment, wrapped; one line when it fits.
     fn comment(&mut self, indent: &str, text: &str) {
-        let one = format!("{indent}/* {text} */");
-        if one.len() <= MAX_LINE && !text.contains('\n') {
-            self.text.push_str(&one);
-            self.text.push('\n');
-            return;
-        }
-        let _ = writeln!(self.text, "{indent}/*");
-        for line in super::wrap(text, MAX_LINE - indent.len() - 3) {
-            if line.is_empty() {
-                let _ = writeln!(self.text, "{indent} *");
-            } else {
-                let _ = writeln!(self.text, "{indent} * {line}");
-            }
-        }
-        let _ = writeln!(self.text, "{indent} */");
+        c_writer::comment(&mut self.text, indent, text);
     }
 
     fn define(&mut self, name: &str, value: &str) {
         let key = name.split('(').next().unwrap().to_string();
         assert!(self.names.insert(key), "macro {name} defined twice");
-        let line = format!("#define {name} {value}");
-        assert!(line.len() <= MAX_LINE, "line too long: {line}");
-        self.text.push_str(&line);
-        self.text.push('\n');
+        c_writer::define(&mut self.text, name, value);
     }
 
     fn line(&mut self, line: &str) {
-        assert!(line.len() <= MAX_LINE, "line too long: {line}");
-        self.text.push_str(line);
-        self.text.push('\n');
+        c_writer::line(&mut self.text, line);
     }
 }
 

@@ -19,7 +19,7 @@ use std::fmt::Write;
 pub const FILE_NAME: &str = "motionhdl_regs_selftest.c";
 
 /// Longest line of the program.
-const MAX_LINE: usize = 100;
+use crate::c_writer::MAX_LINE;
 
 /// One check: a C expression and the value it must have.
 #[derive(Clone, Debug, PartialEq, Eq)]
