@@ -17,7 +17,7 @@ pub fn comment(out: &mut String, indent: &str, text: &str) {
         return;
     }
     out.push_str(&format!("{indent}/*\n"));
-    for line in crate::regmap_export::wrap(text, MAX_LINE - indent.len() - 3) {
+    for line in crate::text::wrap(text, MAX_LINE - indent.len() - 3) {
         if line.is_empty() {
             out.push_str(&format!("{indent} *\n"));
         } else {

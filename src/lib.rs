@@ -12,6 +12,7 @@ pub mod isa_header;
 pub mod output;
 pub mod regmap_export;
 pub mod synth;
+pub mod text;
 pub mod verify;
 
 /// An error the CLI reports; `exit_code` 2 means bad input (nothing written).
