@@ -61,6 +61,11 @@ enum Command {
         /// Only the rust-hdl checks; do not run Icarus Verilog or Verilator.
         #[arg(long)]
         no_external: bool,
+        /// Only this group of checks (repeatable): selector, counter,
+        /// quadrature_core, ls688, isa_bridge, fsmc_bridge,
+        /// motion_controller, pulse_generator, netlist.
+        #[arg(long, value_name = "GROUP")]
+        only: Vec<String>,
     },
     /// Measure simulation throughput of the default 4×28 counter bank and
     /// of the default top (motion_controller: 4 axes, 28-bit counters,
@@ -161,8 +166,8 @@ fn run(cli: Cli) -> Result<(), CliError> {
             );
             Ok(())
         }
-        Command::Verify { no_external } => {
-            let reports = verify::run(!no_external);
+        Command::Verify { no_external, only } => {
+            let reports = verify::run(!no_external, &only)?;
             print!("{}", verify::table(&reports));
             let failed: Vec<_> = reports.iter().filter(|r| !r.acceptable()).collect();
             for r in &failed {

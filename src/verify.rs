@@ -2,10 +2,19 @@
 
 use motionhdl_testbench::CheckReport;
 
-/// Runs every check of the testbench's registry (see
-/// `motionhdl_testbench::registry`).
-pub fn run(external: bool) -> Vec<CheckReport> {
-    motionhdl_testbench::registry::all(external)
+/// Runs the checks of the testbench's registry (see
+/// `motionhdl_testbench::registry`): all, or the groups in `only`, which
+/// must be known.
+pub fn run(external: bool, only: &[String]) -> Result<Vec<CheckReport>, crate::CliError> {
+    use motionhdl_testbench::registry;
+    let names = registry::group_names();
+    if let Some(bad) = only.iter().find(|o| !names.contains(&o.as_str())) {
+        return Err(crate::CliError::input(format!(
+            "--only {bad} is not a group of checks: use one of {}",
+            names.join(", ")
+        )));
+    }
+    Ok(registry::run(external, only))
 }
 
 /// The table `motionhdl verify` prints.

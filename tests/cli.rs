@@ -223,7 +223,17 @@ fn trace_writes_a_named_scenario_and_rejects_unknown_names() {
 
 #[test]
 fn verify_prints_the_coverage_table() {
-    let o = motionhdl(&["verify", "--no-external"]);
+    // Every rust-hdl group but the counter bank's, whose exhaustive tours
+    // (over a minute) testbench/tests/counter.rs runs check by check.
+    let mut args = vec!["verify", "--no-external"];
+    let groups = motionhdl_testbench::registry::group_names();
+    for g in groups
+        .iter()
+        .filter(|g| !["counter", "netlist"].contains(g))
+    {
+        args.extend(["--only", g]);
+    }
+    let o = motionhdl(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let s = String::from_utf8_lossy(&o.stdout);
     let header = s.lines().next().unwrap();
@@ -235,6 +245,24 @@ fn verify_prints_the_coverage_table() {
         .find(|l| l.starts_with("ls153") && l.contains("rust-hdl"))
         .expect("ls153 row");
     assert!(ls153.contains("4096      4096  pass"), "{ls153}");
+    let rows = s.lines().skip(2).count();
+    assert!(rows >= 20, "{rows} rows:\n{s}");
+    assert!(!s.contains("counter_bank"), "the counter group ran:\n{s}");
+}
+
+#[test]
+fn verify_refuses_an_unknown_group_and_lists_the_groups() {
+    let o = motionhdl(&["verify", "--no-external", "--only", "counters"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("--only counters is not a group of checks"),
+        "{e}"
+    );
+    for g in motionhdl_testbench::registry::group_names() {
+        assert!(e.contains(g), "{g} not listed: {e}");
+    }
+    assert!(o.stdout.is_empty(), "checks ran");
 }
 
 #[test]

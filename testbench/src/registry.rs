@@ -7,22 +7,81 @@ use crate::{
     selector, CheckReport,
 };
 
-/// Runs every check. `external` includes the generated-Verilog runs in
-/// Icarus Verilog and Verilator, and each block's check on its
-/// post-synthesis yosys netlist in Icarus.
-pub fn all(external: bool) -> Vec<CheckReport> {
-    let mut v = selector::all(external);
-    v.extend(counter::all(external));
-    v.extend(quadrature_core::all(external));
-    v.extend(ls688::all(external));
-    v.extend(isa_bridge::all(external));
-    v.extend(fsmc_bridge::all(external));
-    v.extend(motion_controller::all(external));
-    v.extend(pulse_generator::all(external));
+/// One group of checks: a block's checks module (or the netlist runs).
+pub struct Group {
+    pub name: &'static str,
+    pub run: fn(bool) -> Vec<CheckReport>,
+}
+
+/// Every group, in the order `motionhdl verify` prints them. The netlist
+/// runs need the external tools, so they run only with `external`.
+pub const GROUPS: [Group; 9] = [
+    Group {
+        name: "selector",
+        run: selector::all,
+    },
+    Group {
+        name: "counter",
+        run: counter::all,
+    },
+    Group {
+        name: "quadrature_core",
+        run: quadrature_core::all,
+    },
+    Group {
+        name: "ls688",
+        run: ls688::all,
+    },
+    Group {
+        name: "isa_bridge",
+        run: isa_bridge::all,
+    },
+    Group {
+        name: "fsmc_bridge",
+        run: fsmc_bridge::all,
+    },
+    Group {
+        name: "motion_controller",
+        run: motion_controller::all,
+    },
+    Group {
+        name: "pulse_generator",
+        run: pulse_generator::all,
+    },
+    Group {
+        name: "netlist",
+        run: netlist_group,
+    },
+];
+
+fn netlist_group(external: bool) -> Vec<CheckReport> {
     if external {
-        v.extend(netlist_checks());
+        netlist_checks()
+    } else {
+        Vec::new()
     }
-    v
+}
+
+/// The names of the groups, for messages.
+pub fn group_names() -> Vec<&'static str> {
+    GROUPS.iter().map(|g| g.name).collect()
+}
+
+/// Runs every check (or only the groups named in `only`, when it is not
+/// empty). `external` includes the generated-Verilog runs in Icarus
+/// Verilog and Verilator, and each block's check on its post-synthesis
+/// yosys netlist in Icarus.
+pub fn run(external: bool, only: &[String]) -> Vec<CheckReport> {
+    GROUPS
+        .iter()
+        .filter(|g| only.is_empty() || only.iter().any(|o| o == g.name))
+        .flat_map(|g| (g.run)(external))
+        .collect()
+}
+
+/// Runs every check.
+pub fn all(external: bool) -> Vec<CheckReport> {
+    run(external, &[])
 }
 
 /// Clocks of the counter bank's random stimulus run on its netlist (the
