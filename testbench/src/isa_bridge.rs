@@ -14,6 +14,7 @@
 
 use crate::harness::{settle, CheckReport};
 use crate::verilog_sim::{build_and_run, Simulator, Target};
+use motionhdl_hdl::catalog::VerilogModule;
 use motionhdl_hdl::{catalog, IsaBridge, IsaBridgeExternal};
 use motionhdl_model::isa_bridge::{
     self as m, reg, status, IsaBridgeExternalModel, IsaBridgeModel, IsaCard, IsaPins, SramPins,
@@ -1475,28 +1476,28 @@ pub fn collision_vectors(same_word: bool) -> Vec<IsaPinsAndReset> {
 pub type IsaPinsAndReset = (IsaPins, bool);
 
 /// Input and output ports of `isa_bridge` for the vector testbench.
-pub fn collision_ports() -> (Vec<crate::verilog_sim::Port>, Vec<crate::verilog_sim::Port>) {
-    use crate::verilog_sim::Port;
+pub fn collision_ports(
+    m: &VerilogModule,
+) -> (Vec<crate::verilog_sim::Port>, Vec<crate::verilog_sim::Port>) {
+    use crate::verilog_sim::ports_of;
     (
-        vec![
-            Port::new("reset", 1),
-            Port::new("sa", 10),
-            Port::new("sd_in", 16),
-            Port::new("ior_n", 1),
-            Port::new("iow_n", 1),
-            Port::new("aen", 1),
-            Port::new("bale", 1),
-            Port::new("base", 8),
-            Port::new("dsp_addr", 10),
-            Port::new("dsp_wdata", 16),
-            Port::new("dsp_we", 1),
-        ],
-        vec![
-            Port::new("sd_out", 16),
-            Port::new("sd_oe", 1),
-            Port::new("iocs16_n", 1),
-            Port::new("dsp_rdata", 16),
-        ],
+        ports_of(
+            m,
+            &[
+                "reset",
+                "sa",
+                "sd_in",
+                "ior_n",
+                "iow_n",
+                "aen",
+                "bale",
+                "base",
+                "dsp_addr",
+                "dsp_wdata",
+                "dsp_we",
+            ],
+        ),
+        ports_of(m, &["sd_out", "sd_oe", "iocs16_n", "dsp_rdata"]),
     )
 }
 
@@ -1592,8 +1593,8 @@ pub fn collision_check(sim: Option<Target>) -> CheckReport {
                     .collect()
             }
             Some(t) => {
-                let (inputs, outputs) = collision_ports();
                 let m = catalog::isa_bridge(IsaRam::Internal);
+                let (inputs, outputs) = collision_ports(&m);
                 let text = match t.text(&m) {
                     Ok(text) => text,
                     Err(e) if t.available().is_err() => return r.skip(e),

@@ -4,7 +4,7 @@
 
 use crate::harness::{settle, CheckReport};
 use crate::selector::{compare_vectors, sim_failure};
-use crate::verilog_sim::{Design, Port, Simulator, Target};
+use crate::verilog_sim::{ports_of, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, Ls688};
 use motionhdl_model::ls688::{self as m688, Ls688Inputs, INPUT_PINS};
 use rust_hdl::prelude::*;
@@ -46,8 +46,8 @@ pub fn ls688_verilog(target: impl Into<Target>) -> CheckReport {
     let design = Design {
         top: m.name,
         source: &text,
-        inputs: vec![Port::new("p", 8), Port::new("q", 8), Port::new("g_n", 1)],
-        outputs: vec![Port::new("p_eq_q_n", 1)],
+        inputs: ports_of(&m, &["p", "q", "g_n"]),
+        outputs: ports_of(&m, &["p_eq_q_n"]),
         clock: None,
     };
     let inputs: Vec<Ls688Inputs> = every_input().collect();

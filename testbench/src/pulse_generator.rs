@@ -7,7 +7,7 @@
 use crate::harness::{cycle, settle, xorshift, CheckReport};
 use crate::state_map;
 use crate::tour;
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
+use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, PulseBank, PulseGenerator, StepTimer};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::pulse_generator::{
@@ -265,31 +265,17 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             return r;
         }
     };
-    let t = m::TIMER_BITS;
     let design = Design {
         top: module.name,
         source: &text,
-        inputs: vec![
-            Port::new("reset", 1),
-            Port::new("enable", 1),
-            Port::new("rate", 32),
-            Port::new("move_rate", 32),
-            Port::new("moves", 1),
-            Port::new("step_len", t),
-            Port::new("step_space", t),
-            Port::new("dir_setup", t),
-            Port::new("dir_hold", t),
-        ],
-        outputs: vec![
-            Port::new("step", 1),
-            Port::new("dir", 1),
-            Port::new("position", 32),
-            Port::new("status", 32),
-            // Combinational (they follow this clock's inputs): connected,
-            // compared through `step`, `position` and `pending` instead.
-            Port::new("commanded", 1),
-            Port::new("advancing", 1),
-        ],
+        inputs: ports_of(&module, &["reset", "enable", "rate", "move_rate", "moves", "step_len", "step_space", "dir_setup", "dir_hold"]),
+        outputs: // `commanded` and `advancing` are combinational (they follow this
+        // clock's inputs): connected, compared through `step`, `position`
+        // and `pending` instead.
+        ports_of(
+            &module,
+            &["step", "dir", "position", "status", "commanded", "advancing"],
+        ),
         clock: Some("clock"),
     };
     let mut rows: Vec<Vec<u64>> = vectors

@@ -3,7 +3,7 @@
 //! generated Verilog in Icarus and Verilator.
 
 use crate::harness::{cycle, settle, xorshift, CheckReport};
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
+use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, QuadratureCore};
 use motionhdl_model::counter::{Channel, ChannelInputs, CounterParams};
 use rust_hdl::prelude::Block;
@@ -119,8 +119,8 @@ pub fn verilog_against_channel(
     let design = Design {
         top: m.name,
         source: &text,
-        inputs: vec![Port::new("a", 1), Port::new("b", 1), Port::new("reset", 1)],
-        outputs: vec![Port::new("count", 32)],
+        inputs: ports_of(&m, &["a", "b", "reset"]),
+        outputs: ports_of(&m, &["count"]),
         clock: Some("clock"),
     };
     // The testbench prints outputs before each edge: row n + 1 is the count

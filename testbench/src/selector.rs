@@ -3,7 +3,7 @@
 //! model, and the generated Verilog against the model.
 
 use crate::harness::{cycle, settle, CheckReport};
-use crate::verilog_sim::{run_vectors, Design, Port, Simulator, Target};
+use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::ls153::{self as m153, Ls153Inputs, INPUT_PINS};
 use motionhdl_model::pulse_mode_selector::{self as msel, RegisteredSelector};
@@ -208,10 +208,6 @@ pub(crate) fn sim_failure(r: CheckReport, t: Target, err: String) -> CheckReport
     }
 }
 
-fn pins(names: &[&str]) -> Vec<Port> {
-    names.iter().map(|n| Port::new(n, 1)).collect()
-}
-
 /// All 4096 chip inputs through the generated `ls153.v` (or its netlist).
 pub fn ls153_verilog(target: impl Into<Target>) -> CheckReport {
     let t = target.into();
@@ -228,11 +224,14 @@ pub fn ls153_verilog(target: impl Into<Target>) -> CheckReport {
     let design = Design {
         top: m.name,
         source: &text,
-        inputs: pins(&[
-            "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2",
-            "c2_3",
-        ]),
-        outputs: pins(&["y1", "y2"]),
+        inputs: ports_of(
+            &m,
+            &[
+                "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2",
+                "c2_3",
+            ],
+        ),
+        outputs: ports_of(&m, &["y1", "y2"]),
         clock: None,
     };
     let inputs: Vec<Ls153Inputs> = (0..(1u16 << INPUT_PINS))
@@ -302,8 +301,8 @@ pub fn selector_verilog(target: impl Into<Target>) -> CheckReport {
     let design = Design {
         top: m.name,
         source: &text,
-        inputs: pins(&["k", "s2", "s1"]),
-        outputs: pins(&["f1", "f2"]),
+        inputs: ports_of(&m, &["k", "s2", "s1"]),
+        outputs: ports_of(&m, &["f1", "f2"]),
         clock: None,
     };
     let inputs: Vec<(bool, bool, bool)> = selector_inputs().collect();
@@ -347,8 +346,8 @@ pub fn registered_verilog(target: impl Into<Target>) -> CheckReport {
     let design = Design {
         top: m.name,
         source: &text,
-        inputs: pins(&["reset", "k", "s2", "s1"]),
-        outputs: pins(&["f1", "f2"]),
+        inputs: ports_of(&m, &["reset", "k", "s2", "s1"]),
+        outputs: ports_of(&m, &["f1", "f2"]),
         clock: Some("clock"),
     };
     let vectors = registered_vectors();

@@ -144,6 +144,23 @@ impl Port {
     }
 }
 
+/// The ports `names` of `module`, in that order (the order the vectors
+/// pack them in), each with the width the exporter reports for it, so no
+/// testbench retypes a port's width. Panics on a name the module lacks.
+pub fn ports_of(module: &VerilogModule, names: &[&str]) -> Vec<Port> {
+    names
+        .iter()
+        .map(|name| {
+            let p = module
+                .ports
+                .iter()
+                .find(|p| p.name == *name)
+                .unwrap_or_else(|| panic!("module {} has no port `{name}`", module.name));
+            Port::new(name, p.width)
+        })
+        .collect()
+}
+
 /// What to simulate.
 pub struct Design<'a> {
     /// Module name of the design under test.
