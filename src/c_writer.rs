@@ -93,6 +93,7 @@ mod tests {
         let mut s = String::new();
         comment(&mut s, "    ", &"word ".repeat(40));
         assert!(s.lines().all(|l| l.len() <= MAX_LINE), "{s}");
-        assert!(s.starts_with("    /*\n    * word") || s.starts_with("    /*\n     * word"));
+        assert!(s.starts_with("    /*\n     * word word"), "{s}");
+        assert!(s.ends_with("\n     */\n"), "{s}");
     }
 }

@@ -31,7 +31,6 @@ pub struct Options<'a> {
 /// What a run did.
 #[derive(Debug)]
 pub struct Written {
-    pub dir: PathBuf,
     /// Files motionhdl did not write, kept (with `force`).
     pub kept: usize,
 }
@@ -69,7 +68,10 @@ pub fn replace(
     opts: Options,
 ) -> Result<Written, CliError> {
     let files = manifest::with_manifest(files);
-    let dir = check(out, opts)?;
+    // What the directory holds is judged once, under the lock below (the
+    // CLI has already run `check` before computing the files).
+    let dir = resolve(out)?;
+    refuse_special(out, &dir, opts)?;
     let parent = parent_of(&dir).to_path_buf();
     let lock = DirLock::acquire(&parent).map_err(|e| write_error(&parent, e))?;
     interrupt::catch();
@@ -123,10 +125,7 @@ pub fn replace(
             &format!("{} already holds the complete new output", out.display()),
         ));
     }
-    Ok(Written {
-        dir,
-        kept: keep.len(),
-    })
+    Ok(Written { kept: keep.len() })
 }
 
 fn read_error(dir: &Path, e: io::Error) -> CliError {

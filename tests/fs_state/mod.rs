@@ -52,7 +52,7 @@ pub fn finish(mut cmd: Command) -> Output {
         Ok(out) => out.expect("wait for motionhdl"),
         Err(_) => {
             // SIGKILL by PID: the waiting thread still owns the child.
-            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
+            unsafe { libc::kill(pid as libc::pid_t, libc::SIGKILL) };
             panic!("motionhdl did not finish in {:?}: killed", start.elapsed());
         }
     }
