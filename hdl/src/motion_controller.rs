@@ -7,327 +7,235 @@ use crate::{IsaBridge, IsaBridgeExternal, McuSide};
 use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
-/// `N` axes, the MCU's register bus ([`McuSide`]) and the PC's ISA bridge
-/// with the shared RAM in block RAM; the RAM's second port is the MCU's RAM
-/// window.
-#[derive(LogicBlock)]
-pub struct MotionController<const N: usize> {
-    /// FPGA clock (50 MHz by default).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high; hold at least 4 clocks.
-    pub reset: Signal<In, Bit>,
-    /// FSMC NE (chip select), asynchronous.
-    pub fsmc_ne_n: Signal<In, Bit>,
-    /// FSMC NOE (read strobe).
-    pub fsmc_noe_n: Signal<In, Bit>,
-    /// FSMC NWE (write strobe).
-    pub fsmc_nwe_n: Signal<In, Bit>,
-    /// FSMC A[11:0]: halfword address (byte address bits 12..1).
-    pub fsmc_a: Signal<In, Bits<12>>,
-    /// FSMC D[15:0] as the MCU drives it.
-    pub fsmc_d_in: Signal<In, Bits<16>>,
-    /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
-    pub fsmc_d_out: Signal<Out, Bits<16>>,
-    /// Drive FSMC D.
-    pub fsmc_d_oe: Signal<Out, Bit>,
-    /// ISA SA9..SA0.
-    pub isa_sa: Signal<In, Bits<10>>,
-    /// ISA SD15..SD0 as the bus drives it.
-    pub isa_sd_in: Signal<In, Bits<16>>,
-    /// Data the card drives on SD while `isa_sd_oe` is high.
-    pub isa_sd_out: Signal<Out, Bits<16>>,
-    /// Drive ISA SD.
-    pub isa_sd_oe: Signal<Out, Bit>,
-    /// ISA IOR#.
-    pub isa_ior_n: Signal<In, Bit>,
-    /// ISA IOW#.
-    pub isa_iow_n: Signal<In, Bit>,
-    /// ISA AEN (high in DMA cycles).
-    pub isa_aen: Signal<In, Bit>,
-    /// ISA BALE.
-    pub isa_bale: Signal<In, Bit>,
-    /// I/O base switches (SA9..SA2 of the card's first port).
-    pub isa_base: Signal<In, Bits<8>>,
-    /// ISA IOCS16#, for an open-collector pad.
-    pub isa_iocs16_n: Signal<Out, Bit>,
-    /// Encoder A inputs, one per axis.
-    pub enc_a: Signal<In, Bits<N>>,
-    /// Encoder B inputs.
-    pub enc_b: Signal<In, Bits<N>>,
-    /// Encoder index inputs.
-    pub enc_z: Signal<In, Bits<N>>,
-    /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
-    pub pulse_f1: Signal<Out, Bits<N>>,
-    /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
-    pub pulse_f2: Signal<Out, Bits<N>>,
-    mcu: McuSide<N>,
+/// One top build: the ports and wiring both builds share (clock and reset,
+/// the FSMC bus to the MCU side, the ISA bus to the PC's bridge, encoders
+/// and pulse outputs), then the build's own ports and its own wiring,
+/// written as `to = from;` for `self.to.next = self.from.val();`.
+///
+/// The field order is the Verilog port order: the shared ports, the
+/// build's own, then the sub-blocks `mcu` and `pc_bus`; `update` runs the
+/// shared wiring, then the build's. A macro rather than a shared sub-block,
+/// because `#[derive(LogicBlock)]` would name a sub-block's ports `sub$port`
+/// and change the top's Verilog ports. `#[hdl_gen]` sees the statements
+/// already expanded, plain assignments only.
+macro_rules! top_level {
+    (
+        $(#[$struct_attr:meta])*
+        pub struct $name:ident {
+            $(
+                $(#[$port_attr:meta])*
+                pub $port:ident: $port_ty:ty,
+            )*
+        }
+        pc_bus: $bridge:ident,
+        $(#[$new_attr:meta])*
+        fn new asserts $ram:ident, $ram_why:literal;
+        wiring {
+            $( $($to:ident).+ = $($from:ident).+; )*
+        }
+    ) => {
+        $(#[$struct_attr])*
+        #[derive(LogicBlock)]
+        pub struct $name<const N: usize> {
+            /// FPGA clock (50 MHz by default).
+            pub clock: Signal<In, Clock>,
+            /// Synchronous reset, active high; hold at least 4 clocks.
+            pub reset: Signal<In, Bit>,
+            /// FSMC NE (chip select), asynchronous.
+            pub fsmc_ne_n: Signal<In, Bit>,
+            /// FSMC NOE (read strobe).
+            pub fsmc_noe_n: Signal<In, Bit>,
+            /// FSMC NWE (write strobe).
+            pub fsmc_nwe_n: Signal<In, Bit>,
+            /// FSMC A[11:0]: halfword address (byte address bits 12..1).
+            pub fsmc_a: Signal<In, Bits<12>>,
+            /// FSMC D[15:0] as the MCU drives it.
+            pub fsmc_d_in: Signal<In, Bits<16>>,
+            /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
+            pub fsmc_d_out: Signal<Out, Bits<16>>,
+            /// Drive FSMC D.
+            pub fsmc_d_oe: Signal<Out, Bit>,
+            /// ISA SA9..SA0.
+            pub isa_sa: Signal<In, Bits<10>>,
+            /// ISA SD15..SD0 as the bus drives it.
+            pub isa_sd_in: Signal<In, Bits<16>>,
+            /// Data the card drives on SD while `isa_sd_oe` is high.
+            pub isa_sd_out: Signal<Out, Bits<16>>,
+            /// Drive ISA SD.
+            pub isa_sd_oe: Signal<Out, Bit>,
+            /// ISA IOR#.
+            pub isa_ior_n: Signal<In, Bit>,
+            /// ISA IOW#.
+            pub isa_iow_n: Signal<In, Bit>,
+            /// ISA AEN (high in DMA cycles).
+            pub isa_aen: Signal<In, Bit>,
+            /// ISA BALE.
+            pub isa_bale: Signal<In, Bit>,
+            /// I/O base switches (SA9..SA2 of the card's first port).
+            pub isa_base: Signal<In, Bits<8>>,
+            /// ISA IOCS16#, for an open-collector pad.
+            pub isa_iocs16_n: Signal<Out, Bit>,
+            /// Encoder A inputs, one per axis.
+            pub enc_a: Signal<In, Bits<N>>,
+            /// Encoder B inputs.
+            pub enc_b: Signal<In, Bits<N>>,
+            /// Encoder index inputs.
+            pub enc_z: Signal<In, Bits<N>>,
+            /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
+            pub pulse_f1: Signal<Out, Bits<N>>,
+            /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
+            pub pulse_f2: Signal<Out, Bits<N>>,
+            $(
+                $(#[$port_attr])*
+                pub $port: $port_ty,
+            )*
+            mcu: McuSide<N>,
+            pc_bus: $bridge,
+        }
+
+        impl<const N: usize> $name<N> {
+            $(#[$new_attr])*
+            pub fn new(config: &Config) -> Self {
+                assert_eq!(config.isa_ram(), IsaRam::$ram, $ram_why);
+                Self {
+                    clock: Default::default(),
+                    reset: Default::default(),
+                    fsmc_ne_n: Default::default(),
+                    fsmc_noe_n: Default::default(),
+                    fsmc_nwe_n: Default::default(),
+                    fsmc_a: Default::default(),
+                    fsmc_d_in: Default::default(),
+                    fsmc_d_out: Default::default(),
+                    fsmc_d_oe: Default::default(),
+                    isa_sa: Default::default(),
+                    isa_sd_in: Default::default(),
+                    isa_sd_out: Default::default(),
+                    isa_sd_oe: Default::default(),
+                    isa_ior_n: Default::default(),
+                    isa_iow_n: Default::default(),
+                    isa_aen: Default::default(),
+                    isa_bale: Default::default(),
+                    isa_base: Default::default(),
+                    isa_iocs16_n: Default::default(),
+                    enc_a: Default::default(),
+                    enc_b: Default::default(),
+                    enc_z: Default::default(),
+                    pulse_f1: Default::default(),
+                    pulse_f2: Default::default(),
+                    $( $port: Default::default(), )*
+                    mcu: McuSide::new(config),
+                    pc_bus: $bridge::new(),
+                }
+            }
+
+            /// The MCU side, for probing in traces.
+            pub fn mcu(&self) -> &McuSide<N> {
+                &self.mcu
+            }
+        }
+
+        impl<const N: usize> Logic for $name<N> {
+            #[hdl_gen]
+            fn update(&mut self) {
+                self.mcu.clock.next = self.clock.val();
+                self.mcu.reset.next = self.reset.val();
+                self.pc_bus.clock.next = self.clock.val();
+                self.pc_bus.reset.next = self.reset.val();
+                // MCU side.
+                self.mcu.fsmc_ne_n.next = self.fsmc_ne_n.val();
+                self.mcu.fsmc_noe_n.next = self.fsmc_noe_n.val();
+                self.mcu.fsmc_nwe_n.next = self.fsmc_nwe_n.val();
+                self.mcu.fsmc_a.next = self.fsmc_a.val();
+                self.mcu.fsmc_d_in.next = self.fsmc_d_in.val();
+                self.fsmc_d_out.next = self.mcu.fsmc_d_out.val();
+                self.fsmc_d_oe.next = self.mcu.fsmc_d_oe.val();
+                self.mcu.enc_a.next = self.enc_a.val();
+                self.mcu.enc_b.next = self.enc_b.val();
+                self.mcu.enc_z.next = self.enc_z.val();
+                self.pulse_f1.next = self.mcu.pulse_f1.val();
+                self.pulse_f2.next = self.mcu.pulse_f2.val();
+                // PC side.
+                self.pc_bus.sa.next = self.isa_sa.val();
+                self.pc_bus.sd_in.next = self.isa_sd_in.val();
+                self.isa_sd_out.next = self.pc_bus.sd_out.val();
+                self.isa_sd_oe.next = self.pc_bus.sd_oe.val();
+                self.pc_bus.ior_n.next = self.isa_ior_n.val();
+                self.pc_bus.iow_n.next = self.isa_iow_n.val();
+                self.pc_bus.aen.next = self.isa_aen.val();
+                self.pc_bus.bale.next = self.isa_bale.val();
+                self.pc_bus.base.next = self.isa_base.val();
+                self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
+                $( self.$($to).+.next = self.$($from).+.val(); )*
+            }
+        }
+    };
+}
+
+top_level! {
+    /// `N` axes, the MCU's register bus ([`McuSide`]) and the PC's ISA bridge
+    /// with the shared RAM in block RAM; the RAM's second port is the MCU's RAM
+    /// window.
+    pub struct MotionController {}
     pc_bus: IsaBridge,
-}
-
-impl<const N: usize> MotionController<N> {
     /// The top level for `config` (axis count `N`, RAM inside).
-    pub fn new(config: &Config) -> Self {
-        assert_eq!(
-            config.isa_ram(),
-            IsaRam::Internal,
-            "this top has the RAM inside"
-        );
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            fsmc_ne_n: Default::default(),
-            fsmc_noe_n: Default::default(),
-            fsmc_nwe_n: Default::default(),
-            fsmc_a: Default::default(),
-            fsmc_d_in: Default::default(),
-            fsmc_d_out: Default::default(),
-            fsmc_d_oe: Default::default(),
-            isa_sa: Default::default(),
-            isa_sd_in: Default::default(),
-            isa_sd_out: Default::default(),
-            isa_sd_oe: Default::default(),
-            isa_ior_n: Default::default(),
-            isa_iow_n: Default::default(),
-            isa_aen: Default::default(),
-            isa_bale: Default::default(),
-            isa_base: Default::default(),
-            isa_iocs16_n: Default::default(),
-            enc_a: Default::default(),
-            enc_b: Default::default(),
-            enc_z: Default::default(),
-            pulse_f1: Default::default(),
-            pulse_f2: Default::default(),
-            mcu: McuSide::new(config),
-            pc_bus: IsaBridge::new(),
-        }
-    }
-
-    /// The MCU side, for probing in traces.
-    pub fn mcu(&self) -> &McuSide<N> {
-        &self.mcu
-    }
-}
-
-impl<const N: usize> Logic for MotionController<N> {
-    #[hdl_gen]
-    fn update(&mut self) {
-        self.mcu.clock.next = self.clock.val();
-        self.mcu.reset.next = self.reset.val();
-        self.pc_bus.clock.next = self.clock.val();
-        self.pc_bus.reset.next = self.reset.val();
-        // MCU side.
-        self.mcu.fsmc_ne_n.next = self.fsmc_ne_n.val();
-        self.mcu.fsmc_noe_n.next = self.fsmc_noe_n.val();
-        self.mcu.fsmc_nwe_n.next = self.fsmc_nwe_n.val();
-        self.mcu.fsmc_a.next = self.fsmc_a.val();
-        self.mcu.fsmc_d_in.next = self.fsmc_d_in.val();
-        self.fsmc_d_out.next = self.mcu.fsmc_d_out.val();
-        self.fsmc_d_oe.next = self.mcu.fsmc_d_oe.val();
-        self.mcu.enc_a.next = self.enc_a.val();
-        self.mcu.enc_b.next = self.enc_b.val();
-        self.mcu.enc_z.next = self.enc_z.val();
-        self.pulse_f1.next = self.mcu.pulse_f1.val();
-        self.pulse_f2.next = self.mcu.pulse_f2.val();
-        // PC side.
-        self.pc_bus.sa.next = self.isa_sa.val();
-        self.pc_bus.sd_in.next = self.isa_sd_in.val();
-        self.isa_sd_out.next = self.pc_bus.sd_out.val();
-        self.isa_sd_oe.next = self.pc_bus.sd_oe.val();
-        self.pc_bus.ior_n.next = self.isa_ior_n.val();
-        self.pc_bus.iow_n.next = self.isa_iow_n.val();
-        self.pc_bus.aen.next = self.isa_aen.val();
-        self.pc_bus.bale.next = self.isa_bale.val();
-        self.pc_bus.base.next = self.isa_base.val();
-        self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
+    fn new asserts Internal, "this top has the RAM inside";
+    wiring {
         // The shared RAM's second port is the MCU's RAM window.
-        self.pc_bus.dsp_addr.next = self.mcu.ram_addr.val();
-        self.pc_bus.dsp_wdata.next = self.mcu.ram_wdata.val();
-        self.pc_bus.dsp_we.next = self.mcu.ram_we.val();
-        self.mcu.ram_rdata.next = self.pc_bus.dsp_rdata.val();
+        pc_bus.dsp_addr = mcu.ram_addr;
+        pc_bus.dsp_wdata = mcu.ram_wdata;
+        pc_bus.dsp_we = mcu.ram_we;
+        mcu.ram_rdata = pc_bus.dsp_rdata;
     }
 }
 
-/// As [`MotionController`] with the shared RAM outside the FPGA: the ISA
-/// bridge drives the SRAM's left port and the MCU (or DSP) wires straight to
-/// its right port. The MCU bus's A11 = 1 window (1 K x 16) then holds no
-/// RAM of the gateware's (ID.RAM_BASE and RAM_WORDS read 0); its port comes
-/// out as `window_*` for the board (a peripheral, or the SRAM's right port
-/// routed through the FPGA). With `window_rdata` tied to 0 the window reads
-/// 0 and writes go nowhere.
-#[derive(LogicBlock)]
-pub struct MotionControllerExternal<const N: usize> {
-    /// FPGA clock (50 MHz by default).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high; hold at least 4 clocks.
-    pub reset: Signal<In, Bit>,
-    /// FSMC NE (chip select), asynchronous.
-    pub fsmc_ne_n: Signal<In, Bit>,
-    /// FSMC NOE (read strobe).
-    pub fsmc_noe_n: Signal<In, Bit>,
-    /// FSMC NWE (write strobe).
-    pub fsmc_nwe_n: Signal<In, Bit>,
-    /// FSMC A[11:0]: halfword address (byte address bits 12..1).
-    pub fsmc_a: Signal<In, Bits<12>>,
-    /// FSMC D[15:0] as the MCU drives it.
-    pub fsmc_d_in: Signal<In, Bits<16>>,
-    /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
-    pub fsmc_d_out: Signal<Out, Bits<16>>,
-    /// Drive FSMC D.
-    pub fsmc_d_oe: Signal<Out, Bit>,
-    /// ISA SA9..SA0.
-    pub isa_sa: Signal<In, Bits<10>>,
-    /// ISA SD15..SD0 as the bus drives it.
-    pub isa_sd_in: Signal<In, Bits<16>>,
-    /// Data the card drives on SD while `isa_sd_oe` is high.
-    pub isa_sd_out: Signal<Out, Bits<16>>,
-    /// Drive ISA SD.
-    pub isa_sd_oe: Signal<Out, Bit>,
-    /// ISA IOR#.
-    pub isa_ior_n: Signal<In, Bit>,
-    /// ISA IOW#.
-    pub isa_iow_n: Signal<In, Bit>,
-    /// ISA AEN (high in DMA cycles).
-    pub isa_aen: Signal<In, Bit>,
-    /// ISA BALE.
-    pub isa_bale: Signal<In, Bit>,
-    /// I/O base switches (SA9..SA2 of the card's first port).
-    pub isa_base: Signal<In, Bits<8>>,
-    /// ISA IOCS16#, for an open-collector pad.
-    pub isa_iocs16_n: Signal<Out, Bit>,
-    /// Encoder A inputs, one per axis.
-    pub enc_a: Signal<In, Bits<N>>,
-    /// Encoder B inputs.
-    pub enc_b: Signal<In, Bits<N>>,
-    /// Encoder index inputs.
-    pub enc_z: Signal<In, Bits<N>>,
-    /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
-    pub pulse_f1: Signal<Out, Bits<N>>,
-    /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
-    pub pulse_f2: Signal<Out, Bits<N>>,
-    /// External dual-port SRAM, left (PC) port: word address.
-    pub sram_addr: Signal<Out, Bits<10>>,
-    /// SRAM data as the chip drives it.
-    pub sram_d_in: Signal<In, Bits<16>>,
-    /// Data the FPGA drives on the SRAM's data pins while `sram_d_oe`.
-    pub sram_d_out: Signal<Out, Bits<16>>,
-    /// Drive the SRAM's data pins.
-    pub sram_d_oe: Signal<Out, Bit>,
-    /// SRAM CE#.
-    pub sram_ce_n: Signal<Out, Bit>,
-    /// SRAM OE#.
-    pub sram_oe_n: Signal<Out, Bit>,
-    /// SRAM R/W# (WE#).
-    pub sram_we_n: Signal<Out, Bit>,
-    /// MCU window (A11 = 1): word address A[9:0].
-    pub window_addr: Signal<Out, Bits<10>>,
-    /// MCU window write data.
-    pub window_wdata: Signal<Out, Bits<16>>,
-    /// MCU window write, one clock, at the edge where it is high.
-    pub window_we: Signal<Out, Bit>,
-    /// The word at the previous edge's `window_addr` (tie to 0 if unused).
-    pub window_rdata: Signal<In, Bits<16>>,
-    mcu: McuSide<N>,
+top_level! {
+    /// As [`MotionController`] with the shared RAM outside the FPGA: the ISA
+    /// bridge drives the SRAM's left port and the MCU (or DSP) wires straight to
+    /// its right port. The MCU bus's A11 = 1 window (1 K x 16) then holds no
+    /// RAM of the gateware's (ID.RAM_BASE and RAM_WORDS read 0); its port comes
+    /// out as `window_*` for the board (a peripheral, or the SRAM's right port
+    /// routed through the FPGA). With `window_rdata` tied to 0 the window reads
+    /// 0 and writes go nowhere.
+    pub struct MotionControllerExternal {
+        /// External dual-port SRAM, left (PC) port: word address.
+        pub sram_addr: Signal<Out, Bits<10>>,
+        /// SRAM data as the chip drives it.
+        pub sram_d_in: Signal<In, Bits<16>>,
+        /// Data the FPGA drives on the SRAM's data pins while `sram_d_oe`.
+        pub sram_d_out: Signal<Out, Bits<16>>,
+        /// Drive the SRAM's data pins.
+        pub sram_d_oe: Signal<Out, Bit>,
+        /// SRAM CE#.
+        pub sram_ce_n: Signal<Out, Bit>,
+        /// SRAM OE#.
+        pub sram_oe_n: Signal<Out, Bit>,
+        /// SRAM R/W# (WE#).
+        pub sram_we_n: Signal<Out, Bit>,
+        /// MCU window (A11 = 1): word address A[9:0].
+        pub window_addr: Signal<Out, Bits<10>>,
+        /// MCU window write data.
+        pub window_wdata: Signal<Out, Bits<16>>,
+        /// MCU window write, one clock, at the edge where it is high.
+        pub window_we: Signal<Out, Bit>,
+        /// The word at the previous edge's `window_addr` (tie to 0 if unused).
+        pub window_rdata: Signal<In, Bits<16>>,
+    }
     pc_bus: IsaBridgeExternal,
-}
-
-impl<const N: usize> MotionControllerExternal<N> {
     /// The top level for `config` (axis count `N`, RAM external).
-    pub fn new(config: &Config) -> Self {
-        assert_eq!(
-            config.isa_ram(),
-            IsaRam::External,
-            "this top has the RAM outside"
-        );
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            fsmc_ne_n: Default::default(),
-            fsmc_noe_n: Default::default(),
-            fsmc_nwe_n: Default::default(),
-            fsmc_a: Default::default(),
-            fsmc_d_in: Default::default(),
-            fsmc_d_out: Default::default(),
-            fsmc_d_oe: Default::default(),
-            isa_sa: Default::default(),
-            isa_sd_in: Default::default(),
-            isa_sd_out: Default::default(),
-            isa_sd_oe: Default::default(),
-            isa_ior_n: Default::default(),
-            isa_iow_n: Default::default(),
-            isa_aen: Default::default(),
-            isa_bale: Default::default(),
-            isa_base: Default::default(),
-            isa_iocs16_n: Default::default(),
-            enc_a: Default::default(),
-            enc_b: Default::default(),
-            enc_z: Default::default(),
-            pulse_f1: Default::default(),
-            pulse_f2: Default::default(),
-            sram_addr: Default::default(),
-            sram_d_in: Default::default(),
-            sram_d_out: Default::default(),
-            sram_d_oe: Default::default(),
-            sram_ce_n: Default::default(),
-            sram_oe_n: Default::default(),
-            sram_we_n: Default::default(),
-            window_addr: Default::default(),
-            window_wdata: Default::default(),
-            window_we: Default::default(),
-            window_rdata: Default::default(),
-            mcu: McuSide::new(config),
-            pc_bus: IsaBridgeExternal::new(),
-        }
-    }
-
-    /// The MCU side, for probing in traces.
-    pub fn mcu(&self) -> &McuSide<N> {
-        &self.mcu
-    }
-}
-
-impl<const N: usize> Logic for MotionControllerExternal<N> {
-    #[hdl_gen]
-    fn update(&mut self) {
-        self.mcu.clock.next = self.clock.val();
-        self.mcu.reset.next = self.reset.val();
-        self.pc_bus.clock.next = self.clock.val();
-        self.pc_bus.reset.next = self.reset.val();
-        // MCU side.
-        self.mcu.fsmc_ne_n.next = self.fsmc_ne_n.val();
-        self.mcu.fsmc_noe_n.next = self.fsmc_noe_n.val();
-        self.mcu.fsmc_nwe_n.next = self.fsmc_nwe_n.val();
-        self.mcu.fsmc_a.next = self.fsmc_a.val();
-        self.mcu.fsmc_d_in.next = self.fsmc_d_in.val();
-        self.fsmc_d_out.next = self.mcu.fsmc_d_out.val();
-        self.fsmc_d_oe.next = self.mcu.fsmc_d_oe.val();
-        self.mcu.enc_a.next = self.enc_a.val();
-        self.mcu.enc_b.next = self.enc_b.val();
-        self.mcu.enc_z.next = self.enc_z.val();
-        self.pulse_f1.next = self.mcu.pulse_f1.val();
-        self.pulse_f2.next = self.mcu.pulse_f2.val();
-        // PC side.
-        self.pc_bus.sa.next = self.isa_sa.val();
-        self.pc_bus.sd_in.next = self.isa_sd_in.val();
-        self.isa_sd_out.next = self.pc_bus.sd_out.val();
-        self.isa_sd_oe.next = self.pc_bus.sd_oe.val();
-        self.pc_bus.ior_n.next = self.isa_ior_n.val();
-        self.pc_bus.iow_n.next = self.isa_iow_n.val();
-        self.pc_bus.aen.next = self.isa_aen.val();
-        self.pc_bus.bale.next = self.isa_bale.val();
-        self.pc_bus.base.next = self.isa_base.val();
-        self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
+    fn new asserts External, "this top has the RAM outside";
+    wiring {
         // The MCU window goes to the board.
-        self.window_addr.next = self.mcu.ram_addr.val();
-        self.window_wdata.next = self.mcu.ram_wdata.val();
-        self.window_we.next = self.mcu.ram_we.val();
-        self.mcu.ram_rdata.next = self.window_rdata.val();
+        window_addr = mcu.ram_addr;
+        window_wdata = mcu.ram_wdata;
+        window_we = mcu.ram_we;
+        mcu.ram_rdata = window_rdata;
         // The SRAM's left port.
-        self.sram_addr.next = self.pc_bus.ram_addr.val();
-        self.pc_bus.ram_d_in.next = self.sram_d_in.val();
-        self.sram_d_out.next = self.pc_bus.ram_d_out.val();
-        self.sram_d_oe.next = self.pc_bus.ram_d_oe.val();
-        self.sram_ce_n.next = self.pc_bus.ram_ce_n.val();
-        self.sram_oe_n.next = self.pc_bus.ram_oe_n.val();
-        self.sram_we_n.next = self.pc_bus.ram_we_n.val();
+        sram_addr = pc_bus.ram_addr;
+        pc_bus.ram_d_in = sram_d_in;
+        sram_d_out = pc_bus.ram_d_out;
+        sram_d_oe = pc_bus.ram_d_oe;
+        sram_ce_n = pc_bus.ram_ce_n;
+        sram_oe_n = pc_bus.ram_oe_n;
+        sram_we_n = pc_bus.ram_we_n;
     }
 }
