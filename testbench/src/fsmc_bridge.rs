@@ -1,58 +1,33 @@
 //! Checks of the FSMC bridge (docs/fsmc_bridge.md).
 //!
-//! One stimulus language, [`Op`], drives everything: an STM32F4 FSMC
-//! bus-functional model turns each 16- or 32-bit access into the mode-1
-//! waveform (ADDSET HCLKs of address phase, DATAST HCLKs of strobe, a
-//! write's one HCLK of hold, NE1# low across the two halves of a 32-bit
-//! access) at HCLK = 168 MHz against the 50 MHz FPGA clock, on an exact
-//! time grid of 1/42 ns on which both clocks fall. The same op list runs
+//! One stimulus language, the STM32F4 FSMC bus-functional model's [`Op`]
+//! ([`crate::bfm::fsmc`]), drives everything. The same op list runs
 //! * through the rust-hdl block and the cycle model together, with a test
 //!   slave (register file with the two-edge read and live registers that
 //!   change every clock; RAM with the DSP-port contract): [`run_rust`];
-//! * through the generated Verilog under a Verilog FSMC BFM and the same
-//!   slave in Verilog, in Icarus and Verilator: [`run_verilog`];
+//! * through the generated Verilog (or its netlist) beside the same slave
+//!   in Verilog (`testbench/verilog/fsmc_test_slave.v`), in Icarus and
+//!   Verilator, the model's pin stream replayed by [`crate::player`]:
+//!   [`run_verilog`];
 //!
 //! and every read, as the MCU samples it, is compared with the
 //! transaction-level model ([`expected`]), as are the numbers of register
 //! reads, register writes and RAM writes (nothing lost or doubled).
 
+use crate::bfm::fsmc::{
+    self, documented_timing, timeline, Event, Observation, Op, CLOCK_TICKS, FIRST_EDGE_TICKS,
+    PHASES,
+};
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::{build_and_run, Simulator, Target};
+use crate::player::{Peripheral, Rig, Row};
+use crate::verilog_sim::{Simulator, Target};
 use motionhdl_hdl::{catalog, FsmcBridge};
 use motionhdl_model::fsmc_bridge::{
     self as m, FsmcBridgeModel, FsmcOutputs, FsmcPins, FsmcSlave, FsmcTiming, FsmcTransactions,
     PlainSlave,
 };
 use rust_hdl::prelude::*;
-use std::fmt::Write as _;
-use std::fs;
 
-/// Time unit of the bus-functional models: 1/42 ns, so that the 20 ns FPGA
-/// period (840) and the 168 MHz HCLK period (250) are both whole.
-pub const TICKS_PER_NS: u64 = 42;
-/// FPGA clock (50 MHz) and MCU clock (HCLK, 168 MHz) the checks run at.
-pub const FPGA_CLOCK_HZ: u64 = 50_000_000;
-pub const HCLK_HZ: u64 = 168_000_000;
-/// FPGA clock period in ticks.
-pub const CLOCK_TICKS: u64 = 840;
-/// First rising FPGA edge (10 ns); edges follow every [`CLOCK_TICKS`].
-pub const FIRST_EDGE_TICKS: u64 = 420;
-/// HCLK period in ticks (5.952 ns).
-pub const HCLK_TICKS: u64 = 250;
-/// Distinct phases of the HCLK grid against the FPGA clock: HCLK edges sit
-/// on multiples of gcd(250, 840) = 10 ticks (0.238 ns) from any FPGA edge,
-/// 84 of them per period. The bus-functional model puts its grid 5 ticks
-/// off those, so no bus event ever shares a time with an FPGA edge.
-pub const PHASES: u32 = (CLOCK_TICKS / 10) as u32;
-/// Grid offset of the MCU's events from the phase points.
-const GRID: u64 = 5;
-/// The write data is driven this long after NWE# falls (4 ns, pessimistic:
-/// the FSMC drives it for the whole data phase).
-pub const WRITE_DATA_DELAY_TICKS: u64 = 168;
-/// The "end" read observation: 10 ticks (0.24 ns) before NOE# rises.
-pub const END_OBSERVATION_TICKS: u64 = 10;
-/// What the FPGA sees on D when the MCU does not drive it.
-pub const FLOATING_BUS: u16 = 0xffff;
 /// Live registers: word addresses whose value changes every FPGA clock,
 /// `(k & 0xffff) * 0x10001` at edge k, so both halves of one sample are
 /// equal and a torn 32-bit read shows.
@@ -61,20 +36,6 @@ pub const LIVE_WORDS: std::ops::RangeInclusive<u16> = 0x3f0..=0x3ff;
 /// read's address and the edge that loads its data (the contract leaves it
 /// undefined there).
 pub const RDATA_POISON: u32 = 0xdead_beef;
-
-/// The timing the checks use: exactly [`m::stm32f4_timing`] at 50/168 MHz.
-pub fn documented_timing() -> FsmcTiming {
-    m::stm32f4_timing(FPGA_CLOCK_HZ, HCLK_HZ)
-}
-
-/// How long before NOE# rises the bridge's `d_out` must already be valid
-/// in the (zero-delay) simulation: the read lead of the timing budget
-/// (input skew + output delay + MCU setup), rounded up to the 10-tick grid.
-pub fn read_lead_ticks() -> u64 {
-    let b = m::stm32f4_budget(FPGA_CLOCK_HZ, HCLK_HZ);
-    let ticks = (b.read_lead_ns * TICKS_PER_NS as f64).ceil() as u64;
-    ticks.div_ceil(10) * 10
-}
 
 /// Is `word` a live register of the test slave?
 pub fn is_live(word: u16) -> bool {
@@ -86,39 +47,6 @@ pub fn is_live(word: u16) -> bool {
 /// The live registers' value at edge `k`.
 pub fn live_value(k: u64) -> u32 {
     (k & 0xffff) as u32 * 0x1_0001
-}
-
-/// One step of stimulus. Addresses are FSMC halfword addresses A[11:0].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Op {
-    /// One 16-bit read (an LDRH).
-    Read16 { a: u16 },
-    /// One 16-bit write (an STRH).
-    Write16 { a: u16, data: u16 },
-    /// A 32-bit read (an LDR at even `a`): two accesses, NE1# low across.
-    Read32 { a: u16 },
-    /// A 32-bit write (an STR at even `a`).
-    Write32 { a: u16, data: u32 },
-    /// A 16-bit access to another bank: the strobes move, NE1# stays high.
-    Other { write: bool, a: u16, data: u16 },
-    /// NE1# high for this many more HCLKs.
-    Idle { hclk: u16 },
-    /// Wait for the next FPGA rising edge, then put the HCLK grid at phase
-    /// point `phase` (0..84) after it.
-    Align { phase: u16 },
-    /// Synchronous reset for 5 clocks, starting at the first falling edge
-    /// 4 clocks after the last access (the slave keeps its contents).
-    Reset,
-}
-
-/// What one read observed (at the MCU's pins as the bridge drives them):
-/// `d_oe`/`d_out` the read lead before NOE# rises and just before it rises.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Observation {
-    pub oe_setup: bool,
-    pub oe_end: bool,
-    pub data_setup: u16,
-    pub data_end: u16,
 }
 
 /// What a read must observe.
@@ -230,111 +158,6 @@ fn satisfies(got: &Observation, want: &Expect, last_live: &mut Option<u16>) -> b
         Expect::LiveHigh => driven && Some(got.data_end) == *last_live,
         Expect::NotDriven => !got.oe_setup && !got.oe_end,
     }
-}
-
-/// A pin change at a time, or an observation point.
-#[derive(Clone, Copy, Debug)]
-pub enum Event {
-    /// The pins and the reset input from now on.
-    Pins(FsmcPins, bool),
-    /// Sample `d_oe`/`d_out` the read lead before NOE# rises.
-    ObserveSetup,
-    /// Sample them again just before NOE# rises.
-    ObserveEnd,
-}
-
-fn next_rising(t: u64) -> u64 {
-    if t < FIRST_EDGE_TICKS {
-        FIRST_EDGE_TICKS
-    } else {
-        FIRST_EDGE_TICKS + ((t - FIRST_EDGE_TICKS) / CLOCK_TICKS + 1) * CLOCK_TICKS
-    }
-}
-
-fn next_falling(t: u64) -> u64 {
-    (t / CLOCK_TICKS + 1) * CLOCK_TICKS
-}
-
-/// The STM32F4 bus-functional model: every op as timed pin changes
-/// (ticks). Returns the events and the end time.
-pub fn timeline(ops: &[Op], timing: &FsmcTiming) -> (Vec<(u64, Event)>, u64) {
-    let h = HCLK_TICKS;
-    let lead = read_lead_ticks();
-    let mut pins = FsmcPins::idle();
-    pins.d_in = FLOATING_BUS;
-    let mut reset = false;
-    let mut t: u64 = GRID;
-    let mut ev: Vec<(u64, Event)> = vec![(0, Event::Pins(pins, reset))];
-    for op in ops {
-        let (ours, write, accesses): (bool, bool, Vec<(u16, u16)>) = match *op {
-            Op::Read16 { a } => (true, false, vec![(a, 0)]),
-            Op::Write16 { a, data } => (true, true, vec![(a, data)]),
-            Op::Read32 { a } => (true, false, vec![(a, 0), (a + 1, 0)]),
-            Op::Write32 { a, data } => (
-                true,
-                true,
-                vec![(a, data as u16), (a + 1, (data >> 16) as u16)],
-            ),
-            Op::Other { write, a, data } => (false, write, vec![(a, data)]),
-            Op::Idle { hclk } => {
-                t += u64::from(hclk) * h;
-                continue;
-            }
-            Op::Align { phase } => {
-                assert!(u32::from(phase) < PHASES);
-                t = next_rising(t) + GRID + 10 * u64::from(phase);
-                continue;
-            }
-            Op::Reset => {
-                // Four clocks after the last access: its action is done.
-                t = next_falling(t + 4 * CLOCK_TICKS);
-                reset = true;
-                ev.push((t, Event::Pins(pins, reset)));
-                t += 5 * CLOCK_TICKS;
-                reset = false;
-                ev.push((t, Event::Pins(pins, reset)));
-                t += GRID;
-                continue;
-            }
-        };
-        assert!(timing.datast >= 1 && u64::from(timing.datast) * h > lead + END_OBSERVATION_TICKS);
-        pins.ne_n = !ours;
-        for (a, data) in accesses {
-            // Address phase: A (and, for a write, not yet the data).
-            pins.a = a & 0xfff;
-            if write {
-                pins.d_in = !data;
-            }
-            ev.push((t, Event::Pins(pins, reset)));
-            let fall = t + u64::from(timing.addset) * h;
-            let rise = fall + u64::from(timing.datast) * h;
-            if write {
-                pins.nwe_n = false;
-                ev.push((fall, Event::Pins(pins, reset)));
-                pins.d_in = data;
-                ev.push((fall + WRITE_DATA_DELAY_TICKS, Event::Pins(pins, reset)));
-                pins.nwe_n = true;
-                ev.push((rise, Event::Pins(pins, reset)));
-                // One HCLK of hold with NWE# high, then the next access.
-                t = rise + h;
-            } else {
-                pins.noe_n = false;
-                ev.push((fall, Event::Pins(pins, reset)));
-                ev.push((rise - lead, Event::ObserveSetup));
-                ev.push((rise - END_OBSERVATION_TICKS, Event::ObserveEnd));
-                pins.noe_n = true;
-                ev.push((rise, Event::Pins(pins, reset)));
-                t = rise;
-            }
-        }
-        pins.ne_n = true;
-        pins.d_in = FLOATING_BUS;
-        ev.push((t, Event::Pins(pins, reset)));
-        t += (1 + u64::from(timing.busturn)) * h;
-    }
-    // Events at one time stay in push order.
-    ev.sort_by_key(|e| e.0);
-    (ev, t + 8 * CLOCK_TICKS)
 }
 
 /// The test slave, cycle level: a register file with the counter bank's
@@ -831,286 +654,25 @@ pub fn random_ops(seed: u64, n: usize) -> Vec<Op> {
 /// Seed and length of the long random run that goes through every simulator.
 pub const LONG_RANDOM: (u64, usize) = (0xf53c_b1d6, 1500);
 
-// ---------------------------------------------------------------------------
-// Verilog
-// ---------------------------------------------------------------------------
+/// The test slave in Verilog, the twin of [`TestSlave`], placed beside the
+/// bridge by the player.
+pub const TEST_SLAVE_V: &str = include_str!("../verilog/fsmc_test_slave.v");
+/// Clocks the Verilog slave spends clearing its arrays; the bus stream
+/// starts this many whole clocks late.
+pub const SLAVE_CLEAR_CLOCKS: u64 = 1100;
 
-/// One op as a 64-bit word of `ops.hex` for the Verilog BFM.
-pub fn encode(op: &Op) -> u64 {
-    let f = |kind: u64, a: u16, data: u32, param: u16| {
-        (kind << 60) | (u64::from(a & 0xfff) << 48) | (u64::from(data) << 16) | u64::from(param)
-    };
-    match *op {
-        Op::Read16 { a } => f(1, a, 0, 0),
-        Op::Write16 { a, data } => f(2, a, u32::from(data), 0),
-        Op::Read32 { a } => f(3, a, 0, 0),
-        Op::Write32 { a, data } => f(4, a, data, 0),
-        Op::Other { write, a, data } => f(if write { 6 } else { 5 }, a, u32::from(data), 0),
-        Op::Idle { hclk } => f(7, 0, 0, hclk),
-        Op::Align { phase } => f(8, 0, 0, phase),
-        Op::Reset => f(9, 0, 0, 0),
-    }
-}
-
-/// The Verilog FSMC bus-functional model, test slave and testbench: reads
-/// the ops from `ops.hex`, prints one `RD` line per read and the slave's
-/// counts. Same waveform and time grid as [`timeline`].
-pub fn verilog_testbench(timing: &FsmcTiming, ops: usize) -> String {
-    fsmc_bfm_verilog(
-        timing,
-        ops,
-        "fsmc_bfm_tb",
-        "fsmc_bridge and its test slave",
-        &test_slave_verilog(),
-        "        $display(\"COUNTS %0d %0d %0d\", reg_reads, reg_writes, ram_writes);\n",
-    )
-}
-
-/// The test slave and the `fsmc_bridge` instance, for [`verilog_testbench`].
-fn test_slave_verilog() -> String {
-    let live_lo = *LIVE_WORDS.start();
-    let live_hi = *LIVE_WORDS.end();
-    format!(
-        r#"    localparam [31:0] POISON = 32'h{RDATA_POISON:08x};
-    wire [15:0] d_out;
-    wire d_oe;
-    wire [9:0] reg_addr;
-    wire [31:0] reg_wdata;
-    wire reg_we;
-    wire reg_re;
-    reg [31:0] reg_rdata = 32'h0;
-    wire [9:0] ram_addr;
-    wire [15:0] ram_wdata;
-    wire ram_we;
-    reg [15:0] ram_rdata = 16'h0;
-
-    fsmc_bridge dut (
-        .clock(clock), .reset(reset), .ne_n(ne_n), .noe_n(noe_n), .nwe_n(nwe_n),
-        .a(a), .d_in(d_in), .d_out(d_out), .d_oe(d_oe), .reg_addr(reg_addr),
-        .reg_wdata(reg_wdata), .reg_we(reg_we), .reg_re(reg_re), .reg_rdata(reg_rdata),
-        .ram_addr(ram_addr), .ram_wdata(ram_wdata), .ram_we(ram_we), .ram_rdata(ram_rdata)
+fn test_slave() -> Peripheral {
+    // The one fact the two slaves share that the Verilog spells itself.
+    assert!(
+        TEST_SLAVE_V.contains(&format!("32'h{RDATA_POISON:08x}")),
+        "fsmc_test_slave.v and RDATA_POISON disagree"
     );
-
-    // 50 MHz: rising edges at 10 ns + k * 20 ns.
-    always #10 clock = ~clock;
-
-    // Test slave: register file (two-edge read, live registers
-    // {live_lo:#x}..{live_hi:#x} = {{k, k}} at edge k), RAM (DSP-port contract).
-    // Each array is written by this one process.
-    reg [31:0] regs [0:1023];
-    reg [15:0] ram [0:1023];
-    reg [31:0] k = 32'h0;
-    reg read_pending = 1'b0;
-    reg [9:0] read_word = 10'h0;
-    // The arrays start undefined: cleared one word a clock before the
-    // first op (which starts a whole number of clocks later, so every phase
-    // is the same as in the Rust run).
-    reg clear = 1'b1;
-    reg [9:0] clear_word = 10'h0;
-    reg [31:0] reg_reads = 32'h0;
-    reg [31:0] reg_writes = 32'h0;
-    reg [31:0] ram_writes = 32'h0;
-    always @(posedge clock) begin
-        if (clear) begin
-            regs[clear_word] <= 32'h0;
-            ram[clear_word] <= 16'h0;
-            clear_word <= clear_word + 10'd1;
-            if (clear_word == 10'h3ff) clear <= 1'b0;
-        end else begin
-            if (read_pending)
-                reg_rdata <= read_word[9:4] == 6'h3f
-                    ? {{k[15:0], k[15:0]}} : regs[read_word];
-            else if (reg_re)
-                reg_rdata <= POISON;
-            read_pending <= reg_re;
-            if (reg_re) begin
-                read_word <= reg_addr;
-                reg_reads <= reg_reads + 1;
-            end
-            if (reg_we) begin
-                reg_writes <= reg_writes + 1;
-                if (reg_addr[9:4] != 6'h3f)
-                    regs[reg_addr] <= reg_wdata;
-            end
-            ram_rdata <= ram[ram_addr];
-            if (ram_we) begin
-                ram_writes <= ram_writes + 1;
-                ram[ram_addr] <= ram_wdata;
-            end
-        end
-        k <= k + 1;
-    end
-
-"#
-    )
+    Peripheral::new("fsmc_test_slave", "fsmc_test_slave.v", TEST_SLAVE_V)
 }
 
-/// The STM32F4 FSMC bus-functional model as a Verilog testbench module
-/// `tb_module`: `dut` declares the FSMC-side nets (`d_out`, `d_oe`) and
-/// instantiates the design (the testbench drives `clock`, `reset`, `ne_n`,
-/// `noe_n`, `nwe_n`, `a`, `d_in`); the BFM reads the ops from `ops.hex`,
-/// prints one `RD` line per read, then `final_display`, then `DONE`. Same
-/// waveform and time grid as [`timeline`].
-pub fn fsmc_bfm_verilog(
-    timing: &FsmcTiming,
-    ops: usize,
-    tb_module: &str,
-    dut_name: &str,
-    dut: &str,
-    final_display: &str,
-) -> String {
-    let FsmcTiming {
-        addset,
-        datast,
-        busturn,
-    } = *timing;
-    let lead = read_lead_ticks();
-    let header = format!(
-        r#"// STM32F4 FSMC (mode 1) bus-functional model for {dut_name} (motionhdl).
-`timescale 1ns / 1ps
-`default_nettype none
-module {tb_module};
-    // Time in ticks of 1/{TICKS_PER_NS} ns: HCLK (168 MHz) = {HCLK_TICKS}, FPGA clock = {CLOCK_TICKS}.
-    localparam [63:0] TICKS_PER_NS = 64'd{TICKS_PER_NS};
-    localparam [63:0] HCLK = 64'd{HCLK_TICKS};
-    localparam [63:0] CLOCK_TICKS = 64'd{CLOCK_TICKS};
-    localparam [63:0] FIRST_EDGE = 64'd{FIRST_EDGE_TICKS};
-    localparam [63:0] GRID = 64'd{GRID};
-    localparam [63:0] CLEAR_CLOCKS = 64'd1100;
-    localparam [63:0] ADDSET = 64'd{addset};
-    localparam [63:0] DATAST = 64'd{datast};
-    localparam [63:0] BUSTURN = 64'd{busturn};
-    localparam [63:0] LEAD = 64'd{lead};
-    localparam [63:0] END_OBS = 64'd{END_OBSERVATION_TICKS};
-    localparam [63:0] DATA_DELAY = 64'd{WRITE_DATA_DELAY_TICKS};
-    localparam [15:0] FLOATING_BUS = 16'h{FLOATING_BUS:04x};
-
-    reg clock = 1'b0;
-    reg reset = 1'b0;
-    reg ne_n = 1'b1;
-    reg noe_n = 1'b1;
-    reg nwe_n = 1'b1;
-    reg [11:0] a = 12'h0;
-    reg [15:0] d_in = FLOATING_BUS;
-"#
-    );
-    let bfm = format!(
-        r#"    // The MCU's time, in ticks.
-    reg [63:0] t = GRID + CLEAR_CLOCKS * CLOCK_TICKS;
-    reg [63:0] fall;
-    reg [63:0] rise;
-    task automatic wait_until(input [63:0] when);
-        begin
-            #((when * 1.0) / TICKS_PER_NS - $realtime);
-        end
-    endtask
-    function automatic [63:0] next_rising(input [63:0] now);
-        begin
-            if (now < FIRST_EDGE) next_rising = FIRST_EDGE;
-            else next_rising = FIRST_EDGE + ((now - FIRST_EDGE) / CLOCK_TICKS + 64'd1) * CLOCK_TICKS;
-        end
-    endfunction
-    function automatic [63:0] next_falling(input [63:0] now);
-        begin
-            next_falling = (now / CLOCK_TICKS + 64'd1) * CLOCK_TICKS;
-        end
-    endfunction
-
-    reg oe_setup;
-    reg [15:0] data_setup;
-    // One access (mode 1): address phase, strobe, a write's hold.
-    task automatic access(input ours, input write, input [11:0] addr, input [15:0] data);
-        begin
-            wait_until(t);
-            ne_n = !ours;
-            a = addr;
-            if (write) d_in = ~data;
-            fall = t + ADDSET * HCLK;
-            rise = fall + DATAST * HCLK;
-            wait_until(fall);
-            if (write) begin
-                nwe_n = 1'b0;
-                wait_until(fall + DATA_DELAY);
-                d_in = data;
-                wait_until(rise);
-                nwe_n = 1'b1;
-                t = rise + HCLK;
-            end else begin
-                noe_n = 1'b0;
-                wait_until(rise - LEAD);
-                oe_setup = d_oe;
-                data_setup = d_out;
-                wait_until(rise - END_OBS);
-                $display("RD %b %b %h %h", oe_setup, d_oe, data_setup, d_out);
-                wait_until(rise);
-                noe_n = 1'b1;
-                t = rise;
-            end
-        end
-    endtask
-    task automatic finish_transaction;
-        begin
-            wait_until(t);
-            ne_n = 1'b1;
-            d_in = FLOATING_BUS;
-            t = t + (1 + BUSTURN) * HCLK;
-        end
-    endtask
-
-    reg [63:0] ops [0:{depth}];
-    reg [63:0] op;
-    integer i;
-    // op: [63:60] kind, [59:48] A, [47:16] data, [15:0] parameter.
-    initial begin
-        $readmemh("ops.hex", ops);
-        for (i = 0; ops[i][63:60] != 4'd0; i = i + 1) begin
-            op = ops[i];
-            case (op[63:60])
-                4'd1: begin access(1'b1, 1'b0, op[59:48], 16'h0); finish_transaction; end
-                4'd2: begin access(1'b1, 1'b1, op[59:48], op[31:16]); finish_transaction; end
-                4'd3: begin
-                    access(1'b1, 1'b0, op[59:48], 16'h0);
-                    access(1'b1, 1'b0, op[59:48] + 12'd1, 16'h0);
-                    finish_transaction;
-                end
-                4'd4: begin
-                    access(1'b1, 1'b1, op[59:48], op[31:16]);
-                    access(1'b1, 1'b1, op[59:48] + 12'd1, op[47:32]);
-                    finish_transaction;
-                end
-                4'd5: begin access(1'b0, 1'b0, op[59:48], 16'h0); finish_transaction; end
-                4'd6: begin access(1'b0, 1'b1, op[59:48], op[31:16]); finish_transaction; end
-                4'd7: t = t + {{48'd0, op[15:0]}} * HCLK;
-                4'd8: t = next_rising(t) + GRID + 64'd10 * {{48'd0, op[15:0]}};
-                4'd9: begin
-                    t = next_falling(t + 64'd4 * CLOCK_TICKS);
-                    wait_until(t);
-                    reset = 1'b1;
-                    t = t + 64'd5 * CLOCK_TICKS;
-                    wait_until(t);
-                    reset = 1'b0;
-                    t = t + GRID;
-                end
-                default: begin
-                    $display("bad op %h", op);
-                    $finish;
-                end
-            endcase
-        end
-        wait_until(t + 64'd8 * CLOCK_TICKS);
-{final_display}        $display("DONE");
-        $finish;
-    end
-endmodule
-`default_nettype wire
-"#,
-        depth = ops,
-    );
-    header + dut + &bfm
-}
-
-/// Runs `ops` with `timing` through the generated `fsmc_bridge.v` under the
-/// Verilog FSMC BFM: the observations and the slave's counts.
+/// Runs `ops` with `timing` through the generated `fsmc_bridge.v` (or its
+/// netlist) and the test slave, replaying the FSMC bus-functional model's
+/// pin stream: the observations and the slave's counts.
 pub fn run_verilog(
     target: impl Into<Target>,
     ops: &[Op],
@@ -1118,63 +680,26 @@ pub fn run_verilog(
 ) -> Result<(Vec<Observation>, Counts), String> {
     let t = target.into();
     t.available()?;
-    let text = t.text(&catalog::fsmc_bridge())?;
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let d = dir.path();
-    let mut hex = String::new();
-    for op in ops {
-        let _ = writeln!(hex, "{:016x}", encode(op));
-    }
-    let _ = writeln!(hex, "{:016x}", 0);
-    fs::write(d.join("tb.v"), verilog_testbench(timing, ops.len())).map_err(|e| e.to_string())?;
-    fs::write(d.join("fsmc_bridge.v"), text).map_err(|e| e.to_string())?;
-    fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
-    let (stdout, _) = build_and_run(t.sim, d, "fsmc_bfm_tb", &["tb.v", "fsmc_bridge.v"], true)?;
-    if !stdout.lines().any(|l| l == "DONE") {
-        return Err(format!("testbench did not finish:\n{stdout}"));
-    }
-    let obs = parse_reads(&stdout)?;
-    let mut counts = None;
-    for l in stdout.lines() {
-        let w: Vec<&str> = l.split_whitespace().collect();
-        if w.first() == Some(&"COUNTS") && w.len() == 4 {
-            let n = |s: &str| s.parse::<u64>().map_err(|_| format!("bad line `{l}`"));
-            counts = Some(Counts {
-                reg_reads: n(w[1])?,
-                reg_writes: n(w[2])?,
-                ram_writes: n(w[3])?,
-            });
-        }
-    }
-    Ok((obs, counts.ok_or("no COUNTS line")?))
-}
-
-/// The `RD` lines the Verilog BFM printed, one per read access.
-pub fn parse_reads(stdout: &str) -> Result<Vec<Observation>, String> {
-    let mut obs = Vec::new();
-    for l in stdout.lines() {
-        let w: Vec<&str> = l.split_whitespace().collect();
-        if w.first() != Some(&"RD") {
-            continue;
-        }
-        let bad = || format!("bad line `{l}`");
-        if w.len() != 5 {
-            return Err(bad());
-        }
-        let bit = |s: &str| match s {
-            "1" => Ok(true),
-            "0" => Ok(false),
-            _ => Err(bad()),
-        };
-        let hex16 = |s: &str| u16::from_str_radix(s, 16).map_err(|_| bad());
-        obs.push(Observation {
-            oe_setup: bit(w[1])?,
-            oe_end: bit(w[2])?,
-            data_setup: hex16(w[3])?,
-            data_end: hex16(w[4])?,
-        });
-    }
-    Ok(obs)
+    let module = catalog::fsmc_bridge();
+    let mut rig = Rig::new(&module, t.text(&module)?, fsmc::CLOCK);
+    rig.peripherals.push(test_slave());
+    rig.sampled = ["d_oe", "d_out", "reg_reads", "reg_writes", "ram_writes"]
+        .map(String::from)
+        .to_vec();
+    let mut stream = fsmc::stream(ops, timing).delayed(SLAVE_CLEAR_CLOCKS * CLOCK_TICKS);
+    // The counts, once everything has settled.
+    stream.rows.push(Row::Sample { at: stream.end });
+    let samples = rig.play(t.sim, &stream)?;
+    let (last, reads) = samples.split_last().ok_or("no samples")?;
+    let counts = match last[2..] {
+        [Some(reg_reads), Some(reg_writes), Some(ram_writes)] => Counts {
+            reg_reads,
+            reg_writes,
+            ram_writes,
+        },
+        _ => return Err(format!("unreadable counts {last:?}")),
+    };
+    Ok((fsmc::observations(reads)?, counts))
 }
 
 /// Runs `ops` in the generated Verilog against the transaction model.
@@ -1189,7 +714,7 @@ pub fn check_verilog(
     let mut r = CheckReport::new(
         "fsmc_bridge",
         &format!(
-            "{name}: {} under the Verilog FSMC BFM vs transaction model",
+            "{name}: {} through the FSMC BFM's pin stream vs transaction model",
             t.describe()
         ),
         want.len() as u64 + 1,

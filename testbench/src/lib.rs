@@ -9,6 +9,7 @@
 //! * [`scenarios`]: the named traces `motionhdl trace` writes.
 
 pub mod bench;
+pub mod bfm;
 pub mod counter;
 pub mod counter_scenarios;
 pub mod counter_stimulus;
@@ -18,6 +19,7 @@ pub mod isa_bridge;
 pub mod ls688;
 pub mod motion_controller;
 pub mod netlist;
+pub mod player;
 pub mod pulse_generator;
 pub mod pulse_scenarios;
 pub mod quadrature_core;

@@ -4,12 +4,12 @@
 //! the generated `motion_controller.v`, against an oracle built from the
 //! register-map table, the counter bank model and a RAM array.
 
-use crate::fsmc_bridge::{
-    documented_timing, fsmc_bfm_verilog, timeline, Event, Observation, Op, CLOCK_TICKS,
-    FIRST_EDGE_TICKS,
+use crate::bfm::fsmc::{
+    self, documented_timing, timeline, Event, Observation, Op, CLOCK_TICKS, FIRST_EDGE_TICKS,
 };
 use crate::harness::{settle, CheckReport};
-use crate::verilog_sim::{build_and_run, Simulator, Source, Target};
+use crate::player::{PinStream, Rig};
+use crate::verilog_sim::{Simulator, Source, Target};
 use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal};
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::fsmc_bridge::FsmcPins;
@@ -17,8 +17,6 @@ use motionhdl_model::pulse_generator::PulseBank;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
-use std::fmt::Write as _;
-use std::fs;
 
 /// Register word addresses the MCU bus decodes into (A[10:1]).
 pub const REGISTER_WORDS: u32 = 1 << (regmap::MCU_HALFWORD_ADDRESS_BITS - 2);
@@ -421,102 +419,67 @@ pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op], loopback: bool) -> (Vec<Observ
     (observations, clocks)
 }
 
-/// The top and an idle PC side under the Verilog FSMC BFM.
-pub fn verilog_testbench(config: &Config, ops: usize) -> String {
-    let n = config.axes();
-    let top = n - 1;
-    let sram = match config.isa_ram() {
-        IsaRam::Internal => "",
-        IsaRam::External => {
-            ",\n        .sram_addr(sram_addr), .sram_d_in(16'h0), .sram_d_out(sram_d_out),\n        \
-             .sram_d_oe(sram_d_oe), .sram_ce_n(sram_ce_n), .sram_oe_n(sram_oe_n), .sram_we_n(sram_we_n),\n        \
-             .window_addr(window_addr), .window_wdata(window_wdata), .window_we(window_we), \
-             .window_rdata(16'h0)"
-        }
-    };
-    let sram_wires = match config.isa_ram() {
-        IsaRam::Internal => "",
-        IsaRam::External => {
-            "    wire [9:0] sram_addr;\n    wire [15:0] sram_d_out;\n    \
-             wire sram_d_oe, sram_ce_n, sram_oe_n, sram_we_n;\n    \
-             wire [9:0] window_addr;\n    wire [15:0] window_wdata;\n    wire window_we;\n"
-        }
-    };
-    let dut = format!(
-        r#"    wire [15:0] d_out;
-    wire d_oe;
-    wire [15:0] isa_sd_out;
-    wire isa_sd_oe;
-    wire isa_iocs16_n;
-    wire [{top}:0] pulse_f1;
-    wire [{top}:0] pulse_f2;
-{sram_wires}    // The PC side idles: no strobes, AEN high (a DMA cycle: never ours).
-    motion_controller dut (
-        .clock(clock), .reset(reset),
-        .fsmc_ne_n(ne_n), .fsmc_noe_n(noe_n), .fsmc_nwe_n(nwe_n), .fsmc_a(a),
-        .fsmc_d_in(d_in), .fsmc_d_out(d_out), .fsmc_d_oe(d_oe),
-        .isa_sa(10'h0), .isa_sd_in(16'h0), .isa_sd_out(isa_sd_out), .isa_sd_oe(isa_sd_oe),
-        .isa_ior_n(1'b1), .isa_iow_n(1'b1), .isa_aen(1'b1), .isa_bale(1'b0),
-        .isa_base(8'h0), .isa_iocs16_n(isa_iocs16_n),
-        .enc_a({n}'h0), .enc_b({n}'h0), .enc_z({n}'h0),
-        .pulse_f1(pulse_f1), .pulse_f2(pulse_f2){sram}
-    );
-
-    // 50 MHz: rising edges at 10 ns + k * 20 ns.
-    always #10 clock = ~clock;
-
-"#
-    );
-    fsmc_bfm_verilog(
-        &documented_timing(),
-        ops,
-        "motion_controller_tb",
-        "motion_controller",
-        &dut,
-        "",
-    )
+/// The top in `target` with an idle PC side (no strobes, AEN high: a DMA
+/// cycle, never ours), the encoder inputs low or, with `loopback`, every
+/// axis's pulse outputs wired back to its encoder inputs (A = F1, B = F2),
+/// and the external RAM build's SRAM and window data buses reading 0.
+fn rig(target: Target, config: &Config, loopback: bool) -> Result<Rig, String> {
+    let module = catalog::motion_controller(config);
+    let mut rig = Rig::new(&module, target.text(&module)?, fsmc::CLOCK);
+    let idle_pc: [(&str, u64); 7] = [
+        ("isa_sa", 0),
+        ("isa_sd_in", 0),
+        ("isa_ior_n", 1),
+        ("isa_iow_n", 1),
+        ("isa_aen", 1),
+        ("isa_bale", 0),
+        ("isa_base", 0),
+    ];
+    let mut ties: Vec<(&str, u64)> = idle_pc.to_vec();
+    ties.push(("enc_z", 0));
+    if loopback {
+        rig.loops = vec![
+            ("enc_a".into(), "pulse_f1".into()),
+            ("enc_b".into(), "pulse_f2".into()),
+        ];
+    } else {
+        ties.extend([("enc_a", 0), ("enc_b", 0)]);
+    }
+    if config.isa_ram() == IsaRam::External {
+        ties.extend([("sram_d_in", 0), ("window_rdata", 0)]);
+    }
+    rig.ties = ties.into_iter().map(|(n, v)| (n.to_string(), v)).collect();
+    rig.sampled = vec!["fsmc_d_oe".into(), "fsmc_d_out".into()];
+    Ok(rig)
 }
 
-/// Runs `ops` through the generated `motion_controller.v` in `sim`.
+/// The FSMC bus-functional model's stream for `ops` on the top's
+/// `fsmc_`-prefixed pins.
+fn top_stream(ops: &[Op]) -> PinStream {
+    fsmc::stream(ops, &documented_timing()).renamed(|n| match n {
+        "reset" => n.to_string(),
+        _ => format!("fsmc_{n}"),
+    })
+}
+
+/// Runs `ops` through the generated `motion_controller.v` in `target`.
 pub fn run_verilog(
     target: impl Into<Target>,
     config: &Config,
     ops: &[Op],
 ) -> Result<Vec<Observation>, String> {
-    run_verilog_tb(target, config, ops, verilog_testbench(config, ops.len()))
+    play(target.into(), config, ops, false)
 }
 
-/// As [`run_verilog`] with testbench text `tb` (module `motion_controller_tb`).
-pub fn run_verilog_tb(
-    target: impl Into<Target>,
+fn play(
+    t: Target,
     config: &Config,
     ops: &[Op],
-    tb: String,
+    loopback: bool,
 ) -> Result<Vec<Observation>, String> {
-    let t = target.into();
     t.available()?;
-    let text = t.text(&catalog::motion_controller(config))?;
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let d = dir.path();
-    let mut hex = String::new();
-    for op in ops {
-        let _ = writeln!(hex, "{:016x}", crate::fsmc_bridge::encode(op));
-    }
-    let _ = writeln!(hex, "{:016x}", 0);
-    fs::write(d.join("tb.v"), tb).map_err(|e| e.to_string())?;
-    fs::write(d.join("motion_controller.v"), text).map_err(|e| e.to_string())?;
-    fs::write(d.join("ops.hex"), hex).map_err(|e| e.to_string())?;
-    let (stdout, _) = build_and_run(
-        t.sim,
-        d,
-        "motion_controller_tb",
-        &["tb.v", "motion_controller.v"],
-        true,
-    )?;
-    if !stdout.lines().any(|l| l == "DONE") {
-        return Err(format!("testbench did not finish:\n{stdout}"));
-    }
-    crate::fsmc_bridge::parse_reads(&stdout)
+    let samples = rig(t, config, loopback)?.play(t.sim, &top_stream(ops))?;
+    fsmc::observations(&samples)
 }
 
 /// One case per read halfword: driven from the setup point to the end, with
@@ -620,20 +583,7 @@ pub fn loopback_verilog(
     config: &Config,
 ) -> Result<Vec<(i32, i32)>, String> {
     let ops = loopback_ops(config);
-    let tb = loopback_testbench(config, ops.len());
-    loopback_results(config.axes(), &run_verilog_tb(target, config, &ops, tb)?)
-}
-
-/// [`verilog_testbench`] with every axis's pulse outputs wired back to its
-/// encoder inputs (A = F1, B = F2).
-fn loopback_testbench(config: &Config, ops: usize) -> String {
-    let n = config.axes();
-    let tb = verilog_testbench(config, ops).replace(
-        &format!(".enc_a({n}'h0), .enc_b({n}'h0)"),
-        ".enc_a(pulse_f1), .enc_b(pulse_f2)",
-    );
-    assert!(tb.contains(".enc_a(pulse_f1)"), "loopback wiring");
-    tb
+    loopback_results(config.axes(), &play(target.into(), config, &ops, true)?)
 }
 
 /// The same loop in rust-hdl (default 4 axes, internal RAM).
@@ -787,7 +737,5 @@ pub fn moves_verilog(
     target: impl Into<Target>,
     config: &Config,
 ) -> Result<(u32, i32, i32), String> {
-    let ops = moves_ops(config);
-    let tb = loopback_testbench(config, ops.len());
-    moves_results(&run_verilog_tb(target, config, &ops, tb)?)
+    moves_results(&play(target.into(), config, &moves_ops(config), true)?)
 }

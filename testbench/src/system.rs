@@ -6,11 +6,11 @@
 //!
 //! Everything between the firmware and the drives is the rust-hdl
 //! `MotionController` stepped clock by clock; the firmware acts only through
-//! the STM32F4 bus-functional model ([`crate::fsmc_bridge::timeline`]), one
+//! the STM32F4 bus-functional model ([`crate::bfm::fsmc::timeline`]), one
 //! FSMC access at a time, so it can poll STATUS and refill the FIFO as real
 //! firmware does.
 
-use crate::fsmc_bridge::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
+use crate::bfm::fsmc::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
 use motionhdl_firmware::segments::{direction, segments, SegmentConfig};

@@ -22,7 +22,7 @@
 //!   an illegal jump every 8192 clocks and Z at phase 0;
 //! * reset for the first clocks and again every 65536 clocks.
 
-use crate::fsmc_bridge::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
+use crate::bfm::fsmc::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::{settle, CheckReport};
 use crate::isa_bridge::TEST_BASE;
 use crate::verilog_sim::{run_for_sums, Target};
@@ -482,7 +482,7 @@ pub fn step_rust<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) -
 /// (`fsmc_bridge::timeline`, documented timing): the pins as they are at
 /// each rising edge.
 pub fn bfm_clocks(ops: &[Op]) -> Vec<(FsmcPins, bool)> {
-    let (events, end) = timeline(ops, &crate::fsmc_bridge::documented_timing());
+    let (events, end) = timeline(ops, &crate::bfm::fsmc::documented_timing());
     let mut out = Vec::new();
     let mut pins = FsmcPins::idle();
     let mut reset = false;

@@ -320,9 +320,6 @@ pub fn run_vectors(
     let mut hex = String::new();
     for v in vectors {
         assert_eq!(v.len(), design.inputs.len(), "one value per input");
-        // The vector's bits, first input most significant, of any width
-        // (a u128 once silently dropped the top bits of a 131-bit vector).
-        let mut bits: Vec<bool> = Vec::new();
         for (p, x) in design.inputs.iter().zip(v) {
             assert!(
                 p.width == 64 || *x < (1u64 << p.width),
@@ -330,19 +327,42 @@ pub fn run_vectors(
                 p.name,
                 p.width
             );
-            bits.extend((0..p.width).rev().map(|b| x >> b & 1 == 1));
         }
-        let pad = (4 - bits.len() % 4) % 4;
-        let padded: Vec<bool> = std::iter::repeat_n(false, pad).chain(bits).collect();
-        for nibble in padded.chunks(4) {
-            let d = nibble.iter().fold(0u32, |a, &b| a << 1 | u32::from(b));
-            hex.push(char::from_digit(d, 16).expect("a hex digit"));
-        }
+        let fields: Vec<(u32, u64)> = design
+            .inputs
+            .iter()
+            .map(|p| p.width)
+            .zip(v.iter().copied())
+            .collect();
+        hex.push_str(&pack_hex(&fields));
         hex.push('\n');
     }
     fs::write(d.join("vectors.hex"), hex).map_err(|e| e.to_string())?;
     let (stdout, _) = build_and_run(sim, d, "motionhdl_tb", &["tb.v", "dut.v"], true)?;
     parse_outputs(&stdout, design.outputs.len(), vectors.len())
+}
+
+/// `fields` (width, value), first most significant, as one hex word of
+/// any width (a u128 once silently dropped the top bits of a 131-bit
+/// vector).
+pub fn pack_hex(fields: &[(u32, u64)]) -> String {
+    let mut bits: Vec<bool> = Vec::new();
+    for &(width, x) in fields {
+        debug_assert!(
+            width == 64 || x < (1u64 << width),
+            "{x} exceeds {width} bits"
+        );
+        bits.extend((0..width).rev().map(|b| x >> b & 1 == 1));
+    }
+    let pad = (4 - bits.len() % 4) % 4;
+    let padded: Vec<bool> = std::iter::repeat_n(false, pad).chain(bits).collect();
+    padded
+        .chunks(4)
+        .map(|nibble| {
+            let d = nibble.iter().fold(0u32, |a, &b| a << 1 | u32::from(b));
+            char::from_digit(d, 16).expect("a hex digit")
+        })
+        .collect()
 }
 
 fn parse_outputs(stdout: &str, n_out: usize, n_vec: usize) -> Result<Vec<Vec<u64>>, String> {

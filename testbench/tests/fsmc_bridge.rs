@@ -4,14 +4,15 @@
 //! and the export's lint.
 
 use motionhdl_model::fsmc_bridge::{self as m, FsmcTiming};
-use motionhdl_testbench::fsmc_bridge::{self as fsmc, Op};
+use motionhdl_testbench::bfm::fsmc::{self as bus, Op};
+use motionhdl_testbench::fsmc_bridge as fsmc;
 use motionhdl_testbench::harness::require_tool;
 use motionhdl_testbench::verilog_sim::Simulator;
 use std::process::Command;
 
 #[test]
 fn the_documented_timing_is_addset_4_datast_21_busturn_0() {
-    let t = fsmc::documented_timing();
+    let t = bus::documented_timing();
     assert_eq!(
         t,
         FsmcTiming {
@@ -22,17 +23,17 @@ fn the_documented_timing_is_addset_4_datast_21_busturn_0() {
     );
     assert_eq!(t.btr(), 0x0000_1504);
     // The sweep's grid: 84 distinct phases of HCLK against the FPGA clock.
-    assert_eq!(fsmc::PHASES, 84);
+    assert_eq!(bus::PHASES, 84);
     assert_eq!(fsmc::SWEEP_CASES, 84 * 12);
     // Both clocks are whole on the 1/42 ns grid.
-    let tick_hz = fsmc::TICKS_PER_NS * 1_000_000_000;
-    assert_eq!(fsmc::HCLK_TICKS * fsmc::HCLK_HZ, tick_hz);
-    assert_eq!(fsmc::CLOCK_TICKS * fsmc::FPGA_CLOCK_HZ, tick_hz);
+    let tick_hz = bus::TICKS_PER_NS * 1_000_000_000;
+    assert_eq!(bus::HCLK_TICKS * bus::HCLK_HZ, tick_hz);
+    assert_eq!(bus::CLOCK_TICKS * bus::FPGA_CLOCK_HZ, tick_hz);
 }
 
 #[test]
 fn phase_sweep_rust_hdl() {
-    let (r, cases) = fsmc::sweep_rust(&fsmc::documented_timing());
+    let (r, cases) = fsmc::sweep_rust(&bus::documented_timing());
     assert_eq!(cases, 1008);
     // One case per read (27 a phase) plus the transaction counts.
     assert_eq!(r.expected, 2269);
@@ -41,7 +42,7 @@ fn phase_sweep_rust_hdl() {
 
 #[test]
 fn one_hclk_less_of_datast_or_addset_fails() {
-    let t = fsmc::documented_timing();
+    let t = bus::documented_timing();
     let short_data = FsmcTiming {
         datast: t.datast - 1,
         ..t
@@ -56,7 +57,7 @@ fn one_hclk_less_of_datast_or_addset_fails() {
         "DATAST {}: {} of {} phases fail: {bad:?}",
         short_data.datast,
         bad.len(),
-        fsmc::PHASES
+        bus::PHASES
     );
     let short_addr = FsmcTiming {
         addset: t.addset - 1,
@@ -72,7 +73,7 @@ fn one_hclk_less_of_datast_or_addset_fails() {
         "ADDSET {}: {} of {} phases fail: {bad:?}",
         short_addr.addset,
         bad.len(),
-        fsmc::PHASES
+        bus::PHASES
     );
     // And the documented timing passes every phase on its own.
     assert!(fsmc::failing_phases(&t).is_empty());
@@ -83,9 +84,9 @@ fn one_hclk_less_of_datast_or_addset_fails() {
         "DATAST {}: a lone register read fails at {} of {} phases: {late:?}",
         short_data.datast,
         late.len(),
-        fsmc::PHASES
+        bus::PHASES
     );
-    assert!(!late.is_empty() && late.len() < fsmc::PHASES as usize);
+    assert!(!late.is_empty() && late.len() < bus::PHASES as usize);
     assert!(fsmc::read_failing_phases(&t).is_empty());
 }
 
@@ -125,7 +126,7 @@ fn a_torn_or_wrong_read_is_caught() {
         Op::Read16 { a: 0x7e0 },
         Op::Read16 { a: 0x7e3 },
     ];
-    let run = fsmc::run_rust(&ops, &fsmc::documented_timing());
+    let run = fsmc::run_rust(&ops, &bus::documented_timing());
     assert!(run.mismatches.is_empty(), "{:?}", run.mismatches);
     let (want, _) = fsmc::expected(&ops);
     assert_eq!(want[0], fsmc::Expect::Data(7));
@@ -191,7 +192,7 @@ mod properties {
         #[test]
         fn random_sequences(seed in any::<u64>(), n in 1usize..40) {
             let ops = fsmc::random_ops(seed, n);
-            let (r, run) = fsmc::check_rust("proptest", &ops, &fsmc::documented_timing());
+            let (r, run) = fsmc::check_rust("proptest", &ops, &bus::documented_timing());
             prop_assert!(r.failures.is_empty(), "seed {seed:#x} n {n}: {:?}", r.failures);
             prop_assert_eq!(r.covered, r.expected);
             prop_assert!(run.clocks > 0);

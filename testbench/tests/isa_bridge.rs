@@ -3,7 +3,8 @@
 //! Verilog (Icarus, Verilator).
 
 use motionhdl_model::IsaRam;
-use motionhdl_testbench::isa_bridge::{self as isa, Op};
+use motionhdl_testbench::bfm::isa::{Observation, Op};
+use motionhdl_testbench::isa_bridge as isa;
 use motionhdl_testbench::verilog_sim::Simulator;
 
 const BUILDS: [IsaRam; 2] = [IsaRam::Internal, IsaRam::External];
@@ -80,7 +81,7 @@ fn a_wrong_read_is_caught() {
         let run = isa::run_rust(ram, isa::TEST_BASE, &ops, None);
         let mut want = isa::expected(isa::TEST_BASE, &ops);
         assert!(isa::same(&run.observations[0], &want[0]), "{ram:?}");
-        want[0] = isa::Observation::Dsp { data: 8 };
+        want[0] = Observation::Dsp { data: 8 };
         assert!(!isa::same(&run.observations[0], &want[0]));
     }
 }

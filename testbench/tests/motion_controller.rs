@@ -71,7 +71,7 @@ fn the_plan_covers_the_map() {
 fn check(
     name: &str,
     plan: &Plan,
-    got: Result<Vec<motionhdl_testbench::fsmc_bridge::Observation>, String>,
+    got: Result<Vec<motionhdl_testbench::bfm::fsmc::Observation>, String>,
     sim: Option<Simulator>,
 ) -> CheckReport {
     match got {
