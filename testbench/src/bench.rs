@@ -80,7 +80,7 @@ pub fn rust_hdl(cycles: u64) -> Throughput {
 /// (simulation time only; compilation excluded).
 pub fn verilog(sim: Simulator, cycles: u64) -> Result<Throughput, String> {
     let m = motionhdl_hdl::catalog::counter_bank(4, 28);
-    let (_, elapsed) = verilog_sums_timed(sim, &m.text, 4, 28, 1, cycles)?;
+    let (_, elapsed) = verilog_sums_timed(sim, &m, &m.text, 28, 1, cycles)?;
     Ok(Throughput {
         engine: format!("{} (generated Verilog + testbench)", sim.name()),
         cycles,

@@ -497,7 +497,7 @@ pub fn verilog_long_run(target: impl Into<crate::verilog_sim::Target>, cycles: u
     let m = motionhdl_hdl::catalog::counter_bank(axes, width);
     match t
         .text(&m)
-        .and_then(|text| verilog_sums(t.sim, &text, axes, width, seed, cycles))
+        .and_then(|text| verilog_sums(t.sim, &m, &text, width, seed, cycles))
     {
         Err(e) => r.failures.push(e),
         Ok(got) => {

@@ -9,7 +9,8 @@
 //! (an illegal transition); Z pulses at phase 0 on some clocks. The bus
 //! snapshots, reads, writes CTRL/CMD/PRESET at random.
 
-use crate::verilog_sim::{run_for_sums, Simulator};
+use crate::verilog_sim::{dut_instance, run_for_sums, Simulator};
+use motionhdl_hdl::catalog::VerilogModule;
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::regmap;
 use std::fmt::Write as _;
@@ -142,8 +143,14 @@ pub fn model_sums(axes: u32, width: u32, seed: u32, cycles: u64) -> Sums {
     sums
 }
 
-/// The Verilog testbench: the same generator, driving `counter_bank`.
-pub fn verilog_testbench(axes: u32, width: u32, seed: u32, cycles: u64) -> String {
+/// The Verilog testbench: the same generator, driving `module` (a
+/// `counter_bank` of `axes` channels of `width` bits).
+pub fn verilog_testbench(module: &VerilogModule, width: u32, seed: u32, cycles: u64) -> String {
+    let axes = module
+        .ports
+        .iter()
+        .find(|p| p.name == "a")
+        .map_or(0, |p| p.width);
     let s = Stimulus::new(axes, width, seed);
     let n = axes;
     let mut t = String::new();
@@ -152,16 +159,7 @@ pub fn verilog_testbench(axes: u32, width: u32, seed: u32, cycles: u64) -> Strin
         r#"`timescale 1ns / 1ps
 `default_nettype none
 module counter_bank_tb;
-    reg clock;
-    reg reset;
-    reg [{top}:0] a, b, z;
-    reg [7:0] addr;
-    reg [31:0] wdata;
-    reg we, re;
-    wire [31:0] rdata;
-    counter_bank dut (.clock(clock), .reset(reset), .a(a), .b(b), .z(z), .addr(addr),
-                      .wdata(wdata), .we(we), .re(re), .rdata(rdata));
-    reg [31:0] x, r1, r2, r3, c, ch, sum_stim, sum_rdata;
+{dut}    reg [31:0] x, r1, r2, r3, c, ch, sum_stim, sum_rdata;
     reg [1:0] phase [0:{top}];
     reg [1:0] m;
     reg [15:0] a16, b16, z16;
@@ -230,6 +228,7 @@ module counter_bank_tb;
     end
 endmodule
 "#,
+        dut = dut_instance(module),
         top = n - 1,
         seed = s.x,
         n = n,
@@ -249,21 +248,21 @@ endmodule
 /// Runs the generated Verilog for `cycles` clocks and returns its checksums.
 pub fn verilog_sums(
     sim: Simulator,
+    module: &VerilogModule,
     source: &str,
-    axes: u32,
     width: u32,
     seed: u32,
     cycles: u64,
 ) -> Result<Sums, String> {
-    verilog_sums_timed(sim, source, axes, width, seed, cycles).map(|(s, _)| s)
+    verilog_sums_timed(sim, module, source, width, seed, cycles).map(|(s, _)| s)
 }
 
 /// As [`verilog_sums`], also returning how long the simulation itself ran
 /// (compilation excluded).
 pub fn verilog_sums_timed(
     sim: Simulator,
+    module: &VerilogModule,
     source: &str,
-    axes: u32,
     width: u32,
     seed: u32,
     cycles: u64,
@@ -272,7 +271,7 @@ pub fn verilog_sums_timed(
     let (v, elapsed) = run_for_sums(
         sim,
         &[
-            ("tb.v", verilog_testbench(axes, width, seed, cycles)),
+            ("tb.v", verilog_testbench(module, width, seed, cycles)),
             ("counter_bank.v", source.to_string()),
         ],
         "counter_bank_tb",

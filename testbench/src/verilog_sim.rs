@@ -161,6 +161,39 @@ pub fn ports_of(module: &VerilogModule, names: &[&str]) -> Vec<Port> {
         .collect()
 }
 
+/// For a testbench that drives a design itself (an in-simulator stimulus
+/// generator): one net per port named as the port (`reg` for inputs, which
+/// the testbench drives; `wire` for outputs) and the instance `dut`
+/// connected by name, all from the exporter's port list, so no testbench
+/// retypes a port.
+pub fn dut_instance(module: &VerilogModule) -> String {
+    use motionhdl_hdl::ports::PortDir;
+    let mut t = String::new();
+    for p in &module.ports {
+        let kind = match p.dir {
+            PortDir::Input => "reg",
+            PortDir::Output | PortDir::InOut => "wire",
+        };
+        let range = match p.width {
+            1 => String::new(),
+            w => format!(" [{}:0]", w - 1),
+        };
+        let _ = writeln!(t, "    {kind}{range} {};", p.name);
+    }
+    let conns: Vec<String> = module
+        .ports
+        .iter()
+        .map(|p| format!(".{0}({0})", p.name))
+        .collect();
+    let _ = writeln!(
+        t,
+        "    {} dut (\n        {}\n    );",
+        module.name,
+        conns.join(",\n        ")
+    );
+    t
+}
+
 /// What to simulate.
 pub struct Design<'a> {
     /// Module name of the design under test.
