@@ -1,10 +1,12 @@
 //! Helpers shared by the integration tests: running a tool and reading C
 //! headers back. `regmap` holds the register-map tests' table and the
-//! read-backs more than one of their files runs.
+//! read-backs more than one of their files runs; `isa` the numbers the ISA
+//! header must define.
 
 // Every test crate compiles this module but uses only part of it.
 #![allow(dead_code)]
 
+pub mod isa;
 pub mod regmap;
 
 use std::process::Command;
