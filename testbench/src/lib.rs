@@ -18,6 +18,7 @@ pub mod isa_bridge;
 pub mod ls688;
 pub mod motion_controller;
 pub mod netlist;
+pub mod pulse_bank;
 pub mod pulse_generator;
 pub mod pulse_scenarios;
 pub mod quadrature_core;
