@@ -28,6 +28,7 @@ pub mod selector;
 pub mod state_map;
 pub mod system;
 pub mod top_model;
+pub mod top_stimulus;
 pub mod tour;
 pub mod trace;
 pub mod verilog_sim;
