@@ -2,9 +2,9 @@
 //! user's words: exit code 2, the key, the value and what is allowed, and
 //! nothing written.
 
-mod fs_state;
+mod common;
 
-use fs_state::{assert_refused, names, run};
+use common::fs_state::{assert_refused, names, run};
 use std::fs;
 
 /// Runs `generate` with `text` as the configuration; asserts exit 2,

@@ -3,9 +3,11 @@
 //! output, and nothing is left beside it. The steps are driven by the test
 //! hook `MOTIONHDL_TEST_HOOK` (see src/interrupt.rs), not by timing.
 
-mod fs_state;
+mod common;
 
-use fs_state::{assert_refused, command, expected_output, finish, names, put, run, tree};
+use common::fs_state::{
+    self, assert_refused, command, expected_output, finish, names, put, run, tree,
+};
 use std::fs;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;

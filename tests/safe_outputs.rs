@@ -1,9 +1,9 @@
 //! `generate` and `trace` never destroy what a user has: every refusal, what
 //! `--force` keeps, and the exact file-system state after each run.
 
-mod fs_state;
+mod common;
 
-use fs_state::{assert_refused, expected_output, inode, names, put, run, tree, Node};
+use common::fs_state::{self, assert_refused, expected_output, inode, names, put, run, tree, Node};
 use std::fs;
 
 #[test]

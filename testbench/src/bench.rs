@@ -5,7 +5,8 @@
 
 use crate::counter_stimulus::{model_sums, verilog_sums_timed, Stimulus};
 use crate::harness::{cycle, settle};
-use crate::top_model::{self, TopStimulus};
+use crate::top_model;
+use crate::top_stimulus::{self, TopStimulus};
 use crate::verilog_sim::Simulator;
 use motionhdl_hdl::{CounterBank, MotionController};
 use motionhdl_model::motion_controller::MotionControllerModel;
@@ -102,7 +103,7 @@ pub fn top_model(cycles: u64) -> Throughput {
     let config = top_config();
     let mut s = TopStimulus::new(&config, TOP_SEED);
     let mut m = MotionControllerModel::new(&config);
-    let mut sums = top_model::Sums::default();
+    let mut sums = top_stimulus::Sums::default();
     let t = Instant::now();
     for _ in 0..cycles {
         let p = s.clock();
@@ -128,7 +129,7 @@ pub fn top_rust_hdl(cycles: u64) -> Throughput {
     let mut s = TopStimulus::new(&config, TOP_SEED);
     let mut uut = MotionController::<4>::new(&config);
     uut.connect_all();
-    let mut sums = top_model::Sums::default();
+    let mut sums = top_stimulus::Sums::default();
     let t = Instant::now();
     for _ in 0..cycles {
         let p = s.clock();

@@ -4,6 +4,7 @@
 //! ideal NCO) for random parameters.
 
 use motionhdl_model::pulse_generator::StepTiming;
+use motionhdl_testbench::pulse_bank as pb;
 use motionhdl_testbench::pulse_generator as pg;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
@@ -42,7 +43,7 @@ fn axis_against_model_generated_verilog() {
 
 #[test]
 fn pulse_bank_registers_and_outputs_against_model() {
-    let r = pg::bank_rust(100_000, 0x5eed_0004);
+    let r = pb::bank_rust(100_000, 0x5eed_0004);
     r.assert_passed();
     assert_eq!(r.covered, 100_000);
 }
@@ -53,9 +54,9 @@ fn loopback_into_the_counter_bank_counts_every_step() {
     // in pulse+direction, CW/CCW and quadrature (counted x4), several random
     // schedules each.
     let mut total = 0;
-    for output in pg::Output::ALL {
+    for output in pb::Output::ALL {
         for seed in 1..=4u64 {
-            let (position, counted, clocks) = pg::loopback(output, seed * 0x9e37_79b9, 12);
+            let (position, counted, clocks) = pb::loopback(output, seed * 0x9e37_79b9, 12);
             assert_eq!(counted, position, "{output:?} seed {seed}: {clocks} clocks");
             total += position.unsigned_abs();
         }
@@ -114,7 +115,7 @@ fn a_move_through_the_segment_fifo_ends_on_the_commanded_steps() {
         dir_setup: 4,
         dir_hold: 2,
     };
-    let (r, position, expected) = pg::move_rust(&segments, timing);
+    let (r, position, expected) = pb::move_rust(&segments, timing);
     r.assert_passed();
     assert!(r.covered > 10_000, "{} clocks", r.covered);
     assert_eq!(expected, 200 - 110);
@@ -146,7 +147,7 @@ proptest! {
                 }
             })
             .collect();
-        let (r, position, expected) = pg::move_rust(&segments, t);
+        let (r, position, expected) = pb::move_rust(&segments, t);
         prop_assert!(r.failures.is_empty(), "{:?}", r.failures);
         prop_assert_eq!(position, expected);
     }

@@ -1,10 +1,14 @@
 //! Helpers shared by the integration tests: running a tool and reading C
 //! headers back. `regmap` holds the register-map tests' table and the
-//! read-backs more than one of their files runs.
+//! read-backs more than one of their files runs; `isa` the numbers the ISA
+//! header must define; `fs_state` runs the `motionhdl` binary and takes
+//! exact pictures of the trees it leaves.
 
 // Every test crate compiles this module but uses only part of it.
 #![allow(dead_code)]
 
+pub mod fs_state;
+pub mod isa;
 pub mod regmap;
 
 use std::process::Command;

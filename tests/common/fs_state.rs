@@ -1,8 +1,6 @@
 //! Running the `motionhdl` binary and taking exact pictures of a directory
 //! tree, so a test can say what a run left behind, byte for byte.
 
-#![allow(dead_code)] // each test file uses part of it
-
 use std::collections::BTreeMap;
 use std::fs;
 use std::os::unix::fs::MetadataExt;
