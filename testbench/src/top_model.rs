@@ -205,11 +205,12 @@ pub fn verilog_sums_timed(
 ) -> Result<(Sums, std::time::Duration), String> {
     let target = target.into();
     target.available()?;
-    let text = target.text(&motionhdl_hdl::catalog::motion_controller(config))?;
+    let module = motionhdl_hdl::catalog::motion_controller(config);
+    let text = target.text(&module)?;
     let (v, elapsed) = run_for_sums(
         target.sim,
         &[
-            ("tb.v", verilog_testbench(config, seed, cycles)),
+            ("tb.v", verilog_testbench(&module, config, seed, cycles)),
             ("motion_controller.v", text),
         ],
         "top_bench_tb",

@@ -6,12 +6,20 @@ use super::{
     class, TopStimulus, ADDR, BALE, CMD, HOLD, IDLE, ISA_BASE, ISA_HOLD, RERESET_AT, RESET_CLOCKS,
     STROBE, WAIT,
 };
+use crate::verilog_sim::dut_instance;
+use motionhdl_hdl::catalog::VerilogModule;
 use motionhdl_model::Config;
 use std::fmt::Write as _;
 
-/// The Verilog testbench: the same generator driving `motion_controller`,
-/// sampling the outputs at each rising edge (before it acts).
-pub fn verilog_testbench(config: &Config, seed: u32, cycles: u64) -> String {
+/// The Verilog testbench: the same generator driving `module` (the
+/// `motion_controller` of `config`), sampling the outputs at each rising
+/// edge (before it acts).
+pub fn verilog_testbench(
+    module: &VerilogModule,
+    config: &Config,
+    seed: u32,
+    cycles: u64,
+) -> String {
     let s = TopStimulus::new(config, seed);
     let n = config.axes();
     let top = n - 1;
@@ -30,31 +38,7 @@ pub fn verilog_testbench(config: &Config, seed: u32, cycles: u64) -> String {
         r#"`timescale 1ns / 1ps
 `default_nettype none
 module top_bench_tb;
-    reg clock;
-    reg reset;
-    reg fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n;
-    reg [11:0] fsmc_a;
-    reg [15:0] fsmc_d_in;
-    wire [15:0] fsmc_d_out;
-    wire fsmc_d_oe;
-    reg [9:0] isa_sa;
-    reg [15:0] isa_sd_in;
-    reg isa_ior_n, isa_iow_n, isa_aen, isa_bale;
-    wire [15:0] isa_sd_out;
-    wire isa_sd_oe, isa_iocs16_n;
-    reg [{top}:0] enc_a, enc_b, enc_z;
-    wire [{top}:0] pulse_f1, pulse_f2;
-    motion_controller dut (
-        .clock(clock), .reset(reset),
-        .fsmc_ne_n(fsmc_ne_n), .fsmc_noe_n(fsmc_noe_n), .fsmc_nwe_n(fsmc_nwe_n),
-        .fsmc_a(fsmc_a), .fsmc_d_in(fsmc_d_in), .fsmc_d_out(fsmc_d_out), .fsmc_d_oe(fsmc_d_oe),
-        .isa_sa(isa_sa), .isa_sd_in(isa_sd_in), .isa_sd_out(isa_sd_out), .isa_sd_oe(isa_sd_oe),
-        .isa_ior_n(isa_ior_n), .isa_iow_n(isa_iow_n), .isa_aen(isa_aen), .isa_bale(isa_bale),
-        .isa_base(8'd{base}), .isa_iocs16_n(isa_iocs16_n),
-        .enc_a(enc_a), .enc_b(enc_b), .enc_z(enc_z),
-        .pulse_f1(pulse_f1), .pulse_f2(pulse_f2)
-    );
-    reg [31:0] x, r0, r1, r2, r3, sum_stim, sum_out, idx, shift, m;
+{dut}    reg [31:0] x, r0, r1, r2, r3, sum_stim, sum_out, idx, shift, m;
     reg [63:0] cycle;
     reg [1:0] phase [0:{top}];
     reg [15:0] a16, b16, z16, hd;
@@ -254,6 +238,7 @@ module top_bench_tb;
     always #5 clock = ~clock;
     initial begin
         clock = 1'b0;
+        isa_base = 8'd{base};
         x = 32'd{seed};
         sum_stim = 32'd0;
         sum_out = 32'd0;
@@ -280,6 +265,7 @@ module top_bench_tb;
     end
 endmodule
 "#,
+        dut = dut_instance(module),
         base = ISA_BASE,
         seed = s.x,
         n = n,
