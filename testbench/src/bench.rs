@@ -3,10 +3,10 @@
 //! 4 axes, 28-bit counters, RAM inside). Measurements, not tests: nothing
 //! here asserts a speed.
 
-use crate::counter_stimulus::{model_sums, verilog_sums_timed, Stimulus};
+use crate::checks::counter_bank::stimulus::{model_sums, verilog_sums_timed, Stimulus};
+use crate::checks::motion_controller::top_model;
+use crate::checks::motion_controller::top_stimulus::{self, TopStimulus};
 use crate::harness::{cycle, settle};
-use crate::top_model;
-use crate::top_stimulus::{self, TopStimulus};
 use crate::verilog_sim::Simulator;
 use motionhdl_hdl::{CounterBank, MotionController};
 use motionhdl_model::motion_controller::MotionControllerModel;

@@ -1,36 +1,33 @@
 //! HDL-vs-model checks, scenario traces and external simulator drivers.
 //!
-//! * [`harness`]: stepping rust-hdl blocks directly (no `Simulation` thread),
-//!   check reports, and the rule for external tools under CI.
-//! * [`selector`]: exhaustive checks of the 74LS153 and the pulse-mode selector.
-//! * [`verilog_sim`]: runs the generated Verilog in Icarus Verilog and Verilator.
-//! * [`netlist`]: the post-synthesis yosys netlist of a generated module.
+//! Infrastructure:
+//! * [`harness`]: stepping rust-hdl blocks directly (no `Simulation`
+//!   thread), check reports, the random generator, and the rule for
+//!   external tools under CI.
+//! * [`tour`]: transition tours through every reachable (state, input).
 //! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
-//! * [`scenarios`]: the named traces `motionhdl trace` writes.
+//! * [`verilog_sim`]: runs Verilog in Icarus Verilog and Verilator, with a
+//!   vector testbench written from the design's ports.
+//! * [`player`]: replays a bus-functional model's timed pin events through
+//!   any design in Icarus or Verilator.
+//! * [`netlist`]: the post-synthesis yosys netlist of a generated module.
+//! * [`state_map`]: the HDL's register snapshots as the model's state types.
+//!
+//! Then the bus-functional models ([`bfm`]), the checks ([`checks`], one
+//! file or folder per block, named as the block's file in `hdl/src/`), the
+//! scenario traces `motionhdl trace` writes ([`scenarios`]), the one list
+//! of checks `motionhdl verify` runs ([`registry`]) and the throughput
+//! measurements of `motionhdl bench` ([`bench`]).
 
 pub mod bench;
 pub mod bfm;
-pub mod counter;
-pub mod counter_scenarios;
-pub mod counter_stimulus;
-pub mod fsmc_bridge;
+pub mod checks;
 pub mod harness;
-pub mod isa_bridge;
-pub mod ls688;
-pub mod motion_controller;
 pub mod netlist;
 pub mod player;
-pub mod pulse_bank;
-pub mod pulse_generator;
-pub mod pulse_scenarios;
-pub mod quadrature_core;
 pub mod registry;
 pub mod scenarios;
-pub mod selector;
 pub mod state_map;
-pub mod system;
-pub mod top_model;
-pub mod top_stimulus;
 pub mod tour;
 pub mod trace;
 pub mod verilog_sim;

@@ -1,5 +1,5 @@
 //! One generic player for timed pin-event streams: the bus-functional models
-//! in [`crate::bfm`] describe every cycle as pin changes at exact times, and
+//! in `bfm/` describe every cycle as pin changes at exact times, and
 //! this module replays such a stream through any Verilog design in Icarus
 //! or Verilator. The testbench it writes is derived from the design's ports
 //! (as the exporter reports them) and from the ANSI port headers of the
@@ -46,6 +46,28 @@ pub struct PinStream {
 }
 
 impl PinStream {
+    /// A bus model's timed events as a stream over the nets `driven`:
+    /// `drive` gives an event's values, or `None` for a sample point.
+    pub fn from_events<E>(
+        driven: &[&str],
+        events: &[(u64, E)],
+        end: u64,
+        drive: impl Fn(&E) -> Option<Vec<u64>>,
+    ) -> Self {
+        let rows = events
+            .iter()
+            .map(|(at, e)| match drive(e) {
+                Some(values) => Row::Drive { at: *at, values },
+                None => Row::Sample { at: *at },
+            })
+            .collect();
+        Self {
+            driven: driven.iter().map(|s| s.to_string()).collect(),
+            rows,
+            end,
+        }
+    }
+
     /// Every time shifted `ticks` later (the initial drive stays at 0).
     pub fn delayed(mut self, ticks: u64) -> Self {
         for (i, r) in self.rows.iter_mut().enumerate() {

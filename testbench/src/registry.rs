@@ -2,12 +2,15 @@
 //! module contributes its `all`, and the post-synthesis netlist runs are
 //! listed here (they reuse the blocks' Verilog checks on a netlist target).
 
-use crate::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, pulse_generator, quadrature_core,
-    selector, CheckReport,
+use crate::checks::{
+    counter_bank, counter_channel, fsmc_bridge, input_filter, isa_bridge, ls153, ls688,
+    motion_controller, pulse_bank, pulse_generator, pulse_mode_selector, quadrature_core,
 };
+use crate::CheckReport;
 
-/// One group of checks: a block's checks module (or the netlist runs).
+/// One group of checks: a block's checks modules (the selector group holds
+/// the 74LS153 and the pulse-mode selector, the counter group the input
+/// filter, the channel core and the bank), or the netlist runs.
 pub struct Group {
     pub name: &'static str,
     pub run: fn(bool) -> Vec<CheckReport>,
@@ -18,11 +21,18 @@ pub struct Group {
 pub const GROUPS: [Group; 9] = [
     Group {
         name: "selector",
-        run: selector::all,
+        run: |external| [ls153::all(external), pulse_mode_selector::all(external)].concat(),
     },
     Group {
         name: "counter",
-        run: counter::all,
+        run: |external| {
+            [
+                input_filter::all(external),
+                counter_channel::all(external),
+                counter_bank::all(external),
+            ]
+            .concat()
+        },
     },
     Group {
         name: "quadrature_core",
@@ -46,7 +56,7 @@ pub const GROUPS: [Group; 9] = [
     },
     Group {
         name: "pulse_generator",
-        run: pulse_generator::all,
+        run: |external| [pulse_generator::all(external), pulse_bank::all(external)].concat(),
     },
     Group {
         name: "netlist",
@@ -100,16 +110,14 @@ pub const QUADRATURE_RUNS: [(u32, u64); 2] = [(4, 0x9e37_79b9), (32, 0x2545_f491
 /// (shorter for the counter bank; see [`COUNTER_BANK_CLOCKS`]).
 pub fn netlist_checks() -> Vec<CheckReport> {
     use crate::verilog_sim::{Simulator, Target};
-    use crate::{counter, fsmc_bridge, isa_bridge, ls688, motion_controller};
-    use crate::{quadrature_core, selector};
     use motionhdl_model::{Config, IsaRam};
     let t = Target::netlist(Simulator::Icarus);
     let mut v = vec![
-        selector::ls153_verilog(t),
-        selector::selector_verilog(t),
-        selector::registered_verilog(t),
+        ls153::ls153_verilog(t),
+        pulse_mode_selector::selector_verilog(t),
+        pulse_mode_selector::registered_verilog(t),
         ls688::ls688_verilog(t),
-        counter::verilog_long_run(t, COUNTER_BANK_CLOCKS),
+        counter_bank::verilog_long_run(t, COUNTER_BANK_CLOCKS),
     ];
     for (w, seed) in QUADRATURE_RUNS {
         v.push(quadrature_core::verilog_against_channel(

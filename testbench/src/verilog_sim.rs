@@ -6,7 +6,7 @@
 //! prints every output, then (for clocked designs) applies one rising edge.
 //! The rust-hdl side does the same: set inputs, settle, read, clock.
 
-use crate::harness::tool;
+use crate::harness::{tool, CheckReport};
 use motionhdl_hdl::catalog::VerilogModule;
 use std::fmt::Write as _;
 use std::fs;
@@ -443,4 +443,41 @@ pub fn run_for_sums(
         .map(|x| x.parse().map_err(|e| format!("{x}: {e}")))
         .collect::<Result<_, _>>()?;
     Ok((sums, elapsed))
+}
+
+/// A run that failed: skipped when a tool is missing, else a failure.
+pub fn sim_failure(r: CheckReport, t: Target, err: String) -> CheckReport {
+    match t.available() {
+        Err(why) => r.skip(why),
+        Ok(()) => {
+            let mut r = r;
+            r.failures
+                .push(format!("{} run failed: {err}", t.describe()));
+            r
+        }
+    }
+}
+
+/// Runs one vector per input through `design` in `sim` and records one case
+/// per input: `mismatch` gets the input and its outputs and describes any
+/// difference from the model.
+pub fn compare_vectors<I>(
+    r: CheckReport,
+    t: Target,
+    design: &Design,
+    inputs: &[I],
+    encode: impl Fn(&I) -> Vec<u64>,
+    mismatch: impl Fn(&I, &[u64]) -> Option<String>,
+) -> CheckReport {
+    let vectors: Vec<Vec<u64>> = inputs.iter().map(encode).collect();
+    match run_vectors(t.sim, design, &vectors) {
+        Err(e) => sim_failure(r, t, e),
+        Ok(out) => {
+            let mut r = r;
+            for (i, o) in inputs.iter().zip(out) {
+                r.case(mismatch(i, &o));
+            }
+            r
+        }
+    }
 }

@@ -20,12 +20,13 @@
 //! Under CI a missing yosys or Icarus fails these tests.
 
 use motionhdl_model::{Config, IsaRam};
+use motionhdl_testbench::checks::{
+    counter_bank, fsmc_bridge, isa_bridge, ls153, ls688, motion_controller, pulse_generator,
+    pulse_mode_selector, quadrature_core,
+};
 use motionhdl_testbench::harness::require_tool;
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
-use motionhdl_testbench::{
-    counter, fsmc_bridge, isa_bridge, ls688, motion_controller, netlist, pulse_generator,
-    quadrature_core, registry, selector, CheckReport,
-};
+use motionhdl_testbench::{netlist, registry, CheckReport};
 
 fn tools() -> bool {
     ["yosys", "iverilog", "vvp"]
@@ -52,16 +53,16 @@ fn passed(r: &CheckReport, cases: u64) {
 #[test]
 fn ls153_netlist_every_input() {
     if tools() {
-        passed(&selector::ls153_verilog(net()), 4096);
+        passed(&ls153::ls153_verilog(net()), 4096);
     }
 }
 
 #[test]
 fn pulse_mode_selectors_netlist_every_input_and_state() {
     if tools() {
-        passed(&selector::selector_verilog(net()), 8);
+        passed(&pulse_mode_selector::selector_verilog(net()), 8);
         // 4 output states × 16 inputs (reset, K, S2, S1), 130 clocks.
-        passed(&selector::registered_verilog(net()), 64);
+        passed(&pulse_mode_selector::registered_verilog(net()), 64);
     }
 }
 
@@ -78,7 +79,7 @@ fn counter_bank_netlist_random_stimulus() {
         // 4 axes × 28 bits, the Icarus run's seed and length: every clock's
         // read data in the checksum.
         assert_eq!(registry::COUNTER_BANK_CLOCKS, 30_000);
-        let r = counter::verilog_long_run(net(), registry::COUNTER_BANK_CLOCKS);
+        let r = counter_bank::verilog_long_run(net(), registry::COUNTER_BANK_CLOCKS);
         passed(&r, 30_000);
     }
 }
@@ -88,7 +89,7 @@ fn counter_bank_rust_hdl_on_the_verilog_runs_stimulus() {
     // The rust-hdl bank's own long run (tests/counter.rs) uses another
     // seed; here it gets the Verilog runs' stimulus, every register of
     // every channel compared with the model every clock.
-    let r = counter::long_stimulus_hdl_seeded(30_000, counter::VERILOG_SEED);
+    let r = counter_bank::long_stimulus_hdl_seeded(30_000, counter_bank::VERILOG_SEED);
     r.assert_passed();
     assert_eq!(r.covered, 30_000);
 }
@@ -193,14 +194,14 @@ fn an_inverted_netlist_output_fails_the_comparison() {
     };
     // Combinational: the 74LS153 with Y1 inverted in its netlist. Every
     // vector then differs from the model (Y1 is compared on every input).
-    let r = selector::ls153_verilog(mutated(invert_y1));
+    let r = ls153::ls153_verilog(mutated(invert_y1));
     assert_eq!(r.covered, 4096);
     assert!(!r.passed(), "{}", r.result());
     assert_eq!(r.failures.len(), 21, "20 shown and the overflow line");
     assert!(r.failures[0].contains("model"), "{}", r.failures[0]);
     // Sequential: the counter bank's read data inverted; the checksum run
     // must fail.
-    let r = counter::verilog_long_run(mutated(invert_rdata), 2_000);
+    let r = counter_bank::verilog_long_run(mutated(invert_rdata), 2_000);
     assert!(!r.passed(), "{}", r.result());
     assert!(
         r.failures.iter().any(|f| f.contains("checksum")),
@@ -208,7 +209,7 @@ fn an_inverted_netlist_output_fails_the_comparison() {
         r.failures
     );
     // The unmutated netlist passes the same short run.
-    passed(&counter::verilog_long_run(net(), 2_000), 2_000);
+    passed(&counter_bank::verilog_long_run(net(), 2_000), 2_000);
 }
 
 #[test]

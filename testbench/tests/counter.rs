@@ -3,22 +3,24 @@
 
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap;
-use motionhdl_testbench::counter::{self, ctrl_value, BankPair};
-use motionhdl_testbench::counter_scenarios::quadrature;
+use motionhdl_testbench::checks::counter_bank::{self, BankPair};
+use motionhdl_testbench::checks::counter_channel::{self, ctrl_value};
+use motionhdl_testbench::checks::input_filter;
 use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::scenarios::counter_bank::quadrature;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
 
 #[test]
 fn input_filter_every_reachable_state_and_input_for_every_setting() {
-    let r = counter::filter_exhaustive();
+    let r = input_filter::filter_exhaustive();
     assert!(r.expected > 16 * 4, "enumerated only {} pairs", r.expected);
     r.assert_passed();
 }
 
 #[test]
 fn channel_core_every_reachable_state_and_input_in_each_mode() {
-    let reports = counter::core_checks();
+    let reports = counter_channel::core_checks();
     assert_eq!(
         reports.len(),
         7,
@@ -200,7 +202,7 @@ proptest! {
 /// register compared every clock), and both stimulus generators agree.
 #[test]
 fn long_stimulus_rust_hdl_matches_model() {
-    let r = counter::long_stimulus_hdl(20_000);
+    let r = counter_bank::long_stimulus_hdl(20_000);
     assert_eq!(r.expected, 20_000);
     r.assert_passed();
 }
@@ -210,7 +212,7 @@ fn generated_verilog_in_icarus_matches_model() {
     if require_tool("iverilog").is_none() {
         return;
     }
-    counter::verilog_long_run(Simulator::Icarus, 30_000).assert_passed();
+    counter_bank::verilog_long_run(Simulator::Icarus, 30_000).assert_passed();
 }
 
 #[test]
@@ -218,7 +220,7 @@ fn generated_verilog_in_verilator_matches_model_for_ten_million_clocks() {
     if require_tool("verilator").is_none() {
         return;
     }
-    let r = counter::verilog_long_run(Simulator::Verilator, 10_000_000);
+    let r = counter_bank::verilog_long_run(Simulator::Verilator, 10_000_000);
     assert_eq!(r.expected, 10_000_000);
     r.assert_passed();
 }

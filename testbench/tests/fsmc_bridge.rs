@@ -5,7 +5,7 @@
 
 use motionhdl_model::fsmc_bridge::{self as m, FsmcTiming};
 use motionhdl_testbench::bfm::fsmc::{self as bus, Op};
-use motionhdl_testbench::fsmc_bridge as fsmc;
+use motionhdl_testbench::checks::fsmc_bridge as fsmc;
 use motionhdl_testbench::harness::require_tool;
 use motionhdl_testbench::verilog_sim::Simulator;
 use std::process::Command;

@@ -4,7 +4,7 @@
 
 use motionhdl_model::IsaRam;
 use motionhdl_testbench::bfm::isa::{Observation, Op};
-use motionhdl_testbench::isa_bridge as isa;
+use motionhdl_testbench::checks::isa_bridge as isa;
 use motionhdl_testbench::verilog_sim::Simulator;
 
 const BUILDS: [IsaRam; 2] = [IsaRam::Internal, IsaRam::External];

@@ -1,6 +1,6 @@
 //! 74LS688: every one of the 2^17 inputs, each check asserting its coverage.
 
-use motionhdl_testbench::ls688;
+use motionhdl_testbench::checks::ls688;
 use motionhdl_testbench::verilog_sim::Simulator;
 
 #[test]

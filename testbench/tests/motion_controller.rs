@@ -8,8 +8,8 @@
 use motionhdl_hdl::catalog;
 use motionhdl_model::regmap;
 use motionhdl_model::{Config, IsaRam};
+use motionhdl_testbench::checks::motion_controller::{self as top, McuOracle, Plan};
 use motionhdl_testbench::harness;
-use motionhdl_testbench::motion_controller::{self as top, McuOracle, Plan};
 use motionhdl_testbench::verilog_sim::Simulator;
 use motionhdl_testbench::CheckReport;
 use std::sync::OnceLock;

@@ -5,9 +5,9 @@
 use motionhdl_hdl::catalog;
 use motionhdl_hdl::ports::PortDir;
 use motionhdl_testbench::bfm::fsmc::{self, documented_timing, Op};
-use motionhdl_testbench::fsmc_bridge::{SLAVE_CLEAR_CLOCKS, TEST_SLAVE_V};
+use motionhdl_testbench::checks::fsmc_bridge::{SLAVE_CLEAR_CLOCKS, TEST_SLAVE_V};
+use motionhdl_testbench::checks::isa_bridge::SRAM_V;
 use motionhdl_testbench::harness::require_tool;
-use motionhdl_testbench::isa_bridge::SRAM_V;
 use motionhdl_testbench::player::{ansi_ports, Peripheral, PinStream, Rig, Row};
 use motionhdl_testbench::verilog_sim::Simulator;
 

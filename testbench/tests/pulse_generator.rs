@@ -4,8 +4,8 @@
 //! ideal NCO) for random parameters.
 
 use motionhdl_model::pulse_generator::StepTiming;
-use motionhdl_testbench::pulse_bank as pb;
-use motionhdl_testbench::pulse_generator as pg;
+use motionhdl_testbench::checks::pulse_bank as pb;
+use motionhdl_testbench::checks::pulse_generator as pg;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
 

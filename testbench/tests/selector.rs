@@ -1,18 +1,18 @@
 //! 74LS153 and pulse-mode selector: exhaustive checks, each asserting its coverage.
 
-use motionhdl_testbench::selector;
+use motionhdl_testbench::checks::{ls153, pulse_mode_selector};
 use motionhdl_testbench::verilog_sim::Simulator;
 
 #[test]
 fn ls153_every_input_rust_hdl_vs_model() {
-    let r = selector::ls153_hdl();
+    let r = ls153::ls153_hdl();
     assert_eq!(r.expected, 4096);
     r.assert_passed();
 }
 
 #[test]
 fn selector_model_forms_agree_with_seed_table() {
-    for r in selector::selector_model_forms() {
+    for r in pulse_mode_selector::selector_model_forms() {
         assert_eq!(r.expected, 8);
         r.assert_passed();
     }
@@ -20,14 +20,14 @@ fn selector_model_forms_agree_with_seed_table() {
 
 #[test]
 fn selector_rust_hdl_vs_seed_table_and_chip_wiring() {
-    let r = selector::selector_hdl();
+    let r = pulse_mode_selector::selector_hdl();
     assert_eq!(r.expected, 8);
     r.assert_passed();
 }
 
 #[test]
 fn registered_selector_every_state_and_input() {
-    let r = selector::registered_hdl();
+    let r = pulse_mode_selector::registered_hdl();
     assert_eq!(r.expected, 64);
     r.assert_passed();
 }
@@ -35,9 +35,9 @@ fn registered_selector_every_state_and_input() {
 #[test]
 fn generated_verilog_in_icarus() {
     for r in [
-        selector::ls153_verilog(Simulator::Icarus),
-        selector::selector_verilog(Simulator::Icarus),
-        selector::registered_verilog(Simulator::Icarus),
+        ls153::ls153_verilog(Simulator::Icarus),
+        pulse_mode_selector::selector_verilog(Simulator::Icarus),
+        pulse_mode_selector::registered_verilog(Simulator::Icarus),
     ] {
         r.assert_passed();
     }
@@ -46,9 +46,9 @@ fn generated_verilog_in_icarus() {
 #[test]
 fn generated_verilog_in_verilator() {
     for r in [
-        selector::ls153_verilog(Simulator::Verilator),
-        selector::selector_verilog(Simulator::Verilator),
-        selector::registered_verilog(Simulator::Verilator),
+        ls153::ls153_verilog(Simulator::Verilator),
+        pulse_mode_selector::selector_verilog(Simulator::Verilator),
+        pulse_mode_selector::registered_verilog(Simulator::Verilator),
     ] {
         r.assert_passed();
     }

@@ -5,7 +5,7 @@
 
 use motionhdl_firmware::scurve::{SCurve, SCurveParams};
 use motionhdl_model::Config;
-use motionhdl_testbench::system::{net_steps, plan_segments, System};
+use motionhdl_testbench::checks::motion_controller::system::{net_steps, plan_segments, System};
 
 const CLOCK_HZ: u32 = 50_000_000;
 

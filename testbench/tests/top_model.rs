@@ -10,10 +10,10 @@
 use motionhdl_model::motion_controller::TopOutputs;
 use motionhdl_model::Config;
 use motionhdl_testbench::bfm::fsmc::Op;
-use motionhdl_testbench::fsmc_bridge::random_ops;
+use motionhdl_testbench::checks::fsmc_bridge::random_ops;
+use motionhdl_testbench::checks::motion_controller::top_model::{self, bfm_clocks, compare, Pins};
+use motionhdl_testbench::checks::motion_controller::{loopback_ops, moves_ops};
 use motionhdl_testbench::harness::require_tool;
-use motionhdl_testbench::motion_controller::{loopback_ops, moves_ops};
-use motionhdl_testbench::top_model::{self, bfm_clocks, compare, Pins};
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 
 /// Clocks of the generated-stimulus run: past the reset every 65536 clocks.

@@ -1,5 +1,5 @@
 // The FSMC bridge's test slave (motionhdl testbench), the twin of
-// `TestSlave` in testbench/src/fsmc_bridge.rs: a register file with the
+// `TestSlave` in testbench/src/checks/fsmc_bridge/slave.rs: a register file with the
 // counter bank's read contract (the edge with reg_re takes the address,
 // the next edge loads reg_rdata; in between it shows POISON), live
 // registers 0x3f0..0x3ff = {k, k} at edge k, and a RAM with the DSP-port

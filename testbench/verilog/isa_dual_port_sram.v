@@ -1,5 +1,5 @@
 // The ISA bridge's external RAM chip (motionhdl testbench), the twin of
-// `DualPortSram` in testbench/src/isa_bridge.rs: an asynchronous dual-port
+// `DualPortSram` in testbench/src/checks/isa_bridge/rust_run.rs: an asynchronous dual-port
 // SRAM with 35 ns access time (garbage, 16'hdead, until then), written
 // when WE# rises. Its right port is the DSP, clocked like the internal
 // build's DSP port, so the external build offers the internal build's

@@ -8,7 +8,7 @@
 //! [`stream`] hands the same events to the generic [`crate::player`] for
 //! Icarus and Verilator.
 
-use crate::player::{ClockSpec, PinStream, Row};
+use crate::player::{ClockSpec, PinStream};
 use motionhdl_model::fsmc_bridge::{self as m, FsmcPins, FsmcTiming};
 
 /// Time unit of the bus-functional models: 1/42 ns, so that the 20 ns FPGA
@@ -213,21 +213,10 @@ pub const CLOCK: ClockSpec = ClockSpec {
 /// observation point (setup, then end, per read).
 pub fn stream(ops: &[Op], timing: &FsmcTiming) -> PinStream {
     let (events, end) = timeline(ops, timing);
-    let rows = events
-        .iter()
-        .map(|(at, e)| match e {
-            Event::Pins(p, reset) => Row::Drive {
-                at: *at,
-                values: pin_values(p, *reset),
-            },
-            Event::ObserveSetup | Event::ObserveEnd => Row::Sample { at: *at },
-        })
-        .collect();
-    PinStream {
-        driven: PINS.iter().map(|s| s.to_string()).collect(),
-        rows,
-        end,
-    }
+    PinStream::from_events(&PINS, &events, end, |e| match e {
+        Event::Pins(p, reset) => Some(pin_values(p, *reset)),
+        Event::ObserveSetup | Event::ObserveEnd => None,
+    })
 }
 
 /// The reads of a played [`stream`], from samples whose first two values

@@ -7,7 +7,7 @@
 //! [`stream`] hands the same events to the generic [`crate::player`] for
 //! Icarus and Verilator.
 
-use crate::player::{ClockSpec, PinStream, Row};
+use crate::player::{ClockSpec, PinStream};
 use motionhdl_model::isa_bridge::IsaPins;
 
 /// FPGA clock period (50 MHz).
@@ -216,7 +216,8 @@ pub const PINS: [&str; 11] = [
     "dsp_we",
 ];
 
-fn pin_values(p: &IsaPins, reset: bool) -> Vec<u64> {
+/// `p` and `reset` as values in [`PINS`] order.
+pub fn pin_values(p: &IsaPins, reset: bool) -> Vec<u64> {
     let b = |x: bool| u64::from(x);
     vec![
         b(reset),
@@ -247,25 +248,15 @@ pub const SAMPLED: [&str; 3] = ["sd_oe", "sd_out", "dsp_rdata"];
 /// observation point, and those points' kinds in order.
 pub fn stream(base: u8, ops: &[Op]) -> (PinStream, Vec<Event>) {
     let (events, end) = timeline(base, ops);
-    let mut points = Vec::new();
-    let rows = events
+    let stream = PinStream::from_events(&PINS, &events, end, |e| match e {
+        Event::Pins(p, reset) => Some(pin_values(p, *reset)),
+        _ => None,
+    });
+    let points = events
         .iter()
-        .map(|(at, e)| match e {
-            Event::Pins(p, reset) => Row::Drive {
-                at: *at,
-                values: pin_values(p, *reset),
-            },
-            _ => {
-                points.push(*e);
-                Row::Sample { at: *at }
-            }
-        })
+        .map(|(_, e)| *e)
+        .filter(|e| !matches!(e, Event::Pins(..)))
         .collect();
-    let stream = PinStream {
-        driven: PINS.iter().map(|s| s.to_string()).collect(),
-        rows,
-        end,
-    };
     (stream, points)
 }
 

@@ -4,7 +4,7 @@
 use super::build_name;
 use super::rust_run::{hdl_outputs, set_pins};
 use super::stimulus::TEST_BASE;
-use crate::bfm::isa::FLOATING_BUS;
+use crate::bfm::isa::{self, FLOATING_BUS};
 use crate::harness::{settle, CheckReport};
 use crate::verilog_sim::Target;
 use motionhdl_hdl::catalog::VerilogModule;
@@ -90,40 +90,13 @@ pub fn collision_ports(
 ) -> (Vec<crate::verilog_sim::Port>, Vec<crate::verilog_sim::Port>) {
     use crate::verilog_sim::ports_of;
     (
-        ports_of(
-            m,
-            &[
-                "reset",
-                "sa",
-                "sd_in",
-                "ior_n",
-                "iow_n",
-                "aen",
-                "bale",
-                "base",
-                "dsp_addr",
-                "dsp_wdata",
-                "dsp_we",
-            ],
-        ),
+        ports_of(m, &isa::PINS),
         ports_of(m, &["sd_out", "sd_oe", "iocs16_n", "dsp_rdata"]),
     )
 }
 
 fn encode_vector((p, reset): &IsaPinsAndReset) -> Vec<u64> {
-    vec![
-        u64::from(*reset),
-        u64::from(p.sa),
-        u64::from(p.sd_in),
-        u64::from(p.ior_n),
-        u64::from(p.iow_n),
-        u64::from(p.aen),
-        u64::from(p.bale),
-        u64::from(p.base),
-        u64::from(p.dsp_addr),
-        u64::from(p.dsp_wdata),
-        u64::from(p.dsp_we),
-    ]
+    isa::pin_values(p, *reset)
 }
 
 /// The same-clock write rule in the model alone, checked against the

@@ -4,7 +4,7 @@
 //! the generated Verilog in Icarus and Verilator, generating inside the
 //! simulator for runs of 10^7 clocks). Both print checksums ([`Sums`]) of the
 //! stimulus they applied and of every output pin, as
-//! [`crate::counter_stimulus`] does for the counter bank, so a generator
+//! [`crate::checks::counter_bank::stimulus`] does for the counter bank, so a generator
 //! mismatch shows as surely as a design mismatch.
 //!
 //! The stimulus, one draw of four xorshift32 words per clock:
@@ -27,7 +27,7 @@ mod verilog;
 
 pub use verilog::verilog_testbench;
 
-use crate::isa_bridge::TEST_BASE;
+use crate::checks::isa_bridge::TEST_BASE;
 use motionhdl_model::motion_controller::{TopInputs, TopOutputs};
 use motionhdl_model::regmap::{self, Access};
 use motionhdl_model::Config;

@@ -100,7 +100,7 @@ impl TestSlave {
 
 /// The test slave in Verilog, the twin of [`TestSlave`], placed beside the
 /// bridge by the player.
-pub const TEST_SLAVE_V: &str = include_str!("../../verilog/fsmc_test_slave.v");
+pub const TEST_SLAVE_V: &str = include_str!("../../../verilog/fsmc_test_slave.v");
 /// Clocks the Verilog slave spends clearing its arrays; the bus stream
 /// starts this many whole clocks late.
 pub const SLAVE_CLEAR_CLOCKS: u64 = 1100;

@@ -22,12 +22,10 @@ use motionhdl_model::IsaRam;
 
 mod collision;
 mod rust_run;
-mod scenarios;
 mod stimulus;
 
 pub use collision::*;
 pub use rust_run::*;
-pub use scenarios::*;
 pub use stimulus::*;
 
 /// What the transaction model says each read returns.
@@ -98,7 +96,7 @@ pub fn same(got: &Observation, want: &Observation) -> bool {
 
 /// The external build's RAM chip in Verilog, the twin of [`DualPortSram`],
 /// placed beside the bridge by the player.
-pub const SRAM_V: &str = include_str!("../../verilog/isa_dual_port_sram.v");
+pub const SRAM_V: &str = include_str!("../../../verilog/isa_dual_port_sram.v");
 
 fn sram() -> Peripheral {
     // The facts the two RAM models share that the Verilog spells itself.

@@ -410,3 +410,8 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
     r.expected = r.covered;
     (r, position, expected)
 }
+
+/// The bank's checks `motionhdl verify` runs.
+pub fn all(_external: bool) -> Vec<CheckReport> {
+    vec![bank_rust(100_000, 0x5eed_0004)]
+}

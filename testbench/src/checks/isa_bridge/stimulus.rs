@@ -19,7 +19,7 @@ pub(super) fn other_port(reg: u16) -> u16 {
     m::port(TEST_BASE ^ 0x5a, reg)
 }
 
-pub(super) fn standard_write(reg: u16, data: u16) -> Op {
+pub fn standard_write(reg: u16, data: u16) -> Op {
     Op::IoWrite {
         port: port_of(reg),
         aen: false,
@@ -28,7 +28,7 @@ pub(super) fn standard_write(reg: u16, data: u16) -> Op {
     }
 }
 
-pub(super) fn standard_read(reg: u16) -> Op {
+pub fn standard_read(reg: u16) -> Op {
     Op::IoRead {
         port: port_of(reg),
         aen: false,

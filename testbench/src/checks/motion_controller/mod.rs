@@ -17,6 +17,9 @@ use rust_hdl::prelude::*;
 
 mod loopback;
 mod oracle;
+pub mod system;
+pub mod top_model;
+pub mod top_stimulus;
 
 pub use loopback::*;
 pub use oracle::*;

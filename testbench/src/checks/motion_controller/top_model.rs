@@ -1,12 +1,14 @@
 //! The whole top (`motion_controller`, RAM inside) against its model,
 //! pin for pin, every clock: the rust-hdl top beside the model under the
-//! deterministic pin stimulus of [`crate::top_stimulus`] (or the FSMC pins
+//! deterministic pin stimulus of [`crate::checks::motion_controller::top_stimulus`] (or the FSMC pins
 //! of the STM32F4 bus-functional model), and the generated Verilog under
 //! the stimulus's Verilog twin, whose checksums must equal the model's.
 
 use crate::bfm::fsmc::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
+use crate::checks::motion_controller::top_stimulus::{
+    verilog_testbench, Sums, TopStimulus, RESET_CLOCKS,
+};
 use crate::harness::{settle, CheckReport};
-use crate::top_stimulus::{verilog_testbench, Sums, TopStimulus, RESET_CLOCKS};
 use crate::verilog_sim::{run_for_sums, Target};
 use motionhdl_hdl::MotionController;
 use motionhdl_model::fsmc_bridge::FsmcPins;

@@ -1,9 +1,9 @@
 //! The ISA bridge's scenario traces, from the rust-hdl block.
 
-use super::rust_run::{run_rust, TracePoint};
-use super::stimulus::{standard_read, standard_write, TEST_BASE};
-use super::{expected, same};
 use crate::bfm::isa::{Op, CLOCK_PS};
+use crate::checks::isa_bridge::{
+    expected, run_rust, same, standard_read, standard_write, TracePoint, TEST_BASE,
+};
 use motionhdl_model::isa_bridge::{self as m, reg, status};
 use motionhdl_model::IsaRam;
 

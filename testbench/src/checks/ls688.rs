@@ -3,7 +3,7 @@
 //! against the model.
 
 use crate::harness::{settle, CheckReport};
-use crate::selector::{compare_vectors, sim_failure};
+use crate::verilog_sim::{compare_vectors, sim_failure};
 use crate::verilog_sim::{ports_of, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, Ls688};
 use motionhdl_model::ls688::{self as m688, Ls688Inputs, INPUT_PINS};

@@ -2,7 +2,8 @@
 //! model (a mismatch aborts the trace) and records the bus, every pin and
 //! each channel's accepted levels, count, index and flags.
 
-use crate::counter::{ctrl_value, BankPair};
+use crate::checks::counter_bank::BankPair;
+use crate::checks::counter_channel::ctrl_value;
 use crate::trace::{SignalId, Trace};
 use motionhdl_hdl::banner_ascii;
 use motionhdl_model::counter::BusCycle;

@@ -3,10 +3,9 @@
 //! axis against the model every clock under random rates, reversals and
 //! timing changes (rust-hdl, and the generated Verilog in Icarus and
 //! Verilator), and contract properties of the emitted waveform. The bank
-//! of axes is checked in [`crate::pulse_bank`].
+//! of axes is checked in [`crate::checks::pulse_bank`].
 
 use crate::harness::{cycle, settle, xorshift, CheckReport};
-use crate::pulse_bank::bank_rust;
 use crate::state_map;
 use crate::tour;
 use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
@@ -432,11 +431,7 @@ pub fn run_schedule(
 /// The checks `motionhdl verify` shows for the pulse generator; the
 /// generated Verilog in Icarus and Verilator only with `external`.
 pub fn all(external: bool) -> Vec<CheckReport> {
-    let mut v = vec![
-        exhaustive_timer().0,
-        random_rust(200_000, 0x5eed_0001),
-        bank_rust(100_000, 0x5eed_0004),
-    ];
+    let mut v = vec![exhaustive_timer().0, random_rust(200_000, 0x5eed_0001)];
     if external {
         v.push(random_verilog(Simulator::Icarus, 100_000, 0x5eed_0002));
         v.push(random_verilog(Simulator::Verilator, 2_000_000, 0x5eed_0003));

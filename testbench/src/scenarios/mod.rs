@@ -2,9 +2,13 @@
 //! `motionhdl generate` into `generated/vcd/`. Every value in a trace comes
 //! from stepping the rust-hdl blocks; nothing is drawn from the model.
 
-use crate::counter_scenarios as cs;
+pub mod counter_bank;
+pub mod isa_bridge;
+pub mod pulse_generator;
+
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
+use counter_bank as cs;
 use motionhdl_hdl::{banner_ascii, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::Config;
 use rust_hdl::prelude::*;
@@ -68,38 +72,38 @@ pub const SCENARIOS: &[Scenario] = &[
     Scenario {
         name: "pulse_acceleration",
         summary: "pulse generator: a move through the segment FIFO: accelerate, cruise, decelerate, DONE",
-        build: crate::pulse_scenarios::acceleration,
+        build: pulse_generator::acceleration,
     },
     Scenario {
         name: "pulse_reversal",
         summary: "pulse generator, pulse+direction: a reversal with direction hold and set-up visible",
-        build: crate::pulse_scenarios::reversal,
+        build: pulse_generator::reversal,
     },
     Scenario {
         name: "pulse_cw_ccw",
         summary: "pulse generator, CW/CCW: the same reversal, F1 then F2 pulses, no runt at the switch",
-        build: crate::pulse_scenarios::cw_ccw,
+        build: pulse_generator::cw_ccw,
     },
     Scenario {
         name: "pulse_quadrature",
         summary: "pulse generator, quadrature output: A leads B forward, B leads A after the reversal",
-        build: crate::pulse_scenarios::quadrature,
+        build: pulse_generator::quadrature,
     },
     Scenario {
         name: "system",
         summary: "the whole controller: an S-curve on axis 0 and a follower at K = -1/2 on axis 1, \
                   streamed over FSMC, out to simulated drives, counted back from their encoders",
-        build: crate::system::trace,
+        build: crate::checks::motion_controller::system::trace,
     },
     Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
-        build: |_| crate::isa_bridge::block_write_trace(),
+        build: |_| isa_bridge::block_write_trace(),
     },
     Scenario {
         name: "isa_block_read",
         summary: "ISA bridge: the DSP writes 8 words, the PC reads 4 the seed's way (DATA, ADDR_INC) and 4 with AUTO_INC",
-        build: |_| crate::isa_bridge::block_read_trace(),
+        build: |_| isa_bridge::block_read_trace(),
     },
 ];
 

@@ -1,11 +1,12 @@
-//! Exhaustive checks of the 74LS153 and the pulse-mode selector: the model's
-//! three forms against the seed table, the rust-hdl blocks against the
-//! model, and the generated Verilog against the model.
+//! Exhaustive checks of the pulse-mode selector (K=0 pulse+direction,
+//! K=1 CW/CCW): the model's three forms against the seed table, the
+//! rust-hdl blocks (combinational and registered) against the model, and
+//! the generated Verilog against the model.
 
 use crate::harness::{cycle, settle, CheckReport};
+use crate::verilog_sim::sim_failure;
 use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
-use motionhdl_hdl::{catalog, Ls153, PulseModeSelector, PulseModeSelectorRegistered};
-use motionhdl_model::ls153::{self as m153, Ls153Inputs, INPUT_PINS};
+use motionhdl_hdl::{catalog, PulseModeSelector, PulseModeSelectorRegistered};
 use motionhdl_model::pulse_mode_selector::{self as msel, RegisteredSelector};
 use rust_hdl::prelude::*;
 use std::collections::BTreeSet;
@@ -17,41 +18,6 @@ pub fn selector_inputs() -> impl Iterator<Item = (bool, bool, bool)> {
 
 fn bits(k: bool, s2: bool, s1: bool) -> String {
     format!("K={} S2={} S1={}", u8::from(k), u8::from(s2), u8::from(s1))
-}
-
-/// Drives every pin of the rust-hdl chip.
-pub fn drive_ls153(uut: &mut Ls153, i: &Ls153Inputs) {
-    uut.a.next = i.a;
-    uut.b.next = i.b;
-    uut.g1_n.next = i.g1_n;
-    uut.g2_n.next = i.g2_n;
-    uut.c1_0.next = i.c1[0];
-    uut.c1_1.next = i.c1[1];
-    uut.c1_2.next = i.c1[2];
-    uut.c1_3.next = i.c1[3];
-    uut.c2_0.next = i.c2[0];
-    uut.c2_1.next = i.c2[1];
-    uut.c2_2.next = i.c2[2];
-    uut.c2_3.next = i.c2[3];
-}
-
-/// Every one of the 4096 input combinations of the chip, rust-hdl vs model.
-pub fn ls153_hdl() -> CheckReport {
-    let mut r = CheckReport::new("ls153", "rust-hdl vs model, every input", 1 << INPUT_PINS);
-    let mut uut = Ls153::default();
-    uut.connect_all();
-    for w in 0..(1u16 << INPUT_PINS) {
-        let i = Ls153Inputs::from_word(w);
-        drive_ls153(&mut uut, &i);
-        settle(&mut uut);
-        let want = m153::ls153(&i);
-        let got = (uut.y1.val(), uut.y2.val());
-        r.case(
-            (got != (want.y1, want.y2))
-                .then(|| format!("inputs {i:?}: HDL {got:?}, model {want:?}")),
-        );
-    }
-    r
 }
 
 /// The seed's equations and the one-chip wiring against its truth table.
@@ -195,95 +161,6 @@ pub fn registered_hdl() -> CheckReport {
     check_registered("rust-hdl vs model, every state × input", &vectors, &outputs)
 }
 
-/// A run that failed: skipped when a tool is missing, else a failure.
-pub(crate) fn sim_failure(r: CheckReport, t: Target, err: String) -> CheckReport {
-    match t.available() {
-        Err(why) => r.skip(why),
-        Ok(()) => {
-            let mut r = r;
-            r.failures
-                .push(format!("{} run failed: {err}", t.describe()));
-            r
-        }
-    }
-}
-
-/// All 4096 chip inputs through the generated `ls153.v` (or its netlist).
-pub fn ls153_verilog(target: impl Into<Target>) -> CheckReport {
-    let t = target.into();
-    let r = CheckReport::new(
-        "ls153",
-        &format!("{} vs model", t.describe()),
-        1 << INPUT_PINS,
-    );
-    let m = catalog::ls153();
-    let text = match t.text(&m) {
-        Ok(text) => text,
-        Err(e) => return sim_failure(r, t, e),
-    };
-    let design = Design {
-        top: m.name,
-        source: &text,
-        inputs: ports_of(
-            &m,
-            &[
-                "a", "b", "g1_n", "g2_n", "c1_0", "c1_1", "c1_2", "c1_3", "c2_0", "c2_1", "c2_2",
-                "c2_3",
-            ],
-        ),
-        outputs: ports_of(&m, &["y1", "y2"]),
-        clock: None,
-    };
-    let inputs: Vec<Ls153Inputs> = (0..(1u16 << INPUT_PINS))
-        .map(Ls153Inputs::from_word)
-        .collect();
-    compare_vectors(
-        r,
-        t,
-        &design,
-        &inputs,
-        |i| {
-            [
-                i.a, i.b, i.g1_n, i.g2_n, i.c1[0], i.c1[1], i.c1[2], i.c1[3], i.c2[0], i.c2[1],
-                i.c2[2], i.c2[3],
-            ]
-            .iter()
-            .map(|b| u64::from(*b))
-            .collect()
-        },
-        |i, o| {
-            let want = m153::ls153(i);
-            let got = (o[0] != 0, o[1] != 0);
-            (got != (want.y1, want.y2))
-                .then(|| format!("inputs {i:?}: Verilog {got:?}, model {want:?}"))
-        },
-    )
-}
-
-/// Runs one vector per input through `design` in `sim` and records one case
-/// per input: `mismatch` gets the input and its outputs and describes any
-/// difference from the model.
-pub(crate) fn compare_vectors<I>(
-    r: CheckReport,
-    t: Target,
-    design: &Design,
-    inputs: &[I],
-    encode: impl Fn(&I) -> Vec<u64>,
-    mismatch: impl Fn(&I, &[u64]) -> Option<String>,
-) -> CheckReport {
-    let vectors: Vec<Vec<u64>> = inputs.iter().map(encode).collect();
-    match run_vectors(t.sim, design, &vectors) {
-        Err(e) => sim_failure(r, t, e),
-        Ok(out) => {
-            let mut r = r;
-            for (i, o) in inputs.iter().zip(out) {
-                r.case(mismatch(i, &o));
-            }
-            r
-        }
-    }
-}
-
 /// Every (K, S2, S1) through the generated `pulse_mode_selector.v` (or its
 /// netlist).
 pub fn selector_verilog(target: impl Into<Target>) -> CheckReport {
@@ -368,16 +245,13 @@ pub fn registered_verilog(target: impl Into<Target>) -> CheckReport {
     }
 }
 
-/// Every check of this blocks; external simulators only when
-/// `external` is set.
+/// The selector's checks; external simulators only when `external` is set.
 pub fn all(external: bool) -> Vec<CheckReport> {
-    let mut v = vec![ls153_hdl()];
-    v.extend(selector_model_forms());
+    let mut v = selector_model_forms();
     v.push(selector_hdl());
     v.push(registered_hdl());
     if external {
         for sim in [Simulator::Icarus, Simulator::Verilator] {
-            v.push(ls153_verilog(sim));
             v.push(selector_verilog(sim));
             v.push(registered_verilog(sim));
         }

@@ -1,0 +1,209 @@
+//! Counter bank checks: the rust-hdl bank stepped directly beside the model,
+//! every register of every channel compared every clock; and the generated
+//! Verilog over long runs of the same stimulus ([`stimulus`]), compared
+//! through checksums.
+
+pub mod stimulus;
+
+use crate::harness::{cycle, settle, CheckReport};
+use crate::state_map;
+use motionhdl_hdl::CounterBank;
+use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
+use motionhdl_model::regmap::{self, Block as RegisterBlock};
+use rust_hdl::prelude::*;
+
+/// The rust-hdl bank and the model, stepped together.
+pub struct BankPair<const N: usize> {
+    pub hdl: CounterBank<N>,
+    pub model: Bank,
+    pub map: RegisterBlock,
+    pub cycles: u64,
+}
+
+impl<const N: usize> BankPair<N> {
+    pub fn new(width: u32, err_bits: u32) -> Self {
+        let mut hdl = CounterBank::<N>::with_err_bits(width, err_bits);
+        hdl.connect_all();
+        settle(&mut hdl);
+        Self {
+            hdl,
+            model: Bank::new(N as u32, CounterParams::new(width, err_bits)),
+            map: regmap::counter_bank(N as u32, width),
+            cycles: 0,
+        }
+    }
+
+    /// One clock with the given pins (a, b, z per channel), reset and bus
+    /// cycle; then compares read data and every channel register.
+    pub fn step(
+        &mut self,
+        pins: &[(bool, bool, bool)],
+        reset: bool,
+        bus: &BusCycle,
+    ) -> Result<(), String> {
+        assert_eq!(pins.len(), N);
+        let word = |f: fn(&(bool, bool, bool)) -> bool| -> Bits<N> {
+            let mut w = 0u64;
+            for (i, p) in pins.iter().enumerate() {
+                if f(p) {
+                    w |= 1 << i;
+                }
+            }
+            w.into()
+        };
+        self.hdl.a.next = word(|p| p.0);
+        self.hdl.b.next = word(|p| p.1);
+        self.hdl.z.next = word(|p| p.2);
+        self.hdl.reset.next = reset;
+        self.hdl.addr.next = (bus.addr as u64).into();
+        self.hdl.wdata.next = (bus.wdata as u64).into();
+        self.hdl.we.next = bus.we;
+        self.hdl.re.next = bus.re;
+        settle(&mut self.hdl);
+        cycle(&mut self.hdl, |h| &mut h.clock);
+        self.model.clock(pins, reset, bus);
+        self.cycles += 1;
+        self.compare()
+    }
+
+    /// Compares read data and every channel's registers with the model.
+    pub fn compare(&self) -> Result<(), String> {
+        let got = self.hdl.rdata.val().to_u32();
+        if got != self.model.rdata() {
+            return Err(format!(
+                "cycle {}: rdata HDL {got:#x}, model {:#x}",
+                self.cycles,
+                self.model.rdata()
+            ));
+        }
+        for i in 0..N {
+            let h = state_map::channel(self.hdl.channel(i).probe());
+            let m = *self.model.channel(i).state();
+            if h != m {
+                return Err(format!(
+                    "cycle {}: channel {i} differs\n HDL   {h:?}\n model {m:?}",
+                    self.cycles
+                ));
+            }
+            if !self.hdl.channel(i).flags_consistent() {
+                return Err(format!(
+                    "cycle {}: channel {i}: a derived flag (counter look-ahead, filter count, error saturation) does not match what it summarises",
+                    self.cycles
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A bus write of `data` to word address `addr`, with pins held.
+    pub fn write(
+        &mut self,
+        pins: &[(bool, bool, bool)],
+        addr: u32,
+        data: u32,
+    ) -> Result<(), String> {
+        self.step(pins, false, &BusCycle::write(addr, data))
+    }
+
+    /// A bus read of `addr`: returns the data, checked against the model.
+    pub fn read(&mut self, pins: &[(bool, bool, bool)], addr: u32) -> Result<u32, String> {
+        self.step(pins, false, &BusCycle::read(addr))?;
+        self.step(pins, false, &BusCycle::default())?;
+        Ok(self.hdl.rdata.val().to_u32())
+    }
+
+    /// Holds reset for `n` clocks.
+    pub fn reset(&mut self, pins: &[(bool, bool, bool)], n: usize) -> Result<(), String> {
+        for _ in 0..n {
+            self.step(pins, true, &BusCycle::default())?;
+        }
+        Ok(())
+    }
+}
+
+/// The long deterministic stimulus through the rust-hdl bank beside the
+/// model, every register compared every clock.
+pub fn long_stimulus_hdl(cycles: u64) -> CheckReport {
+    long_stimulus_hdl_seeded(cycles, 12345)
+}
+
+/// Seed of the generated-Verilog runs' stimulus ([`verilog_long_run`]).
+pub const VERILOG_SEED: u32 = 777;
+
+/// [`long_stimulus_hdl`] with another seed: with [`VERILOG_SEED`], the
+/// stimulus of the generated-Verilog runs, clock for clock.
+pub fn long_stimulus_hdl_seeded(cycles: u64, seed: u32) -> CheckReport {
+    use stimulus::Stimulus;
+    let (axes, width) = (4u32, 28u32);
+    let mut r = CheckReport::new(
+        "counter_bank",
+        &format!("rust-hdl vs model, random encoder/bus stimulus (seed {seed}), 4×28, clocks"),
+        cycles,
+    );
+    let mut s = Stimulus::new(axes, width, seed);
+    let mut p = BankPair::<4>::new(width, regmap::ERR_COUNT_BITS);
+    for n in 0..cycles {
+        let c = s.clock();
+        if let Err(e) = p.step(&c.pins, c.reset, &c.bus) {
+            r.failures.push(format!("clock {n}: {e}"));
+            break;
+        }
+        r.covered += 1;
+    }
+    r
+}
+
+/// The generated `counter_bank.v` (4×28), or its netlist, over `cycles`
+/// clocks of the long stimulus, compared with the model through checksums
+/// of the stimulus and of every clock's read data.
+pub fn verilog_long_run(target: impl Into<crate::verilog_sim::Target>, cycles: u64) -> CheckReport {
+    use stimulus::{model_sums, verilog_sums};
+    let t = target.into();
+    let (axes, width, seed) = (4u32, 28u32, VERILOG_SEED);
+    let mut r = CheckReport::new(
+        "counter_bank",
+        &format!("{} vs model, random stimulus, clocks", t.describe()),
+        cycles,
+    );
+    if let Err(why) = t.available() {
+        return r.skip(why);
+    }
+    let m = motionhdl_hdl::catalog::counter_bank(axes, width);
+    match t
+        .text(&m)
+        .and_then(|text| verilog_sums(t.sim, &m, &text, width, seed, cycles))
+    {
+        Err(e) => r.failures.push(e),
+        Ok(got) => {
+            let want = model_sums(axes, width, seed, cycles);
+            if got.stimulus != want.stimulus {
+                r.failures
+                    .push("the Verilog and Rust stimulus generators differ".into());
+            } else if got.rdata != want.rdata {
+                r.failures.push(format!(
+                    "read data checksum {:#x}, model {:#x}",
+                    got.rdata, want.rdata
+                ));
+            } else {
+                r.covered = cycles;
+            }
+        }
+    }
+    r
+}
+
+/// The counter bank checks; generated-Verilog runs only when `external`.
+pub fn all(external: bool) -> Vec<CheckReport> {
+    let mut v = vec![long_stimulus_hdl(20_000)];
+    if external {
+        v.push(verilog_long_run(
+            crate::verilog_sim::Simulator::Icarus,
+            30_000,
+        ));
+        v.push(verilog_long_run(
+            crate::verilog_sim::Simulator::Verilator,
+            10_000_000,
+        ));
+    }
+    v
+}
