@@ -185,7 +185,8 @@ pub fn append_skip(log: &std::path::Path, what: &str) {
 }
 
 /// xorshift32 (13, 17, 5): one step of the pin stimulus generators whose
-/// Verilog copies run in the simulators (`counter_stimulus`, `top_model`);
+/// Verilog copies run in the simulators (`checks::counter_bank::stimulus`,
+/// `checks::motion_controller::top_stimulus`);
 /// the Verilog testbenches spell out the same three shifts.
 pub fn xorshift32(x: &mut u32) -> u32 {
     *x ^= *x << 13;
@@ -194,8 +195,10 @@ pub fn xorshift32(x: &mut u32) -> u32 {
     *x
 }
 
-/// The bus-traffic generator of the FSMC and ISA checks (xorshift64*), so
-/// a seed names a run.
+/// The testbenches' one random generator (xorshift64*), so a seed names
+/// the same stimulus in every check. (The pin stimulus generators that
+/// also run inside the simulators use [`xorshift32`], which their Verilog
+/// twins spell out.)
 pub struct Rng(u64);
 
 impl Rng {
@@ -208,22 +211,14 @@ impl Rng {
         self.0 ^= self.0 >> 27;
         self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
     }
+    /// The generator as a closure, one word per call.
+    pub fn stream(seed: u64) -> impl FnMut() -> u64 {
+        let mut r = Self::new(seed);
+        move || r.next_u64()
+    }
     /// Uniform enough below `n` for stimulus (`n` ≪ 2^64).
     pub fn below(&mut self, n: u64) -> u64 {
         self.next_u64() % n
-    }
-}
-
-/// The testbenches' stimulus generator: xorshift64 (13, 7, 17) from
-/// `seed | 1`, one 64-bit word per call. Fixed here so that a seed names
-/// the same stimulus in every check.
-pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
-    let mut x = seed | 1;
-    move || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        x
     }
 }
 

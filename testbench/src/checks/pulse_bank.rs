@@ -4,7 +4,7 @@
 //! segment FIFO. The single axis and its step timer are
 //! `pulse_generator.rs`.
 
-use crate::harness::{cycle, settle, xorshift, CheckReport};
+use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::state_map;
 use motionhdl_hdl::PulseBank;
 use motionhdl_model::counter::BusCycle;
@@ -25,7 +25,7 @@ pub struct BankVector {
 pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<BankVector> {
     let map = motionhdl_model::regmap::pulse_bank(axes, width);
     let decoded: Vec<u32> = map.decoded().iter().map(|d| d.0).collect();
-    let mut next = xorshift(seed);
+    let mut next = Rng::stream(seed);
     let mut v = vec![
         BankVector {
             reset: true,
@@ -213,7 +213,7 @@ pub fn loopback(output: Output, seed: u64, segments: usize) -> (i64, i64, u64) {
         idle,
         false,
     );
-    let mut next = xorshift(seed);
+    let mut next = Rng::stream(seed);
     let t = |n: u64| (n % 5) as u32;
     let timing = t(next()) | t(next()) << 16;
     step(

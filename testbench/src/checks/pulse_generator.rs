@@ -5,7 +5,7 @@
 //! Verilator), and contract properties of the emitted waveform. The bank
 //! of axes is checked in [`crate::checks::pulse_bank`].
 
-use crate::harness::{cycle, settle, xorshift, CheckReport};
+use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::state_map;
 use crate::tour;
 use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
@@ -147,7 +147,7 @@ pub struct Vector {
 /// Random axis stimulus: segments of constant rate (slow, fast up to f/2,
 /// zero, reversals), timing changes, enable gaps, and a reset or two.
 pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
-    let mut next = xorshift(seed);
+    let mut next = Rng::stream(seed);
     let mut v = vec![
         Vector {
             reset: true,

@@ -2,7 +2,7 @@
 //! filter off: same pins, same count, every clock; in rust-hdl and as the
 //! generated Verilog in Icarus and Verilator.
 
-use crate::harness::{cycle, settle, xorshift, CheckReport};
+use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::verilog_sim::{ports_of, run_vectors, Design, Simulator, Target};
 use motionhdl_hdl::{catalog, QuadratureCore};
 use motionhdl_model::counter::{Channel, ChannelInputs, CounterParams};
@@ -14,7 +14,7 @@ type Pins = (bool, bool, bool);
 /// A 4-clock reset, then random encoder motion (holds, forward and
 /// backward steps, illegal double changes) for `cycles` clocks.
 fn stimulus(cycles: u64, seed: u64) -> Vec<Pins> {
-    let mut next = xorshift(seed);
+    let mut next = Rng::stream(seed);
     let gray = [(false, false), (true, false), (true, true), (false, true)];
     let mut phase = 0usize;
     let mut v = vec![(false, false, true); 4];
