@@ -10,7 +10,7 @@
 //! stream, a constant, another net (a loop-back), the design or a
 //! peripheral. The player checks that before it writes anything.
 
-use crate::verilog_sim::{build_and_run, Simulator};
+use crate::verilog_sim::{build_and_run, named_instance, net_declaration, Simulator};
 use motionhdl_hdl::catalog::VerilogModule;
 use motionhdl_hdl::ports::{Port, PortDir};
 use std::collections::BTreeMap;
@@ -30,6 +30,12 @@ impl Row {
     pub fn at(&self) -> u64 {
         match self {
             Row::Drive { at, .. } | Row::Sample { at } => *at,
+        }
+    }
+
+    fn at_mut(&mut self) -> &mut u64 {
+        match self {
+            Row::Drive { at, .. } | Row::Sample { at } => at,
         }
     }
 }
@@ -71,9 +77,7 @@ impl PinStream {
     /// Every time shifted `ticks` later (the initial drive stays at 0).
     pub fn delayed(mut self, ticks: u64) -> Self {
         for (i, r) in self.rows.iter_mut().enumerate() {
-            let at = match r {
-                Row::Drive { at, .. } | Row::Sample { at } => at,
-            };
+            let at = r.at_mut();
             if i > 0 || *at > 0 {
                 *at += ticks;
             }
@@ -82,8 +86,8 @@ impl PinStream {
         self
     }
 
-    /// Renames driven net `from` to `to` (a bus whose pins carry a prefix
-    /// on a bigger design).
+    /// Every driven net renamed by `rename` (a bus whose pins carry a
+    /// prefix on a bigger design).
     pub fn renamed(mut self, rename: impl Fn(&str) -> String) -> Self {
         for n in &mut self.driven {
             *n = rename(n);
@@ -244,7 +248,10 @@ impl Rig {
     /// The player testbench (module `motionhdl_player`) for `stream`, which
     /// it reads from `rows.hex`.
     pub fn testbench(&self, stream: &PinStream) -> String {
-        let nets = self.nets(stream);
+        self.testbench_for(&self.nets(stream), stream)
+    }
+
+    fn testbench_for(&self, nets: &BTreeMap<String, Net>, stream: &PinStream) -> String {
         let width = |n: &str| nets[n].width;
         let row_bits = row_bits(stream, &width);
         let mut t = String::new();
@@ -254,23 +261,15 @@ impl Rig {
              `default_nettype none\nmodule motionhdl_player;",
             self.dut
         );
-        for (name, net) in &nets {
-            let kind = match net.driver {
-                Some(Driver::Clock) | Some(Driver::Stream(_)) => "reg ",
-                _ => "wire",
+        for (name, net) in nets {
+            let (kind, init) = match net.driver {
+                Some(Driver::Clock) | Some(Driver::Stream(_)) => ("reg", " = 0"),
+                _ => ("wire", ""),
             };
-            let range = match net.width {
-                1 => String::new(),
-                w => format!("[{}:0] ", w - 1),
-            };
-            let init = match net.driver {
-                Some(Driver::Clock) | Some(Driver::Stream(_)) => " = 0",
-                _ => "",
-            };
-            let _ = writeln!(t, "    {kind} {range}{name}{init};");
+            t.push_str(&net_declaration(kind, net.width, name, init));
         }
         // Constants and loop-backs after every declaration.
-        for (name, net) in &nets {
+        for (name, net) in nets {
             match &net.driver {
                 Some(Driver::Tie(v)) => {
                     let _ = writeln!(t, "    assign {name} = {}'h{v:x};", net.width);
@@ -294,12 +293,7 @@ impl Rig {
                 .map(|(i, p)| (&p.module, &p.ports, format!("peripheral_{i}"))),
         );
         for (module, ports, inst) in instances {
-            let conns: Vec<String> = ports.iter().map(|p| format!(".{0}({0})", p.name)).collect();
-            let _ = writeln!(
-                t,
-                "    {module} {inst} (\n        {}\n    );",
-                conns.join(",\n        ")
-            );
+            t.push_str(&named_instance(module, &inst, ports));
         }
         self.player_loop(&mut t, stream, row_bits, &width);
         t
@@ -385,7 +379,7 @@ impl Rig {
         let d = dir.path();
         let write =
             |name: &str, text: &str| fs::write(d.join(name), text).map_err(|e| e.to_string());
-        write("player.v", &self.testbench(stream))?;
+        write("player.v", &self.testbench_for(&nets, stream))?;
         write("dut.v", &self.dut_text)?;
         let mut files = vec!["player.v", "dut.v"];
         for p in &self.peripherals {

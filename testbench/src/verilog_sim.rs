@@ -174,24 +174,29 @@ pub fn dut_instance(module: &VerilogModule) -> String {
             PortDir::Input => "reg",
             PortDir::Output | PortDir::InOut => "wire",
         };
-        let range = match p.width {
-            1 => String::new(),
-            w => format!(" [{}:0]", w - 1),
-        };
-        let _ = writeln!(t, "    {kind}{range} {};", p.name);
+        t.push_str(&net_declaration(kind, p.width, &p.name, ""));
     }
-    let conns: Vec<String> = module
-        .ports
-        .iter()
-        .map(|p| format!(".{0}({0})", p.name))
-        .collect();
-    let _ = writeln!(
-        t,
-        "    {} dut (\n        {}\n    );",
-        module.name,
-        conns.join(",\n        ")
-    );
+    t.push_str(&named_instance(module.name, "dut", &module.ports));
     t
+}
+
+/// One testbench net: `kind` (`reg` or `wire`), its range unless one bit
+/// wide, and `init` (e.g. " = 0") after the name.
+pub fn net_declaration(kind: &str, width: u32, name: &str, init: &str) -> String {
+    match width {
+        1 => format!("    {kind} {name}{init};\n"),
+        w => format!("    {kind} [{}:0] {name}{init};\n", w - 1),
+    }
+}
+
+/// Instance `inst` of `module`, every port connected to the net of its
+/// own name.
+pub fn named_instance(module: &str, inst: &str, ports: &[motionhdl_hdl::ports::Port]) -> String {
+    let conns: Vec<String> = ports.iter().map(|p| format!(".{0}({0})", p.name)).collect();
+    format!(
+        "    {module} {inst} (\n        {}\n    );\n",
+        conns.join(",\n        ")
+    )
 }
 
 /// What to simulate.
