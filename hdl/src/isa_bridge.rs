@@ -4,50 +4,27 @@
 use crate::isa_bus_core::IsaBusCore;
 use rust_hdl::prelude::*;
 
-/// ISA bus ↔ shared RAM through an address counter ([`IsaBusCore`]), the
-/// RAM in block RAM with a synchronous DSP port. A DSP write always has the
-/// RAM's write port; a queued PC write lands in the first clock the DSP
-/// leaves free. `dsp_rdata` shows the word at `dsp_addr` one edge later.
-#[derive(LogicBlock)]
-pub struct IsaBridge {
-    /// FPGA clock (checked at 50 MHz).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high.
-    pub reset: Signal<In, Bit>,
-    /// ISA address SA9..SA0.
-    pub sa: Signal<In, Bits<10>>,
-    /// ISA data as the bus drives it (the input half of the SD pins).
-    pub sd_in: Signal<In, Bits<16>>,
-    /// Data the card drives on SD while `sd_oe` is high.
-    pub sd_out: Signal<Out, Bits<16>>,
-    /// Drive SD: the card is addressed and IOR# is low (combinational).
-    pub sd_oe: Signal<Out, Bit>,
-    /// IOR#, asynchronous.
-    pub ior_n: Signal<In, Bit>,
-    /// IOW#, asynchronous.
-    pub iow_n: Signal<In, Bit>,
-    /// AEN: high during DMA cycles, when the card must not answer.
-    pub aen: Signal<In, Bit>,
-    /// BALE: the address is latched while it is high.
-    pub bale: Signal<In, Bit>,
-    /// Base-address switches: the card answers on ports base*4..base*4+3.
-    pub base: Signal<In, Bits<8>>,
-    /// IOCS16#, for an open-collector pad (drive low when 0).
-    pub iocs16_n: Signal<Out, Bit>,
-    /// DSP port word address.
-    pub dsp_addr: Signal<In, Bits<10>>,
-    /// DSP port write data.
-    pub dsp_wdata: Signal<In, Bits<16>>,
-    /// DSP port write enable.
-    pub dsp_we: Signal<In, Bit>,
-    /// DSP port read data: the word at the previous edge's `dsp_addr`.
-    pub dsp_rdata: Signal<Out, Bits<16>>,
-    core: IsaBusCore,
-    // Two copies of the RAM written together: one read port each, so the
-    // PC's prefetch and the DSP never wait for each other (SB_RAM40_4K has
-    // one read and one write port).
-    ram_pc: RAM<Bits<16>, 10>,
-    ram_dsp: RAM<Bits<16>, 10>,
+isa_card_block! {
+    /// ISA bus ↔ shared RAM through an address counter ([`IsaBusCore`]), the
+    /// RAM in block RAM with a synchronous DSP port. A DSP write always has the
+    /// RAM's write port; a queued PC write lands in the first clock the DSP
+    /// leaves free. `dsp_rdata` shows the word at `dsp_addr` one edge later.
+    pub struct IsaBridge {
+        /// DSP port word address.
+        pub dsp_addr: Signal<In, Bits<10>>,
+        /// DSP port write data.
+        pub dsp_wdata: Signal<In, Bits<16>>,
+        /// DSP port write enable.
+        pub dsp_we: Signal<In, Bit>,
+        /// DSP port read data: the word at the previous edge's `dsp_addr`.
+        pub dsp_rdata: Signal<Out, Bits<16>>,
+        core: IsaBusCore,
+        // Two copies of the RAM written together: one read port each, so the
+        // PC's prefetch and the DSP never wait for each other (SB_RAM40_4K has
+        // one read and one write port).
+        ram_pc: RAM<Bits<16>, 10>,
+        ram_dsp: RAM<Bits<16>, 10>,
+    }
 }
 
 impl Default for IsaBridge {
@@ -58,19 +35,7 @@ impl Default for IsaBridge {
 
 impl IsaBridge {
     pub fn new() -> Self {
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            sa: Default::default(),
-            sd_in: Default::default(),
-            sd_out: Default::default(),
-            sd_oe: Default::default(),
-            ior_n: Default::default(),
-            iow_n: Default::default(),
-            aen: Default::default(),
-            bale: Default::default(),
-            base: Default::default(),
-            iocs16_n: Default::default(),
+        isa_card_new!({
             dsp_addr: Default::default(),
             dsp_wdata: Default::default(),
             dsp_we: Default::default(),
@@ -78,7 +43,7 @@ impl IsaBridge {
             core: IsaBusCore::new(),
             ram_pc: Default::default(),
             ram_dsp: Default::default(),
-        }
+        })
     }
 
     /// The address counter.

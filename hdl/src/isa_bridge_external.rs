@@ -5,71 +5,48 @@ use crate::isa_bus_core::IsaBusCore;
 use motionhdl_spec::isa::{sram_state, SRAM_READ_SETTLE_CLOCKS};
 use rust_hdl::prelude::*;
 
-/// ISA bus ↔ an external 1 K × 16 dual-port SRAM (IDT7025-style; the DSP
-/// sits on the chip's other port) through an address counter
-/// ([`IsaBusCore`]). The FPGA drives the left port: while idle it reads the
-/// word at the counter (CE#, OE# low) and takes the data pins once the
-/// address has been stable for two clocks; a queued PC write is one clock
-/// of address and data set-up with OE# high, WE# low for two clocks, and
-/// one clock of hold. Every SRAM pin comes from a flop.
-#[derive(LogicBlock)]
-pub struct IsaBridgeExternal {
-    /// FPGA clock (checked at 50 MHz).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high.
-    pub reset: Signal<In, Bit>,
-    /// ISA address SA9..SA0.
-    pub sa: Signal<In, Bits<10>>,
-    /// ISA data as the bus drives it (the input half of the SD pins).
-    pub sd_in: Signal<In, Bits<16>>,
-    /// Data the card drives on SD while `sd_oe` is high.
-    pub sd_out: Signal<Out, Bits<16>>,
-    /// Drive SD: the card is addressed and IOR# is low (combinational).
-    pub sd_oe: Signal<Out, Bit>,
-    /// IOR#, asynchronous.
-    pub ior_n: Signal<In, Bit>,
-    /// IOW#, asynchronous.
-    pub iow_n: Signal<In, Bit>,
-    /// AEN: high during DMA cycles, when the card must not answer.
-    pub aen: Signal<In, Bit>,
-    /// BALE: the address is latched while it is high.
-    pub bale: Signal<In, Bit>,
-    /// Base-address switches: the card answers on ports base*4..base*4+3.
-    pub base: Signal<In, Bits<8>>,
-    /// IOCS16#, for an open-collector pad (drive low when 0).
-    pub iocs16_n: Signal<Out, Bit>,
-    /// SRAM left-port address A9..A0.
-    pub ram_addr: Signal<Out, Bits<10>>,
-    /// SRAM data pins as the chip drives them.
-    pub ram_d_in: Signal<In, Bits<16>>,
-    /// Data the FPGA drives on the SRAM data pins while `ram_d_oe`.
-    pub ram_d_out: Signal<Out, Bits<16>>,
-    /// Drive the SRAM data pins.
-    pub ram_d_oe: Signal<Out, Bit>,
-    /// SRAM CE#.
-    pub ram_ce_n: Signal<Out, Bit>,
-    /// SRAM OE#.
-    pub ram_oe_n: Signal<Out, Bit>,
-    /// SRAM R/W# (WE#).
-    pub ram_we_n: Signal<Out, Bit>,
-    core: IsaBusCore,
-    state: DFF<Bits<3>>,
-    addr_q: DFF<Bits<10>>,
-    d_out_q: DFF<Bits<16>>,
-    d_oe_q: DFF<Bit>,
-    ce_n_q: DFF<Bit>,
-    oe_n_q: DFF<Bit>,
-    // WE# active high inside, so that it is inactive from power-up.
-    we_q: DFF<Bit>,
-    sample: DFF<Bits<16>>,
-    stable: DFF<Bits<2>>,
-    st_read: Constant<Bits<3>>,
-    st_setup: Constant<Bits<3>>,
-    st_pulse1: Constant<Bits<3>>,
-    st_pulse2: Constant<Bits<3>>,
-    st_hold: Constant<Bits<3>>,
-    settle: Constant<Bits<2>>,
-    next_state: Signal<Local, Bits<3>>,
+isa_card_block! {
+    /// ISA bus ↔ an external 1 K × 16 dual-port SRAM (IDT7025-style; the DSP
+    /// sits on the chip's other port) through an address counter
+    /// ([`IsaBusCore`]). The FPGA drives the left port: while idle it reads the
+    /// word at the counter (CE#, OE# low) and takes the data pins once the
+    /// address has been stable for two clocks; a queued PC write is one clock
+    /// of address and data set-up with OE# high, WE# low for two clocks, and
+    /// one clock of hold. Every SRAM pin comes from a flop.
+    pub struct IsaBridgeExternal {
+        /// SRAM left-port address A9..A0.
+        pub ram_addr: Signal<Out, Bits<10>>,
+        /// SRAM data pins as the chip drives them.
+        pub ram_d_in: Signal<In, Bits<16>>,
+        /// Data the FPGA drives on the SRAM data pins while `ram_d_oe`.
+        pub ram_d_out: Signal<Out, Bits<16>>,
+        /// Drive the SRAM data pins.
+        pub ram_d_oe: Signal<Out, Bit>,
+        /// SRAM CE#.
+        pub ram_ce_n: Signal<Out, Bit>,
+        /// SRAM OE#.
+        pub ram_oe_n: Signal<Out, Bit>,
+        /// SRAM R/W# (WE#).
+        pub ram_we_n: Signal<Out, Bit>,
+        core: IsaBusCore,
+        state: DFF<Bits<3>>,
+        addr_q: DFF<Bits<10>>,
+        d_out_q: DFF<Bits<16>>,
+        d_oe_q: DFF<Bit>,
+        ce_n_q: DFF<Bit>,
+        oe_n_q: DFF<Bit>,
+        // WE# active high inside, so that it is inactive from power-up.
+        we_q: DFF<Bit>,
+        sample: DFF<Bits<16>>,
+        stable: DFF<Bits<2>>,
+        st_read: Constant<Bits<3>>,
+        st_setup: Constant<Bits<3>>,
+        st_pulse1: Constant<Bits<3>>,
+        st_pulse2: Constant<Bits<3>>,
+        st_hold: Constant<Bits<3>>,
+        settle: Constant<Bits<2>>,
+        next_state: Signal<Local, Bits<3>>,
+    }
 }
 
 impl Default for IsaBridgeExternal {
@@ -82,19 +59,7 @@ impl IsaBridgeExternal {
     pub fn new() -> Self {
         let k3 = |v: u8| Constant::new((v as u64).into());
         const { assert!(SRAM_READ_SETTLE_CLOCKS < 4, "the settle counter is Bits<2>") };
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            sa: Default::default(),
-            sd_in: Default::default(),
-            sd_out: Default::default(),
-            sd_oe: Default::default(),
-            ior_n: Default::default(),
-            iow_n: Default::default(),
-            aen: Default::default(),
-            bale: Default::default(),
-            base: Default::default(),
-            iocs16_n: Default::default(),
+        isa_card_new!({
             ram_addr: Default::default(),
             ram_d_in: Default::default(),
             ram_d_out: Default::default(),
@@ -119,7 +84,7 @@ impl IsaBridgeExternal {
             st_hold: k3(sram_state::HOLD),
             settle: Constant::new((SRAM_READ_SETTLE_CLOCKS as u64).into()),
             next_state: Default::default(),
-        }
+        })
     }
 
     /// The address counter.

@@ -6,103 +6,79 @@ use crate::ls688::Ls688;
 use motionhdl_spec::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
 use rust_hdl::prelude::*;
 
-/// Everything of the ISA bridge but the RAM: a 74LS688 compares SA9..SA2
-/// with the base switches (G̅ = AEN), SA1..SA0 pick DATA, ADDR_CLEAR,
-/// ADDR_INC or STATUS, BALE latches the decoded address, and the counter is
-/// the RAM's PC-side address. A RAM back-end supplies the word at the
-/// counter and takes the queued PC write.
-///
-/// Bus timing: IOR#/IOW#/BALE are synchronised (two flops) and an access
-/// acts once, when its strobe's rising edge reaches the third flop. Read data
-/// comes from a register prefetched before the strobe, through the
-/// combinational SA1..SA0 select, so SD is valid a few ns after IOR# falls.
-#[derive(LogicBlock)]
-pub struct IsaBusCore {
-    /// FPGA clock (tested at 50 MHz).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high.
-    pub reset: Signal<In, Bit>,
-    /// ISA address SA9..SA0.
-    pub sa: Signal<In, Bits<10>>,
-    /// ISA data as the bus drives it (the input half of the SD pins).
-    pub sd_in: Signal<In, Bits<16>>,
-    /// Data the card drives on SD while `sd_oe` is high.
-    pub sd_out: Signal<Out, Bits<16>>,
-    /// Drive SD: the card is addressed and IOR# is low (combinational).
-    pub sd_oe: Signal<Out, Bit>,
-    /// IOR#, asynchronous.
-    pub ior_n: Signal<In, Bit>,
-    /// IOW#, asynchronous.
-    pub iow_n: Signal<In, Bit>,
-    /// AEN: high during DMA cycles, when the card must not answer.
-    pub aen: Signal<In, Bit>,
-    /// BALE: the address is latched while it is high.
-    pub bale: Signal<In, Bit>,
-    /// Base-address switches: the card answers on ports base*4..base*4+3.
-    pub base: Signal<In, Bits<8>>,
-    /// IOCS16#, for an open-collector pad (drive low when 0): the 74LS688's
-    /// P=Q̅ output, so 16-bit cycles are not split.
-    pub iocs16_n: Signal<Out, Bit>,
-    /// Back-end: the RAM word at `counter`.
-    pub ram_word: Signal<In, Bits<16>>,
-    /// Back-end: `ram_word` may be taken this clock.
-    pub ram_word_valid: Signal<In, Bit>,
-    /// Back-end: the queued write is done at this edge.
-    pub write_done: Signal<In, Bit>,
-    /// Back-end: the DSP wrote the queued write's word at this edge.
-    pub collision_seen: Signal<In, Bit>,
-    /// The address counter: the RAM's PC-side address.
-    pub counter: Signal<Out, Bits<10>>,
-    /// A PC write is queued.
-    pub write_valid: Signal<Out, Bit>,
-    /// Its word address.
-    pub write_addr: Signal<Out, Bits<10>>,
-    /// Its data.
-    pub write_data: Signal<Out, Bits<16>>,
-    decoder: Ls688,
-    ior_s1: DFF<Bit>,
-    ior_s2: DFF<Bit>,
-    ior_s3: DFF<Bit>,
-    iow_s1: DFF<Bit>,
-    iow_s2: DFF<Bit>,
-    iow_s3: DFF<Bit>,
-    bale_s1: DFF<Bit>,
-    bale_s2: DFF<Bit>,
-    sel_s1: DFF<Bit>,
-    sel_s2: DFF<Bit>,
-    reg_s1: DFF<Bits<2>>,
-    reg_s2: DFF<Bits<2>>,
-    sd_s1: DFF<Bits<16>>,
-    cyc_sel: DFF<Bit>,
-    cyc_reg: DFF<Bits<2>>,
-    wdata: DFF<Bits<16>>,
-    count: DFF<Bits<10>>,
-    auto_inc: DFF<Bit>,
-    wrapped: DFF<Bit>,
-    collision: DFF<Bit>,
-    pw_valid: DFF<Bit>,
-    pw_addr: DFF<Bits<10>>,
-    pw_data: DFF<Bits<16>>,
-    data_q: DFF<Bits<16>>,
-    fresh: DFF<Bit>,
-    reg_data: Constant<Bits<2>>,
-    reg_addr_clear: Constant<Bits<2>>,
-    reg_addr_inc: Constant<Bits<2>>,
-    reg_status: Constant<Bits<2>>,
-    addr_max: Constant<Bits<10>>,
-    auto_inc_bit: Constant<Bits<4>>,
-    wrapped_bit: Constant<Bits<4>>,
-    collision_bit: Constant<Bits<4>>,
-    auto_inc_mask: Constant<Bits<16>>,
-    wrapped_mask: Constant<Bits<16>>,
-    collision_mask: Constant<Bits<16>>,
-    selected: Signal<Local, Bit>,
-    status: Signal<Local, Bits<16>>,
-    read_end: Signal<Local, Bit>,
-    write_end: Signal<Local, Bit>,
-    access_end: Signal<Local, Bit>,
-    advance: Signal<Local, Bit>,
-    frozen: Signal<Local, Bit>,
+isa_card_block! {
+    /// Everything of the ISA bridge but the RAM: a 74LS688 compares SA9..SA2
+    /// with the base switches (G̅ = AEN), SA1..SA0 pick DATA, ADDR_CLEAR,
+    /// ADDR_INC or STATUS, BALE latches the decoded address, and the counter is
+    /// the RAM's PC-side address. A RAM back-end supplies the word at the
+    /// counter and takes the queued PC write.
+    ///
+    /// Bus timing: IOR#/IOW#/BALE are synchronised (two flops) and an access
+    /// acts once, when its strobe's rising edge reaches the third flop. Read data
+    /// comes from a register prefetched before the strobe, through the
+    /// combinational SA1..SA0 select, so SD is valid a few ns after IOR# falls.
+    pub struct IsaBusCore {
+        /// Back-end: the RAM word at `counter`.
+        pub ram_word: Signal<In, Bits<16>>,
+        /// Back-end: `ram_word` may be taken this clock.
+        pub ram_word_valid: Signal<In, Bit>,
+        /// Back-end: the queued write is done at this edge.
+        pub write_done: Signal<In, Bit>,
+        /// Back-end: the DSP wrote the queued write's word at this edge.
+        pub collision_seen: Signal<In, Bit>,
+        /// The address counter: the RAM's PC-side address.
+        pub counter: Signal<Out, Bits<10>>,
+        /// A PC write is queued.
+        pub write_valid: Signal<Out, Bit>,
+        /// Its word address.
+        pub write_addr: Signal<Out, Bits<10>>,
+        /// Its data.
+        pub write_data: Signal<Out, Bits<16>>,
+        decoder: Ls688,
+        ior_s1: DFF<Bit>,
+        ior_s2: DFF<Bit>,
+        ior_s3: DFF<Bit>,
+        iow_s1: DFF<Bit>,
+        iow_s2: DFF<Bit>,
+        iow_s3: DFF<Bit>,
+        bale_s1: DFF<Bit>,
+        bale_s2: DFF<Bit>,
+        sel_s1: DFF<Bit>,
+        sel_s2: DFF<Bit>,
+        reg_s1: DFF<Bits<2>>,
+        reg_s2: DFF<Bits<2>>,
+        sd_s1: DFF<Bits<16>>,
+        cyc_sel: DFF<Bit>,
+        cyc_reg: DFF<Bits<2>>,
+        wdata: DFF<Bits<16>>,
+        count: DFF<Bits<10>>,
+        auto_inc: DFF<Bit>,
+        wrapped: DFF<Bit>,
+        collision: DFF<Bit>,
+        pw_valid: DFF<Bit>,
+        pw_addr: DFF<Bits<10>>,
+        pw_data: DFF<Bits<16>>,
+        data_q: DFF<Bits<16>>,
+        fresh: DFF<Bit>,
+        reg_data: Constant<Bits<2>>,
+        reg_addr_clear: Constant<Bits<2>>,
+        reg_addr_inc: Constant<Bits<2>>,
+        reg_status: Constant<Bits<2>>,
+        addr_max: Constant<Bits<10>>,
+        auto_inc_bit: Constant<Bits<4>>,
+        wrapped_bit: Constant<Bits<4>>,
+        collision_bit: Constant<Bits<4>>,
+        auto_inc_mask: Constant<Bits<16>>,
+        wrapped_mask: Constant<Bits<16>>,
+        collision_mask: Constant<Bits<16>>,
+        selected: Signal<Local, Bit>,
+        status: Signal<Local, Bits<16>>,
+        read_end: Signal<Local, Bit>,
+        write_end: Signal<Local, Bit>,
+        access_end: Signal<Local, Bit>,
+        advance: Signal<Local, Bit>,
+        frozen: Signal<Local, Bit>,
+    }
 }
 
 impl Default for IsaBusCore {
@@ -122,19 +98,7 @@ impl IsaBusCore {
         let bit = |f: &str| Constant::new((status.field(f).lsb as u64).into());
         let mask = |f: &str| Constant::new((status.field(f).mask() as u64).into());
         assert_eq!(status.field("ADDR").lsb, 0);
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            sa: Default::default(),
-            sd_in: Default::default(),
-            sd_out: Default::default(),
-            sd_oe: Default::default(),
-            ior_n: Default::default(),
-            iow_n: Default::default(),
-            aen: Default::default(),
-            bale: Default::default(),
-            base: Default::default(),
-            iocs16_n: Default::default(),
+        isa_card_new!({
             ram_word: Default::default(),
             ram_word_valid: Default::default(),
             write_done: Default::default(),
@@ -187,7 +151,7 @@ impl IsaBusCore {
             access_end: Default::default(),
             advance: Default::default(),
             frozen: Default::default(),
-        }
+        })
     }
 
     /// The address counter.

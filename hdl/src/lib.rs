@@ -4,6 +4,9 @@
 //! which turns rust-hdl's raw output into one self-contained, lint-clean
 //! module per file; [`catalog`] lists what `motionhdl generate` exports.
 
+// Macros first: they are in scope only for the modules declared after.
+#[macro_use]
+mod pin_groups;
 pub mod catalog;
 pub mod counter_bank;
 pub mod counter_channel;

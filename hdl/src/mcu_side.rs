@@ -6,62 +6,45 @@ use motionhdl_spec::regmap;
 use motionhdl_spec::Config;
 use rust_hdl::prelude::*;
 
-/// `N` axes of encoder input behind the MCU's register bus, and the RAM
-/// window's port for the shared RAM. Addresses come from `regmap::mcu_map`;
-/// a register address no block decodes reads 0 and ignores writes.
-#[derive(LogicBlock)]
-pub struct McuSide<const N: usize> {
-    /// FPGA clock (50 MHz by default).
-    pub clock: Signal<In, Clock>,
-    /// Synchronous reset, active high; hold at least 4 clocks.
-    pub reset: Signal<In, Bit>,
-    /// FSMC NE (chip select), asynchronous.
-    pub fsmc_ne_n: Signal<In, Bit>,
-    /// FSMC NOE (read strobe).
-    pub fsmc_noe_n: Signal<In, Bit>,
-    /// FSMC NWE (write strobe).
-    pub fsmc_nwe_n: Signal<In, Bit>,
-    /// FSMC A[11:0]: halfword address (byte address bits 12..1).
-    pub fsmc_a: Signal<In, Bits<12>>,
-    /// FSMC D[15:0] as the MCU drives it.
-    pub fsmc_d_in: Signal<In, Bits<16>>,
-    /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
-    pub fsmc_d_out: Signal<Out, Bits<16>>,
-    /// Drive FSMC D.
-    pub fsmc_d_oe: Signal<Out, Bit>,
-    /// Encoder A inputs, one per axis.
-    pub enc_a: Signal<In, Bits<N>>,
-    /// Encoder B inputs.
-    pub enc_b: Signal<In, Bits<N>>,
-    /// Encoder index inputs.
-    pub enc_z: Signal<In, Bits<N>>,
-    /// RAM window: word address (A[9:0] of an access with A11 = 1).
-    pub ram_addr: Signal<Out, Bits<10>>,
-    /// RAM window write data.
-    pub ram_wdata: Signal<Out, Bits<16>>,
-    /// RAM window write, at the edge where it is high.
-    pub ram_we: Signal<Out, Bit>,
-    /// The word at the previous edge's `ram_addr` (tie to 0 without a RAM).
-    pub ram_rdata: Signal<In, Bits<16>>,
-    /// Pulse generator outputs F1 per axis (pulse, CW or quadrature A).
-    pub pulse_f1: Signal<Out, Bits<N>>,
-    /// Pulse generator outputs F2 per axis (direction, CCW or quadrature B).
-    pub pulse_f2: Signal<Out, Bits<N>>,
-    mcu_bus: FsmcBridge,
-    identity: IdBlock,
-    counters: CounterBank<N>,
-    pulses: PulseBank<N>,
-    // Which block the last read went to, so its `rdata` reaches the bridge.
-    read_from_id: DFF<Bit>,
-    read_from_counters: DFF<Bit>,
-    read_from_pulses: DFF<Bit>,
-    id_page: Constant<Bits<6>>,
-    counter_page: Constant<Bits<2>>,
-    pulse_page: Constant<Bits<1>>,
-    counter_snapshot: Constant<Bits<8>>,
-    select_id: Signal<Local, Bit>,
-    select_counters: Signal<Local, Bit>,
-    select_pulses: Signal<Local, Bit>,
+fsmc_host_block! {
+    /// `N` axes of encoder input behind the MCU's register bus, and the RAM
+    /// window's port for the shared RAM. Addresses come from `regmap::mcu_map`;
+    /// a register address no block decodes reads 0 and ignores writes.
+    pub struct McuSide<const N: usize> {
+        /// Encoder A inputs, one per axis.
+        pub enc_a: Signal<In, Bits<N>>,
+        /// Encoder B inputs.
+        pub enc_b: Signal<In, Bits<N>>,
+        /// Encoder index inputs.
+        pub enc_z: Signal<In, Bits<N>>,
+        /// RAM window: word address (A[9:0] of an access with A11 = 1).
+        pub ram_addr: Signal<Out, Bits<10>>,
+        /// RAM window write data.
+        pub ram_wdata: Signal<Out, Bits<16>>,
+        /// RAM window write, at the edge where it is high.
+        pub ram_we: Signal<Out, Bit>,
+        /// The word at the previous edge's `ram_addr` (tie to 0 without a RAM).
+        pub ram_rdata: Signal<In, Bits<16>>,
+        /// Pulse generator outputs F1 per axis (pulse, CW or quadrature A).
+        pub pulse_f1: Signal<Out, Bits<N>>,
+        /// Pulse generator outputs F2 per axis (direction, CCW or quadrature B).
+        pub pulse_f2: Signal<Out, Bits<N>>,
+        mcu_bus: FsmcBridge,
+        identity: IdBlock,
+        counters: CounterBank<N>,
+        pulses: PulseBank<N>,
+        // Which block the last read went to, so its `rdata` reaches the bridge.
+        read_from_id: DFF<Bit>,
+        read_from_counters: DFF<Bit>,
+        read_from_pulses: DFF<Bit>,
+        id_page: Constant<Bits<6>>,
+        counter_page: Constant<Bits<2>>,
+        pulse_page: Constant<Bits<1>>,
+        counter_snapshot: Constant<Bits<8>>,
+        select_id: Signal<Local, Bit>,
+        select_counters: Signal<Local, Bit>,
+        select_pulses: Signal<Local, Bit>,
+    }
 }
 
 impl<const N: usize> McuSide<N> {
@@ -91,16 +74,7 @@ impl<const N: usize> McuSide<N> {
             assert_eq!(m.byte_offset, 1 << 12, "RAM window is A11 = 1");
             assert_eq!(m.words, 1 << 10);
         }
-        Self {
-            clock: Default::default(),
-            reset: Default::default(),
-            fsmc_ne_n: Default::default(),
-            fsmc_noe_n: Default::default(),
-            fsmc_nwe_n: Default::default(),
-            fsmc_a: Default::default(),
-            fsmc_d_in: Default::default(),
-            fsmc_d_out: Default::default(),
-            fsmc_d_oe: Default::default(),
+        fsmc_host_new!({
             enc_a: Default::default(),
             enc_b: Default::default(),
             enc_z: Default::default(),
@@ -124,7 +98,7 @@ impl<const N: usize> McuSide<N> {
             counter_page: Constant::new(((counter.base >> 8) as u64).into()),
             select_id: Default::default(),
             select_counters: Default::default(),
-        }
+        })
     }
 
     /// The counter bank, for probing in traces.

@@ -7,10 +7,11 @@ use crate::{IsaBridge, IsaBridgeExternal, McuSide};
 use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
-/// One top build: the ports and wiring both builds share (clock and reset,
-/// the FSMC bus to the MCU side, the ISA bus to the PC's bridge, encoders
-/// and pulse outputs), then the build's own ports and its own wiring,
-/// written as `to = from;` for `self.to.next = self.from.val();`.
+/// One top build: the ports and wiring both builds share (clock, reset and
+/// the FSMC host pins from `fsmc_host_block!`, wired to the MCU side; the
+/// ISA bus to the PC's bridge; encoders and pulse outputs), then the
+/// build's own ports and its own wiring, written as `to = from;` for
+/// `self.to.next = self.from.val();`.
 ///
 /// The field order is the Verilog port order: the shared ports, the
 /// build's own, then the sub-blocks `mcu` and `pc_bus`; `update` runs the
@@ -34,79 +35,53 @@ macro_rules! top_level {
             $( $($to:ident).+ = $($from:ident).+; )*
         }
     ) => {
-        $(#[$struct_attr])*
-        #[derive(LogicBlock)]
-        pub struct $name<const N: usize> {
-            /// FPGA clock (50 MHz by default).
-            pub clock: Signal<In, Clock>,
-            /// Synchronous reset, active high; hold at least 4 clocks.
-            pub reset: Signal<In, Bit>,
-            /// FSMC NE (chip select), asynchronous.
-            pub fsmc_ne_n: Signal<In, Bit>,
-            /// FSMC NOE (read strobe).
-            pub fsmc_noe_n: Signal<In, Bit>,
-            /// FSMC NWE (write strobe).
-            pub fsmc_nwe_n: Signal<In, Bit>,
-            /// FSMC A[11:0]: halfword address (byte address bits 12..1).
-            pub fsmc_a: Signal<In, Bits<12>>,
-            /// FSMC D[15:0] as the MCU drives it.
-            pub fsmc_d_in: Signal<In, Bits<16>>,
-            /// Data the FPGA drives on FSMC D while `fsmc_d_oe` is high.
-            pub fsmc_d_out: Signal<Out, Bits<16>>,
-            /// Drive FSMC D.
-            pub fsmc_d_oe: Signal<Out, Bit>,
-            /// ISA SA9..SA0.
-            pub isa_sa: Signal<In, Bits<10>>,
-            /// ISA SD15..SD0 as the bus drives it.
-            pub isa_sd_in: Signal<In, Bits<16>>,
-            /// Data the card drives on SD while `isa_sd_oe` is high.
-            pub isa_sd_out: Signal<Out, Bits<16>>,
-            /// Drive ISA SD.
-            pub isa_sd_oe: Signal<Out, Bit>,
-            /// ISA IOR#.
-            pub isa_ior_n: Signal<In, Bit>,
-            /// ISA IOW#.
-            pub isa_iow_n: Signal<In, Bit>,
-            /// ISA AEN (high in DMA cycles).
-            pub isa_aen: Signal<In, Bit>,
-            /// ISA BALE.
-            pub isa_bale: Signal<In, Bit>,
-            /// I/O base switches (SA9..SA2 of the card's first port).
-            pub isa_base: Signal<In, Bits<8>>,
-            /// ISA IOCS16#, for an open-collector pad.
-            pub isa_iocs16_n: Signal<Out, Bit>,
-            /// Encoder A inputs, one per axis.
-            pub enc_a: Signal<In, Bits<N>>,
-            /// Encoder B inputs.
-            pub enc_b: Signal<In, Bits<N>>,
-            /// Encoder index inputs.
-            pub enc_z: Signal<In, Bits<N>>,
-            /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
-            pub pulse_f1: Signal<Out, Bits<N>>,
-            /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
-            pub pulse_f2: Signal<Out, Bits<N>>,
-            $(
-                $(#[$port_attr])*
-                pub $port: $port_ty,
-            )*
-            mcu: McuSide<N>,
-            pc_bus: $bridge,
+        fsmc_host_block! {
+            $(#[$struct_attr])*
+            pub struct $name<const N: usize> {
+                /// ISA SA9..SA0.
+                pub isa_sa: Signal<In, Bits<10>>,
+                /// ISA SD15..SD0 as the bus drives it.
+                pub isa_sd_in: Signal<In, Bits<16>>,
+                /// Data the card drives on SD while `isa_sd_oe` is high.
+                pub isa_sd_out: Signal<Out, Bits<16>>,
+                /// Drive ISA SD.
+                pub isa_sd_oe: Signal<Out, Bit>,
+                /// ISA IOR#.
+                pub isa_ior_n: Signal<In, Bit>,
+                /// ISA IOW#.
+                pub isa_iow_n: Signal<In, Bit>,
+                /// ISA AEN (high in DMA cycles).
+                pub isa_aen: Signal<In, Bit>,
+                /// ISA BALE.
+                pub isa_bale: Signal<In, Bit>,
+                /// I/O base switches (SA9..SA2 of the card's first port).
+                pub isa_base: Signal<In, Bits<8>>,
+                /// ISA IOCS16#, for an open-collector pad.
+                pub isa_iocs16_n: Signal<Out, Bit>,
+                /// Encoder A inputs, one per axis.
+                pub enc_a: Signal<In, Bits<N>>,
+                /// Encoder B inputs.
+                pub enc_b: Signal<In, Bits<N>>,
+                /// Encoder index inputs.
+                pub enc_z: Signal<In, Bits<N>>,
+                /// Command pulse outputs F1 per axis (pulse, CW or quadrature A).
+                pub pulse_f1: Signal<Out, Bits<N>>,
+                /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
+                pub pulse_f2: Signal<Out, Bits<N>>,
+                $(
+                    $(#[$port_attr])*
+                    pub $port: $port_ty,
+                )*
+                mcu: McuSide<N>,
+                pc_bus: $bridge,
+            }
         }
 
         impl<const N: usize> $name<N> {
             $(#[$new_attr])*
             pub fn new(config: &Config) -> Self {
                 assert_eq!(config.isa_ram(), IsaRam::$ram, $ram_why);
-                Self {
-                    clock: Default::default(),
-                    reset: Default::default(),
-                    fsmc_ne_n: Default::default(),
-                    fsmc_noe_n: Default::default(),
-                    fsmc_nwe_n: Default::default(),
-                    fsmc_a: Default::default(),
-                    fsmc_d_in: Default::default(),
-                    fsmc_d_out: Default::default(),
-                    fsmc_d_oe: Default::default(),
+                fsmc_host_new!({
                     isa_sa: Default::default(),
                     isa_sd_in: Default::default(),
                     isa_sd_out: Default::default(),
@@ -125,7 +100,7 @@ macro_rules! top_level {
                     $( $port: Default::default(), )*
                     mcu: McuSide::new(config),
                     pc_bus: $bridge::new(),
-                }
+                })
             }
 
             /// The MCU side, for probing in traces.
