@@ -6,10 +6,11 @@
 //! clock the NCO advances, and ends once it has commanded `steps` steps; the
 //! sign of the rate is the direction. The move engine spends one clock
 //! loading each segment (the NCO stands still on it) and the NCO's phase
-//! carries over from one segment to the next. The FIFO is shallow
-//! ([`motionhdl_spec::pulse::SEGMENT_FIFO_DEPTH`]); the firmware streams
-//! segments as it drains, which is why [`SegmentBuilder`] is a streaming
-//! converter with no heap.
+//! carries over from one segment to the next; the segment's copy out of the
+//! FIFO's RAM takes 4 clocks, which a tick-long segment always covers. The
+//! FIFO holds [`motionhdl_spec::pulse::SEGMENT_FIFO_DEPTH`] segments, fewer
+//! than a move has ticks; the firmware streams segments as it drains, which
+//! is why [`SegmentBuilder`] is a streaming converter with no heap.
 //!
 //! # Conversion
 //!

@@ -63,7 +63,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'he37ea3a4;
+    localparam mcu_identity_values_7 = 32'h5823c69e;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -318,6 +318,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_addr_seg_push_1 = 9'b101001;
     localparam mcu_pulses_addr_seg_push_2 = 9'b111001;
     localparam mcu_pulses_addr_seg_push_3 = 9'b1001001;
+    localparam mcu_pulses_addr_low_water_0 = 9'b11010;
+    localparam mcu_pulses_addr_low_water_1 = 9'b101010;
+    localparam mcu_pulses_addr_low_water_2 = 9'b111010;
+    localparam mcu_pulses_addr_low_water_3 = 9'b1001010;
     localparam mcu_pulses_info = 32'h1c04;
     localparam mcu_pulses_width_mask = 32'hfffffff;
     localparam mcu_pulses_sign_bit = 32'h8000000;
@@ -325,12 +329,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_one = 32'h1;
     localparam mcu_pulses_two = 32'h2;
     localparam mcu_pulses_four = 32'h4;
-    localparam mcu_pulses_moving_bit = 32'h20000;
-    localparam mcu_pulses_done_bit = 32'h40000;
-    localparam mcu_pulses_overflow_bit = 32'h80000;
-    localparam mcu_pulses_level_bit0 = 32'h100000;
-    localparam mcu_pulses_level_bit1 = 32'h200000;
-    localparam mcu_pulses_level_bit2 = 32'h400000;
+    localparam mcu_pulses_low_water_mask = 32'h7f;
     localparam mcu_pulses_axis_bit_0 = 4'h1;
     localparam mcu_pulses_axis_bit_1 = 4'h2;
     localparam mcu_pulses_axis_bit_2 = 4'h4;
@@ -383,22 +382,46 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_3_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_3_timer_timer_one = 16'h1;
     localparam mcu_pulses_generators_3_timer_timer_max = 16'hffff;
-    localparam mcu_pulses_engines_0_slot_0 = 1'b0;
-    localparam mcu_pulses_engines_0_slot_1 = 1'b1;
     localparam mcu_pulses_engines_0_one = 32'h1;
-    localparam mcu_pulses_engines_0_full = 3'b10;
-    localparam mcu_pulses_engines_1_slot_0 = 1'b0;
-    localparam mcu_pulses_engines_1_slot_1 = 1'b1;
+    localparam mcu_pulses_engines_0_full = 7'b1000000;
+    localparam mcu_pulses_engines_0_word_shift = 8'h2;
+    localparam mcu_pulses_engines_0_word_rate = 8'h1;
+    localparam mcu_pulses_engines_0_word_accel = 8'h2;
+    localparam mcu_pulses_engines_0_moving_bit = 32'h20000;
+    localparam mcu_pulses_engines_0_done_bit = 32'h40000;
+    localparam mcu_pulses_engines_0_overflow_bit = 32'h80000;
+    localparam mcu_pulses_engines_0_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_0_level_shift = 32'h14;
     localparam mcu_pulses_engines_1_one = 32'h1;
-    localparam mcu_pulses_engines_1_full = 3'b10;
-    localparam mcu_pulses_engines_2_slot_0 = 1'b0;
-    localparam mcu_pulses_engines_2_slot_1 = 1'b1;
+    localparam mcu_pulses_engines_1_full = 7'b1000000;
+    localparam mcu_pulses_engines_1_word_shift = 8'h2;
+    localparam mcu_pulses_engines_1_word_rate = 8'h1;
+    localparam mcu_pulses_engines_1_word_accel = 8'h2;
+    localparam mcu_pulses_engines_1_moving_bit = 32'h20000;
+    localparam mcu_pulses_engines_1_done_bit = 32'h40000;
+    localparam mcu_pulses_engines_1_overflow_bit = 32'h80000;
+    localparam mcu_pulses_engines_1_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_1_level_shift = 32'h14;
     localparam mcu_pulses_engines_2_one = 32'h1;
-    localparam mcu_pulses_engines_2_full = 3'b10;
-    localparam mcu_pulses_engines_3_slot_0 = 1'b0;
-    localparam mcu_pulses_engines_3_slot_1 = 1'b1;
+    localparam mcu_pulses_engines_2_full = 7'b1000000;
+    localparam mcu_pulses_engines_2_word_shift = 8'h2;
+    localparam mcu_pulses_engines_2_word_rate = 8'h1;
+    localparam mcu_pulses_engines_2_word_accel = 8'h2;
+    localparam mcu_pulses_engines_2_moving_bit = 32'h20000;
+    localparam mcu_pulses_engines_2_done_bit = 32'h40000;
+    localparam mcu_pulses_engines_2_overflow_bit = 32'h80000;
+    localparam mcu_pulses_engines_2_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_2_level_shift = 32'h14;
     localparam mcu_pulses_engines_3_one = 32'h1;
-    localparam mcu_pulses_engines_3_full = 3'b10;
+    localparam mcu_pulses_engines_3_full = 7'b1000000;
+    localparam mcu_pulses_engines_3_word_shift = 8'h2;
+    localparam mcu_pulses_engines_3_word_rate = 8'h1;
+    localparam mcu_pulses_engines_3_word_accel = 8'h2;
+    localparam mcu_pulses_engines_3_moving_bit = 32'h20000;
+    localparam mcu_pulses_engines_3_done_bit = 32'h40000;
+    localparam mcu_pulses_engines_3_overflow_bit = 32'h80000;
+    localparam mcu_pulses_engines_3_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_3_level_shift = 32'h14;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -1267,11 +1290,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_write_rate;
     reg mcu_pulses_engines_0_write_accel;
     reg mcu_pulses_engines_0_clear_overflow;
+    reg [31:0] mcu_pulses_engines_0_low_water;
     reg [31:0] mcu_pulses_engines_0_rate;
-    reg mcu_pulses_engines_0_active;
-    reg mcu_pulses_engines_0_done;
-    reg mcu_pulses_engines_0_overflow;
-    reg [2:0] mcu_pulses_engines_0_level;
+    reg [31:0] mcu_pulses_engines_0_status;
     reg mcu_pulses_engines_1_reset;
     reg mcu_pulses_engines_1_run;
     reg mcu_pulses_engines_1_commanded;
@@ -1282,11 +1303,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_write_rate;
     reg mcu_pulses_engines_1_write_accel;
     reg mcu_pulses_engines_1_clear_overflow;
+    reg [31:0] mcu_pulses_engines_1_low_water;
     reg [31:0] mcu_pulses_engines_1_rate;
-    reg mcu_pulses_engines_1_active;
-    reg mcu_pulses_engines_1_done;
-    reg mcu_pulses_engines_1_overflow;
-    reg [2:0] mcu_pulses_engines_1_level;
+    reg [31:0] mcu_pulses_engines_1_status;
     reg mcu_pulses_engines_2_reset;
     reg mcu_pulses_engines_2_run;
     reg mcu_pulses_engines_2_commanded;
@@ -1297,11 +1316,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_write_rate;
     reg mcu_pulses_engines_2_write_accel;
     reg mcu_pulses_engines_2_clear_overflow;
+    reg [31:0] mcu_pulses_engines_2_low_water;
     reg [31:0] mcu_pulses_engines_2_rate;
-    reg mcu_pulses_engines_2_active;
-    reg mcu_pulses_engines_2_done;
-    reg mcu_pulses_engines_2_overflow;
-    reg [2:0] mcu_pulses_engines_2_level;
+    reg [31:0] mcu_pulses_engines_2_status;
     reg mcu_pulses_engines_3_reset;
     reg mcu_pulses_engines_3_run;
     reg mcu_pulses_engines_3_commanded;
@@ -1312,11 +1329,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_write_rate;
     reg mcu_pulses_engines_3_write_accel;
     reg mcu_pulses_engines_3_clear_overflow;
+    reg [31:0] mcu_pulses_engines_3_low_water;
     reg [31:0] mcu_pulses_engines_3_rate;
-    reg mcu_pulses_engines_3_active;
-    reg mcu_pulses_engines_3_done;
-    reg mcu_pulses_engines_3_overflow;
-    reg [2:0] mcu_pulses_engines_3_level;
+    reg [31:0] mcu_pulses_engines_3_status;
     reg mcu_pulses_selectors_0_reset;
     reg mcu_pulses_selectors_0_k;
     reg mcu_pulses_selectors_0_s1;
@@ -1375,6 +1390,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_dir_timing_2_q = 32'h0;
     reg [31:0] mcu_pulses_dir_timing_3_d;
     reg [31:0] mcu_pulses_dir_timing_3_q = 32'h0;
+    reg [31:0] mcu_pulses_low_water_0_d;
+    reg [31:0] mcu_pulses_low_water_0_q = 32'h0;
+    reg [31:0] mcu_pulses_low_water_1_d;
+    reg [31:0] mcu_pulses_low_water_1_q = 32'h0;
+    reg [31:0] mcu_pulses_low_water_2_d;
+    reg [31:0] mcu_pulses_low_water_2_q = 32'h0;
+    reg [31:0] mcu_pulses_low_water_3_d;
+    reg [31:0] mcu_pulses_low_water_3_q = 32'h0;
     reg [31:0] mcu_pulses_snap_0_d;
     reg [31:0] mcu_pulses_snap_0_q = 32'h0;
     reg [31:0] mcu_pulses_snap_1_d;
@@ -1596,29 +1619,32 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_done_q_q = 1'h0;
     reg mcu_pulses_engines_0_overflow_q_d;
     reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
-    reg mcu_pulses_engines_0_head_d;
-    reg mcu_pulses_engines_0_head_q = 1'h0;
-    reg [2:0] mcu_pulses_engines_0_count_d;
-    reg [2:0] mcu_pulses_engines_0_count_q = 3'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_0_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_1_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_0_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_1_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_0_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_1_d;
-    reg [31:0] mcu_pulses_engines_0_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_head_steps;
-    reg [31:0] mcu_pulses_engines_0_head_rate;
-    reg [31:0] mcu_pulses_engines_0_head_accel;
-    reg mcu_pulses_engines_0_tail;
+    reg [5:0] mcu_pulses_engines_0_head_d;
+    reg [5:0] mcu_pulses_engines_0_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_0_count_d;
+    reg [6:0] mcu_pulses_engines_0_count_q = 7'h0;
+    reg mcu_pulses_engines_0_staged_d;
+    reg mcu_pulses_engines_0_staged_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_0_fetch_d;
+    reg [1:0] mcu_pulses_engines_0_fetch_q = 2'h0;
+    reg [31:0] mcu_pulses_engines_0_staged_steps_d;
+    reg [31:0] mcu_pulses_engines_0_staged_steps_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_staged_rate_d;
+    reg [31:0] mcu_pulses_engines_0_staged_rate_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_0_staged_accel_d;
+    reg [31:0] mcu_pulses_engines_0_staged_accel_q = 32'h0;
+    reg [7:0] mcu_pulses_engines_0_ram_read_address;
+    reg [31:0] mcu_pulses_engines_0_ram_read_data = 32'h0;
+    reg [7:0] mcu_pulses_engines_0_ram_write_address;
+    reg [31:0] mcu_pulses_engines_0_ram_write_data;
+    reg mcu_pulses_engines_0_ram_write_enable;
+    reg [5:0] mcu_pulses_engines_0_tail;
     reg mcu_pulses_engines_0_popped;
     reg mcu_pulses_engines_0_ended;
-    reg [2:0] mcu_pulses_engines_0_count_after_pop;
+    reg [6:0] mcu_pulses_engines_0_count_after_pop;
+    reg [7:0] mcu_pulses_engines_0_write_word;
+    reg [31:0] mcu_pulses_engines_0_level_word;
+    reg [31:0] mcu_pulses_engines_0_status_word;
     reg [31:0] mcu_pulses_engines_0_rate_out;
     reg mcu_pulses_engines_1_active_q_d;
     reg mcu_pulses_engines_1_active_q_q = 1'h0;
@@ -1632,29 +1658,32 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_done_q_q = 1'h0;
     reg mcu_pulses_engines_1_overflow_q_d;
     reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
-    reg mcu_pulses_engines_1_head_d;
-    reg mcu_pulses_engines_1_head_q = 1'h0;
-    reg [2:0] mcu_pulses_engines_1_count_d;
-    reg [2:0] mcu_pulses_engines_1_count_q = 3'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_0_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_1_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_0_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_1_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_0_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_1_d;
-    reg [31:0] mcu_pulses_engines_1_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_head_steps;
-    reg [31:0] mcu_pulses_engines_1_head_rate;
-    reg [31:0] mcu_pulses_engines_1_head_accel;
-    reg mcu_pulses_engines_1_tail;
+    reg [5:0] mcu_pulses_engines_1_head_d;
+    reg [5:0] mcu_pulses_engines_1_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_1_count_d;
+    reg [6:0] mcu_pulses_engines_1_count_q = 7'h0;
+    reg mcu_pulses_engines_1_staged_d;
+    reg mcu_pulses_engines_1_staged_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_1_fetch_d;
+    reg [1:0] mcu_pulses_engines_1_fetch_q = 2'h0;
+    reg [31:0] mcu_pulses_engines_1_staged_steps_d;
+    reg [31:0] mcu_pulses_engines_1_staged_steps_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_staged_rate_d;
+    reg [31:0] mcu_pulses_engines_1_staged_rate_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_1_staged_accel_d;
+    reg [31:0] mcu_pulses_engines_1_staged_accel_q = 32'h0;
+    reg [7:0] mcu_pulses_engines_1_ram_read_address;
+    reg [31:0] mcu_pulses_engines_1_ram_read_data = 32'h0;
+    reg [7:0] mcu_pulses_engines_1_ram_write_address;
+    reg [31:0] mcu_pulses_engines_1_ram_write_data;
+    reg mcu_pulses_engines_1_ram_write_enable;
+    reg [5:0] mcu_pulses_engines_1_tail;
     reg mcu_pulses_engines_1_popped;
     reg mcu_pulses_engines_1_ended;
-    reg [2:0] mcu_pulses_engines_1_count_after_pop;
+    reg [6:0] mcu_pulses_engines_1_count_after_pop;
+    reg [7:0] mcu_pulses_engines_1_write_word;
+    reg [31:0] mcu_pulses_engines_1_level_word;
+    reg [31:0] mcu_pulses_engines_1_status_word;
     reg [31:0] mcu_pulses_engines_1_rate_out;
     reg mcu_pulses_engines_2_active_q_d;
     reg mcu_pulses_engines_2_active_q_q = 1'h0;
@@ -1668,29 +1697,32 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_done_q_q = 1'h0;
     reg mcu_pulses_engines_2_overflow_q_d;
     reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
-    reg mcu_pulses_engines_2_head_d;
-    reg mcu_pulses_engines_2_head_q = 1'h0;
-    reg [2:0] mcu_pulses_engines_2_count_d;
-    reg [2:0] mcu_pulses_engines_2_count_q = 3'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_0_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_1_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_0_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_1_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_0_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_1_d;
-    reg [31:0] mcu_pulses_engines_2_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_head_steps;
-    reg [31:0] mcu_pulses_engines_2_head_rate;
-    reg [31:0] mcu_pulses_engines_2_head_accel;
-    reg mcu_pulses_engines_2_tail;
+    reg [5:0] mcu_pulses_engines_2_head_d;
+    reg [5:0] mcu_pulses_engines_2_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_2_count_d;
+    reg [6:0] mcu_pulses_engines_2_count_q = 7'h0;
+    reg mcu_pulses_engines_2_staged_d;
+    reg mcu_pulses_engines_2_staged_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_2_fetch_d;
+    reg [1:0] mcu_pulses_engines_2_fetch_q = 2'h0;
+    reg [31:0] mcu_pulses_engines_2_staged_steps_d;
+    reg [31:0] mcu_pulses_engines_2_staged_steps_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_staged_rate_d;
+    reg [31:0] mcu_pulses_engines_2_staged_rate_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_2_staged_accel_d;
+    reg [31:0] mcu_pulses_engines_2_staged_accel_q = 32'h0;
+    reg [7:0] mcu_pulses_engines_2_ram_read_address;
+    reg [31:0] mcu_pulses_engines_2_ram_read_data = 32'h0;
+    reg [7:0] mcu_pulses_engines_2_ram_write_address;
+    reg [31:0] mcu_pulses_engines_2_ram_write_data;
+    reg mcu_pulses_engines_2_ram_write_enable;
+    reg [5:0] mcu_pulses_engines_2_tail;
     reg mcu_pulses_engines_2_popped;
     reg mcu_pulses_engines_2_ended;
-    reg [2:0] mcu_pulses_engines_2_count_after_pop;
+    reg [6:0] mcu_pulses_engines_2_count_after_pop;
+    reg [7:0] mcu_pulses_engines_2_write_word;
+    reg [31:0] mcu_pulses_engines_2_level_word;
+    reg [31:0] mcu_pulses_engines_2_status_word;
     reg [31:0] mcu_pulses_engines_2_rate_out;
     reg mcu_pulses_engines_3_active_q_d;
     reg mcu_pulses_engines_3_active_q_q = 1'h0;
@@ -1704,29 +1736,32 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_done_q_q = 1'h0;
     reg mcu_pulses_engines_3_overflow_q_d;
     reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
-    reg mcu_pulses_engines_3_head_d;
-    reg mcu_pulses_engines_3_head_q = 1'h0;
-    reg [2:0] mcu_pulses_engines_3_count_d;
-    reg [2:0] mcu_pulses_engines_3_count_q = 3'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_0_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_1_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_steps_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_0_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_1_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_rate_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_0_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_0_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_1_d;
-    reg [31:0] mcu_pulses_engines_3_fifo_accel_1_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_head_steps;
-    reg [31:0] mcu_pulses_engines_3_head_rate;
-    reg [31:0] mcu_pulses_engines_3_head_accel;
-    reg mcu_pulses_engines_3_tail;
+    reg [5:0] mcu_pulses_engines_3_head_d;
+    reg [5:0] mcu_pulses_engines_3_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_3_count_d;
+    reg [6:0] mcu_pulses_engines_3_count_q = 7'h0;
+    reg mcu_pulses_engines_3_staged_d;
+    reg mcu_pulses_engines_3_staged_q = 1'h0;
+    reg [1:0] mcu_pulses_engines_3_fetch_d;
+    reg [1:0] mcu_pulses_engines_3_fetch_q = 2'h0;
+    reg [31:0] mcu_pulses_engines_3_staged_steps_d;
+    reg [31:0] mcu_pulses_engines_3_staged_steps_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_staged_rate_d;
+    reg [31:0] mcu_pulses_engines_3_staged_rate_q = 32'h0;
+    reg [31:0] mcu_pulses_engines_3_staged_accel_d;
+    reg [31:0] mcu_pulses_engines_3_staged_accel_q = 32'h0;
+    reg [7:0] mcu_pulses_engines_3_ram_read_address;
+    reg [31:0] mcu_pulses_engines_3_ram_read_data = 32'h0;
+    reg [7:0] mcu_pulses_engines_3_ram_write_address;
+    reg [31:0] mcu_pulses_engines_3_ram_write_data;
+    reg mcu_pulses_engines_3_ram_write_enable;
+    reg [5:0] mcu_pulses_engines_3_tail;
     reg mcu_pulses_engines_3_popped;
     reg mcu_pulses_engines_3_ended;
-    reg [2:0] mcu_pulses_engines_3_count_after_pop;
+    reg [6:0] mcu_pulses_engines_3_count_after_pop;
+    reg [7:0] mcu_pulses_engines_3_write_word;
+    reg [31:0] mcu_pulses_engines_3_level_word;
+    reg [31:0] mcu_pulses_engines_3_status_word;
     reg [31:0] mcu_pulses_engines_3_rate_out;
     reg mcu_pulses_selectors_0_selector_k;
     reg mcu_pulses_selectors_0_selector_s1;
@@ -3792,10 +3827,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_0);
         mcu_pulses_engines_0_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_0);
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
+        mcu_pulses_engines_0_low_water = mcu_pulses_low_water_0_q;
         mcu_pulses_ctrl_0_d = mcu_pulses_ctrl_0_q;
         mcu_pulses_rate_0_d = mcu_pulses_rate_0_q;
         mcu_pulses_step_timing_0_d = mcu_pulses_step_timing_0_q;
         mcu_pulses_dir_timing_0_d = mcu_pulses_dir_timing_0_q;
+        mcu_pulses_low_water_0_d = mcu_pulses_low_water_0_q;
         mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
         mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
@@ -3832,6 +3869,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_0) begin
                 mcu_pulses_dir_timing_0_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_low_water_0) begin
+                mcu_pulses_low_water_0_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_0) begin
             if (mcu_pulses_ctrl_0_q[0]) begin
@@ -3853,6 +3893,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_0) begin
             mcu_pulses_read_value = mcu_pulses_dir_timing_0_q;
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_0) begin
+            mcu_pulses_read_value = mcu_pulses_low_water_0_q;
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_0) begin
             mcu_pulses_read_value = mcu_pulses_snap_0_q;
             if (|(mcu_pulses_snap_0_q & mcu_pulses_sign_bit)) begin
@@ -3860,25 +3903,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_0) begin
-            mcu_pulses_read_value = mcu_pulses_generators_0_status;
-            if (mcu_pulses_engines_0_active) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
-            end
-            if (mcu_pulses_engines_0_done) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
-            end
-            if (mcu_pulses_engines_0_overflow) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
-            end
-            if (mcu_pulses_engines_0_level[0]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
-            end
-            if (mcu_pulses_engines_0_level[1]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
-            end
-            if (mcu_pulses_engines_0_level[2]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
-            end
+            mcu_pulses_read_value = mcu_pulses_generators_0_status | mcu_pulses_engines_0_status;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_0_d = 3'h0;
@@ -3889,6 +3914,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_rate_0_d = 32'h0;
             mcu_pulses_step_timing_0_d = 32'h0;
             mcu_pulses_dir_timing_0_d = 32'h0;
+            mcu_pulses_low_water_0_d = 32'h0;
             mcu_pulses_snap_0_d = 32'h0;
         end
         mcu_pulses_quadrature_a_1_d = mcu_pulses_generators_1_position[0] ^ mcu_pulses_generators_1_position[1];
@@ -3911,10 +3937,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_1);
         mcu_pulses_engines_1_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_1);
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
+        mcu_pulses_engines_1_low_water = mcu_pulses_low_water_1_q;
         mcu_pulses_ctrl_1_d = mcu_pulses_ctrl_1_q;
         mcu_pulses_rate_1_d = mcu_pulses_rate_1_q;
         mcu_pulses_step_timing_1_d = mcu_pulses_step_timing_1_q;
         mcu_pulses_dir_timing_1_d = mcu_pulses_dir_timing_1_q;
+        mcu_pulses_low_water_1_d = mcu_pulses_low_water_1_q;
         mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
         mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
@@ -3951,6 +3979,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_1) begin
                 mcu_pulses_dir_timing_1_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_low_water_1) begin
+                mcu_pulses_low_water_1_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_1) begin
             if (mcu_pulses_ctrl_1_q[0]) begin
@@ -3972,6 +4003,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_1) begin
             mcu_pulses_read_value = mcu_pulses_dir_timing_1_q;
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_1) begin
+            mcu_pulses_read_value = mcu_pulses_low_water_1_q;
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_1) begin
             mcu_pulses_read_value = mcu_pulses_snap_1_q;
             if (|(mcu_pulses_snap_1_q & mcu_pulses_sign_bit)) begin
@@ -3979,25 +4013,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_1) begin
-            mcu_pulses_read_value = mcu_pulses_generators_1_status;
-            if (mcu_pulses_engines_1_active) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
-            end
-            if (mcu_pulses_engines_1_done) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
-            end
-            if (mcu_pulses_engines_1_overflow) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
-            end
-            if (mcu_pulses_engines_1_level[0]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
-            end
-            if (mcu_pulses_engines_1_level[1]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
-            end
-            if (mcu_pulses_engines_1_level[2]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
-            end
+            mcu_pulses_read_value = mcu_pulses_generators_1_status | mcu_pulses_engines_1_status;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_1_d = 3'h0;
@@ -4008,6 +4024,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_rate_1_d = 32'h0;
             mcu_pulses_step_timing_1_d = 32'h0;
             mcu_pulses_dir_timing_1_d = 32'h0;
+            mcu_pulses_low_water_1_d = 32'h0;
             mcu_pulses_snap_1_d = 32'h0;
         end
         mcu_pulses_quadrature_a_2_d = mcu_pulses_generators_2_position[0] ^ mcu_pulses_generators_2_position[1];
@@ -4030,10 +4047,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_2);
         mcu_pulses_engines_2_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_2);
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
+        mcu_pulses_engines_2_low_water = mcu_pulses_low_water_2_q;
         mcu_pulses_ctrl_2_d = mcu_pulses_ctrl_2_q;
         mcu_pulses_rate_2_d = mcu_pulses_rate_2_q;
         mcu_pulses_step_timing_2_d = mcu_pulses_step_timing_2_q;
         mcu_pulses_dir_timing_2_d = mcu_pulses_dir_timing_2_q;
+        mcu_pulses_low_water_2_d = mcu_pulses_low_water_2_q;
         mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
         mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
@@ -4070,6 +4089,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_2) begin
                 mcu_pulses_dir_timing_2_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_low_water_2) begin
+                mcu_pulses_low_water_2_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_2) begin
             if (mcu_pulses_ctrl_2_q[0]) begin
@@ -4091,6 +4113,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_2) begin
             mcu_pulses_read_value = mcu_pulses_dir_timing_2_q;
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_2) begin
+            mcu_pulses_read_value = mcu_pulses_low_water_2_q;
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_2) begin
             mcu_pulses_read_value = mcu_pulses_snap_2_q;
             if (|(mcu_pulses_snap_2_q & mcu_pulses_sign_bit)) begin
@@ -4098,25 +4123,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_2) begin
-            mcu_pulses_read_value = mcu_pulses_generators_2_status;
-            if (mcu_pulses_engines_2_active) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
-            end
-            if (mcu_pulses_engines_2_done) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
-            end
-            if (mcu_pulses_engines_2_overflow) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
-            end
-            if (mcu_pulses_engines_2_level[0]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
-            end
-            if (mcu_pulses_engines_2_level[1]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
-            end
-            if (mcu_pulses_engines_2_level[2]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
-            end
+            mcu_pulses_read_value = mcu_pulses_generators_2_status | mcu_pulses_engines_2_status;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_2_d = 3'h0;
@@ -4127,6 +4134,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_rate_2_d = 32'h0;
             mcu_pulses_step_timing_2_d = 32'h0;
             mcu_pulses_dir_timing_2_d = 32'h0;
+            mcu_pulses_low_water_2_d = 32'h0;
             mcu_pulses_snap_2_d = 32'h0;
         end
         mcu_pulses_quadrature_a_3_d = mcu_pulses_generators_3_position[0] ^ mcu_pulses_generators_3_position[1];
@@ -4149,10 +4157,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_3);
         mcu_pulses_engines_3_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_3);
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
+        mcu_pulses_engines_3_low_water = mcu_pulses_low_water_3_q;
         mcu_pulses_ctrl_3_d = mcu_pulses_ctrl_3_q;
         mcu_pulses_rate_3_d = mcu_pulses_rate_3_q;
         mcu_pulses_step_timing_3_d = mcu_pulses_step_timing_3_q;
         mcu_pulses_dir_timing_3_d = mcu_pulses_dir_timing_3_q;
+        mcu_pulses_low_water_3_d = mcu_pulses_low_water_3_q;
         mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
         mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
@@ -4189,6 +4199,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_3) begin
                 mcu_pulses_dir_timing_3_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_low_water_3) begin
+                mcu_pulses_low_water_3_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_3) begin
             if (mcu_pulses_ctrl_3_q[0]) begin
@@ -4210,6 +4223,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_dir_timing_3) begin
             mcu_pulses_read_value = mcu_pulses_dir_timing_3_q;
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_3) begin
+            mcu_pulses_read_value = mcu_pulses_low_water_3_q;
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_3) begin
             mcu_pulses_read_value = mcu_pulses_snap_3_q;
             if (|(mcu_pulses_snap_3_q & mcu_pulses_sign_bit)) begin
@@ -4217,25 +4233,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_3) begin
-            mcu_pulses_read_value = mcu_pulses_generators_3_status;
-            if (mcu_pulses_engines_3_active) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_moving_bit;
-            end
-            if (mcu_pulses_engines_3_done) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_done_bit;
-            end
-            if (mcu_pulses_engines_3_overflow) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_overflow_bit;
-            end
-            if (mcu_pulses_engines_3_level[0]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit0;
-            end
-            if (mcu_pulses_engines_3_level[1]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit1;
-            end
-            if (mcu_pulses_engines_3_level[2]) begin
-                mcu_pulses_read_value = mcu_pulses_read_value | mcu_pulses_level_bit2;
-            end
+            mcu_pulses_read_value = mcu_pulses_generators_3_status | mcu_pulses_engines_3_status;
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_ctrl_3_d = 3'h0;
@@ -4246,6 +4244,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_rate_3_d = 32'h0;
             mcu_pulses_step_timing_3_d = 32'h0;
             mcu_pulses_dir_timing_3_d = 32'h0;
+            mcu_pulses_low_water_3_d = 32'h0;
             mcu_pulses_snap_3_d = 32'h0;
         end
         if (mcu_pulses_read_pending_q) begin
@@ -4779,25 +4778,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_overflow_q_d = mcu_pulses_engines_0_overflow_q_q;
         mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q;
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_q;
-        mcu_pulses_engines_0_head_steps = 32'h0;
-        mcu_pulses_engines_0_head_rate = 32'h0;
-        mcu_pulses_engines_0_head_accel = 32'h0;
-        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[0:0];
-        mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_fifo_steps_0_q;
-        mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_fifo_rate_0_q;
-        mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_fifo_accel_0_q;
-        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_0) begin
-            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_0_q;
-            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_0_q;
-            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_0_q;
+        mcu_pulses_engines_0_staged_d = mcu_pulses_engines_0_staged_q;
+        mcu_pulses_engines_0_fetch_d = mcu_pulses_engines_0_fetch_q;
+        mcu_pulses_engines_0_staged_steps_d = mcu_pulses_engines_0_staged_steps_q;
+        mcu_pulses_engines_0_staged_rate_d = mcu_pulses_engines_0_staged_rate_q;
+        mcu_pulses_engines_0_staged_accel_d = mcu_pulses_engines_0_staged_accel_q;
+        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[5:0];
+        mcu_pulses_engines_0_ram_read_address = ({2'h0, mcu_pulses_engines_0_head_q} << mcu_pulses_engines_0_word_shift) | {6'h0, mcu_pulses_engines_0_fetch_q};
+        if (mcu_pulses_engines_0_fetch_q == 2'h0) begin
+            if (~mcu_pulses_engines_0_staged_q & |mcu_pulses_engines_0_count_q) begin
+                mcu_pulses_engines_0_fetch_d = 2'h1;
+            end
         end
-        mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_fifo_steps_1_q;
-        mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_fifo_rate_1_q;
-        mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_fifo_accel_1_q;
-        if (mcu_pulses_engines_0_head_q == mcu_pulses_engines_0_slot_1) begin
-            mcu_pulses_engines_0_head_steps = mcu_pulses_engines_0_fifo_steps_1_q;
-            mcu_pulses_engines_0_head_rate = mcu_pulses_engines_0_fifo_rate_1_q;
-            mcu_pulses_engines_0_head_accel = mcu_pulses_engines_0_fifo_accel_1_q;
+        else if (mcu_pulses_engines_0_fetch_q == 2'h1) begin
+            mcu_pulses_engines_0_staged_steps_d = mcu_pulses_engines_0_ram_read_data;
+            mcu_pulses_engines_0_fetch_d = 2'h2;
+        end
+        else if (mcu_pulses_engines_0_fetch_q == 2'h2) begin
+            mcu_pulses_engines_0_staged_rate_d = mcu_pulses_engines_0_ram_read_data;
+            mcu_pulses_engines_0_fetch_d = 2'h3;
+        end
+        else begin
+            mcu_pulses_engines_0_staged_accel_d = mcu_pulses_engines_0_ram_read_data;
+            mcu_pulses_engines_0_staged_d = 1'b1;
+            mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         mcu_pulses_engines_0_popped = 1'b0;
         mcu_pulses_engines_0_ended = 1'b0;
@@ -4813,53 +4817,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_q_q;
             end
         end
-        else if (mcu_pulses_engines_0_run & |mcu_pulses_engines_0_count_q) begin
+        else if (mcu_pulses_engines_0_run & mcu_pulses_engines_0_staged_q) begin
             mcu_pulses_engines_0_popped = 1'b1;
-            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 1'h1;
-            mcu_pulses_engines_0_active_q_d = |mcu_pulses_engines_0_head_steps;
-            mcu_pulses_engines_0_ended = ~|mcu_pulses_engines_0_head_steps;
-            mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_head_rate;
-            mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_head_accel;
-            mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_head_steps;
+            mcu_pulses_engines_0_staged_d = 1'b0;
+            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 6'h1;
+            mcu_pulses_engines_0_active_q_d = |mcu_pulses_engines_0_staged_steps_q;
+            mcu_pulses_engines_0_ended = ~|mcu_pulses_engines_0_staged_steps_q;
+            mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_staged_rate_q;
+            mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_staged_accel_q;
+            mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_staged_steps_q;
         end
         mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q;
         if (mcu_pulses_engines_0_popped) begin
-            mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q - 3'h1;
+            mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q - 7'h1;
         end
         if (mcu_pulses_engines_0_ended & ~|mcu_pulses_engines_0_count_after_pop) begin
             mcu_pulses_engines_0_done_q_d = 1'b1;
         end
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop;
-        if (mcu_pulses_engines_0_count_after_pop != mcu_pulses_engines_0_full) begin
-            if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_0) begin
-                if (mcu_pulses_engines_0_write_steps) begin
-                    mcu_pulses_engines_0_fifo_steps_0_d = mcu_pulses_engines_0_wdata;
-                end
-                if (mcu_pulses_engines_0_write_rate) begin
-                    mcu_pulses_engines_0_fifo_rate_0_d = mcu_pulses_engines_0_wdata;
-                end
-                if (mcu_pulses_engines_0_write_accel) begin
-                    mcu_pulses_engines_0_fifo_accel_0_d = mcu_pulses_engines_0_wdata;
-                end
-            end
-            if (mcu_pulses_engines_0_tail == mcu_pulses_engines_0_slot_1) begin
-                if (mcu_pulses_engines_0_write_steps) begin
-                    mcu_pulses_engines_0_fifo_steps_1_d = mcu_pulses_engines_0_wdata;
-                end
-                if (mcu_pulses_engines_0_write_rate) begin
-                    mcu_pulses_engines_0_fifo_rate_1_d = mcu_pulses_engines_0_wdata;
-                end
-                if (mcu_pulses_engines_0_write_accel) begin
-                    mcu_pulses_engines_0_fifo_accel_1_d = mcu_pulses_engines_0_wdata;
-                end
-            end
+        mcu_pulses_engines_0_write_word = 8'h0;
+        if (mcu_pulses_engines_0_write_rate) begin
+            mcu_pulses_engines_0_write_word = mcu_pulses_engines_0_word_rate;
         end
+        if (mcu_pulses_engines_0_write_accel) begin
+            mcu_pulses_engines_0_write_word = mcu_pulses_engines_0_word_accel;
+        end
+        mcu_pulses_engines_0_ram_write_address = ({2'h0, mcu_pulses_engines_0_tail} << mcu_pulses_engines_0_word_shift) | mcu_pulses_engines_0_write_word;
+        mcu_pulses_engines_0_ram_write_data = mcu_pulses_engines_0_wdata;
+        mcu_pulses_engines_0_ram_write_enable = (mcu_pulses_engines_0_write_steps | mcu_pulses_engines_0_write_rate | mcu_pulses_engines_0_write_accel) & (mcu_pulses_engines_0_count_after_pop != mcu_pulses_engines_0_full) & ~mcu_pulses_engines_0_reset;
         if (mcu_pulses_engines_0_push) begin
             if (mcu_pulses_engines_0_count_after_pop == mcu_pulses_engines_0_full) begin
                 mcu_pulses_engines_0_overflow_q_d = 1'b1;
             end
             else begin
-                mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop + 3'h1;
+                mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop + 7'h1;
                 mcu_pulses_engines_0_done_q_d = 1'b0;
             end
         end
@@ -4873,24 +4864,31 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_remaining_d = 32'h0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
-            mcu_pulses_engines_0_head_d = 1'h0;
-            mcu_pulses_engines_0_count_d = 3'h0;
-            mcu_pulses_engines_0_fifo_steps_0_d = 32'h0;
-            mcu_pulses_engines_0_fifo_rate_0_d = 32'h0;
-            mcu_pulses_engines_0_fifo_accel_0_d = 32'h0;
-            mcu_pulses_engines_0_fifo_steps_1_d = 32'h0;
-            mcu_pulses_engines_0_fifo_rate_1_d = 32'h0;
-            mcu_pulses_engines_0_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_0_head_d = 6'h0;
+            mcu_pulses_engines_0_count_d = 7'h0;
+            mcu_pulses_engines_0_staged_d = 1'b0;
+            mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
         if (mcu_pulses_engines_0_active_q_q) begin
             mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q;
         end
+        mcu_pulses_engines_0_level_word = {25'h0, mcu_pulses_engines_0_count_q};
+        mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_level_word << mcu_pulses_engines_0_level_shift;
+        if (mcu_pulses_engines_0_active_q_q) begin
+            mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_moving_bit;
+        end
+        if (mcu_pulses_engines_0_done_q_q) begin
+            mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_done_bit;
+        end
+        if (mcu_pulses_engines_0_overflow_q_q) begin
+            mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_overflow_bit;
+        end
+        if (mcu_pulses_engines_0_level_word <= mcu_pulses_engines_0_low_water) begin
+            mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_low_bit;
+        end
         mcu_pulses_engines_0_rate = mcu_pulses_engines_0_rate_out;
-        mcu_pulses_engines_0_active = mcu_pulses_engines_0_active_q_q;
-        mcu_pulses_engines_0_done = mcu_pulses_engines_0_done_q_q;
-        mcu_pulses_engines_0_overflow = mcu_pulses_engines_0_overflow_q_q;
-        mcu_pulses_engines_0_level = mcu_pulses_engines_0_count_q;
+        mcu_pulses_engines_0_status = mcu_pulses_engines_0_status_word;
     end
 
     always @(*) begin
@@ -4902,25 +4900,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_overflow_q_d = mcu_pulses_engines_1_overflow_q_q;
         mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q;
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_q;
-        mcu_pulses_engines_1_head_steps = 32'h0;
-        mcu_pulses_engines_1_head_rate = 32'h0;
-        mcu_pulses_engines_1_head_accel = 32'h0;
-        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[0:0];
-        mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_fifo_steps_0_q;
-        mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_fifo_rate_0_q;
-        mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_fifo_accel_0_q;
-        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_0) begin
-            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_0_q;
-            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_0_q;
-            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_0_q;
+        mcu_pulses_engines_1_staged_d = mcu_pulses_engines_1_staged_q;
+        mcu_pulses_engines_1_fetch_d = mcu_pulses_engines_1_fetch_q;
+        mcu_pulses_engines_1_staged_steps_d = mcu_pulses_engines_1_staged_steps_q;
+        mcu_pulses_engines_1_staged_rate_d = mcu_pulses_engines_1_staged_rate_q;
+        mcu_pulses_engines_1_staged_accel_d = mcu_pulses_engines_1_staged_accel_q;
+        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[5:0];
+        mcu_pulses_engines_1_ram_read_address = ({2'h0, mcu_pulses_engines_1_head_q} << mcu_pulses_engines_1_word_shift) | {6'h0, mcu_pulses_engines_1_fetch_q};
+        if (mcu_pulses_engines_1_fetch_q == 2'h0) begin
+            if (~mcu_pulses_engines_1_staged_q & |mcu_pulses_engines_1_count_q) begin
+                mcu_pulses_engines_1_fetch_d = 2'h1;
+            end
         end
-        mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_fifo_steps_1_q;
-        mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_fifo_rate_1_q;
-        mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_fifo_accel_1_q;
-        if (mcu_pulses_engines_1_head_q == mcu_pulses_engines_1_slot_1) begin
-            mcu_pulses_engines_1_head_steps = mcu_pulses_engines_1_fifo_steps_1_q;
-            mcu_pulses_engines_1_head_rate = mcu_pulses_engines_1_fifo_rate_1_q;
-            mcu_pulses_engines_1_head_accel = mcu_pulses_engines_1_fifo_accel_1_q;
+        else if (mcu_pulses_engines_1_fetch_q == 2'h1) begin
+            mcu_pulses_engines_1_staged_steps_d = mcu_pulses_engines_1_ram_read_data;
+            mcu_pulses_engines_1_fetch_d = 2'h2;
+        end
+        else if (mcu_pulses_engines_1_fetch_q == 2'h2) begin
+            mcu_pulses_engines_1_staged_rate_d = mcu_pulses_engines_1_ram_read_data;
+            mcu_pulses_engines_1_fetch_d = 2'h3;
+        end
+        else begin
+            mcu_pulses_engines_1_staged_accel_d = mcu_pulses_engines_1_ram_read_data;
+            mcu_pulses_engines_1_staged_d = 1'b1;
+            mcu_pulses_engines_1_fetch_d = 2'h0;
         end
         mcu_pulses_engines_1_popped = 1'b0;
         mcu_pulses_engines_1_ended = 1'b0;
@@ -4936,53 +4939,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_q_q;
             end
         end
-        else if (mcu_pulses_engines_1_run & |mcu_pulses_engines_1_count_q) begin
+        else if (mcu_pulses_engines_1_run & mcu_pulses_engines_1_staged_q) begin
             mcu_pulses_engines_1_popped = 1'b1;
-            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 1'h1;
-            mcu_pulses_engines_1_active_q_d = |mcu_pulses_engines_1_head_steps;
-            mcu_pulses_engines_1_ended = ~|mcu_pulses_engines_1_head_steps;
-            mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_head_rate;
-            mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_head_accel;
-            mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_head_steps;
+            mcu_pulses_engines_1_staged_d = 1'b0;
+            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 6'h1;
+            mcu_pulses_engines_1_active_q_d = |mcu_pulses_engines_1_staged_steps_q;
+            mcu_pulses_engines_1_ended = ~|mcu_pulses_engines_1_staged_steps_q;
+            mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_staged_rate_q;
+            mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_staged_accel_q;
+            mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_staged_steps_q;
         end
         mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q;
         if (mcu_pulses_engines_1_popped) begin
-            mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q - 3'h1;
+            mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q - 7'h1;
         end
         if (mcu_pulses_engines_1_ended & ~|mcu_pulses_engines_1_count_after_pop) begin
             mcu_pulses_engines_1_done_q_d = 1'b1;
         end
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop;
-        if (mcu_pulses_engines_1_count_after_pop != mcu_pulses_engines_1_full) begin
-            if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_0) begin
-                if (mcu_pulses_engines_1_write_steps) begin
-                    mcu_pulses_engines_1_fifo_steps_0_d = mcu_pulses_engines_1_wdata;
-                end
-                if (mcu_pulses_engines_1_write_rate) begin
-                    mcu_pulses_engines_1_fifo_rate_0_d = mcu_pulses_engines_1_wdata;
-                end
-                if (mcu_pulses_engines_1_write_accel) begin
-                    mcu_pulses_engines_1_fifo_accel_0_d = mcu_pulses_engines_1_wdata;
-                end
-            end
-            if (mcu_pulses_engines_1_tail == mcu_pulses_engines_1_slot_1) begin
-                if (mcu_pulses_engines_1_write_steps) begin
-                    mcu_pulses_engines_1_fifo_steps_1_d = mcu_pulses_engines_1_wdata;
-                end
-                if (mcu_pulses_engines_1_write_rate) begin
-                    mcu_pulses_engines_1_fifo_rate_1_d = mcu_pulses_engines_1_wdata;
-                end
-                if (mcu_pulses_engines_1_write_accel) begin
-                    mcu_pulses_engines_1_fifo_accel_1_d = mcu_pulses_engines_1_wdata;
-                end
-            end
+        mcu_pulses_engines_1_write_word = 8'h0;
+        if (mcu_pulses_engines_1_write_rate) begin
+            mcu_pulses_engines_1_write_word = mcu_pulses_engines_1_word_rate;
         end
+        if (mcu_pulses_engines_1_write_accel) begin
+            mcu_pulses_engines_1_write_word = mcu_pulses_engines_1_word_accel;
+        end
+        mcu_pulses_engines_1_ram_write_address = ({2'h0, mcu_pulses_engines_1_tail} << mcu_pulses_engines_1_word_shift) | mcu_pulses_engines_1_write_word;
+        mcu_pulses_engines_1_ram_write_data = mcu_pulses_engines_1_wdata;
+        mcu_pulses_engines_1_ram_write_enable = (mcu_pulses_engines_1_write_steps | mcu_pulses_engines_1_write_rate | mcu_pulses_engines_1_write_accel) & (mcu_pulses_engines_1_count_after_pop != mcu_pulses_engines_1_full) & ~mcu_pulses_engines_1_reset;
         if (mcu_pulses_engines_1_push) begin
             if (mcu_pulses_engines_1_count_after_pop == mcu_pulses_engines_1_full) begin
                 mcu_pulses_engines_1_overflow_q_d = 1'b1;
             end
             else begin
-                mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop + 3'h1;
+                mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop + 7'h1;
                 mcu_pulses_engines_1_done_q_d = 1'b0;
             end
         end
@@ -4996,24 +4986,31 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_remaining_d = 32'h0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
-            mcu_pulses_engines_1_head_d = 1'h0;
-            mcu_pulses_engines_1_count_d = 3'h0;
-            mcu_pulses_engines_1_fifo_steps_0_d = 32'h0;
-            mcu_pulses_engines_1_fifo_rate_0_d = 32'h0;
-            mcu_pulses_engines_1_fifo_accel_0_d = 32'h0;
-            mcu_pulses_engines_1_fifo_steps_1_d = 32'h0;
-            mcu_pulses_engines_1_fifo_rate_1_d = 32'h0;
-            mcu_pulses_engines_1_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_1_head_d = 6'h0;
+            mcu_pulses_engines_1_count_d = 7'h0;
+            mcu_pulses_engines_1_staged_d = 1'b0;
+            mcu_pulses_engines_1_fetch_d = 2'h0;
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
         if (mcu_pulses_engines_1_active_q_q) begin
             mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q;
         end
+        mcu_pulses_engines_1_level_word = {25'h0, mcu_pulses_engines_1_count_q};
+        mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_level_word << mcu_pulses_engines_1_level_shift;
+        if (mcu_pulses_engines_1_active_q_q) begin
+            mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_moving_bit;
+        end
+        if (mcu_pulses_engines_1_done_q_q) begin
+            mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_done_bit;
+        end
+        if (mcu_pulses_engines_1_overflow_q_q) begin
+            mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_overflow_bit;
+        end
+        if (mcu_pulses_engines_1_level_word <= mcu_pulses_engines_1_low_water) begin
+            mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_low_bit;
+        end
         mcu_pulses_engines_1_rate = mcu_pulses_engines_1_rate_out;
-        mcu_pulses_engines_1_active = mcu_pulses_engines_1_active_q_q;
-        mcu_pulses_engines_1_done = mcu_pulses_engines_1_done_q_q;
-        mcu_pulses_engines_1_overflow = mcu_pulses_engines_1_overflow_q_q;
-        mcu_pulses_engines_1_level = mcu_pulses_engines_1_count_q;
+        mcu_pulses_engines_1_status = mcu_pulses_engines_1_status_word;
     end
 
     always @(*) begin
@@ -5025,25 +5022,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_overflow_q_d = mcu_pulses_engines_2_overflow_q_q;
         mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q;
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_q;
-        mcu_pulses_engines_2_head_steps = 32'h0;
-        mcu_pulses_engines_2_head_rate = 32'h0;
-        mcu_pulses_engines_2_head_accel = 32'h0;
-        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[0:0];
-        mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_fifo_steps_0_q;
-        mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_fifo_rate_0_q;
-        mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_fifo_accel_0_q;
-        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_0) begin
-            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_0_q;
-            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_0_q;
-            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_0_q;
+        mcu_pulses_engines_2_staged_d = mcu_pulses_engines_2_staged_q;
+        mcu_pulses_engines_2_fetch_d = mcu_pulses_engines_2_fetch_q;
+        mcu_pulses_engines_2_staged_steps_d = mcu_pulses_engines_2_staged_steps_q;
+        mcu_pulses_engines_2_staged_rate_d = mcu_pulses_engines_2_staged_rate_q;
+        mcu_pulses_engines_2_staged_accel_d = mcu_pulses_engines_2_staged_accel_q;
+        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[5:0];
+        mcu_pulses_engines_2_ram_read_address = ({2'h0, mcu_pulses_engines_2_head_q} << mcu_pulses_engines_2_word_shift) | {6'h0, mcu_pulses_engines_2_fetch_q};
+        if (mcu_pulses_engines_2_fetch_q == 2'h0) begin
+            if (~mcu_pulses_engines_2_staged_q & |mcu_pulses_engines_2_count_q) begin
+                mcu_pulses_engines_2_fetch_d = 2'h1;
+            end
         end
-        mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_fifo_steps_1_q;
-        mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_fifo_rate_1_q;
-        mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_fifo_accel_1_q;
-        if (mcu_pulses_engines_2_head_q == mcu_pulses_engines_2_slot_1) begin
-            mcu_pulses_engines_2_head_steps = mcu_pulses_engines_2_fifo_steps_1_q;
-            mcu_pulses_engines_2_head_rate = mcu_pulses_engines_2_fifo_rate_1_q;
-            mcu_pulses_engines_2_head_accel = mcu_pulses_engines_2_fifo_accel_1_q;
+        else if (mcu_pulses_engines_2_fetch_q == 2'h1) begin
+            mcu_pulses_engines_2_staged_steps_d = mcu_pulses_engines_2_ram_read_data;
+            mcu_pulses_engines_2_fetch_d = 2'h2;
+        end
+        else if (mcu_pulses_engines_2_fetch_q == 2'h2) begin
+            mcu_pulses_engines_2_staged_rate_d = mcu_pulses_engines_2_ram_read_data;
+            mcu_pulses_engines_2_fetch_d = 2'h3;
+        end
+        else begin
+            mcu_pulses_engines_2_staged_accel_d = mcu_pulses_engines_2_ram_read_data;
+            mcu_pulses_engines_2_staged_d = 1'b1;
+            mcu_pulses_engines_2_fetch_d = 2'h0;
         end
         mcu_pulses_engines_2_popped = 1'b0;
         mcu_pulses_engines_2_ended = 1'b0;
@@ -5059,53 +5061,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_q_q;
             end
         end
-        else if (mcu_pulses_engines_2_run & |mcu_pulses_engines_2_count_q) begin
+        else if (mcu_pulses_engines_2_run & mcu_pulses_engines_2_staged_q) begin
             mcu_pulses_engines_2_popped = 1'b1;
-            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 1'h1;
-            mcu_pulses_engines_2_active_q_d = |mcu_pulses_engines_2_head_steps;
-            mcu_pulses_engines_2_ended = ~|mcu_pulses_engines_2_head_steps;
-            mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_head_rate;
-            mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_head_accel;
-            mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_head_steps;
+            mcu_pulses_engines_2_staged_d = 1'b0;
+            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 6'h1;
+            mcu_pulses_engines_2_active_q_d = |mcu_pulses_engines_2_staged_steps_q;
+            mcu_pulses_engines_2_ended = ~|mcu_pulses_engines_2_staged_steps_q;
+            mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_staged_rate_q;
+            mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_staged_accel_q;
+            mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_staged_steps_q;
         end
         mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q;
         if (mcu_pulses_engines_2_popped) begin
-            mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q - 3'h1;
+            mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q - 7'h1;
         end
         if (mcu_pulses_engines_2_ended & ~|mcu_pulses_engines_2_count_after_pop) begin
             mcu_pulses_engines_2_done_q_d = 1'b1;
         end
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop;
-        if (mcu_pulses_engines_2_count_after_pop != mcu_pulses_engines_2_full) begin
-            if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_0) begin
-                if (mcu_pulses_engines_2_write_steps) begin
-                    mcu_pulses_engines_2_fifo_steps_0_d = mcu_pulses_engines_2_wdata;
-                end
-                if (mcu_pulses_engines_2_write_rate) begin
-                    mcu_pulses_engines_2_fifo_rate_0_d = mcu_pulses_engines_2_wdata;
-                end
-                if (mcu_pulses_engines_2_write_accel) begin
-                    mcu_pulses_engines_2_fifo_accel_0_d = mcu_pulses_engines_2_wdata;
-                end
-            end
-            if (mcu_pulses_engines_2_tail == mcu_pulses_engines_2_slot_1) begin
-                if (mcu_pulses_engines_2_write_steps) begin
-                    mcu_pulses_engines_2_fifo_steps_1_d = mcu_pulses_engines_2_wdata;
-                end
-                if (mcu_pulses_engines_2_write_rate) begin
-                    mcu_pulses_engines_2_fifo_rate_1_d = mcu_pulses_engines_2_wdata;
-                end
-                if (mcu_pulses_engines_2_write_accel) begin
-                    mcu_pulses_engines_2_fifo_accel_1_d = mcu_pulses_engines_2_wdata;
-                end
-            end
+        mcu_pulses_engines_2_write_word = 8'h0;
+        if (mcu_pulses_engines_2_write_rate) begin
+            mcu_pulses_engines_2_write_word = mcu_pulses_engines_2_word_rate;
         end
+        if (mcu_pulses_engines_2_write_accel) begin
+            mcu_pulses_engines_2_write_word = mcu_pulses_engines_2_word_accel;
+        end
+        mcu_pulses_engines_2_ram_write_address = ({2'h0, mcu_pulses_engines_2_tail} << mcu_pulses_engines_2_word_shift) | mcu_pulses_engines_2_write_word;
+        mcu_pulses_engines_2_ram_write_data = mcu_pulses_engines_2_wdata;
+        mcu_pulses_engines_2_ram_write_enable = (mcu_pulses_engines_2_write_steps | mcu_pulses_engines_2_write_rate | mcu_pulses_engines_2_write_accel) & (mcu_pulses_engines_2_count_after_pop != mcu_pulses_engines_2_full) & ~mcu_pulses_engines_2_reset;
         if (mcu_pulses_engines_2_push) begin
             if (mcu_pulses_engines_2_count_after_pop == mcu_pulses_engines_2_full) begin
                 mcu_pulses_engines_2_overflow_q_d = 1'b1;
             end
             else begin
-                mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop + 3'h1;
+                mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop + 7'h1;
                 mcu_pulses_engines_2_done_q_d = 1'b0;
             end
         end
@@ -5119,24 +5108,31 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_remaining_d = 32'h0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
-            mcu_pulses_engines_2_head_d = 1'h0;
-            mcu_pulses_engines_2_count_d = 3'h0;
-            mcu_pulses_engines_2_fifo_steps_0_d = 32'h0;
-            mcu_pulses_engines_2_fifo_rate_0_d = 32'h0;
-            mcu_pulses_engines_2_fifo_accel_0_d = 32'h0;
-            mcu_pulses_engines_2_fifo_steps_1_d = 32'h0;
-            mcu_pulses_engines_2_fifo_rate_1_d = 32'h0;
-            mcu_pulses_engines_2_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_2_head_d = 6'h0;
+            mcu_pulses_engines_2_count_d = 7'h0;
+            mcu_pulses_engines_2_staged_d = 1'b0;
+            mcu_pulses_engines_2_fetch_d = 2'h0;
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
         if (mcu_pulses_engines_2_active_q_q) begin
             mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q;
         end
+        mcu_pulses_engines_2_level_word = {25'h0, mcu_pulses_engines_2_count_q};
+        mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_level_word << mcu_pulses_engines_2_level_shift;
+        if (mcu_pulses_engines_2_active_q_q) begin
+            mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_moving_bit;
+        end
+        if (mcu_pulses_engines_2_done_q_q) begin
+            mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_done_bit;
+        end
+        if (mcu_pulses_engines_2_overflow_q_q) begin
+            mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_overflow_bit;
+        end
+        if (mcu_pulses_engines_2_level_word <= mcu_pulses_engines_2_low_water) begin
+            mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_low_bit;
+        end
         mcu_pulses_engines_2_rate = mcu_pulses_engines_2_rate_out;
-        mcu_pulses_engines_2_active = mcu_pulses_engines_2_active_q_q;
-        mcu_pulses_engines_2_done = mcu_pulses_engines_2_done_q_q;
-        mcu_pulses_engines_2_overflow = mcu_pulses_engines_2_overflow_q_q;
-        mcu_pulses_engines_2_level = mcu_pulses_engines_2_count_q;
+        mcu_pulses_engines_2_status = mcu_pulses_engines_2_status_word;
     end
 
     always @(*) begin
@@ -5148,25 +5144,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_overflow_q_d = mcu_pulses_engines_3_overflow_q_q;
         mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q;
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_q;
-        mcu_pulses_engines_3_head_steps = 32'h0;
-        mcu_pulses_engines_3_head_rate = 32'h0;
-        mcu_pulses_engines_3_head_accel = 32'h0;
-        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[0:0];
-        mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_fifo_steps_0_q;
-        mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_fifo_rate_0_q;
-        mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_fifo_accel_0_q;
-        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_0) begin
-            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_0_q;
-            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_0_q;
-            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_0_q;
+        mcu_pulses_engines_3_staged_d = mcu_pulses_engines_3_staged_q;
+        mcu_pulses_engines_3_fetch_d = mcu_pulses_engines_3_fetch_q;
+        mcu_pulses_engines_3_staged_steps_d = mcu_pulses_engines_3_staged_steps_q;
+        mcu_pulses_engines_3_staged_rate_d = mcu_pulses_engines_3_staged_rate_q;
+        mcu_pulses_engines_3_staged_accel_d = mcu_pulses_engines_3_staged_accel_q;
+        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[5:0];
+        mcu_pulses_engines_3_ram_read_address = ({2'h0, mcu_pulses_engines_3_head_q} << mcu_pulses_engines_3_word_shift) | {6'h0, mcu_pulses_engines_3_fetch_q};
+        if (mcu_pulses_engines_3_fetch_q == 2'h0) begin
+            if (~mcu_pulses_engines_3_staged_q & |mcu_pulses_engines_3_count_q) begin
+                mcu_pulses_engines_3_fetch_d = 2'h1;
+            end
         end
-        mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_fifo_steps_1_q;
-        mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_fifo_rate_1_q;
-        mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_fifo_accel_1_q;
-        if (mcu_pulses_engines_3_head_q == mcu_pulses_engines_3_slot_1) begin
-            mcu_pulses_engines_3_head_steps = mcu_pulses_engines_3_fifo_steps_1_q;
-            mcu_pulses_engines_3_head_rate = mcu_pulses_engines_3_fifo_rate_1_q;
-            mcu_pulses_engines_3_head_accel = mcu_pulses_engines_3_fifo_accel_1_q;
+        else if (mcu_pulses_engines_3_fetch_q == 2'h1) begin
+            mcu_pulses_engines_3_staged_steps_d = mcu_pulses_engines_3_ram_read_data;
+            mcu_pulses_engines_3_fetch_d = 2'h2;
+        end
+        else if (mcu_pulses_engines_3_fetch_q == 2'h2) begin
+            mcu_pulses_engines_3_staged_rate_d = mcu_pulses_engines_3_ram_read_data;
+            mcu_pulses_engines_3_fetch_d = 2'h3;
+        end
+        else begin
+            mcu_pulses_engines_3_staged_accel_d = mcu_pulses_engines_3_ram_read_data;
+            mcu_pulses_engines_3_staged_d = 1'b1;
+            mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         mcu_pulses_engines_3_popped = 1'b0;
         mcu_pulses_engines_3_ended = 1'b0;
@@ -5182,53 +5183,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_q_q;
             end
         end
-        else if (mcu_pulses_engines_3_run & |mcu_pulses_engines_3_count_q) begin
+        else if (mcu_pulses_engines_3_run & mcu_pulses_engines_3_staged_q) begin
             mcu_pulses_engines_3_popped = 1'b1;
-            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 1'h1;
-            mcu_pulses_engines_3_active_q_d = |mcu_pulses_engines_3_head_steps;
-            mcu_pulses_engines_3_ended = ~|mcu_pulses_engines_3_head_steps;
-            mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_head_rate;
-            mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_head_accel;
-            mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_head_steps;
+            mcu_pulses_engines_3_staged_d = 1'b0;
+            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 6'h1;
+            mcu_pulses_engines_3_active_q_d = |mcu_pulses_engines_3_staged_steps_q;
+            mcu_pulses_engines_3_ended = ~|mcu_pulses_engines_3_staged_steps_q;
+            mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_staged_rate_q;
+            mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_staged_accel_q;
+            mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_staged_steps_q;
         end
         mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q;
         if (mcu_pulses_engines_3_popped) begin
-            mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q - 3'h1;
+            mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q - 7'h1;
         end
         if (mcu_pulses_engines_3_ended & ~|mcu_pulses_engines_3_count_after_pop) begin
             mcu_pulses_engines_3_done_q_d = 1'b1;
         end
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop;
-        if (mcu_pulses_engines_3_count_after_pop != mcu_pulses_engines_3_full) begin
-            if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_0) begin
-                if (mcu_pulses_engines_3_write_steps) begin
-                    mcu_pulses_engines_3_fifo_steps_0_d = mcu_pulses_engines_3_wdata;
-                end
-                if (mcu_pulses_engines_3_write_rate) begin
-                    mcu_pulses_engines_3_fifo_rate_0_d = mcu_pulses_engines_3_wdata;
-                end
-                if (mcu_pulses_engines_3_write_accel) begin
-                    mcu_pulses_engines_3_fifo_accel_0_d = mcu_pulses_engines_3_wdata;
-                end
-            end
-            if (mcu_pulses_engines_3_tail == mcu_pulses_engines_3_slot_1) begin
-                if (mcu_pulses_engines_3_write_steps) begin
-                    mcu_pulses_engines_3_fifo_steps_1_d = mcu_pulses_engines_3_wdata;
-                end
-                if (mcu_pulses_engines_3_write_rate) begin
-                    mcu_pulses_engines_3_fifo_rate_1_d = mcu_pulses_engines_3_wdata;
-                end
-                if (mcu_pulses_engines_3_write_accel) begin
-                    mcu_pulses_engines_3_fifo_accel_1_d = mcu_pulses_engines_3_wdata;
-                end
-            end
+        mcu_pulses_engines_3_write_word = 8'h0;
+        if (mcu_pulses_engines_3_write_rate) begin
+            mcu_pulses_engines_3_write_word = mcu_pulses_engines_3_word_rate;
         end
+        if (mcu_pulses_engines_3_write_accel) begin
+            mcu_pulses_engines_3_write_word = mcu_pulses_engines_3_word_accel;
+        end
+        mcu_pulses_engines_3_ram_write_address = ({2'h0, mcu_pulses_engines_3_tail} << mcu_pulses_engines_3_word_shift) | mcu_pulses_engines_3_write_word;
+        mcu_pulses_engines_3_ram_write_data = mcu_pulses_engines_3_wdata;
+        mcu_pulses_engines_3_ram_write_enable = (mcu_pulses_engines_3_write_steps | mcu_pulses_engines_3_write_rate | mcu_pulses_engines_3_write_accel) & (mcu_pulses_engines_3_count_after_pop != mcu_pulses_engines_3_full) & ~mcu_pulses_engines_3_reset;
         if (mcu_pulses_engines_3_push) begin
             if (mcu_pulses_engines_3_count_after_pop == mcu_pulses_engines_3_full) begin
                 mcu_pulses_engines_3_overflow_q_d = 1'b1;
             end
             else begin
-                mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop + 3'h1;
+                mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop + 7'h1;
                 mcu_pulses_engines_3_done_q_d = 1'b0;
             end
         end
@@ -5242,24 +5230,31 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_remaining_d = 32'h0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
-            mcu_pulses_engines_3_head_d = 1'h0;
-            mcu_pulses_engines_3_count_d = 3'h0;
-            mcu_pulses_engines_3_fifo_steps_0_d = 32'h0;
-            mcu_pulses_engines_3_fifo_rate_0_d = 32'h0;
-            mcu_pulses_engines_3_fifo_accel_0_d = 32'h0;
-            mcu_pulses_engines_3_fifo_steps_1_d = 32'h0;
-            mcu_pulses_engines_3_fifo_rate_1_d = 32'h0;
-            mcu_pulses_engines_3_fifo_accel_1_d = 32'h0;
+            mcu_pulses_engines_3_head_d = 6'h0;
+            mcu_pulses_engines_3_count_d = 7'h0;
+            mcu_pulses_engines_3_staged_d = 1'b0;
+            mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
         if (mcu_pulses_engines_3_active_q_q) begin
             mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q;
         end
+        mcu_pulses_engines_3_level_word = {25'h0, mcu_pulses_engines_3_count_q};
+        mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_level_word << mcu_pulses_engines_3_level_shift;
+        if (mcu_pulses_engines_3_active_q_q) begin
+            mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_moving_bit;
+        end
+        if (mcu_pulses_engines_3_done_q_q) begin
+            mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_done_bit;
+        end
+        if (mcu_pulses_engines_3_overflow_q_q) begin
+            mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_overflow_bit;
+        end
+        if (mcu_pulses_engines_3_level_word <= mcu_pulses_engines_3_low_water) begin
+            mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_low_bit;
+        end
         mcu_pulses_engines_3_rate = mcu_pulses_engines_3_rate_out;
-        mcu_pulses_engines_3_active = mcu_pulses_engines_3_active_q_q;
-        mcu_pulses_engines_3_done = mcu_pulses_engines_3_done_q_q;
-        mcu_pulses_engines_3_overflow = mcu_pulses_engines_3_overflow_q_q;
-        mcu_pulses_engines_3_level = mcu_pulses_engines_3_count_q;
+        mcu_pulses_engines_3_status = mcu_pulses_engines_3_status_word;
     end
 
     always @(*) begin
@@ -5886,12 +5881,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_overflow_q_q <= mcu_pulses_engines_0_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_0_head_q <= mcu_pulses_engines_0_head_d;
     always @(posedge clock) mcu_pulses_engines_0_count_q <= mcu_pulses_engines_0_count_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_0_q <= mcu_pulses_engines_0_fifo_steps_0_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_steps_1_q <= mcu_pulses_engines_0_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_0_q <= mcu_pulses_engines_0_fifo_rate_0_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_rate_1_q <= mcu_pulses_engines_0_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_0_q <= mcu_pulses_engines_0_fifo_accel_0_d;
-    always @(posedge clock) mcu_pulses_engines_0_fifo_accel_1_q <= mcu_pulses_engines_0_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_0_staged_q <= mcu_pulses_engines_0_staged_d;
+    always @(posedge clock) mcu_pulses_engines_0_fetch_q <= mcu_pulses_engines_0_fetch_d;
+    always @(posedge clock) mcu_pulses_engines_0_staged_steps_q <= mcu_pulses_engines_0_staged_steps_d;
+    always @(posedge clock) mcu_pulses_engines_0_staged_rate_q <= mcu_pulses_engines_0_staged_rate_d;
+    always @(posedge clock) mcu_pulses_engines_0_staged_accel_q <= mcu_pulses_engines_0_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_1_active_q_q <= mcu_pulses_engines_1_active_q_d;
     always @(posedge clock) mcu_pulses_engines_1_rate_q_q <= mcu_pulses_engines_1_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_1_accel_q_q <= mcu_pulses_engines_1_accel_q_d;
@@ -5900,12 +5894,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_overflow_q_q <= mcu_pulses_engines_1_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_1_head_q <= mcu_pulses_engines_1_head_d;
     always @(posedge clock) mcu_pulses_engines_1_count_q <= mcu_pulses_engines_1_count_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_0_q <= mcu_pulses_engines_1_fifo_steps_0_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_steps_1_q <= mcu_pulses_engines_1_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_0_q <= mcu_pulses_engines_1_fifo_rate_0_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_rate_1_q <= mcu_pulses_engines_1_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_0_q <= mcu_pulses_engines_1_fifo_accel_0_d;
-    always @(posedge clock) mcu_pulses_engines_1_fifo_accel_1_q <= mcu_pulses_engines_1_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_1_staged_q <= mcu_pulses_engines_1_staged_d;
+    always @(posedge clock) mcu_pulses_engines_1_fetch_q <= mcu_pulses_engines_1_fetch_d;
+    always @(posedge clock) mcu_pulses_engines_1_staged_steps_q <= mcu_pulses_engines_1_staged_steps_d;
+    always @(posedge clock) mcu_pulses_engines_1_staged_rate_q <= mcu_pulses_engines_1_staged_rate_d;
+    always @(posedge clock) mcu_pulses_engines_1_staged_accel_q <= mcu_pulses_engines_1_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_2_active_q_q <= mcu_pulses_engines_2_active_q_d;
     always @(posedge clock) mcu_pulses_engines_2_rate_q_q <= mcu_pulses_engines_2_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_2_accel_q_q <= mcu_pulses_engines_2_accel_q_d;
@@ -5914,12 +5907,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_overflow_q_q <= mcu_pulses_engines_2_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_2_head_q <= mcu_pulses_engines_2_head_d;
     always @(posedge clock) mcu_pulses_engines_2_count_q <= mcu_pulses_engines_2_count_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_0_q <= mcu_pulses_engines_2_fifo_steps_0_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_steps_1_q <= mcu_pulses_engines_2_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_0_q <= mcu_pulses_engines_2_fifo_rate_0_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_rate_1_q <= mcu_pulses_engines_2_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_0_q <= mcu_pulses_engines_2_fifo_accel_0_d;
-    always @(posedge clock) mcu_pulses_engines_2_fifo_accel_1_q <= mcu_pulses_engines_2_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_2_staged_q <= mcu_pulses_engines_2_staged_d;
+    always @(posedge clock) mcu_pulses_engines_2_fetch_q <= mcu_pulses_engines_2_fetch_d;
+    always @(posedge clock) mcu_pulses_engines_2_staged_steps_q <= mcu_pulses_engines_2_staged_steps_d;
+    always @(posedge clock) mcu_pulses_engines_2_staged_rate_q <= mcu_pulses_engines_2_staged_rate_d;
+    always @(posedge clock) mcu_pulses_engines_2_staged_accel_q <= mcu_pulses_engines_2_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_3_active_q_q <= mcu_pulses_engines_3_active_q_d;
     always @(posedge clock) mcu_pulses_engines_3_rate_q_q <= mcu_pulses_engines_3_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_3_accel_q_q <= mcu_pulses_engines_3_accel_q_d;
@@ -5928,12 +5920,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_overflow_q_q <= mcu_pulses_engines_3_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_3_head_q <= mcu_pulses_engines_3_head_d;
     always @(posedge clock) mcu_pulses_engines_3_count_q <= mcu_pulses_engines_3_count_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_0_q <= mcu_pulses_engines_3_fifo_steps_0_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_steps_1_q <= mcu_pulses_engines_3_fifo_steps_1_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_0_q <= mcu_pulses_engines_3_fifo_rate_0_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_rate_1_q <= mcu_pulses_engines_3_fifo_rate_1_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_0_q <= mcu_pulses_engines_3_fifo_accel_0_d;
-    always @(posedge clock) mcu_pulses_engines_3_fifo_accel_1_q <= mcu_pulses_engines_3_fifo_accel_1_d;
+    always @(posedge clock) mcu_pulses_engines_3_staged_q <= mcu_pulses_engines_3_staged_d;
+    always @(posedge clock) mcu_pulses_engines_3_fetch_q <= mcu_pulses_engines_3_fetch_d;
+    always @(posedge clock) mcu_pulses_engines_3_staged_steps_q <= mcu_pulses_engines_3_staged_steps_d;
+    always @(posedge clock) mcu_pulses_engines_3_staged_rate_q <= mcu_pulses_engines_3_staged_rate_d;
+    always @(posedge clock) mcu_pulses_engines_3_staged_accel_q <= mcu_pulses_engines_3_staged_accel_d;
     always @(posedge clock) mcu_pulses_selectors_0_f1_reg_q <= mcu_pulses_selectors_0_f1_reg_d;
     always @(posedge clock) mcu_pulses_selectors_0_f2_reg_q <= mcu_pulses_selectors_0_f2_reg_d;
     always @(posedge clock) mcu_pulses_selectors_1_f1_reg_q <= mcu_pulses_selectors_1_f1_reg_d;
@@ -5959,6 +5950,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_dir_timing_1_q <= mcu_pulses_dir_timing_1_d;
     always @(posedge clock) mcu_pulses_dir_timing_2_q <= mcu_pulses_dir_timing_2_d;
     always @(posedge clock) mcu_pulses_dir_timing_3_q <= mcu_pulses_dir_timing_3_d;
+    always @(posedge clock) mcu_pulses_low_water_0_q <= mcu_pulses_low_water_0_d;
+    always @(posedge clock) mcu_pulses_low_water_1_q <= mcu_pulses_low_water_1_d;
+    always @(posedge clock) mcu_pulses_low_water_2_q <= mcu_pulses_low_water_2_d;
+    always @(posedge clock) mcu_pulses_low_water_3_q <= mcu_pulses_low_water_3_d;
     always @(posedge clock) mcu_pulses_snap_0_q <= mcu_pulses_snap_0_d;
     always @(posedge clock) mcu_pulses_snap_1_q <= mcu_pulses_snap_1_d;
     always @(posedge clock) mcu_pulses_snap_2_q <= mcu_pulses_snap_2_d;
@@ -6010,6 +6005,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) pc_bus_core_pw_data_q <= pc_bus_core_pw_data_d;
     always @(posedge clock) pc_bus_core_data_q_q <= pc_bus_core_data_q_d;
     always @(posedge clock) pc_bus_core_fresh_q <= pc_bus_core_fresh_d;
+
+    reg [31:0] mcu_pulses_engines_0_ram_mem [0:255];
+    integer mcu_pulses_engines_0_ram_mem_i;
+    initial for (mcu_pulses_engines_0_ram_mem_i = 0; mcu_pulses_engines_0_ram_mem_i < 256; mcu_pulses_engines_0_ram_mem_i = mcu_pulses_engines_0_ram_mem_i + 1) mcu_pulses_engines_0_ram_mem[mcu_pulses_engines_0_ram_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_0_ram_read_data <= mcu_pulses_engines_0_ram_mem[mcu_pulses_engines_0_ram_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_0_ram_write_enable) mcu_pulses_engines_0_ram_mem[mcu_pulses_engines_0_ram_write_address] <= mcu_pulses_engines_0_ram_write_data;
+
+    reg [31:0] mcu_pulses_engines_1_ram_mem [0:255];
+    integer mcu_pulses_engines_1_ram_mem_i;
+    initial for (mcu_pulses_engines_1_ram_mem_i = 0; mcu_pulses_engines_1_ram_mem_i < 256; mcu_pulses_engines_1_ram_mem_i = mcu_pulses_engines_1_ram_mem_i + 1) mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_1_ram_read_data <= mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_1_ram_write_enable) mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_write_address] <= mcu_pulses_engines_1_ram_write_data;
+
+    reg [31:0] mcu_pulses_engines_2_ram_mem [0:255];
+    integer mcu_pulses_engines_2_ram_mem_i;
+    initial for (mcu_pulses_engines_2_ram_mem_i = 0; mcu_pulses_engines_2_ram_mem_i < 256; mcu_pulses_engines_2_ram_mem_i = mcu_pulses_engines_2_ram_mem_i + 1) mcu_pulses_engines_2_ram_mem[mcu_pulses_engines_2_ram_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_2_ram_read_data <= mcu_pulses_engines_2_ram_mem[mcu_pulses_engines_2_ram_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_2_ram_write_enable) mcu_pulses_engines_2_ram_mem[mcu_pulses_engines_2_ram_write_address] <= mcu_pulses_engines_2_ram_write_data;
+
+    reg [31:0] mcu_pulses_engines_3_ram_mem [0:255];
+    integer mcu_pulses_engines_3_ram_mem_i;
+    initial for (mcu_pulses_engines_3_ram_mem_i = 0; mcu_pulses_engines_3_ram_mem_i < 256; mcu_pulses_engines_3_ram_mem_i = mcu_pulses_engines_3_ram_mem_i + 1) mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_3_ram_read_data <= mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_3_ram_write_enable) mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_write_address] <= mcu_pulses_engines_3_ram_write_data;
 
     reg [15:0] pc_bus_ram_pc_mem [0:1023];
     integer pc_bus_ram_pc_mem_i;

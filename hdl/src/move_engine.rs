@@ -1,19 +1,29 @@
-//! Position moves of one pulse generator axis: a 2-deep FIFO of segments
-//! (steps, start rate, rate increment per clock) and the running segment,
-//! which sets the NCO's rate (docs/pulse_generator.md).
+//! Position moves of one pulse generator axis: a 64-deep FIFO of segments
+//! (steps, start rate, rate increment per clock) in block RAM, a copy of its
+//! head segment in flip-flops, and the running segment, which sets the
+//! NCO's rate (docs/pulse_generator.md).
 
-use motionhdl_spec::pulse::SEGMENT_FIFO_DEPTH;
+use crate::probe::MoveEngineRegisters;
+use motionhdl_spec::pulse::{SEGMENT_FIFO_DEPTH, SEGMENT_SLOT_WORDS};
+use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
 const DEPTH: usize = SEGMENT_FIFO_DEPTH;
 /// Bits of the head and tail pointers (DEPTH is a power of two).
 const PTR: usize = DEPTH.trailing_zeros() as usize;
+/// Bits of the level, 0..=DEPTH.
+const LEVEL: usize = PTR + 1;
+/// Bits of a segment RAM address: slot, then word in the slot.
+const RAM_ADDR: usize = PTR + 2;
 
 /// The segment FIFO and the running segment. SEG_* writes go straight into
-/// the FIFO's tail slot (no staging registers). A segment commands exactly
-/// its `steps` steps (counted on `commanded`), its rate growing by `accel`
-/// on every clock the NCO advances; then the next segment loads. `done`
-/// rises when the last pushed segment has commanded all its steps.
+/// the tail slot of the RAM (slot × 4 + field). Whenever the head slot holds
+/// a segment and no copy of it is complete, its three words are read, one a
+/// clock, into the copy; a segment loads from the copy. A segment commands
+/// exactly its `steps` steps (counted on `commanded`), its rate growing by
+/// `accel` on every clock the NCO advances; `done` rises when the last
+/// pushed segment has commanded all its steps. Reset clears every flip-flop;
+/// the RAM keeps its words.
 #[derive(LogicBlock)]
 pub struct MoveEngine {
     /// FPGA clock.
@@ -39,16 +49,13 @@ pub struct MoveEngine {
     pub write_accel: Signal<In, Bit>,
     /// Clear the sticky overflow flag.
     pub clear_overflow: Signal<In, Bit>,
+    /// FIFO_LOW_WATER.LEVEL (upper bits 0).
+    pub low_water: Signal<In, Bits<32>>,
     /// The NCO rate: the running segment's, or 0.
     pub rate: Signal<Out, Bits<32>>,
-    /// A segment is running.
-    pub active: Signal<Out, Bit>,
-    /// Sticky: every pushed segment has commanded its steps.
-    pub done: Signal<Out, Bit>,
-    /// Sticky: a push found the FIFO full.
-    pub overflow: Signal<Out, Bit>,
-    /// Segments waiting.
-    pub level: Signal<Out, Bits<3>>,
+    /// STATUS bits MOVING, DONE, OVERFLOW, FIFO_LEVEL and FIFO_LOW in place
+    /// (the others 0).
+    pub status: Signal<Out, Bits<32>>,
     active_q: DFF<Bit>,
     rate_q: DFF<Bits<32>>,
     accel_q: DFF<Bits<32>>,
@@ -56,20 +63,32 @@ pub struct MoveEngine {
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
     head: DFF<Bits<PTR>>,
-    count: DFF<Bits<3>>,
-    fifo_steps: Vec<DFF<Bits<32>>>,
-    fifo_rate: Vec<DFF<Bits<32>>>,
-    fifo_accel: Vec<DFF<Bits<32>>>,
-    slot: Vec<Constant<Bits<PTR>>>,
+    count: DFF<Bits<LEVEL>>,
+    // The head segment's copy: complete when `staged`; `fetch` counts the
+    // words read so far (the RAM answers one clock after its address).
+    staged: DFF<Bit>,
+    fetch: DFF<Bits<2>>,
+    staged_steps: DFF<Bits<32>>,
+    staged_rate: DFF<Bits<32>>,
+    staged_accel: DFF<Bits<32>>,
+    ram: RAM<Bits<32>, RAM_ADDR>,
     one: Constant<Bits<32>>,
-    full: Constant<Bits<3>>,
-    head_steps: Signal<Local, Bits<32>>,
-    head_rate: Signal<Local, Bits<32>>,
-    head_accel: Signal<Local, Bits<32>>,
+    full: Constant<Bits<LEVEL>>,
+    word_shift: Constant<Bits<RAM_ADDR>>,
+    word_rate: Constant<Bits<RAM_ADDR>>,
+    word_accel: Constant<Bits<RAM_ADDR>>,
+    moving_bit: Constant<Bits<32>>,
+    done_bit: Constant<Bits<32>>,
+    overflow_bit: Constant<Bits<32>>,
+    low_bit: Constant<Bits<32>>,
+    level_shift: Constant<Bits<32>>,
     tail: Signal<Local, Bits<PTR>>,
     popped: Signal<Local, Bit>,
     ended: Signal<Local, Bit>,
-    count_after_pop: Signal<Local, Bits<3>>,
+    count_after_pop: Signal<Local, Bits<LEVEL>>,
+    write_word: Signal<Local, Bits<RAM_ADDR>>,
+    level_word: Signal<Local, Bits<32>>,
+    status_word: Signal<Local, Bits<32>>,
     rate_out: Signal<Local, Bits<32>>,
 }
 
@@ -82,11 +101,18 @@ impl Default for MoveEngine {
 impl MoveEngine {
     pub fn new() -> Self {
         const {
-            assert!(
-                DEPTH.is_power_of_two() && DEPTH < 8,
-                "pointers wrap; count is Bits<3>"
-            )
+            assert!(DEPTH.is_power_of_two() && SEGMENT_SLOT_WORDS == 4);
         };
+        let map = regmap::pulse_bank(1, 32);
+        let status = map.array("AX").register("STATUS");
+        let bit = |name: &str| {
+            let f = status.field(name);
+            assert_eq!(f.width, 1, "STATUS.{name}");
+            Constant::new((1u64 << f.lsb).into())
+        };
+        let level = status.field("FIFO_LEVEL");
+        assert_eq!(level.width as usize, LEVEL, "FIFO_LEVEL holds 0..=DEPTH");
+        let word = |w: u64| Constant::new(w.into());
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -99,11 +125,9 @@ impl MoveEngine {
             write_rate: Default::default(),
             write_accel: Default::default(),
             clear_overflow: Default::default(),
+            low_water: Default::default(),
             rate: Default::default(),
-            active: Default::default(),
-            done: Default::default(),
-            overflow: Default::default(),
-            level: Default::default(),
+            status: Default::default(),
             active_q: Default::default(),
             rate_q: Default::default(),
             accel_q: Default::default(),
@@ -112,34 +136,50 @@ impl MoveEngine {
             overflow_q: Default::default(),
             head: Default::default(),
             count: Default::default(),
-            fifo_steps: (0..DEPTH).map(|_| Default::default()).collect(),
-            fifo_rate: (0..DEPTH).map(|_| Default::default()).collect(),
-            fifo_accel: (0..DEPTH).map(|_| Default::default()).collect(),
-            slot: (0..DEPTH as u64).map(|j| Constant::new(j.into())).collect(),
+            staged: Default::default(),
+            fetch: Default::default(),
+            staged_steps: Default::default(),
+            staged_rate: Default::default(),
+            staged_accel: Default::default(),
+            ram: Default::default(),
             one: Constant::new(1.into()),
             full: Constant::new((DEPTH as u64).into()),
-            head_steps: Default::default(),
-            head_rate: Default::default(),
-            head_accel: Default::default(),
+            word_shift: word(2),
+            word_rate: word(1),
+            word_accel: word(2),
+            moving_bit: bit("MOVING"),
+            done_bit: bit("DONE"),
+            overflow_bit: bit("OVERFLOW"),
+            low_bit: bit("FIFO_LOW"),
+            level_shift: Constant::new((level.lsb as u64).into()),
             tail: Default::default(),
             popped: Default::default(),
             ended: Default::default(),
             count_after_pop: Default::default(),
+            write_word: Default::default(),
+            level_word: Default::default(),
+            status_word: Default::default(),
             rate_out: Default::default(),
         }
     }
 
-    /// (active, rate, remaining, done, overflow, level), for comparison
-    /// with the model.
-    pub fn probe(&self) -> (bool, u32, u32, bool, bool, u32) {
-        (
-            self.active_q.q.val(),
-            self.rate_q.q.val().index() as u32,
-            self.remaining.q.val().index() as u32,
-            self.done_q.q.val(),
-            self.overflow_q.q.val(),
-            self.count.q.val().index() as u32,
-        )
+    /// The registers, for comparison with the model.
+    pub fn probe(&self) -> MoveEngineRegisters {
+        MoveEngineRegisters {
+            active: self.active_q.q.val(),
+            rate: self.rate_q.q.val().index() as u32,
+            remaining: self.remaining.q.val().index() as u32,
+            done: self.done_q.q.val(),
+            overflow: self.overflow_q.q.val(),
+            level: self.count.q.val().index() as u32,
+            staged: self.staged.q.val(),
+            fetch: self.fetch.q.val().index() as u32,
+        }
+    }
+
+    /// Segments pushed and not yet loaded.
+    pub fn level(&self) -> u32 {
+        self.count.q.val().index() as u32
     }
 }
 
@@ -147,24 +187,44 @@ impl Logic for MoveEngine {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, active_q, rate_q, accel_q, remaining, done_q, overflow_q, head, count
+            self,
+            clock,
+            active_q,
+            rate_q,
+            accel_q,
+            remaining,
+            done_q,
+            overflow_q,
+            head,
+            count,
+            staged,
+            fetch,
+            staged_steps,
+            staged_rate,
+            staged_accel
         );
-        self.head_steps.next = 0.into();
-        self.head_rate.next = 0.into();
-        self.head_accel.next = 0.into();
+        self.ram.read_clock.next = self.clock.val();
+        self.ram.write_clock.next = self.clock.val();
         self.tail.next = self.head.q.val() + self.count.q.val().get_bits::<PTR>(0);
-        for j in 0..DEPTH {
-            self.fifo_steps[j].clock.next = self.clock.val();
-            self.fifo_rate[j].clock.next = self.clock.val();
-            self.fifo_accel[j].clock.next = self.clock.val();
-            self.fifo_steps[j].d.next = self.fifo_steps[j].q.val();
-            self.fifo_rate[j].d.next = self.fifo_rate[j].q.val();
-            self.fifo_accel[j].d.next = self.fifo_accel[j].q.val();
-            if self.head.q.val() == self.slot[j].val() {
-                self.head_steps.next = self.fifo_steps[j].q.val();
-                self.head_rate.next = self.fifo_rate[j].q.val();
-                self.head_accel.next = self.fifo_accel[j].q.val();
+        // The head copy: word `fetch` of the head slot is addressed, the
+        // word addressed last clock arrives.
+        self.ram.read_address.next = (bit_cast::<RAM_ADDR, PTR>(self.head.q.val())
+            << self.word_shift.val())
+            | bit_cast::<RAM_ADDR, 2>(self.fetch.q.val());
+        if self.fetch.q.val() == 0 {
+            if !self.staged.q.val() & self.count.q.val().any() {
+                self.fetch.d.next = 1.into();
             }
+        } else if self.fetch.q.val() == 1 {
+            self.staged_steps.d.next = self.ram.read_data.val();
+            self.fetch.d.next = 2.into();
+        } else if self.fetch.q.val() == 2 {
+            self.staged_rate.d.next = self.ram.read_data.val();
+            self.fetch.d.next = 3.into();
+        } else {
+            self.staged_accel.d.next = self.ram.read_data.val();
+            self.staged.d.next = true;
+            self.fetch.d.next = 0.into();
         }
         self.popped.next = false;
         self.ended.next = false;
@@ -179,14 +239,15 @@ impl Logic for MoveEngine {
             if self.advancing.val() {
                 self.rate_q.d.next = self.rate_q.q.val() + self.accel_q.q.val();
             }
-        } else if self.run.val() & self.count.q.val().any() {
+        } else if self.run.val() & self.staged.q.val() {
             self.popped.next = true;
+            self.staged.d.next = false;
             self.head.d.next = self.head.q.val() + 1;
-            self.active_q.d.next = self.head_steps.val().any();
-            self.ended.next = !self.head_steps.val().any();
-            self.rate_q.d.next = self.head_rate.val();
-            self.accel_q.d.next = self.head_accel.val();
-            self.remaining.d.next = self.head_steps.val();
+            self.active_q.d.next = self.staged_steps.q.val().any();
+            self.ended.next = !self.staged_steps.q.val().any();
+            self.rate_q.d.next = self.staged_rate.q.val();
+            self.accel_q.d.next = self.staged_accel.q.val();
+            self.remaining.d.next = self.staged_steps.q.val();
         }
         self.count_after_pop.next = self.count.q.val();
         if self.popped.val() {
@@ -197,22 +258,23 @@ impl Logic for MoveEngine {
         }
         self.count.d.next = self.count_after_pop.val();
         // SEG_* writes land in the tail slot while there is room (the tail
-        // names the same slot before and after a pop in this clock).
-        if self.count_after_pop.val() != self.full.val() {
-            for j in 0..DEPTH {
-                if self.tail.val() == self.slot[j].val() {
-                    if self.write_steps.val() {
-                        self.fifo_steps[j].d.next = self.wdata.val();
-                    }
-                    if self.write_rate.val() {
-                        self.fifo_rate[j].d.next = self.wdata.val();
-                    }
-                    if self.write_accel.val() {
-                        self.fifo_accel[j].d.next = self.wdata.val();
-                    }
-                }
-            }
+        // names the same slot before and after a pop in this clock; it is
+        // never the slot being copied, which holds a segment).
+        self.write_word.next = 0.into();
+        if self.write_rate.val() {
+            self.write_word.next = self.word_rate.val();
         }
+        if self.write_accel.val() {
+            self.write_word.next = self.word_accel.val();
+        }
+        self.ram.write_address.next = (bit_cast::<RAM_ADDR, PTR>(self.tail.val())
+            << self.word_shift.val())
+            | self.write_word.val();
+        self.ram.write_data.next = self.wdata.val();
+        self.ram.write_enable.next =
+            (self.write_steps.val() | self.write_rate.val() | self.write_accel.val())
+                & (self.count_after_pop.val() != self.full.val())
+                & !self.reset.val();
         if self.push.val() {
             if self.count_after_pop.val() == self.full.val() {
                 self.overflow_q.d.next = true;
@@ -233,21 +295,29 @@ impl Logic for MoveEngine {
             self.overflow_q.d.next = false;
             self.head.d.next = 0.into();
             self.count.d.next = 0.into();
-            for j in 0..DEPTH {
-                self.fifo_steps[j].d.next = 0.into();
-                self.fifo_rate[j].d.next = 0.into();
-                self.fifo_accel[j].d.next = 0.into();
-            }
+            self.staged.d.next = false;
+            self.fetch.d.next = 0.into();
         }
-        // One assignment to the output (see PulseGenerator::update).
+        // One assignment to each output (see PulseGenerator::update).
         self.rate_out.next = 0.into();
         if self.active_q.q.val() {
             self.rate_out.next = self.rate_q.q.val();
         }
+        self.level_word.next = bit_cast::<32, LEVEL>(self.count.q.val());
+        self.status_word.next = self.level_word.val() << self.level_shift.val();
+        if self.active_q.q.val() {
+            self.status_word.next = self.status_word.val() | self.moving_bit.val();
+        }
+        if self.done_q.q.val() {
+            self.status_word.next = self.status_word.val() | self.done_bit.val();
+        }
+        if self.overflow_q.q.val() {
+            self.status_word.next = self.status_word.val() | self.overflow_bit.val();
+        }
+        if self.level_word.val() <= self.low_water.val() {
+            self.status_word.next = self.status_word.val() | self.low_bit.val();
+        }
         self.rate.next = self.rate_out.val();
-        self.active.next = self.active_q.q.val();
-        self.done.next = self.done_q.q.val();
-        self.overflow.next = self.overflow_q.q.val();
-        self.level.next = self.count.q.val();
+        self.status.next = self.status_word.val();
     }
 }

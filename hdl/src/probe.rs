@@ -49,3 +49,16 @@ pub struct ChannelRegisters {
     pub snap_index: u32,
     pub snap_status: u32,
 }
+
+/// The move engine: running segment, FIFO bookkeeping and the head copy.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MoveEngineRegisters {
+    pub active: bool,
+    pub rate: u32,
+    pub remaining: u32,
+    pub done: bool,
+    pub overflow: bool,
+    pub level: u32,
+    pub staged: bool,
+    pub fetch: u32,
+}

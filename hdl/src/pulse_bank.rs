@@ -40,6 +40,7 @@ pub struct PulseBank<const N: usize> {
     rate: Vec<DFF<Bits<32>>>,
     step_timing: Vec<DFF<Bits<32>>>,
     dir_timing: Vec<DFF<Bits<32>>>,
+    low_water: Vec<DFF<Bits<32>>>,
     snap: Vec<DFF<Bits<32>>>,
     quadrature_a: Vec<DFF<Bit>>,
     quadrature_b: Vec<DFF<Bit>>,
@@ -60,6 +61,7 @@ pub struct PulseBank<const N: usize> {
     addr_seg_rate: Vec<Constant<Bits<9>>>,
     addr_seg_accel: Vec<Constant<Bits<9>>>,
     addr_seg_push: Vec<Constant<Bits<9>>>,
+    addr_low_water: Vec<Constant<Bits<9>>>,
     info: Constant<Bits<32>>,
     width_mask: Constant<Bits<32>>,
     sign_bit: Constant<Bits<32>>,
@@ -67,12 +69,7 @@ pub struct PulseBank<const N: usize> {
     one: Constant<Bits<32>>,
     two: Constant<Bits<32>>,
     four: Constant<Bits<32>>,
-    moving_bit: Constant<Bits<32>>,
-    done_bit: Constant<Bits<32>>,
-    overflow_bit: Constant<Bits<32>>,
-    level_bit0: Constant<Bits<32>>,
-    level_bit1: Constant<Bits<32>>,
-    level_bit2: Constant<Bits<32>>,
+    low_water_mask: Constant<Bits<32>>,
     read_value: Signal<Local, Bits<32>>,
     axis_bit: Vec<Constant<Bits<N>>>,
     f1_bits: Signal<Local, Bits<N>>,
@@ -90,11 +87,9 @@ impl<const N: usize> PulseBank<N> {
         let per_axis = |name: &str| (0..N as u32).map(|i| k9(ax.address(i, name))).collect();
         let width_mask = CounterParams::new(width, 1).count_mask();
         assert_eq!(map.address_bits, 9);
+        // STATUS is the generator's bits 16:0 OR the move engine's above.
         assert_eq!(ax.register("STATUS").field("BUSY").lsb, 16);
         assert_eq!(ax.register("STATUS").field("MOVING").lsb, 17);
-        assert_eq!(ax.register("STATUS").field("DONE").lsb, 18);
-        assert_eq!(ax.register("STATUS").field("OVERFLOW").lsb, 19);
-        assert_eq!(ax.register("STATUS").field("FIFO_LEVEL").lsb, 20);
         assert_eq!(ax.register("CTRL").writable_mask(), 0b111);
         assert_eq!(ax.register("STATUS").field("PENDING").width, 16);
         Self {
@@ -118,6 +113,7 @@ impl<const N: usize> PulseBank<N> {
             rate: (0..N).map(|_| Default::default()).collect(),
             step_timing: (0..N).map(|_| Default::default()).collect(),
             dir_timing: (0..N).map(|_| Default::default()).collect(),
+            low_water: (0..N).map(|_| Default::default()).collect(),
             snap: (0..N).map(|_| Default::default()).collect(),
             quadrature_a: (0..N).map(|_| Default::default()).collect(),
             quadrature_b: (0..N).map(|_| Default::default()).collect(),
@@ -138,6 +134,7 @@ impl<const N: usize> PulseBank<N> {
             addr_seg_rate: per_axis("SEG_RATE"),
             addr_seg_accel: per_axis("SEG_ACCEL"),
             addr_seg_push: per_axis("SEG_PUSH"),
+            addr_low_water: per_axis("FIFO_LOW_WATER"),
             info: k32(map.register("INFO").reset),
             width_mask: k32(width_mask),
             sign_bit: k32(1 << (width - 1)),
@@ -145,12 +142,7 @@ impl<const N: usize> PulseBank<N> {
             one: k32(1),
             two: k32(2),
             four: k32(4),
-            moving_bit: k32(1 << 17),
-            done_bit: k32(1 << 18),
-            overflow_bit: k32(1 << 19),
-            level_bit0: k32(1 << 20),
-            level_bit1: k32(1 << 21),
-            level_bit2: k32(1 << 22),
+            low_water_mask: k32(ax.register("FIFO_LOW_WATER").writable_mask()),
             read_value: Default::default(),
             axis_bit: (0..N).map(|i| Constant::new((1u64 << i).into())).collect(),
             f1_bits: Default::default(),
@@ -212,6 +204,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.rate[i].clock.next = self.clock.val();
             self.step_timing[i].clock.next = self.clock.val();
             self.dir_timing[i].clock.next = self.clock.val();
+            self.low_water[i].clock.next = self.clock.val();
             self.snap[i].clock.next = self.clock.val();
             // Moves: the engine sets the NCO's rate while CTRL.MOVES.
             self.engines[i].clock.next = self.clock.val();
@@ -233,10 +226,12 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.we.val() & (self.addr.val() == self.addr_seg_accel[i].val());
             self.engines[i].clear_overflow.next =
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
+            self.engines[i].low_water.next = self.low_water[i].q.val();
             self.ctrl[i].d.next = self.ctrl[i].q.val();
             self.rate[i].d.next = self.rate[i].q.val();
             self.step_timing[i].d.next = self.step_timing[i].q.val();
             self.dir_timing[i].d.next = self.dir_timing[i].q.val();
+            self.low_water[i].d.next = self.low_water[i].q.val();
             self.snap[i].d.next = self.snap[i].q.val();
             self.generators[i].clock.next = self.clock.val();
             self.generators[i].reset.next = self.reset.val();
@@ -276,6 +271,9 @@ impl<const N: usize> Logic for PulseBank<N> {
                 if self.addr.val() == self.addr_dir_timing[i].val() {
                     self.dir_timing[i].d.next = self.wdata.val();
                 }
+                if self.addr.val() == self.addr_low_water[i].val() {
+                    self.low_water[i].d.next = self.wdata.val() & self.low_water_mask.val();
+                }
             }
             if self.read_addr.q.val() == self.addr_ctrl[i].val() {
                 // (bit_cast cannot take a loop index in #[hdl_gen].)
@@ -298,6 +296,9 @@ impl<const N: usize> Logic for PulseBank<N> {
             if self.read_addr.q.val() == self.addr_dir_timing[i].val() {
                 self.read_value.next = self.dir_timing[i].q.val();
             }
+            if self.read_addr.q.val() == self.addr_low_water[i].val() {
+                self.read_value.next = self.low_water[i].q.val();
+            }
             if self.read_addr.q.val() == self.addr_position[i].val() {
                 self.read_value.next = self.snap[i].q.val();
                 if (self.snap[i].q.val() & self.sign_bit.val()).any() {
@@ -305,25 +306,8 @@ impl<const N: usize> Logic for PulseBank<N> {
                 }
             }
             if self.read_addr.q.val() == self.addr_status[i].val() {
-                self.read_value.next = self.generators[i].status.val();
-                if self.engines[i].active.val() {
-                    self.read_value.next = self.read_value.val() | self.moving_bit.val();
-                }
-                if self.engines[i].done.val() {
-                    self.read_value.next = self.read_value.val() | self.done_bit.val();
-                }
-                if self.engines[i].overflow.val() {
-                    self.read_value.next = self.read_value.val() | self.overflow_bit.val();
-                }
-                if self.engines[i].level.val().get_bit(0) {
-                    self.read_value.next = self.read_value.val() | self.level_bit0.val();
-                }
-                if self.engines[i].level.val().get_bit(1) {
-                    self.read_value.next = self.read_value.val() | self.level_bit1.val();
-                }
-                if self.engines[i].level.val().get_bit(2) {
-                    self.read_value.next = self.read_value.val() | self.level_bit2.val();
-                }
+                self.read_value.next =
+                    self.generators[i].status.val() | self.engines[i].status.val();
             }
             if self.reset.val() {
                 self.ctrl[i].d.next = 0.into();
@@ -334,6 +318,7 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.rate[i].d.next = 0.into();
                 self.step_timing[i].d.next = 0.into();
                 self.dir_timing[i].d.next = 0.into();
+                self.low_water[i].d.next = 0.into();
                 self.snap[i].d.next = 0.into();
             }
         }

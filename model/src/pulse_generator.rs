@@ -17,7 +17,7 @@ mod step_timer;
 mod tests;
 
 pub use motionhdl_spec::pulse::{Segment, PENDING_BITS, SEGMENT_FIFO_DEPTH, TIMER_BITS};
-pub use move_engine::{MoveEngine, SegmentField};
+pub use move_engine::{MoveEngine, MoveEngineProbe, SegmentField, SEGMENT_FETCH_CLOCKS};
 pub use pulse_bank::{quadrature, PulseBank};
 pub use step_timer::{Request, StepTimer, StepTimerState, StepTiming};
 

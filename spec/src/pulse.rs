@@ -7,10 +7,14 @@ pub const PENDING_BITS: u32 = 16;
 /// Bits of the timing registers and of the timers that check them.
 pub const TIMER_BITS: u32 = 16;
 
-/// Segments the move FIFO holds, besides the one running: two, so the
-/// firmware refills one while the next waits (a 4-deep FIFO of 96-bit
-/// segments cost 1 540 flip-flops on 4 axes and no longer fit the HX8K).
-pub const SEGMENT_FIFO_DEPTH: usize = 2;
+/// Segments the move FIFO holds, besides the one running. The FIFO is
+/// block RAM (256 words of 32 bits per axis, two iCE40 SB_RAM40_4K or one
+/// ECP5 DP16KD: four words a slot), so a whole profile fits and the
+/// firmware refills rarely; only a copy of the head segment sits in
+/// flip-flops.
+pub const SEGMENT_FIFO_DEPTH: usize = 64;
+/// Words of the segment RAM per slot (steps, rate, accel, one spare).
+pub const SEGMENT_SLOT_WORDS: usize = 4;
 
 /// One segment of a position move: the NCO starts at `rate` and adds
 /// `accel` to it on every clock it advances, until it has commanded

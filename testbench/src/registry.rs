@@ -4,7 +4,8 @@
 
 use crate::checks::{
     counter_bank, counter_channel, fsmc_bridge, input_filter, isa_bridge, ls153, ls688,
-    motion_controller, pulse_bank, pulse_generator, pulse_mode_selector, quadrature_core,
+    motion_controller, move_engine, pulse_bank, pulse_generator, pulse_mode_selector,
+    quadrature_core,
 };
 use crate::CheckReport;
 
@@ -56,7 +57,14 @@ pub const GROUPS: [Group; 9] = [
     },
     Group {
         name: "pulse_generator",
-        run: |external| [pulse_generator::all(external), pulse_bank::all(external)].concat(),
+        run: |external| {
+            [
+                pulse_generator::all(external),
+                move_engine::all(external),
+                pulse_bank::all(external),
+            ]
+            .concat()
+        },
     },
     Group {
         name: "netlist",

@@ -2,9 +2,11 @@
 //! state types, so checks compare the two twins field by field. This is
 //! the one place that knows both sides.
 
-use motionhdl_hdl::probe::{ChannelRegisters, FilterRegisters, StepTimerRegisters};
+use motionhdl_hdl::probe::{
+    ChannelRegisters, FilterRegisters, MoveEngineRegisters, StepTimerRegisters,
+};
 use motionhdl_model::counter::{ChannelState, InputFilter};
-use motionhdl_model::pulse_generator::StepTimerState;
+use motionhdl_model::pulse_generator::{MoveEngineProbe, StepTimerState};
 
 pub fn filter(r: FilterRegisters) -> InputFilter {
     InputFilter {
@@ -57,5 +59,18 @@ pub fn channel(r: ChannelRegisters) -> ChannelState {
         snap_count: r.snap_count,
         snap_index: r.snap_index,
         snap_status: r.snap_status,
+    }
+}
+
+pub fn engine(r: MoveEngineRegisters) -> MoveEngineProbe {
+    MoveEngineProbe {
+        active: r.active,
+        rate: r.rate,
+        remaining: r.remaining,
+        done: r.done,
+        overflow: r.overflow,
+        level: r.level,
+        staged: r.staged,
+        fetch: r.fetch,
     }
 }

@@ -1,8 +1,11 @@
-//! Position moves of one axis: the segment FIFO and the running segment.
+//! Position moves of one axis: the segment FIFO in block RAM, the copy of
+//! its head segment, and the running segment.
 
 use super::{Segment, SEGMENT_FIFO_DEPTH};
 
-/// A field of the segment being written (the SEG_* registers).
+/// A field of the segment being written (the SEG_* registers), in the
+/// order the RAM holds them: a slot is four words, field `k` at word `k`
+/// (the fourth is reserved).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SegmentField {
     Steps,
@@ -10,23 +13,73 @@ pub enum SegmentField {
     Accel,
 }
 
-/// Position moves: a FIFO of segments the MCU streams (e.g. to follow an
-/// S-curve) and the segment being run. The SEG_* writes go straight into
-/// the FIFO's free tail slot (no staging registers: 96 flip-flops less per
-/// axis); while the FIFO is full they are dropped, and a PUSH then
-/// overflows. A slot keeps what was last written into it, so fields not
-/// written since the slot last held a segment carry that old value.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+/// Clocks from the moment the head slot holds a segment to the moment its
+/// copy can load: one read per field, each one clock behind its address.
+pub const SEGMENT_FETCH_CLOCKS: usize = 4;
+
+/// What the move engine's registers hold, as the gateware compares them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MoveEngineProbe {
+    pub active: bool,
+    pub rate: u32,
+    pub remaining: u32,
+    pub done: bool,
+    pub overflow: bool,
+    pub level: u32,
+    /// The head segment's copy is complete.
+    pub staged: bool,
+    /// Fields of the head segment read so far (0 = no read under way).
+    pub fetch: u32,
+}
+
+/// Position moves: a ring of `SEGMENT_FIFO_DEPTH` segment slots the MCU
+/// streams (e.g. to follow an S-curve), a copy of the head slot read out of
+/// the RAM ahead of time, and the segment being run. The SEG_* writes go
+/// straight into the free tail slot; while the FIFO is full they are
+/// dropped, and a PUSH then overflows. A slot is block RAM: it keeps what
+/// was last written into it, across resets too, so fields not written since
+/// the slot last held a segment carry that old value.
+///
+/// The copy: once the head slot holds a segment and no copy is under way,
+/// its three fields are read in three clocks (each one clock behind its
+/// address), so the copy is complete `SEGMENT_FETCH_CLOCKS` clocks after
+/// the push (or the pop) that made the slot the head. A segment loads from
+/// the copy; so segments that run at least that long follow each other
+/// without a gap, and a shorter one leaves the NCO at rate 0 until the next
+/// copy is complete.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MoveEngine {
-    slots: [Segment; SEGMENT_FIFO_DEPTH],
+    slots: Vec<Segment>,
     head: usize,
     count: usize,
+    staged: Option<Segment>,
+    fetch: usize,
+    fetched: Segment,
     active: bool,
     rate: i32,
     accel: i32,
     remaining: u32,
     done: bool,
     overflow: bool,
+}
+
+impl Default for MoveEngine {
+    fn default() -> Self {
+        Self {
+            slots: vec![Segment::default(); SEGMENT_FIFO_DEPTH],
+            head: 0,
+            count: 0,
+            staged: None,
+            fetch: 0,
+            fetched: Segment::default(),
+            active: false,
+            rate: 0,
+            accel: 0,
+            remaining: 0,
+            done: false,
+            overflow: false,
+        }
+    }
 }
 
 impl MoveEngine {
@@ -51,27 +104,40 @@ impl MoveEngine {
     pub fn overflow(&self) -> bool {
         self.overflow
     }
+    /// Segments pushed and not yet loaded (0..=SEGMENT_FIFO_DEPTH).
     pub fn level(&self) -> usize {
         self.count
     }
-    /// (active, rate, remaining, done, overflow, level): the registers the
-    /// gateware compares.
-    pub fn probe(&self) -> (bool, u32, u32, bool, bool, u32) {
-        (
-            self.active,
-            self.rate as u32,
-            self.remaining,
-            self.done,
-            self.overflow,
-            self.count as u32,
-        )
+    /// The registers the gateware compares.
+    pub fn probe(&self) -> MoveEngineProbe {
+        MoveEngineProbe {
+            active: self.active,
+            rate: self.rate as u32,
+            remaining: self.remaining,
+            done: self.done,
+            overflow: self.overflow,
+            level: self.count as u32,
+            staged: self.staged.is_some(),
+            fetch: self.fetch as u32,
+        }
     }
     pub fn clear_overflow(&mut self) {
         self.overflow = false;
     }
 
+    /// Synchronous reset: every register clears; the slots (block RAM)
+    /// keep their contents.
+    pub fn reset(&mut self) {
+        let slots = std::mem::take(&mut self.slots);
+        *self = Self {
+            slots,
+            ..Self::default()
+        };
+    }
+
     /// One edge with a whole segment pushed at once (its three fields
-    /// written into the tail slot and pushed in the same edge).
+    /// written into the tail slot and pushed in the same edge; the
+    /// gateware's bus writes one field a clock).
     pub fn clock(&mut self, run: bool, commanded: bool, advancing: bool, push: Option<Segment>) {
         let writes = push.map(|s| {
             [
@@ -101,9 +167,13 @@ impl MoveEngine {
         push: bool,
     ) {
         let mut ended = false;
+        let mut popped = false;
         // The tail slot, from the state before this edge (a pop moves head
         // and count together, so it names the same slot after it).
         let tail = (self.head + self.count) % SEGMENT_FIFO_DEPTH;
+        // A segment loads from the copy as it was before this edge.
+        let staged = self.staged;
+        self.advance_fetch();
         if self.active {
             if commanded {
                 self.remaining -= 1;
@@ -115,20 +185,23 @@ impl MoveEngine {
             if advancing {
                 self.rate = self.rate.wrapping_add(self.accel);
             }
-        } else if run && self.count > 0 {
-            let seg = self.slots[self.head];
-            self.head = (self.head + 1) % SEGMENT_FIFO_DEPTH;
-            self.count -= 1;
+        } else if let Some(seg) = staged.filter(|_| run) {
+            popped = true;
+            self.staged = None;
             self.active = seg.steps != 0;
             ended = seg.steps == 0;
             self.rate = seg.rate;
             self.accel = seg.accel;
             self.remaining = seg.steps;
         }
-        if ended && self.count == 0 {
+        let count_after_pop = self.count - usize::from(popped);
+        if popped {
+            self.head = (self.head + 1) % SEGMENT_FIFO_DEPTH;
+        }
+        if ended && count_after_pop == 0 {
             self.done = true;
         }
-        if self.count < SEGMENT_FIFO_DEPTH {
+        if count_after_pop < SEGMENT_FIFO_DEPTH {
             let slot = &mut self.slots[tail];
             for &(field, v) in writes {
                 match field {
@@ -138,12 +211,36 @@ impl MoveEngine {
                 }
             }
         }
+        self.count = count_after_pop;
         if push {
-            if self.count < SEGMENT_FIFO_DEPTH {
+            if count_after_pop < SEGMENT_FIFO_DEPTH {
                 self.count += 1;
                 self.done = false;
             } else {
                 self.overflow = true;
+            }
+        }
+    }
+
+    /// The head slot's copy, one field a clock, from the state before the
+    /// edge: a read under way takes the field its address named last clock.
+    fn advance_fetch(&mut self) {
+        let slot = self.slots[self.head];
+        match self.fetch {
+            0 if self.staged.is_none() && self.count > 0 => self.fetch = 1,
+            0 => {}
+            1 => {
+                self.fetched.steps = slot.steps;
+                self.fetch = 2;
+            }
+            2 => {
+                self.fetched.rate = slot.rate;
+                self.fetch = 3;
+            }
+            _ => {
+                self.fetched.accel = slot.accel;
+                self.staged = Some(self.fetched);
+                self.fetch = 0;
             }
         }
     }

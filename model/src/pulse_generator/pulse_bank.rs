@@ -26,6 +26,7 @@ pub struct PulseBank {
     rate: Vec<u32>,
     step_timing: Vec<u32>,
     dir_timing: Vec<u32>,
+    low_water: Vec<u32>,
     engines: Vec<MoveEngine>,
     snap: Vec<u32>,
     generators: Vec<PulseGenerator>,
@@ -48,6 +49,7 @@ impl PulseBank {
             rate: vec![0; n],
             step_timing: vec![0; n],
             dir_timing: vec![0; n],
+            low_water: vec![0; n],
             engines: vec![MoveEngine::default(); n],
             snap: vec![0; n],
             generators: vec![PulseGenerator::new(); n],
@@ -126,6 +128,7 @@ impl PulseBank {
                         "RATE" => self.rate[i],
                         "STEP_TIMING" => self.step_timing[i],
                         "DIR_TIMING" => self.dir_timing[i],
+                        "FIFO_LOW_WATER" => self.low_water[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
                         // Write-only: they write the FIFO's tail slot
                         // (reading them back would cost a 96-bit read-mux
@@ -141,6 +144,7 @@ impl PulseBank {
                                 | u32::from(e.done()) << 18
                                 | u32::from(e.overflow()) << 19
                                 | (e.level() as u32) << 20
+                                | u32::from(e.level() as u32 <= self.low_water[i]) << 27
                         }
                         _ => unreachable!("PULSE.AX.{name}"),
                     }
@@ -154,7 +158,13 @@ impl PulseBank {
     /// One rising clock edge.
     pub fn clock(&mut self, reset: bool, bus: &BusCycle, snapshot: bool) {
         if reset {
-            *self = Self::new(self.axes() as u32, self.width);
+            // The segment slots are block RAM: they keep their words.
+            let mut engines = std::mem::take(&mut self.engines);
+            engines.iter_mut().for_each(MoveEngine::reset);
+            *self = Self {
+                engines,
+                ..Self::new(self.axes() as u32, self.width)
+            };
             return;
         }
         if self.read_pending {
@@ -212,6 +222,7 @@ impl PulseBank {
                     ("RATE", Some(i)) => self.rate[i as usize] = v,
                     ("STEP_TIMING", Some(i)) => self.step_timing[i as usize] = v,
                     ("DIR_TIMING", Some(i)) => self.dir_timing[i as usize] = v,
+                    ("FIFO_LOW_WATER", Some(i)) => self.low_water[i as usize] = v,
                     _ => {}
                 }
             }

@@ -96,8 +96,8 @@ fn segment_writes_go_to_the_tail_slot_and_are_dropped_when_full() {
         e.clock_bus(false, false, false, &[(f, v)], false)
     };
     let push = |e: &mut MoveEngine| e.clock_bus(false, false, false, &[], true);
-    for (k, steps) in [(0u32, 5u32), (1, 7)] {
-        write(&mut e, Steps, steps);
+    for k in 0..SEGMENT_FIFO_DEPTH as u32 {
+        write(&mut e, Steps, 5 + k);
         write(&mut e, Rate, 100 + k);
         write(&mut e, Accel, 0);
         push(&mut e);
@@ -108,18 +108,69 @@ fn segment_writes_go_to_the_tail_slot_and_are_dropped_when_full() {
     push(&mut e);
     assert!(e.overflow());
     assert_eq!(e.level(), SEGMENT_FIFO_DEPTH);
-    // Run the first segment in: a slot frees, and only RATE is
-    // written into it, so its steps are the old slot's (5).
+    // Run the first segment in: its slot (slot 0) frees and becomes the
+    // tail, and only RATE is written into it, so its steps stay 5.
     e.clock_bus(true, false, false, &[], false);
     assert!(e.active() && e.rate() == 100, "{e:?}");
     write(&mut e, Rate, 300);
     push(&mut e);
-    for want in [(7, 101), (5, 300)] {
-        // Finish the running segment, then load the next.
+    let wants = (1..SEGMENT_FIFO_DEPTH as u32).map(|k| (5 + k, 100 + k));
+    for want in wants.chain([(5, 300)]) {
+        // Finish the running segment; the next loads the next clock (its
+        // copy was read while this one ran).
         while e.active() {
             e.clock_bus(true, true, false, &[], false);
         }
         e.clock_bus(true, false, false, &[], false);
-        assert_eq!((e.probe().2, e.rate() as u32), want);
+        assert_eq!((e.probe().remaining, e.rate() as u32), want);
     }
+    assert_eq!(e.level(), 0);
+}
+
+/// A segment pushed into an empty FIFO is running after the fifth edge
+/// after its push: SEGMENT_FETCH_CLOCKS edges copy it out of the RAM (one
+/// read per field, each a clock behind its address), the next loads it.
+#[test]
+fn a_segment_loads_four_clocks_after_it_reaches_the_head() {
+    let seg = Segment {
+        steps: 3,
+        rate: 7,
+        accel: 0,
+    };
+    let mut e = MoveEngine::default();
+    e.clock(true, false, false, Some(seg));
+    let mut clocks = 0;
+    while !e.active() {
+        assert!(clocks < 10, "never loaded");
+        e.clock(true, false, false, None);
+        clocks += 1;
+    }
+    assert_eq!(clocks, SEGMENT_FETCH_CLOCKS + 1);
+    assert_eq!((e.probe().remaining, e.rate()), (3, 7));
+}
+
+/// Reset clears the FIFO's bookkeeping, not its RAM: after a reset, a
+/// slot whose fields are not written again carries its old words.
+#[test]
+fn reset_keeps_the_segment_slots() {
+    use SegmentField::*;
+    let mut e = MoveEngine::default();
+    e.clock(
+        false,
+        false,
+        false,
+        Some(Segment {
+            steps: 9,
+            rate: 4,
+            accel: 1,
+        }),
+    );
+    e.reset();
+    assert_eq!(e.probe(), MoveEngineProbe::default());
+    e.clock_bus(true, false, false, &[(Rate, 2)], false);
+    e.clock_bus(true, false, false, &[], true);
+    while !e.active() {
+        e.clock(true, false, false, None);
+    }
+    assert_eq!((e.probe().remaining, e.rate()), (9, 2));
 }

@@ -147,7 +147,8 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                             ReadOnly,
                             "Sticky: a SEG_PUSH found the FIFO full and was dropped (cleared by writing CTRL).",
                         ),
-                        field("FIFO_LEVEL", 20, 3, ReadOnly, "Segments waiting in the FIFO (0..=2)."),
+                        field("FIFO_LEVEL", 20, 7, ReadOnly, "Segments pushed and not yet loaded (0..=64)."),
+                        field("FIFO_LOW", 27, 1, ReadOnly, "FIFO_LEVEL <= FIFO_LOW_WATER.LEVEL: time to refill."),
                     ],
                 ),
                 reg(
@@ -155,7 +156,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     6,
                     WriteOnly,
                     "Next segment: steps to command (unsigned).",
-                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    "Written straight into the FIFO's free tail slot (block RAM); dropped while the FIFO is full (write a segment while FIFO_LEVEL < 64). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents, across resets too.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Steps.")],
                 ),
                 reg(
@@ -163,7 +164,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     7,
                     WriteOnly,
                     "Next segment: starting NCO rate (signed, as RATE).",
-                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    "Written straight into the FIFO's free tail slot (block RAM); dropped while the FIFO is full (write a segment while FIFO_LEVEL < 64). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents, across resets too.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Two's complement; the sign is the direction.")],
                 ),
                 reg(
@@ -171,21 +172,30 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     8,
                     WriteOnly,
                     "Next segment: added to the rate on every clock the NCO advances (signed).",
-                    "Written straight into the FIFO's free tail slot; dropped while the FIFO is full (write a segment while FIFO_LEVEL < 2). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents.",
+                    "Written straight into the FIFO's free tail slot (block RAM); dropped while the FIFO is full (write a segment while FIFO_LEVEL < 64). Write all three SEG_* before each SEG_PUSH: a field not written keeps the slot's old contents, across resets too.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Two's complement.")],
                 ),
                 reg(
                     "SEG_PUSH",
                     9,
                     WriteOnly,
-                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (2 deep, besides the segment running).",
-                    "Any write pushes; the data is ignored. A push into a full FIFO is dropped and sets STATUS.OVERFLOW.",
+                    "Push {SEG_STEPS, SEG_RATE, SEG_ACCEL} into the axis's segment FIFO (64 deep, besides the segment running).",
+                    "Any write pushes; the data is ignored. A push into a full FIFO is dropped and sets STATUS.OVERFLOW. The segment can load 4 clocks after it reaches the FIFO's head.",
                     vec![],
+                ),
+                reg(
+                    "FIFO_LOW_WATER",
+                    10,
+                    ReadWrite,
+                    "STATUS.FIFO_LOW is set while FIFO_LEVEL is at most LEVEL.",
+                    "",
+                    vec![field("LEVEL", 0, 7, ReadWrite, "Low-water mark in segments (0..=64; 0: FIFO_LOW means empty).")],
                 ),
             ],
         }],
     }
 }
 
-// The SEG_PUSH and FIFO_LEVEL descriptions above say how deep the FIFO is.
-const _: () = assert!(crate::pulse::SEGMENT_FIFO_DEPTH == 2);
+// The SEG_*, FIFO_LEVEL and FIFO_LOW_WATER descriptions above say how deep
+// the FIFO is.
+const _: () = assert!(crate::pulse::SEGMENT_FIFO_DEPTH == 64);

@@ -10,6 +10,7 @@ pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;
 pub mod motion_controller;
+pub mod move_engine;
 pub mod pulse_bank;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;

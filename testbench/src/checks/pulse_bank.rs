@@ -101,7 +101,7 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
             let g = state_map::generator(uut.generator(i).probe());
             let mg = model.generator(i);
             let want_g = (mg.phase, mg.position, mg.timer.state());
-            let e = uut.engine(i).probe();
+            let e = state_map::engine(uut.engine(i).probe());
             let want_e = model.engine(i).probe();
             if e != want_e {
                 bad.get_or_insert(format!("axis {i}: engine HDL {e:?}, model {want_e:?}"));
@@ -328,7 +328,7 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
             clocks += 1;
             let a = 1;
             let got = (
-                uut.engine(a).probe(),
+                state_map::engine(uut.engine(a).probe()),
                 state_map::generator(uut.generator(a).probe()),
             );
             let g = model.generator(a);

@@ -145,8 +145,9 @@ pub fn acceleration(config: &Config) -> Trace {
     let mut s = Script::new("pulse_acceleration", config);
     s.setup(0b100);
     let k = 1 << 24;
-    // The FIFO holds two besides the running one: fill it, start (the
-    // first segment loads at once), then push the third.
+    // Push two, start (the first segment's copy out of the FIFO's RAM is
+    // complete by then, so it loads at once), then push the third while
+    // the first runs.
     for (i, (steps, rate, accel)) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))]
         .into_iter()
         .enumerate()
