@@ -11,6 +11,7 @@ pub mod interrupt;
 pub mod isa_header;
 pub mod output;
 pub mod regmap_export;
+pub mod sweep;
 pub mod synth;
 pub mod text;
 pub mod verify;

@@ -110,6 +110,29 @@ enum Command {
         /// Run the board top without pin constraints.
         #[arg(long)]
         no_pins: bool,
+        /// A QoR sweep: every block alone, then the board top at each of
+        /// `--axes`, on each of `--targets` and `--seeds`, as one Markdown
+        /// table (a design that does not fit is packed only and its row says
+        /// how much logic it needs). Hours for the full default sweep.
+        #[arg(long, conflicts_with_all = ["all_blocks", "no_pins", "seed", "target"])]
+        sweep: bool,
+        /// With --sweep: axis counts of the board top (each 1..=16).
+        #[arg(long, default_value = "1,4,8,16", requires = "sweep")]
+        axes: String,
+        /// With --sweep: nextpnr seeds (each 0..=2147483647).
+        #[arg(long, default_value = "1,2,3", requires = "sweep")]
+        seeds: String,
+        /// With --sweep: targets, from ice40-hx8k and ecp5-25k.
+        #[arg(long, default_value = "ice40-hx8k,ecp5-25k", requires = "sweep")]
+        targets: String,
+        /// With --sweep: leave out the rows of the blocks alone.
+        #[arg(long, requires = "sweep")]
+        no_blocks: bool,
+        /// With --sweep: write the table, with the commit measured, into
+        /// this Markdown file between its sweep markers (or appended, in a
+        /// section of its own); the rest of the file is kept as it is.
+        #[arg(long, requires = "sweep")]
+        write: Option<PathBuf>,
     },
     /// Write one named scenario trace as a VCD file for GTKWave.
     #[command(after_help = scenario_help())]
@@ -222,11 +245,31 @@ fn run(cli: Cli) -> Result<(), CliError> {
             Ok(())
         }
         Command::Synth {
+            sweep: true,
+            config,
+            axes,
+            seeds,
+            targets,
+            no_blocks,
+            write,
+            ..
+        } => {
+            let sweep_args = SweepArgs {
+                axes,
+                seeds,
+                targets,
+                no_blocks,
+                write,
+            };
+            run_sweep(config, sweep_args)
+        }
+        Command::Synth {
             target,
             config,
             seed,
             all_blocks,
             no_pins,
+            ..
         } => {
             use motionhdl::synth;
             let target = synth::Target::from_name(&target)?;
@@ -381,4 +424,62 @@ fn main() -> ExitCode {
             ExitCode::from(e.exit_code as u8)
         }
     }
+}
+
+/// The --sweep options, as given.
+struct SweepArgs {
+    axes: String,
+    seeds: String,
+    targets: String,
+    no_blocks: bool,
+    write: Option<PathBuf>,
+}
+
+/// `motionhdl synth --sweep`: each row printed as it completes, then the
+/// table written into `--write`'s document.
+fn run_sweep(config: Option<PathBuf>, args: SweepArgs) -> Result<(), CliError> {
+    use motionhdl::{sweep, synth};
+    let base = config_file::load(config.as_deref())?;
+    let axes = sweep::parse_list("axes", &args.axes, 1..=16)?;
+    let seeds = sweep::parse_list("seeds", &args.seeds, 0..=i32::MAX as u64)?;
+    let targets = args
+        .targets
+        .split(',')
+        .map(|t| {
+            synth::Target::from_name(t.trim()).map_err(|_| {
+                CliError::input(format!(
+                    "--targets: `{t}` is not a target: use ice40-hx8k or ecp5-25k"
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if let Some(doc) = &args.write {
+        sweep::check_document(doc)?;
+    }
+    for &t in &targets {
+        synth::find_tools(t)?;
+    }
+    let plan = sweep::Plan {
+        targets,
+        axes: axes.iter().map(|&n| n as u32).collect(),
+        seeds,
+        blocks: !args.no_blocks,
+    };
+    let mut command = format!(
+        "motionhdl synth --sweep --axes {} --seeds {} --targets {}",
+        args.axes, args.seeds, args.targets
+    );
+    if args.no_blocks {
+        command.push_str(" --no-blocks");
+    }
+    if let Some(c) = &config {
+        command.push_str(&format!(" --config {}", c.display()));
+    }
+    print!("{}", sweep::header());
+    let rows = sweep::run(&plan, &base, &mut |row| print!("{}", sweep::line(row)))?;
+    if let Some(doc) = &args.write {
+        sweep::write_into(doc, &sweep::section(&rows, &command, &sweep::commit()))?;
+        println!("wrote the table into {}", doc.display());
+    }
+    Ok(())
 }

@@ -280,6 +280,15 @@ fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), CliEr
     Ok(())
 }
 
+/// How far nextpnr goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pnr {
+    /// Place and route; an Fmax below the clock is reported, not an error.
+    Route,
+    /// Pack only: the logic a design needs, also when it does not fit.
+    PackOnly,
+}
+
 /// Synthesises, places and routes `design` for `target` at `freq_mhz`
 /// with `seed`.
 pub fn synthesize(
@@ -289,6 +298,23 @@ pub fn synthesize(
     freq_mhz: f64,
     seed: u64,
 ) -> Result<Report, CliError> {
+    let netlist = synthesize_netlist(design, target, tools)?;
+    place_and_route(&netlist, design, target, tools, freq_mhz, seed, Pnr::Route)
+}
+
+/// yosys's netlist of a design, in its scratch directory (removed when
+/// dropped), for one or more nextpnr runs.
+pub struct Netlist {
+    scratch: tempfile::TempDir,
+    cells: BTreeMap<String, u64>,
+}
+
+/// Runs yosys on `design` for `target`.
+pub fn synthesize_netlist(
+    design: &Design,
+    target: Target,
+    tools: &Tools,
+) -> Result<Netlist, CliError> {
     // Signals are caught before the scratch directory exists, so that it
     // is removed (when dropped) on success, on error and after a signal.
     crate::interrupt::catch();
@@ -332,6 +358,22 @@ pub fn synthesize(
         }
     }
 
+    Ok(Netlist { scratch, cells })
+}
+
+/// Runs nextpnr on `netlist` (of `design`) with `seed`, as far as `pnr`.
+pub fn place_and_route(
+    netlist: &Netlist,
+    design: &Design,
+    target: Target,
+    tools: &Tools,
+    freq_mhz: f64,
+    seed: u64,
+    pnr: Pnr,
+) -> Result<Report, CliError> {
+    let dir = netlist.scratch.path();
+    let io =
+        |e: std::io::Error| CliError::failure(format!("cannot write into {}: {e}", dir.display()));
     let mut cmd = Command::new(&tools.nextpnr);
     match target {
         Target::Ice40Hx8k => cmd.args(["--hx8k", "--package", "ct256"]),
@@ -352,6 +394,11 @@ pub fn synthesize(
         "--seed",
         &seed.to_string(),
     ]);
+    // nextpnr exits 1 when Fmax misses --freq; this is a measurement.
+    cmd.arg(match pnr {
+        Pnr::Route => "--timing-allow-fail",
+        Pnr::PackOnly => "--pack-only",
+    });
     let (pins_file, allow) = match target {
         Target::Ice40Hx8k => ("pins.pcf", ["--pcf", "--pcf-allow-unconstrained"]),
         Target::Ecp5_25k => ("pins.lpf", ["--lpf", "--lpf-allow-unconstrained"]),
@@ -392,7 +439,7 @@ pub fn synthesize(
     }
     Ok(Report {
         top: design.top.clone(),
-        cells,
+        cells: netlist.cells.clone(),
         utilization,
         fmax,
         pinned: design.pins.is_some(),

@@ -54,8 +54,7 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
         return;
     }
     // One axis keeps this quick: it checks the command and its report, not
-    // the default's size (the 4-axis default takes about 6400 of the
-    // HX8K's 7680 cells: README's QoR table, `motionhdl synth`).
+    // the default's size (docs/benchmarks.md, `motionhdl synth --sweep`).
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("axes1.toml");
     std::fs::write(&cfg, "axes = 1\n").unwrap();
