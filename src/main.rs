@@ -475,10 +475,12 @@ fn run_sweep(config: Option<PathBuf>, args: SweepArgs) -> Result<(), CliError> {
     if let Some(c) = &config {
         command.push_str(&format!(" --config {}", c.display()));
     }
+    // The commit as the runs start: the tree may change while they run.
+    let commit = sweep::commit();
     print!("{}", sweep::header());
     let rows = sweep::run(&plan, &base, &mut |row| print!("{}", sweep::line(row)))?;
     if let Some(doc) = &args.write {
-        sweep::write_into(doc, &sweep::section(&rows, &command, &sweep::commit()))?;
+        sweep::write_into(doc, &sweep::section(&rows, &command, &commit))?;
         println!("wrote the table into {}", doc.display());
     }
     Ok(())
