@@ -160,12 +160,7 @@ pub fn line(row: &Row) -> String {
     match &row.outcome {
         Outcome::Routed(r) => {
             let avail = r.utilization.get(logic_key(row.target)).map_or(0, |u| u.1);
-            let fmax = r
-                .fmax
-                .values()
-                .fold(None, |m: Option<(f64, f64)>, &(a, c)| {
-                    Some(m.map_or((a, c), |(ma, mc)| if a < ma { (a, c) } else { (ma, mc) }))
-                });
+            let fmax = r.slowest_clock();
             format!(
                 "{lead} {} / {avail} | {} | {} | {} | {} | {} | {} |\n",
                 r.logic(row.target),
@@ -220,8 +215,8 @@ pub fn replace_section(doc: &str, section: &str) -> Result<String, String> {
             Ok(format!("{}{section}{}", &doc[..b], &doc[after..]))
         }
         (None, None) => Ok(format!(
-            "{}\n## QoR sweep: `motionhdl synth --sweep`\n\n{section}",
-            doc.trim_end_matches('\n').to_string() + "\n"
+            "{}\n\n## QoR sweep: `motionhdl synth --sweep`\n\n{section}",
+            doc.trim_end_matches('\n')
         )),
         _ => Err(format!(
             "its `{BEGIN}` / `{END}` lines are missing one or out of order"

@@ -233,7 +233,14 @@ impl Report {
     }
     /// The lowest achieved Fmax over all clocks, MHz.
     pub fn min_fmax(&self) -> Option<f64> {
-        self.fmax.values().map(|f| f.0).reduce(f64::min)
+        self.slowest_clock().map(|f| f.0)
+    }
+    /// The clock with the lowest achieved Fmax: (achieved, constraint), MHz.
+    pub fn slowest_clock(&self) -> Option<(f64, f64)> {
+        self.fmax
+            .values()
+            .copied()
+            .reduce(|a, b| if b.0 < a.0 { b } else { a })
     }
 }
 

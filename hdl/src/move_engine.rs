@@ -176,11 +176,6 @@ impl MoveEngine {
             fetch: self.fetch.q.val().index() as u32,
         }
     }
-
-    /// Segments pushed and not yet loaded.
-    pub fn level(&self) -> u32 {
-        self.count.q.val().index() as u32
-    }
 }
 
 impl Logic for MoveEngine {
