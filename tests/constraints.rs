@@ -179,6 +179,27 @@ fn scratch(tag: &str) -> tempfile::TempDir {
         .unwrap()
 }
 
+/// The place-and-route checks below run the 1-axis build: its pins come
+/// from the same generator as the default's (whose files
+/// `committed_constraints_are_what_the_generator_writes` pins down), and
+/// placing it takes a fraction of the 4-axis top's time, which is a
+/// benchmark (`motionhdl synth`), not a test.
+fn one_axis() -> Config {
+    motionhdl::config_file::parse("axes = 1", "t").unwrap()
+}
+
+/// Writes the generator's constraint file with extension `ext` for
+/// `config` into `dir`, and returns its path.
+fn write_constraint(dir: &Path, config: &Config, ext: &str) -> PathBuf {
+    let file = constraints::files(config)
+        .into_iter()
+        .find(|f| f.name.ends_with(&format!(".{ext}")))
+        .unwrap_or_else(|| panic!("no .{ext} for {config:?}"));
+    let path = dir.join(&file.name);
+    std::fs::write(&path, file.text).unwrap();
+    path
+}
+
 /// Writes the top and the wrapper for `config` into `dir`.
 fn write_sources(dir: &Path, config: &Config) -> [String; 2] {
     let top = motionhdl_hdl::catalog::motion_controller(config);
@@ -249,9 +270,9 @@ fn external_ram_build_has_the_sram_data_pins_as_inout() {
 
 /// yosys 0.23's synth_ice40 leaves each tri-state as a `$_TBUF_` on the
 /// pin; nextpnr-ice40 packs it into the pin's SB_IO with the output
-/// enable (PIN_TYPE 101001). Checked on nextpnr's packed design, with the
-/// committed PCF and no --pcf-allow-unconstrained: the PCF is read and every
-/// pin placed at packing. (Whether the logic fits and meets 50 MHz is
+/// enable (PIN_TYPE 101001). Checked on nextpnr's packed design of the
+/// 1-axis build, with its generated PCF and no --pcf-allow-unconstrained:
+/// the PCF is read and every pin placed at packing. (Whether the logic fits and meets 50 MHz is
 /// tests/synth.rs's business.)
 #[test]
 fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrained() {
@@ -259,12 +280,10 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
     else {
         return;
     };
-    let config = Config::default();
+    let config = one_axis();
     let dir = scratch("ice40");
     let files = write_sources(dir.path(), &config);
-    let pcf = root()
-        .join("constraints")
-        .join(constraints::file_name(&constraints::ICE40_HX8K, "pcf"));
+    let pcf = write_constraint(dir.path(), &config, "pcf");
     let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
         "-q",
         "-p",
@@ -352,13 +371,10 @@ fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
     let Some((yosys, nextpnr)) = ecp5_tools() else {
         return;
     };
-    let config = Config::default();
+    let config = one_axis();
     let dir = scratch("ecp5");
     let files = write_sources(dir.path(), &config);
-    let lpf = root()
-        .join("constraints")
-        .join(constraints::file_name(&constraints::ECP5_25K, "lpf"));
-    std::fs::copy(&lpf, dir.path().join("pins.lpf")).unwrap();
+    let lpf = write_constraint(dir.path(), &config, "lpf");
     let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
         "-q",
         "-p",
@@ -376,8 +392,9 @@ fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
         "CABGA256",
         "--json",
         "n.json",
+        // Relative: YoWASP's WebAssembly nextpnr sees only its directory.
         "--lpf",
-        "pins.lpf",
+        lpf.file_name().unwrap().to_str().unwrap(),
         "--seed",
         "1",
         "--report",

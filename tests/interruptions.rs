@@ -12,6 +12,7 @@ use std::fs;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
 use std::process::Output;
+use std::sync::OnceLock;
 
 /// The steps of replacing an output directory, in order; the swap falls
 /// between the second and the third.
@@ -22,15 +23,31 @@ const STEPS: [&str; 4] = [
     "generate-cleaning",
 ];
 
-/// A directory holding the 2-axis output, to be replaced by the default.
+/// A directory holding the 2-axis output, to be replaced by the default:
+/// a copy (`cp -a`, modes kept) of one real `generate` made once per run,
+/// since every case starts from the same old output.
 fn old_output() -> tempfile::TempDir {
+    static TEMPLATE: OnceLock<tempfile::TempDir> = OnceLock::new();
+    let template = TEMPLATE.get_or_init(|| {
+        let t = tempfile::tempdir().unwrap();
+        fs::write(t.path().join("two.toml"), "axes = 2\n").unwrap();
+        let o = run(
+            t.path(),
+            &["generate", "--out", "gen", "--config", "two.toml"],
+        );
+        assert!(o.status.success(), "{}", fs_state::stderr(&o));
+        t
+    });
     let t = tempfile::tempdir().unwrap();
-    fs::write(t.path().join("two.toml"), "axes = 2\n").unwrap();
-    let o = run(
-        t.path(),
-        &["generate", "--out", "gen", "--config", "two.toml"],
-    );
-    assert!(o.status.success(), "{}", fs_state::stderr(&o));
+    let copied = std::process::Command::new("cp")
+        .arg("-a")
+        .arg(template.path().join("gen"))
+        .arg(template.path().join("two.toml"))
+        .arg(t.path())
+        .status()
+        .unwrap();
+    assert!(copied.success(), "cp -a of the old output");
+    assert_eq!(tree(t.path()), tree(template.path()));
     t
 }
 

@@ -119,26 +119,37 @@ fn quadrature_core_netlist_random_clocks() {
     }
 }
 
-#[test]
-fn isa_bridge_netlists_both_ram_builds() {
+/// One RAM build's ISA bridge netlist; each build is its own test, so the
+/// two run side by side.
+fn isa_bridge_netlist(ram: IsaRam) {
     if tools() {
-        for ram in [IsaRam::Internal, IsaRam::External] {
-            passed(
-                &isa_bridge::exhaustive_verilog(net(), ram),
-                isa_bridge::EXHAUSTIVE_CASES,
-            );
-            assert_eq!(isa_bridge::EXHAUSTIVE_CASES, 6400);
-            passed(
-                &isa_bridge::block_transfer_verilog(net(), ram),
-                isa_bridge::BLOCK_TRANSFER_WORDS,
-            );
-            assert_eq!(isa_bridge::BLOCK_TRANSFER_WORDS, 6144);
-            // One case per op of the long random run: 5981 ops.
-            let (seed, n) = isa_bridge::LONG_RANDOM;
-            let ops = isa_bridge::random_ops(seed, n).len() as u64;
-            assert_eq!(ops, 5981);
-            passed(&isa_bridge::random_verilog(net(), ram), ops);
-        }
+        passed(
+            &isa_bridge::exhaustive_verilog(net(), ram),
+            isa_bridge::EXHAUSTIVE_CASES,
+        );
+        assert_eq!(isa_bridge::EXHAUSTIVE_CASES, 6400);
+        passed(
+            &isa_bridge::block_transfer_verilog(net(), ram),
+            isa_bridge::BLOCK_TRANSFER_WORDS,
+        );
+        assert_eq!(isa_bridge::BLOCK_TRANSFER_WORDS, 6144);
+        // One case per op of the long random run: 5981 ops.
+        let (seed, n) = isa_bridge::LONG_RANDOM;
+        let ops = isa_bridge::random_ops(seed, n).len() as u64;
+        assert_eq!(ops, 5981);
+        passed(&isa_bridge::random_verilog(net(), ram), ops);
+    }
+}
+
+#[test]
+fn isa_bridge_netlist_internal_ram() {
+    isa_bridge_netlist(IsaRam::Internal);
+}
+
+#[test]
+fn isa_bridge_netlist_external_ram_and_collisions() {
+    isa_bridge_netlist(IsaRam::External);
+    if tools() {
         passed(&isa_bridge::collision_check(Some(net())), 126);
     }
 }
@@ -165,14 +176,23 @@ fn fsmc_bridge_netlist_sweep_and_random() {
     }
 }
 
-#[test]
-fn motion_controller_netlists_both_ram_builds() {
+/// One RAM build's top-level netlist, with the reads its check makes; each
+/// build is its own test, so the two run side by side.
+fn motion_controller_netlist(ram: IsaRam, reads: u64) {
     if tools() {
-        for (ram, reads) in [(IsaRam::Internal, 7232), (IsaRam::External, 6150)] {
-            let config = Config::default().with_isa_ram(ram);
-            passed(&motion_controller::check_verilog(net(), &config), reads);
-        }
+        let config = Config::default().with_isa_ram(ram);
+        passed(&motion_controller::check_verilog(net(), &config), reads);
     }
+}
+
+#[test]
+fn motion_controller_netlist_internal_ram() {
+    motion_controller_netlist(IsaRam::Internal, 7232);
+}
+
+#[test]
+fn motion_controller_netlist_external_ram() {
+    motion_controller_netlist(IsaRam::External, 6150);
 }
 
 fn invert_y1(text: &str) -> String {
