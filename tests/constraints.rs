@@ -272,8 +272,8 @@ fn external_ram_build_has_the_sram_data_pins_as_inout() {
 /// pin; nextpnr-ice40 packs it into the pin's SB_IO with the output
 /// enable (PIN_TYPE 101001). Checked on nextpnr's packed design of the
 /// 1-axis build, with its generated PCF and no --pcf-allow-unconstrained:
-/// the PCF is read and every pin placed at packing. (Whether the logic fits and meets 50 MHz is
-/// tests/synth.rs's business.)
+/// the PCF is read and every pin placed at packing. (Whether the logic
+/// fits and meets 50 MHz is tests/synth.rs's business.)
 #[test]
 fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrained() {
     let (Some(yosys), Some(nextpnr)) = (require_tool("yosys"), require_tool("nextpnr-ice40"))

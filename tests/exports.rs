@@ -8,6 +8,7 @@ use common::run;
 use motionhdl::artifacts;
 use motionhdl_hdl::{banner, catalog};
 use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::netlist;
 use std::fs;
 use std::process::Command;
 
@@ -184,29 +185,24 @@ fn iverilog_wall_is_clean_and_all_files_load_together() {
 const LATCH_CELLS: &str =
     "t:$_DLATCH* t:$dlatch t:$adlatch t:$_SR_* t:$sr t:$dlatchsr t:$_DLATCHSR_*";
 
-/// The synthesis flows every generated module goes through, by name and
-/// yosys commands (`{top}` is the module). The generic flow is yosys's
-/// `synth` with memories kept as arrays, as the netlist flow has it
-/// (`motionhdl_testbench::netlist::SCRIPT`): `memory_map` would turn the
-/// ISA RAM and the segment FIFOs into some 40 000 flip-flops (about 100 s
-/// of yosys for the 4-axis top) and check nothing the vendor flows, which
-/// map them to block RAM, do not.
-const FLOWS: [(&str, &str); 3] = [
-    (
-        "synth",
-        "synth -top {top} -run begin:fine; opt -fast -full; techmap; opt -fast; abc; opt_clean",
-    ),
-    ("synth_ice40", "synth_ice40 -top {top}"),
-    ("synth_ecp5", "synth_ecp5 -top {top}"),
-];
+/// The synthesis flows every generated module goes through.
+const FLOWS: [&str; 3] = ["synth", "synth_ice40", "synth_ecp5"];
 
-/// The yosys commands of the flow named `name`.
-fn flow_commands(name: &str, top: &str) -> String {
-    let (_, commands) = FLOWS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .unwrap_or_else(|| panic!("no flow {name}"));
-    commands.replace("{top}", top)
+/// The yosys commands of `flow` for module `top`. The generic flow is the
+/// netlist's synthesis (`motionhdl_testbench::netlist::GENERIC_SYNTHESIS`):
+/// yosys's `synth` with memories kept as arrays, since `memory_map` would
+/// turn the ISA RAM and the segment FIFOs into some 40 000 flip-flops
+/// (about 100 s of yosys for the 4-axis top) and check nothing the vendor
+/// flows, which map them to block RAM, do not.
+fn flow_commands(flow: &str, top: &str) -> String {
+    if flow == "synth" {
+        netlist::GENERIC_SYNTHESIS
+            .trim()
+            .replace('\n', "; ")
+            .replace("{top}", top)
+    } else {
+        format!("{flow} -top {top}")
+    }
 }
 
 /// True if a yosys log reports an inferred latch ("No latch inferred" is fine).
@@ -259,7 +255,7 @@ fn synthesis_checks_catch_a_latch_a_multiple_driver_and_an_undriven_net() {
          always @(posedge clock) q <= d;\nendmodule\n",
     )
     .unwrap();
-    for (flow, _) in FLOWS {
+    for flow in FLOWS {
         let log = synth_check(&f, "latch", flow).expect_err("latch not caught");
         assert!(
             latch_inferred(&log) && log.contains("instead of the asserted 0"),

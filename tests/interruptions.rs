@@ -8,6 +8,7 @@ mod common;
 use common::fs_state::{
     self, assert_refused, command, expected_output, finish, names, put, run, tree,
 };
+use std::collections::BTreeMap;
 use std::fs;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::Path;
@@ -27,8 +28,9 @@ const STEPS: [&str; 4] = [
 /// a copy (`cp -a`, modes kept) of one real `generate` made once per run,
 /// since every case starts from the same old output.
 fn old_output() -> tempfile::TempDir {
-    static TEMPLATE: OnceLock<tempfile::TempDir> = OnceLock::new();
-    let template = TEMPLATE.get_or_init(|| {
+    type Template = (tempfile::TempDir, BTreeMap<String, fs_state::Node>);
+    static TEMPLATE: OnceLock<Template> = OnceLock::new();
+    let (template, template_tree) = TEMPLATE.get_or_init(|| {
         let t = tempfile::tempdir().unwrap();
         fs::write(t.path().join("two.toml"), "axes = 2\n").unwrap();
         let o = run(
@@ -36,7 +38,8 @@ fn old_output() -> tempfile::TempDir {
             &["generate", "--out", "gen", "--config", "two.toml"],
         );
         assert!(o.status.success(), "{}", fs_state::stderr(&o));
-        t
+        let files = tree(t.path());
+        (t, files)
     });
     let t = tempfile::tempdir().unwrap();
     let copied = std::process::Command::new("cp")
@@ -47,7 +50,7 @@ fn old_output() -> tempfile::TempDir {
         .status()
         .unwrap();
     assert!(copied.success(), "cp -a of the old output");
-    assert_eq!(tree(t.path()), tree(template.path()));
+    assert_eq!(&tree(t.path()), template_tree);
     t
 }
 

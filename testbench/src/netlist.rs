@@ -19,18 +19,33 @@ use std::fs;
 use std::process::Command;
 use std::sync::{Arc, Mutex, OnceLock};
 
-/// The yosys script; `{top}` is the module name. The design is read from
-/// `in.v` and the netlist written to `net.v`.
-pub const SCRIPT: &str = "read_verilog in.v
-synth -top {top} -run begin:fine
+/// The generic synthesis commands, one a line; `{top}` is the module name.
+/// `tests/exports.rs` runs the same commands as its generic flow.
+macro_rules! generic_synthesis {
+    () => {
+        "synth -top {top} -run begin:fine
 opt -fast -full
 techmap
 opt -fast
 abc
 opt_clean
-check -assert
+"
+    };
+}
+
+/// [`SCRIPT`]'s synthesis: yosys's `synth` without `memory_map`, down to
+/// gates.
+pub const GENERIC_SYNTHESIS: &str = generic_synthesis!();
+
+/// The yosys script; `{top}` is the module name. The design is read from
+/// `in.v` and the netlist written to `net.v`.
+pub const SCRIPT: &str = concat!(
+    "read_verilog in.v\n",
+    generic_synthesis!(),
+    "check -assert
 write_verilog -noattr net.v
-";
+"
+);
 
 type Entry = Arc<OnceLock<Result<String, String>>>;
 
