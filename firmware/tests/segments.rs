@@ -171,7 +171,7 @@ fn run_move_engine(segs: &[Segment]) -> (u64, i64) {
     }
     let end = clock;
     // Let the queued steps out.
-    while gen.timer.state().pending != 0 || gen.outputs().0 {
+    while gen.busy() {
         gen.clock(
             &PulseInputs {
                 enable: true,

@@ -497,7 +497,7 @@ extern "C" {
 
 /*
  * AX[n].STEP_TIMING (AX[n] +0x08), read-write: Minimum step pulse length and space, in clocks (0
- * counts as 1).
+ * counts as 1); acts one clock after it is written.
  */
 #define MOTIONHDL_PULSE_AX_STEP_TIMING_OFFSET 0x0008u
 #define MOTIONHDL_PULSE_AX_STEP_TIMING_reset 0x0000u
@@ -514,7 +514,7 @@ extern "C" {
 
 /*
  * AX[n].DIR_TIMING (AX[n] +0x0c), read-write: Minimum direction set-up and hold, in clocks (0
- * counts as 1).
+ * counts as 1); acts one clock after it is written.
  */
 #define MOTIONHDL_PULSE_AX_DIR_TIMING_OFFSET 0x000cu
 #define MOTIONHDL_PULSE_AX_DIR_TIMING_reset 0x0000u
@@ -544,12 +544,18 @@ extern "C" {
 /* AX[n].STATUS (AX[n] +0x14), read-only: Live state of the axis. */
 #define MOTIONHDL_PULSE_AX_STATUS_OFFSET 0x0014u
 #define MOTIONHDL_PULSE_AX_STATUS_reset 0x0000u
-/* STATUS.PENDING, bits 15:0, read-only: Steps commanded but not yet emitted, signed. */
+/*
+ * STATUS.PENDING, bits 15:0, read-only: Steps queued, signed: a step enters 2 clocks after the NCO
+ * commands it and leaves the clock after S1 rises.
+ */
 #define MOTIONHDL_PULSE_AX_STATUS__PENDING_bm 0xffffu
 #define MOTIONHDL_PULSE_AX_STATUS__PENDING_bp 0u
 #define MOTIONHDL_PULSE_AX_STATUS__PENDING_bw 16u
 #define MOTIONHDL_PULSE_AX_STATUS__PENDING_reset 0x0000u
-/* STATUS.BUSY, bit 16, read-only: Steps pending or S1 high. */
+/*
+ * STATUS.BUSY, bit 16, read-only: A commanded step is not yet out (entering, queued or leaving) or
+ * S1 is high.
+ */
 #define MOTIONHDL_PULSE_AX_STATUS__BUSY_bm 0x00010000u
 #define MOTIONHDL_PULSE_AX_STATUS__BUSY_bp 16u
 #define MOTIONHDL_PULSE_AX_STATUS__BUSY_bw 1u

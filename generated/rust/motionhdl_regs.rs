@@ -801,7 +801,8 @@ pub mod pulse {
                 pub const RESET: u32 = 0x0;
             }
         }
-        /// STEP_TIMING, read-write: Minimum step pulse length and space, in clocks (0 counts as 1).
+        /// STEP_TIMING, read-write: Minimum step pulse length and space, in clocks (0 counts as 1);
+        /// acts one clock after it is written.
         pub mod step_timing {
             /// Byte offset within one element.
             pub const OFFSET: usize = 0x0008;
@@ -831,7 +832,8 @@ pub mod pulse {
                 pub const RESET: u32 = 0x0;
             }
         }
-        /// DIR_TIMING, read-write: Minimum direction set-up and hold, in clocks (0 counts as 1).
+        /// DIR_TIMING, read-write: Minimum direction set-up and hold, in clocks (0 counts as 1);
+        /// acts one clock after it is written.
         pub mod dir_timing {
             /// Byte offset within one element.
             pub const OFFSET: usize = 0x000c;
@@ -887,7 +889,8 @@ pub mod pulse {
             pub const OFFSET: usize = 0x0014;
             /// Reset value of the whole register.
             pub const RESET: u32 = 0x0000_0000;
-            /// STATUS.PENDING, bits 15:0, read-only: Steps commanded but not yet emitted, signed.
+            /// STATUS.PENDING, bits 15:0, read-only: Steps queued, signed: a step enters 2 clocks
+            /// after the NCO commands it and leaves the clock after S1 rises.
             pub mod pending {
                 /// Mask of the field in the register.
                 pub const MASK: u32 = 0x0000_ffff;
@@ -898,7 +901,8 @@ pub mod pulse {
                 /// Reset value (unshifted, as are the enumerated values below).
                 pub const RESET: u32 = 0x0;
             }
-            /// STATUS.BUSY, bit 16, read-only: Steps pending or S1 high.
+            /// STATUS.BUSY, bit 16, read-only: A commanded step is not yet out (entering, queued or
+            /// leaving) or S1 is high.
             pub mod busy {
                 /// Mask of the field in the register.
                 pub const MASK: u32 = 0x0001_0000;

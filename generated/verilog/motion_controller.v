@@ -336,51 +336,75 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_axis_bit_3 = 4'h8;
     localparam mcu_pulses_generators_0_one = 32'h1;
     localparam mcu_pulses_generators_0_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_0_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_0_shift_sixteen = 5'b10000;
+    localparam mcu_pulses_generators_0_low_one = 17'b1;
     localparam mcu_pulses_generators_0_busy_bit = 32'h10000;
     localparam mcu_pulses_generators_0_timer_sign_mask = 16'h8000;
     localparam mcu_pulses_generators_0_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_0_timer_pending_max_less_one = 16'h7ffe;
     localparam mcu_pulses_generators_0_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_0_timer_pending_min_plus_one = 16'h8002;
     localparam mcu_pulses_generators_0_timer_one = 16'h1;
     localparam mcu_pulses_generators_0_timer_minus_one = 16'hffff;
     localparam mcu_pulses_generators_0_timer_two = 16'h2;
     localparam mcu_pulses_generators_0_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_0_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_0_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_0_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_1_one = 32'h1;
     localparam mcu_pulses_generators_1_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_1_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_1_shift_sixteen = 5'b10000;
+    localparam mcu_pulses_generators_1_low_one = 17'b1;
     localparam mcu_pulses_generators_1_busy_bit = 32'h10000;
     localparam mcu_pulses_generators_1_timer_sign_mask = 16'h8000;
     localparam mcu_pulses_generators_1_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_1_timer_pending_max_less_one = 16'h7ffe;
     localparam mcu_pulses_generators_1_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_1_timer_pending_min_plus_one = 16'h8002;
     localparam mcu_pulses_generators_1_timer_one = 16'h1;
     localparam mcu_pulses_generators_1_timer_minus_one = 16'hffff;
     localparam mcu_pulses_generators_1_timer_two = 16'h2;
     localparam mcu_pulses_generators_1_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_1_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_1_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_1_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_2_one = 32'h1;
     localparam mcu_pulses_generators_2_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_2_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_2_shift_sixteen = 5'b10000;
+    localparam mcu_pulses_generators_2_low_one = 17'b1;
     localparam mcu_pulses_generators_2_busy_bit = 32'h10000;
     localparam mcu_pulses_generators_2_timer_sign_mask = 16'h8000;
     localparam mcu_pulses_generators_2_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_2_timer_pending_max_less_one = 16'h7ffe;
     localparam mcu_pulses_generators_2_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_2_timer_pending_min_plus_one = 16'h8002;
     localparam mcu_pulses_generators_2_timer_one = 16'h1;
     localparam mcu_pulses_generators_2_timer_minus_one = 16'hffff;
     localparam mcu_pulses_generators_2_timer_two = 16'h2;
     localparam mcu_pulses_generators_2_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_2_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_2_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_2_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_3_one = 32'h1;
     localparam mcu_pulses_generators_3_minus_one = 32'hffffffff;
+    localparam mcu_pulses_generators_3_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_3_shift_sixteen = 5'b10000;
+    localparam mcu_pulses_generators_3_low_one = 17'b1;
     localparam mcu_pulses_generators_3_busy_bit = 32'h10000;
     localparam mcu_pulses_generators_3_timer_sign_mask = 16'h8000;
     localparam mcu_pulses_generators_3_timer_pending_max = 16'h7fff;
+    localparam mcu_pulses_generators_3_timer_pending_max_less_one = 16'h7ffe;
     localparam mcu_pulses_generators_3_timer_pending_min = 16'h8001;
+    localparam mcu_pulses_generators_3_timer_pending_min_plus_one = 16'h8002;
     localparam mcu_pulses_generators_3_timer_one = 16'h1;
     localparam mcu_pulses_generators_3_timer_minus_one = 16'hffff;
     localparam mcu_pulses_generators_3_timer_two = 16'h2;
     localparam mcu_pulses_generators_3_timer_minus_two = 16'hfffe;
     localparam mcu_pulses_generators_3_timer_timer_one = 16'h1;
+    localparam mcu_pulses_generators_3_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_3_timer_timer_max = 16'hffff;
     localparam mcu_pulses_engines_0_one = 32'h1;
     localparam mcu_pulses_engines_0_full = 7'b1000000;
@@ -1456,20 +1480,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_0_timer_dir_hold;
     reg mcu_pulses_generators_0_timer_step;
     reg mcu_pulses_generators_0_timer_dir;
-    reg mcu_pulses_generators_0_timer_emit_up;
-    reg mcu_pulses_generators_0_timer_emit_down;
-    reg mcu_pulses_generators_0_timer_accept_up;
-    reg mcu_pulses_generators_0_timer_accept_down;
+    reg mcu_pulses_generators_0_timer_leave_up;
+    reg mcu_pulses_generators_0_timer_leave_down;
+    reg mcu_pulses_generators_0_timer_room_up;
+    reg mcu_pulses_generators_0_timer_room_down;
     reg [15:0] mcu_pulses_generators_0_timer_pending;
     reg [31:0] mcu_pulses_generators_0_phase_d;
     reg [31:0] mcu_pulses_generators_0_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_0_position_q_d;
     reg [31:0] mcu_pulses_generators_0_position_q_q = 32'h0;
+    reg mcu_pulses_generators_0_command_up_d;
+    reg mcu_pulses_generators_0_command_up_q = 1'h0;
+    reg mcu_pulses_generators_0_command_down_d;
+    reg mcu_pulses_generators_0_command_down_q = 1'h0;
     reg [31:0] mcu_pulses_generators_0_rate_selected;
     reg [31:0] mcu_pulses_generators_0_busy_mask;
     reg mcu_pulses_generators_0_negative;
-    reg [31:0] mcu_pulses_generators_0_magnitude;
-    reg [32:0] mcu_pulses_generators_0_sum;
+    reg [31:0] mcu_pulses_generators_0_rate_inverted;
+    reg [16:0] mcu_pulses_generators_0_carry_in;
+    reg [16:0] mcu_pulses_generators_0_sum_low;
+    reg [16:0] mcu_pulses_generators_0_sum_high;
+    reg [16:0] mcu_pulses_generators_0_sum_high_carried;
+    reg mcu_pulses_generators_0_carry;
+    reg [31:0] mcu_pulses_generators_0_phase_next;
+    reg [15:0] mcu_pulses_generators_0_phase_low;
+    reg [15:0] mcu_pulses_generators_0_phase_high;
+    reg [15:0] mcu_pulses_generators_0_rate_low;
+    reg [15:0] mcu_pulses_generators_0_rate_high;
+    reg [15:0] mcu_pulses_generators_0_phase_low_next;
+    reg [15:0] mcu_pulses_generators_0_phase_high_next;
     reg mcu_pulses_generators_0_blocked;
     reg mcu_pulses_generators_0_request_up;
     reg mcu_pulses_generators_0_request_down;
@@ -1484,8 +1523,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_0_timer_t_step_q = 16'h0;
     reg [15:0] mcu_pulses_generators_0_timer_t_dir_d;
     reg [15:0] mcu_pulses_generators_0_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_0_timer_space_ok_d;
+    reg mcu_pulses_generators_0_timer_space_ok_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_setup_ok_d;
+    reg mcu_pulses_generators_0_timer_setup_ok_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_len_ok_d;
+    reg mcu_pulses_generators_0_timer_len_ok_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_hold_ok_d;
+    reg mcu_pulses_generators_0_timer_hold_ok_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_emitted_d;
+    reg mcu_pulses_generators_0_timer_emitted_q = 1'h0;
+    reg mcu_pulses_generators_0_timer_nonzero_d;
+    reg mcu_pulses_generators_0_timer_nonzero_q = 1'h0;
     reg mcu_pulses_generators_0_timer_want_negative;
+    reg [15:0] mcu_pulses_generators_0_timer_pending_next;
     reg mcu_pulses_generators_0_timer_emit;
+    reg mcu_pulses_generators_0_timer_falls;
+    reg mcu_pulses_generators_0_timer_turns;
+    reg mcu_pulses_generators_0_timer_step_event;
     reg [15:0] mcu_pulses_generators_0_timer_delta;
     reg mcu_pulses_generators_1_timer_reset;
     reg mcu_pulses_generators_1_timer_request_up;
@@ -1496,20 +1551,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_1_timer_dir_hold;
     reg mcu_pulses_generators_1_timer_step;
     reg mcu_pulses_generators_1_timer_dir;
-    reg mcu_pulses_generators_1_timer_emit_up;
-    reg mcu_pulses_generators_1_timer_emit_down;
-    reg mcu_pulses_generators_1_timer_accept_up;
-    reg mcu_pulses_generators_1_timer_accept_down;
+    reg mcu_pulses_generators_1_timer_leave_up;
+    reg mcu_pulses_generators_1_timer_leave_down;
+    reg mcu_pulses_generators_1_timer_room_up;
+    reg mcu_pulses_generators_1_timer_room_down;
     reg [15:0] mcu_pulses_generators_1_timer_pending;
     reg [31:0] mcu_pulses_generators_1_phase_d;
     reg [31:0] mcu_pulses_generators_1_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_1_position_q_d;
     reg [31:0] mcu_pulses_generators_1_position_q_q = 32'h0;
+    reg mcu_pulses_generators_1_command_up_d;
+    reg mcu_pulses_generators_1_command_up_q = 1'h0;
+    reg mcu_pulses_generators_1_command_down_d;
+    reg mcu_pulses_generators_1_command_down_q = 1'h0;
     reg [31:0] mcu_pulses_generators_1_rate_selected;
     reg [31:0] mcu_pulses_generators_1_busy_mask;
     reg mcu_pulses_generators_1_negative;
-    reg [31:0] mcu_pulses_generators_1_magnitude;
-    reg [32:0] mcu_pulses_generators_1_sum;
+    reg [31:0] mcu_pulses_generators_1_rate_inverted;
+    reg [16:0] mcu_pulses_generators_1_carry_in;
+    reg [16:0] mcu_pulses_generators_1_sum_low;
+    reg [16:0] mcu_pulses_generators_1_sum_high;
+    reg [16:0] mcu_pulses_generators_1_sum_high_carried;
+    reg mcu_pulses_generators_1_carry;
+    reg [31:0] mcu_pulses_generators_1_phase_next;
+    reg [15:0] mcu_pulses_generators_1_phase_low;
+    reg [15:0] mcu_pulses_generators_1_phase_high;
+    reg [15:0] mcu_pulses_generators_1_rate_low;
+    reg [15:0] mcu_pulses_generators_1_rate_high;
+    reg [15:0] mcu_pulses_generators_1_phase_low_next;
+    reg [15:0] mcu_pulses_generators_1_phase_high_next;
     reg mcu_pulses_generators_1_blocked;
     reg mcu_pulses_generators_1_request_up;
     reg mcu_pulses_generators_1_request_down;
@@ -1524,8 +1594,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_1_timer_t_step_q = 16'h0;
     reg [15:0] mcu_pulses_generators_1_timer_t_dir_d;
     reg [15:0] mcu_pulses_generators_1_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_1_timer_space_ok_d;
+    reg mcu_pulses_generators_1_timer_space_ok_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_setup_ok_d;
+    reg mcu_pulses_generators_1_timer_setup_ok_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_len_ok_d;
+    reg mcu_pulses_generators_1_timer_len_ok_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_hold_ok_d;
+    reg mcu_pulses_generators_1_timer_hold_ok_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_emitted_d;
+    reg mcu_pulses_generators_1_timer_emitted_q = 1'h0;
+    reg mcu_pulses_generators_1_timer_nonzero_d;
+    reg mcu_pulses_generators_1_timer_nonzero_q = 1'h0;
     reg mcu_pulses_generators_1_timer_want_negative;
+    reg [15:0] mcu_pulses_generators_1_timer_pending_next;
     reg mcu_pulses_generators_1_timer_emit;
+    reg mcu_pulses_generators_1_timer_falls;
+    reg mcu_pulses_generators_1_timer_turns;
+    reg mcu_pulses_generators_1_timer_step_event;
     reg [15:0] mcu_pulses_generators_1_timer_delta;
     reg mcu_pulses_generators_2_timer_reset;
     reg mcu_pulses_generators_2_timer_request_up;
@@ -1536,20 +1622,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_2_timer_dir_hold;
     reg mcu_pulses_generators_2_timer_step;
     reg mcu_pulses_generators_2_timer_dir;
-    reg mcu_pulses_generators_2_timer_emit_up;
-    reg mcu_pulses_generators_2_timer_emit_down;
-    reg mcu_pulses_generators_2_timer_accept_up;
-    reg mcu_pulses_generators_2_timer_accept_down;
+    reg mcu_pulses_generators_2_timer_leave_up;
+    reg mcu_pulses_generators_2_timer_leave_down;
+    reg mcu_pulses_generators_2_timer_room_up;
+    reg mcu_pulses_generators_2_timer_room_down;
     reg [15:0] mcu_pulses_generators_2_timer_pending;
     reg [31:0] mcu_pulses_generators_2_phase_d;
     reg [31:0] mcu_pulses_generators_2_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_2_position_q_d;
     reg [31:0] mcu_pulses_generators_2_position_q_q = 32'h0;
+    reg mcu_pulses_generators_2_command_up_d;
+    reg mcu_pulses_generators_2_command_up_q = 1'h0;
+    reg mcu_pulses_generators_2_command_down_d;
+    reg mcu_pulses_generators_2_command_down_q = 1'h0;
     reg [31:0] mcu_pulses_generators_2_rate_selected;
     reg [31:0] mcu_pulses_generators_2_busy_mask;
     reg mcu_pulses_generators_2_negative;
-    reg [31:0] mcu_pulses_generators_2_magnitude;
-    reg [32:0] mcu_pulses_generators_2_sum;
+    reg [31:0] mcu_pulses_generators_2_rate_inverted;
+    reg [16:0] mcu_pulses_generators_2_carry_in;
+    reg [16:0] mcu_pulses_generators_2_sum_low;
+    reg [16:0] mcu_pulses_generators_2_sum_high;
+    reg [16:0] mcu_pulses_generators_2_sum_high_carried;
+    reg mcu_pulses_generators_2_carry;
+    reg [31:0] mcu_pulses_generators_2_phase_next;
+    reg [15:0] mcu_pulses_generators_2_phase_low;
+    reg [15:0] mcu_pulses_generators_2_phase_high;
+    reg [15:0] mcu_pulses_generators_2_rate_low;
+    reg [15:0] mcu_pulses_generators_2_rate_high;
+    reg [15:0] mcu_pulses_generators_2_phase_low_next;
+    reg [15:0] mcu_pulses_generators_2_phase_high_next;
     reg mcu_pulses_generators_2_blocked;
     reg mcu_pulses_generators_2_request_up;
     reg mcu_pulses_generators_2_request_down;
@@ -1564,8 +1665,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_2_timer_t_step_q = 16'h0;
     reg [15:0] mcu_pulses_generators_2_timer_t_dir_d;
     reg [15:0] mcu_pulses_generators_2_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_2_timer_space_ok_d;
+    reg mcu_pulses_generators_2_timer_space_ok_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_setup_ok_d;
+    reg mcu_pulses_generators_2_timer_setup_ok_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_len_ok_d;
+    reg mcu_pulses_generators_2_timer_len_ok_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_hold_ok_d;
+    reg mcu_pulses_generators_2_timer_hold_ok_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_emitted_d;
+    reg mcu_pulses_generators_2_timer_emitted_q = 1'h0;
+    reg mcu_pulses_generators_2_timer_nonzero_d;
+    reg mcu_pulses_generators_2_timer_nonzero_q = 1'h0;
     reg mcu_pulses_generators_2_timer_want_negative;
+    reg [15:0] mcu_pulses_generators_2_timer_pending_next;
     reg mcu_pulses_generators_2_timer_emit;
+    reg mcu_pulses_generators_2_timer_falls;
+    reg mcu_pulses_generators_2_timer_turns;
+    reg mcu_pulses_generators_2_timer_step_event;
     reg [15:0] mcu_pulses_generators_2_timer_delta;
     reg mcu_pulses_generators_3_timer_reset;
     reg mcu_pulses_generators_3_timer_request_up;
@@ -1576,20 +1693,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_3_timer_dir_hold;
     reg mcu_pulses_generators_3_timer_step;
     reg mcu_pulses_generators_3_timer_dir;
-    reg mcu_pulses_generators_3_timer_emit_up;
-    reg mcu_pulses_generators_3_timer_emit_down;
-    reg mcu_pulses_generators_3_timer_accept_up;
-    reg mcu_pulses_generators_3_timer_accept_down;
+    reg mcu_pulses_generators_3_timer_leave_up;
+    reg mcu_pulses_generators_3_timer_leave_down;
+    reg mcu_pulses_generators_3_timer_room_up;
+    reg mcu_pulses_generators_3_timer_room_down;
     reg [15:0] mcu_pulses_generators_3_timer_pending;
     reg [31:0] mcu_pulses_generators_3_phase_d;
     reg [31:0] mcu_pulses_generators_3_phase_q = 32'h0;
     reg [31:0] mcu_pulses_generators_3_position_q_d;
     reg [31:0] mcu_pulses_generators_3_position_q_q = 32'h0;
+    reg mcu_pulses_generators_3_command_up_d;
+    reg mcu_pulses_generators_3_command_up_q = 1'h0;
+    reg mcu_pulses_generators_3_command_down_d;
+    reg mcu_pulses_generators_3_command_down_q = 1'h0;
     reg [31:0] mcu_pulses_generators_3_rate_selected;
     reg [31:0] mcu_pulses_generators_3_busy_mask;
     reg mcu_pulses_generators_3_negative;
-    reg [31:0] mcu_pulses_generators_3_magnitude;
-    reg [32:0] mcu_pulses_generators_3_sum;
+    reg [31:0] mcu_pulses_generators_3_rate_inverted;
+    reg [16:0] mcu_pulses_generators_3_carry_in;
+    reg [16:0] mcu_pulses_generators_3_sum_low;
+    reg [16:0] mcu_pulses_generators_3_sum_high;
+    reg [16:0] mcu_pulses_generators_3_sum_high_carried;
+    reg mcu_pulses_generators_3_carry;
+    reg [31:0] mcu_pulses_generators_3_phase_next;
+    reg [15:0] mcu_pulses_generators_3_phase_low;
+    reg [15:0] mcu_pulses_generators_3_phase_high;
+    reg [15:0] mcu_pulses_generators_3_rate_low;
+    reg [15:0] mcu_pulses_generators_3_rate_high;
+    reg [15:0] mcu_pulses_generators_3_phase_low_next;
+    reg [15:0] mcu_pulses_generators_3_phase_high_next;
     reg mcu_pulses_generators_3_blocked;
     reg mcu_pulses_generators_3_request_up;
     reg mcu_pulses_generators_3_request_down;
@@ -1604,8 +1736,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_3_timer_t_step_q = 16'h0;
     reg [15:0] mcu_pulses_generators_3_timer_t_dir_d;
     reg [15:0] mcu_pulses_generators_3_timer_t_dir_q = 16'h0;
+    reg mcu_pulses_generators_3_timer_space_ok_d;
+    reg mcu_pulses_generators_3_timer_space_ok_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_setup_ok_d;
+    reg mcu_pulses_generators_3_timer_setup_ok_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_len_ok_d;
+    reg mcu_pulses_generators_3_timer_len_ok_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_hold_ok_d;
+    reg mcu_pulses_generators_3_timer_hold_ok_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_emitted_d;
+    reg mcu_pulses_generators_3_timer_emitted_q = 1'h0;
+    reg mcu_pulses_generators_3_timer_nonzero_d;
+    reg mcu_pulses_generators_3_timer_nonzero_q = 1'h0;
     reg mcu_pulses_generators_3_timer_want_negative;
+    reg [15:0] mcu_pulses_generators_3_timer_pending_next;
     reg mcu_pulses_generators_3_timer_emit;
+    reg mcu_pulses_generators_3_timer_falls;
+    reg mcu_pulses_generators_3_timer_turns;
+    reg mcu_pulses_generators_3_timer_step_event;
     reg [15:0] mcu_pulses_generators_3_timer_delta;
     reg mcu_pulses_engines_0_active_q_d;
     reg mcu_pulses_engines_0_active_q_q = 1'h0;
@@ -4264,6 +4412,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(*) begin
         mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_phase_q;
         mcu_pulses_generators_0_position_q_d = mcu_pulses_generators_0_position_q_q;
+        mcu_pulses_generators_0_command_up_d = mcu_pulses_generators_0_command_up_q;
+        mcu_pulses_generators_0_command_down_d = mcu_pulses_generators_0_command_down_q;
         mcu_pulses_generators_0_timer_reset = mcu_pulses_generators_0_reset;
         mcu_pulses_generators_0_timer_step_len = mcu_pulses_generators_0_step_len;
         mcu_pulses_generators_0_timer_step_space = mcu_pulses_generators_0_step_space;
@@ -4274,41 +4424,61 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_0_rate_selected = mcu_pulses_generators_0_move_rate;
         end
         mcu_pulses_generators_0_negative = mcu_pulses_generators_0_rate_selected[31];
-        mcu_pulses_generators_0_magnitude = mcu_pulses_generators_0_rate_selected;
+        mcu_pulses_generators_0_rate_inverted = mcu_pulses_generators_0_rate_selected;
+        mcu_pulses_generators_0_carry_in = 17'h0;
         if (mcu_pulses_generators_0_negative) begin
-            mcu_pulses_generators_0_magnitude = ~mcu_pulses_generators_0_rate_selected + mcu_pulses_generators_0_one;
+            mcu_pulses_generators_0_rate_inverted = mcu_pulses_generators_0_rate_selected ^ mcu_pulses_generators_0_ones;
+            mcu_pulses_generators_0_carry_in = mcu_pulses_generators_0_low_one;
         end
-        mcu_pulses_generators_0_sum = {1'h0, mcu_pulses_generators_0_phase_q} + {1'h0, mcu_pulses_generators_0_magnitude};
-        mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_accept_up;
+        mcu_pulses_generators_0_phase_low = mcu_pulses_generators_0_phase_q[15:0];
+        mcu_pulses_generators_0_phase_high = mcu_pulses_generators_0_phase_q[31:16];
+        mcu_pulses_generators_0_rate_low = mcu_pulses_generators_0_rate_inverted[15:0];
+        mcu_pulses_generators_0_rate_high = mcu_pulses_generators_0_rate_inverted[31:16];
+        mcu_pulses_generators_0_sum_low = {1'h0, mcu_pulses_generators_0_phase_low} + {1'h0, mcu_pulses_generators_0_rate_low} + mcu_pulses_generators_0_carry_in;
+        mcu_pulses_generators_0_sum_high = {1'h0, mcu_pulses_generators_0_phase_high} + {1'h0, mcu_pulses_generators_0_rate_high};
+        mcu_pulses_generators_0_sum_high_carried = {1'h0, mcu_pulses_generators_0_phase_high} + {1'h0, mcu_pulses_generators_0_rate_high} + mcu_pulses_generators_0_low_one;
+        mcu_pulses_generators_0_phase_low_next = mcu_pulses_generators_0_sum_low[15:0];
+        mcu_pulses_generators_0_carry = mcu_pulses_generators_0_sum_high[16];
+        mcu_pulses_generators_0_phase_high_next = mcu_pulses_generators_0_sum_high[15:0];
+        if (mcu_pulses_generators_0_sum_low[16]) begin
+            mcu_pulses_generators_0_carry = mcu_pulses_generators_0_sum_high_carried[16];
+            mcu_pulses_generators_0_phase_high_next = mcu_pulses_generators_0_sum_high_carried[15:0];
+        end
+        mcu_pulses_generators_0_phase_next = ({16'h0, mcu_pulses_generators_0_phase_high_next} << mcu_pulses_generators_0_shift_sixteen) | {16'h0, mcu_pulses_generators_0_phase_low_next};
+        mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_room_up;
         if (mcu_pulses_generators_0_negative) begin
-            mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_accept_down;
+            mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_room_down;
         end
-        mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_sum[32] & ~mcu_pulses_generators_0_negative;
-        mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_sum[32] & mcu_pulses_generators_0_negative;
-        mcu_pulses_generators_0_timer_request_up = mcu_pulses_generators_0_request_up;
-        mcu_pulses_generators_0_timer_request_down = mcu_pulses_generators_0_request_down;
+        mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_carry & ~mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_carry & mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_command_up_d = mcu_pulses_generators_0_request_up;
+        mcu_pulses_generators_0_command_down_d = mcu_pulses_generators_0_request_down;
+        mcu_pulses_generators_0_timer_request_up = mcu_pulses_generators_0_command_up_q;
+        mcu_pulses_generators_0_timer_request_down = mcu_pulses_generators_0_command_down_q;
         mcu_pulses_generators_0_commanded = mcu_pulses_generators_0_request_up | mcu_pulses_generators_0_request_down;
         mcu_pulses_generators_0_advancing = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked;
         if (mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked) begin
-            mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_sum[31:0];
+            mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_phase_next;
         end
         mcu_pulses_generators_0_position_step = 32'h0;
-        if (mcu_pulses_generators_0_timer_emit_up) begin
+        if (mcu_pulses_generators_0_timer_leave_up) begin
             mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_one;
         end
-        if (mcu_pulses_generators_0_timer_emit_down) begin
+        if (mcu_pulses_generators_0_timer_leave_down) begin
             mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_minus_one;
         end
         mcu_pulses_generators_0_position_q_d = mcu_pulses_generators_0_position_q_q + mcu_pulses_generators_0_position_step;
         if (mcu_pulses_generators_0_reset) begin
             mcu_pulses_generators_0_phase_d = 32'h0;
             mcu_pulses_generators_0_position_q_d = 32'h0;
+            mcu_pulses_generators_0_command_up_d = 1'b0;
+            mcu_pulses_generators_0_command_down_d = 1'b0;
         end
         mcu_pulses_generators_0_step = mcu_pulses_generators_0_timer_step;
         mcu_pulses_generators_0_dir = mcu_pulses_generators_0_timer_dir;
         mcu_pulses_generators_0_position = mcu_pulses_generators_0_position_q_q;
         mcu_pulses_generators_0_busy_mask = 32'h0;
-        if (|mcu_pulses_generators_0_timer_pending | mcu_pulses_generators_0_timer_step) begin
+        if (|mcu_pulses_generators_0_timer_pending | mcu_pulses_generators_0_timer_step | mcu_pulses_generators_0_command_up_q | mcu_pulses_generators_0_command_down_q) begin
             mcu_pulses_generators_0_busy_mask = mcu_pulses_generators_0_busy_bit;
         end
         mcu_pulses_generators_0_status = {16'h0, mcu_pulses_generators_0_timer_pending} | mcu_pulses_generators_0_busy_mask;
@@ -4320,30 +4490,42 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_timer_dir_q_d = mcu_pulses_generators_0_timer_dir_q_q;
         mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_t_step_q;
         mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_t_dir_q;
+        mcu_pulses_generators_0_timer_space_ok_d = mcu_pulses_generators_0_timer_space_ok_q;
+        mcu_pulses_generators_0_timer_setup_ok_d = mcu_pulses_generators_0_timer_setup_ok_q;
+        mcu_pulses_generators_0_timer_len_ok_d = mcu_pulses_generators_0_timer_len_ok_q;
+        mcu_pulses_generators_0_timer_hold_ok_d = mcu_pulses_generators_0_timer_hold_ok_q;
+        mcu_pulses_generators_0_timer_emitted_d = mcu_pulses_generators_0_timer_emitted_q;
+        mcu_pulses_generators_0_timer_nonzero_d = mcu_pulses_generators_0_timer_nonzero_q;
         mcu_pulses_generators_0_timer_want_negative = |(mcu_pulses_generators_0_timer_pending_q_q & mcu_pulses_generators_0_timer_sign_mask);
-        mcu_pulses_generators_0_timer_emit = ~mcu_pulses_generators_0_timer_step_q_q & |mcu_pulses_generators_0_timer_pending_q_q & (mcu_pulses_generators_0_timer_dir_q_q == mcu_pulses_generators_0_timer_want_negative) & (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_space) & (mcu_pulses_generators_0_timer_t_dir_q >= mcu_pulses_generators_0_timer_dir_setup);
+        mcu_pulses_generators_0_timer_emit = ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q == mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_space_ok_q & mcu_pulses_generators_0_timer_setup_ok_q;
+        mcu_pulses_generators_0_timer_falls = mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_len_ok_q;
+        mcu_pulses_generators_0_timer_turns = ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q != mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_hold_ok_q;
+        mcu_pulses_generators_0_timer_step_event = mcu_pulses_generators_0_timer_falls | mcu_pulses_generators_0_timer_emit;
+        mcu_pulses_generators_0_timer_step_q_d = mcu_pulses_generators_0_timer_step_q_q ^ mcu_pulses_generators_0_timer_step_event;
+        mcu_pulses_generators_0_timer_dir_q_d = mcu_pulses_generators_0_timer_dir_q_q ^ mcu_pulses_generators_0_timer_turns;
+        mcu_pulses_generators_0_timer_emitted_d = mcu_pulses_generators_0_timer_emit;
         if (mcu_pulses_generators_0_timer_t_step_q != mcu_pulses_generators_0_timer_timer_max) begin
             mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_t_step_q + mcu_pulses_generators_0_timer_timer_one;
         end
         if (mcu_pulses_generators_0_timer_t_dir_q != mcu_pulses_generators_0_timer_timer_max) begin
             mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_t_dir_q + mcu_pulses_generators_0_timer_timer_one;
         end
-        if (mcu_pulses_generators_0_timer_step_q_q) begin
-            if (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_len) begin
-                mcu_pulses_generators_0_timer_step_q_d = 1'b0;
-                mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_one;
-            end
+        mcu_pulses_generators_0_timer_space_ok_d = mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_space;
+        mcu_pulses_generators_0_timer_len_ok_d = mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_step_len;
+        mcu_pulses_generators_0_timer_hold_ok_d = mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_dir_hold;
+        mcu_pulses_generators_0_timer_setup_ok_d = mcu_pulses_generators_0_timer_t_dir_q >= mcu_pulses_generators_0_timer_dir_setup;
+        if (mcu_pulses_generators_0_timer_step_event) begin
+            mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_restart;
+            mcu_pulses_generators_0_timer_space_ok_d = mcu_pulses_generators_0_timer_step_space <= mcu_pulses_generators_0_timer_timer_one;
+            mcu_pulses_generators_0_timer_len_ok_d = mcu_pulses_generators_0_timer_step_len <= mcu_pulses_generators_0_timer_timer_one;
+            mcu_pulses_generators_0_timer_hold_ok_d = mcu_pulses_generators_0_timer_dir_hold <= mcu_pulses_generators_0_timer_timer_one;
         end
-        else if (mcu_pulses_generators_0_timer_emit) begin
-            mcu_pulses_generators_0_timer_step_q_d = 1'b1;
-            mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_one;
-        end
-        else if (|mcu_pulses_generators_0_timer_pending_q_q & (mcu_pulses_generators_0_timer_dir_q_q != mcu_pulses_generators_0_timer_want_negative) & (mcu_pulses_generators_0_timer_t_step_q >= mcu_pulses_generators_0_timer_dir_hold)) begin
-            mcu_pulses_generators_0_timer_dir_q_d = ~mcu_pulses_generators_0_timer_dir_q_q;
-            mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_timer_one;
+        if (mcu_pulses_generators_0_timer_turns) begin
+            mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_timer_restart;
+            mcu_pulses_generators_0_timer_setup_ok_d = mcu_pulses_generators_0_timer_dir_setup <= mcu_pulses_generators_0_timer_timer_one;
         end
         mcu_pulses_generators_0_timer_delta = 16'h0;
-        if (mcu_pulses_generators_0_timer_emit) begin
+        if (mcu_pulses_generators_0_timer_emitted_q) begin
             if (mcu_pulses_generators_0_timer_dir_q_q) begin
                 mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_one;
                 if (mcu_pulses_generators_0_timer_request_up) begin
@@ -4371,26 +4553,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_generators_0_timer_delta = mcu_pulses_generators_0_timer_minus_one;
             end
         end
-        mcu_pulses_generators_0_timer_pending_q_d = mcu_pulses_generators_0_timer_pending_q_q + mcu_pulses_generators_0_timer_delta;
+        mcu_pulses_generators_0_timer_pending_next = mcu_pulses_generators_0_timer_pending_q_q + mcu_pulses_generators_0_timer_delta;
         if (mcu_pulses_generators_0_timer_reset) begin
-            mcu_pulses_generators_0_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_0_timer_pending_next = 16'h0;
             mcu_pulses_generators_0_timer_step_q_d = 1'b0;
             mcu_pulses_generators_0_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_0_timer_emitted_d = 1'b0;
             mcu_pulses_generators_0_timer_t_step_d = mcu_pulses_generators_0_timer_timer_max;
             mcu_pulses_generators_0_timer_t_dir_d = mcu_pulses_generators_0_timer_timer_max;
+            mcu_pulses_generators_0_timer_space_ok_d = 1'b1;
+            mcu_pulses_generators_0_timer_len_ok_d = 1'b1;
+            mcu_pulses_generators_0_timer_hold_ok_d = 1'b1;
+            mcu_pulses_generators_0_timer_setup_ok_d = 1'b1;
         end
+        mcu_pulses_generators_0_timer_pending_q_d = mcu_pulses_generators_0_timer_pending_next;
+        mcu_pulses_generators_0_timer_nonzero_d = |mcu_pulses_generators_0_timer_pending_next;
         mcu_pulses_generators_0_timer_step = mcu_pulses_generators_0_timer_step_q_q;
         mcu_pulses_generators_0_timer_dir = mcu_pulses_generators_0_timer_dir_q_q;
-        mcu_pulses_generators_0_timer_emit_up = mcu_pulses_generators_0_timer_emit & ~mcu_pulses_generators_0_timer_dir_q_q;
-        mcu_pulses_generators_0_timer_emit_down = mcu_pulses_generators_0_timer_emit & mcu_pulses_generators_0_timer_dir_q_q;
-        mcu_pulses_generators_0_timer_accept_up = mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_max;
-        mcu_pulses_generators_0_timer_accept_down = mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_min;
+        mcu_pulses_generators_0_timer_leave_up = mcu_pulses_generators_0_timer_emitted_q & ~mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_leave_down = mcu_pulses_generators_0_timer_emitted_q & mcu_pulses_generators_0_timer_dir_q_q;
+        mcu_pulses_generators_0_timer_room_up = (mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_max) & (mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_max_less_one);
+        mcu_pulses_generators_0_timer_room_down = (mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_min) & (mcu_pulses_generators_0_timer_pending_q_q != mcu_pulses_generators_0_timer_pending_min_plus_one);
         mcu_pulses_generators_0_timer_pending = mcu_pulses_generators_0_timer_pending_q_q;
     end
 
     always @(*) begin
         mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_phase_q;
         mcu_pulses_generators_1_position_q_d = mcu_pulses_generators_1_position_q_q;
+        mcu_pulses_generators_1_command_up_d = mcu_pulses_generators_1_command_up_q;
+        mcu_pulses_generators_1_command_down_d = mcu_pulses_generators_1_command_down_q;
         mcu_pulses_generators_1_timer_reset = mcu_pulses_generators_1_reset;
         mcu_pulses_generators_1_timer_step_len = mcu_pulses_generators_1_step_len;
         mcu_pulses_generators_1_timer_step_space = mcu_pulses_generators_1_step_space;
@@ -4401,41 +4592,61 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_1_rate_selected = mcu_pulses_generators_1_move_rate;
         end
         mcu_pulses_generators_1_negative = mcu_pulses_generators_1_rate_selected[31];
-        mcu_pulses_generators_1_magnitude = mcu_pulses_generators_1_rate_selected;
+        mcu_pulses_generators_1_rate_inverted = mcu_pulses_generators_1_rate_selected;
+        mcu_pulses_generators_1_carry_in = 17'h0;
         if (mcu_pulses_generators_1_negative) begin
-            mcu_pulses_generators_1_magnitude = ~mcu_pulses_generators_1_rate_selected + mcu_pulses_generators_1_one;
+            mcu_pulses_generators_1_rate_inverted = mcu_pulses_generators_1_rate_selected ^ mcu_pulses_generators_1_ones;
+            mcu_pulses_generators_1_carry_in = mcu_pulses_generators_1_low_one;
         end
-        mcu_pulses_generators_1_sum = {1'h0, mcu_pulses_generators_1_phase_q} + {1'h0, mcu_pulses_generators_1_magnitude};
-        mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_accept_up;
+        mcu_pulses_generators_1_phase_low = mcu_pulses_generators_1_phase_q[15:0];
+        mcu_pulses_generators_1_phase_high = mcu_pulses_generators_1_phase_q[31:16];
+        mcu_pulses_generators_1_rate_low = mcu_pulses_generators_1_rate_inverted[15:0];
+        mcu_pulses_generators_1_rate_high = mcu_pulses_generators_1_rate_inverted[31:16];
+        mcu_pulses_generators_1_sum_low = {1'h0, mcu_pulses_generators_1_phase_low} + {1'h0, mcu_pulses_generators_1_rate_low} + mcu_pulses_generators_1_carry_in;
+        mcu_pulses_generators_1_sum_high = {1'h0, mcu_pulses_generators_1_phase_high} + {1'h0, mcu_pulses_generators_1_rate_high};
+        mcu_pulses_generators_1_sum_high_carried = {1'h0, mcu_pulses_generators_1_phase_high} + {1'h0, mcu_pulses_generators_1_rate_high} + mcu_pulses_generators_1_low_one;
+        mcu_pulses_generators_1_phase_low_next = mcu_pulses_generators_1_sum_low[15:0];
+        mcu_pulses_generators_1_carry = mcu_pulses_generators_1_sum_high[16];
+        mcu_pulses_generators_1_phase_high_next = mcu_pulses_generators_1_sum_high[15:0];
+        if (mcu_pulses_generators_1_sum_low[16]) begin
+            mcu_pulses_generators_1_carry = mcu_pulses_generators_1_sum_high_carried[16];
+            mcu_pulses_generators_1_phase_high_next = mcu_pulses_generators_1_sum_high_carried[15:0];
+        end
+        mcu_pulses_generators_1_phase_next = ({16'h0, mcu_pulses_generators_1_phase_high_next} << mcu_pulses_generators_1_shift_sixteen) | {16'h0, mcu_pulses_generators_1_phase_low_next};
+        mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_room_up;
         if (mcu_pulses_generators_1_negative) begin
-            mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_accept_down;
+            mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_room_down;
         end
-        mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_sum[32] & ~mcu_pulses_generators_1_negative;
-        mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_sum[32] & mcu_pulses_generators_1_negative;
-        mcu_pulses_generators_1_timer_request_up = mcu_pulses_generators_1_request_up;
-        mcu_pulses_generators_1_timer_request_down = mcu_pulses_generators_1_request_down;
+        mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_carry & ~mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_carry & mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_command_up_d = mcu_pulses_generators_1_request_up;
+        mcu_pulses_generators_1_command_down_d = mcu_pulses_generators_1_request_down;
+        mcu_pulses_generators_1_timer_request_up = mcu_pulses_generators_1_command_up_q;
+        mcu_pulses_generators_1_timer_request_down = mcu_pulses_generators_1_command_down_q;
         mcu_pulses_generators_1_commanded = mcu_pulses_generators_1_request_up | mcu_pulses_generators_1_request_down;
         mcu_pulses_generators_1_advancing = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked;
         if (mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked) begin
-            mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_sum[31:0];
+            mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_phase_next;
         end
         mcu_pulses_generators_1_position_step = 32'h0;
-        if (mcu_pulses_generators_1_timer_emit_up) begin
+        if (mcu_pulses_generators_1_timer_leave_up) begin
             mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_one;
         end
-        if (mcu_pulses_generators_1_timer_emit_down) begin
+        if (mcu_pulses_generators_1_timer_leave_down) begin
             mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_minus_one;
         end
         mcu_pulses_generators_1_position_q_d = mcu_pulses_generators_1_position_q_q + mcu_pulses_generators_1_position_step;
         if (mcu_pulses_generators_1_reset) begin
             mcu_pulses_generators_1_phase_d = 32'h0;
             mcu_pulses_generators_1_position_q_d = 32'h0;
+            mcu_pulses_generators_1_command_up_d = 1'b0;
+            mcu_pulses_generators_1_command_down_d = 1'b0;
         end
         mcu_pulses_generators_1_step = mcu_pulses_generators_1_timer_step;
         mcu_pulses_generators_1_dir = mcu_pulses_generators_1_timer_dir;
         mcu_pulses_generators_1_position = mcu_pulses_generators_1_position_q_q;
         mcu_pulses_generators_1_busy_mask = 32'h0;
-        if (|mcu_pulses_generators_1_timer_pending | mcu_pulses_generators_1_timer_step) begin
+        if (|mcu_pulses_generators_1_timer_pending | mcu_pulses_generators_1_timer_step | mcu_pulses_generators_1_command_up_q | mcu_pulses_generators_1_command_down_q) begin
             mcu_pulses_generators_1_busy_mask = mcu_pulses_generators_1_busy_bit;
         end
         mcu_pulses_generators_1_status = {16'h0, mcu_pulses_generators_1_timer_pending} | mcu_pulses_generators_1_busy_mask;
@@ -4447,30 +4658,42 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_timer_dir_q_d = mcu_pulses_generators_1_timer_dir_q_q;
         mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_t_step_q;
         mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_t_dir_q;
+        mcu_pulses_generators_1_timer_space_ok_d = mcu_pulses_generators_1_timer_space_ok_q;
+        mcu_pulses_generators_1_timer_setup_ok_d = mcu_pulses_generators_1_timer_setup_ok_q;
+        mcu_pulses_generators_1_timer_len_ok_d = mcu_pulses_generators_1_timer_len_ok_q;
+        mcu_pulses_generators_1_timer_hold_ok_d = mcu_pulses_generators_1_timer_hold_ok_q;
+        mcu_pulses_generators_1_timer_emitted_d = mcu_pulses_generators_1_timer_emitted_q;
+        mcu_pulses_generators_1_timer_nonzero_d = mcu_pulses_generators_1_timer_nonzero_q;
         mcu_pulses_generators_1_timer_want_negative = |(mcu_pulses_generators_1_timer_pending_q_q & mcu_pulses_generators_1_timer_sign_mask);
-        mcu_pulses_generators_1_timer_emit = ~mcu_pulses_generators_1_timer_step_q_q & |mcu_pulses_generators_1_timer_pending_q_q & (mcu_pulses_generators_1_timer_dir_q_q == mcu_pulses_generators_1_timer_want_negative) & (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_space) & (mcu_pulses_generators_1_timer_t_dir_q >= mcu_pulses_generators_1_timer_dir_setup);
+        mcu_pulses_generators_1_timer_emit = ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q == mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_space_ok_q & mcu_pulses_generators_1_timer_setup_ok_q;
+        mcu_pulses_generators_1_timer_falls = mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_len_ok_q;
+        mcu_pulses_generators_1_timer_turns = ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q != mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_hold_ok_q;
+        mcu_pulses_generators_1_timer_step_event = mcu_pulses_generators_1_timer_falls | mcu_pulses_generators_1_timer_emit;
+        mcu_pulses_generators_1_timer_step_q_d = mcu_pulses_generators_1_timer_step_q_q ^ mcu_pulses_generators_1_timer_step_event;
+        mcu_pulses_generators_1_timer_dir_q_d = mcu_pulses_generators_1_timer_dir_q_q ^ mcu_pulses_generators_1_timer_turns;
+        mcu_pulses_generators_1_timer_emitted_d = mcu_pulses_generators_1_timer_emit;
         if (mcu_pulses_generators_1_timer_t_step_q != mcu_pulses_generators_1_timer_timer_max) begin
             mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_t_step_q + mcu_pulses_generators_1_timer_timer_one;
         end
         if (mcu_pulses_generators_1_timer_t_dir_q != mcu_pulses_generators_1_timer_timer_max) begin
             mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_t_dir_q + mcu_pulses_generators_1_timer_timer_one;
         end
-        if (mcu_pulses_generators_1_timer_step_q_q) begin
-            if (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_len) begin
-                mcu_pulses_generators_1_timer_step_q_d = 1'b0;
-                mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_one;
-            end
+        mcu_pulses_generators_1_timer_space_ok_d = mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_space;
+        mcu_pulses_generators_1_timer_len_ok_d = mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_step_len;
+        mcu_pulses_generators_1_timer_hold_ok_d = mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_dir_hold;
+        mcu_pulses_generators_1_timer_setup_ok_d = mcu_pulses_generators_1_timer_t_dir_q >= mcu_pulses_generators_1_timer_dir_setup;
+        if (mcu_pulses_generators_1_timer_step_event) begin
+            mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_restart;
+            mcu_pulses_generators_1_timer_space_ok_d = mcu_pulses_generators_1_timer_step_space <= mcu_pulses_generators_1_timer_timer_one;
+            mcu_pulses_generators_1_timer_len_ok_d = mcu_pulses_generators_1_timer_step_len <= mcu_pulses_generators_1_timer_timer_one;
+            mcu_pulses_generators_1_timer_hold_ok_d = mcu_pulses_generators_1_timer_dir_hold <= mcu_pulses_generators_1_timer_timer_one;
         end
-        else if (mcu_pulses_generators_1_timer_emit) begin
-            mcu_pulses_generators_1_timer_step_q_d = 1'b1;
-            mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_one;
-        end
-        else if (|mcu_pulses_generators_1_timer_pending_q_q & (mcu_pulses_generators_1_timer_dir_q_q != mcu_pulses_generators_1_timer_want_negative) & (mcu_pulses_generators_1_timer_t_step_q >= mcu_pulses_generators_1_timer_dir_hold)) begin
-            mcu_pulses_generators_1_timer_dir_q_d = ~mcu_pulses_generators_1_timer_dir_q_q;
-            mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_timer_one;
+        if (mcu_pulses_generators_1_timer_turns) begin
+            mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_timer_restart;
+            mcu_pulses_generators_1_timer_setup_ok_d = mcu_pulses_generators_1_timer_dir_setup <= mcu_pulses_generators_1_timer_timer_one;
         end
         mcu_pulses_generators_1_timer_delta = 16'h0;
-        if (mcu_pulses_generators_1_timer_emit) begin
+        if (mcu_pulses_generators_1_timer_emitted_q) begin
             if (mcu_pulses_generators_1_timer_dir_q_q) begin
                 mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_one;
                 if (mcu_pulses_generators_1_timer_request_up) begin
@@ -4498,26 +4721,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_generators_1_timer_delta = mcu_pulses_generators_1_timer_minus_one;
             end
         end
-        mcu_pulses_generators_1_timer_pending_q_d = mcu_pulses_generators_1_timer_pending_q_q + mcu_pulses_generators_1_timer_delta;
+        mcu_pulses_generators_1_timer_pending_next = mcu_pulses_generators_1_timer_pending_q_q + mcu_pulses_generators_1_timer_delta;
         if (mcu_pulses_generators_1_timer_reset) begin
-            mcu_pulses_generators_1_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_1_timer_pending_next = 16'h0;
             mcu_pulses_generators_1_timer_step_q_d = 1'b0;
             mcu_pulses_generators_1_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_1_timer_emitted_d = 1'b0;
             mcu_pulses_generators_1_timer_t_step_d = mcu_pulses_generators_1_timer_timer_max;
             mcu_pulses_generators_1_timer_t_dir_d = mcu_pulses_generators_1_timer_timer_max;
+            mcu_pulses_generators_1_timer_space_ok_d = 1'b1;
+            mcu_pulses_generators_1_timer_len_ok_d = 1'b1;
+            mcu_pulses_generators_1_timer_hold_ok_d = 1'b1;
+            mcu_pulses_generators_1_timer_setup_ok_d = 1'b1;
         end
+        mcu_pulses_generators_1_timer_pending_q_d = mcu_pulses_generators_1_timer_pending_next;
+        mcu_pulses_generators_1_timer_nonzero_d = |mcu_pulses_generators_1_timer_pending_next;
         mcu_pulses_generators_1_timer_step = mcu_pulses_generators_1_timer_step_q_q;
         mcu_pulses_generators_1_timer_dir = mcu_pulses_generators_1_timer_dir_q_q;
-        mcu_pulses_generators_1_timer_emit_up = mcu_pulses_generators_1_timer_emit & ~mcu_pulses_generators_1_timer_dir_q_q;
-        mcu_pulses_generators_1_timer_emit_down = mcu_pulses_generators_1_timer_emit & mcu_pulses_generators_1_timer_dir_q_q;
-        mcu_pulses_generators_1_timer_accept_up = mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_max;
-        mcu_pulses_generators_1_timer_accept_down = mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_min;
+        mcu_pulses_generators_1_timer_leave_up = mcu_pulses_generators_1_timer_emitted_q & ~mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_leave_down = mcu_pulses_generators_1_timer_emitted_q & mcu_pulses_generators_1_timer_dir_q_q;
+        mcu_pulses_generators_1_timer_room_up = (mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_max) & (mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_max_less_one);
+        mcu_pulses_generators_1_timer_room_down = (mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_min) & (mcu_pulses_generators_1_timer_pending_q_q != mcu_pulses_generators_1_timer_pending_min_plus_one);
         mcu_pulses_generators_1_timer_pending = mcu_pulses_generators_1_timer_pending_q_q;
     end
 
     always @(*) begin
         mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_phase_q;
         mcu_pulses_generators_2_position_q_d = mcu_pulses_generators_2_position_q_q;
+        mcu_pulses_generators_2_command_up_d = mcu_pulses_generators_2_command_up_q;
+        mcu_pulses_generators_2_command_down_d = mcu_pulses_generators_2_command_down_q;
         mcu_pulses_generators_2_timer_reset = mcu_pulses_generators_2_reset;
         mcu_pulses_generators_2_timer_step_len = mcu_pulses_generators_2_step_len;
         mcu_pulses_generators_2_timer_step_space = mcu_pulses_generators_2_step_space;
@@ -4528,41 +4760,61 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_2_rate_selected = mcu_pulses_generators_2_move_rate;
         end
         mcu_pulses_generators_2_negative = mcu_pulses_generators_2_rate_selected[31];
-        mcu_pulses_generators_2_magnitude = mcu_pulses_generators_2_rate_selected;
+        mcu_pulses_generators_2_rate_inverted = mcu_pulses_generators_2_rate_selected;
+        mcu_pulses_generators_2_carry_in = 17'h0;
         if (mcu_pulses_generators_2_negative) begin
-            mcu_pulses_generators_2_magnitude = ~mcu_pulses_generators_2_rate_selected + mcu_pulses_generators_2_one;
+            mcu_pulses_generators_2_rate_inverted = mcu_pulses_generators_2_rate_selected ^ mcu_pulses_generators_2_ones;
+            mcu_pulses_generators_2_carry_in = mcu_pulses_generators_2_low_one;
         end
-        mcu_pulses_generators_2_sum = {1'h0, mcu_pulses_generators_2_phase_q} + {1'h0, mcu_pulses_generators_2_magnitude};
-        mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_accept_up;
+        mcu_pulses_generators_2_phase_low = mcu_pulses_generators_2_phase_q[15:0];
+        mcu_pulses_generators_2_phase_high = mcu_pulses_generators_2_phase_q[31:16];
+        mcu_pulses_generators_2_rate_low = mcu_pulses_generators_2_rate_inverted[15:0];
+        mcu_pulses_generators_2_rate_high = mcu_pulses_generators_2_rate_inverted[31:16];
+        mcu_pulses_generators_2_sum_low = {1'h0, mcu_pulses_generators_2_phase_low} + {1'h0, mcu_pulses_generators_2_rate_low} + mcu_pulses_generators_2_carry_in;
+        mcu_pulses_generators_2_sum_high = {1'h0, mcu_pulses_generators_2_phase_high} + {1'h0, mcu_pulses_generators_2_rate_high};
+        mcu_pulses_generators_2_sum_high_carried = {1'h0, mcu_pulses_generators_2_phase_high} + {1'h0, mcu_pulses_generators_2_rate_high} + mcu_pulses_generators_2_low_one;
+        mcu_pulses_generators_2_phase_low_next = mcu_pulses_generators_2_sum_low[15:0];
+        mcu_pulses_generators_2_carry = mcu_pulses_generators_2_sum_high[16];
+        mcu_pulses_generators_2_phase_high_next = mcu_pulses_generators_2_sum_high[15:0];
+        if (mcu_pulses_generators_2_sum_low[16]) begin
+            mcu_pulses_generators_2_carry = mcu_pulses_generators_2_sum_high_carried[16];
+            mcu_pulses_generators_2_phase_high_next = mcu_pulses_generators_2_sum_high_carried[15:0];
+        end
+        mcu_pulses_generators_2_phase_next = ({16'h0, mcu_pulses_generators_2_phase_high_next} << mcu_pulses_generators_2_shift_sixteen) | {16'h0, mcu_pulses_generators_2_phase_low_next};
+        mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_room_up;
         if (mcu_pulses_generators_2_negative) begin
-            mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_accept_down;
+            mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_room_down;
         end
-        mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_sum[32] & ~mcu_pulses_generators_2_negative;
-        mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_sum[32] & mcu_pulses_generators_2_negative;
-        mcu_pulses_generators_2_timer_request_up = mcu_pulses_generators_2_request_up;
-        mcu_pulses_generators_2_timer_request_down = mcu_pulses_generators_2_request_down;
+        mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_carry & ~mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_carry & mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_command_up_d = mcu_pulses_generators_2_request_up;
+        mcu_pulses_generators_2_command_down_d = mcu_pulses_generators_2_request_down;
+        mcu_pulses_generators_2_timer_request_up = mcu_pulses_generators_2_command_up_q;
+        mcu_pulses_generators_2_timer_request_down = mcu_pulses_generators_2_command_down_q;
         mcu_pulses_generators_2_commanded = mcu_pulses_generators_2_request_up | mcu_pulses_generators_2_request_down;
         mcu_pulses_generators_2_advancing = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked;
         if (mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked) begin
-            mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_sum[31:0];
+            mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_phase_next;
         end
         mcu_pulses_generators_2_position_step = 32'h0;
-        if (mcu_pulses_generators_2_timer_emit_up) begin
+        if (mcu_pulses_generators_2_timer_leave_up) begin
             mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_one;
         end
-        if (mcu_pulses_generators_2_timer_emit_down) begin
+        if (mcu_pulses_generators_2_timer_leave_down) begin
             mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_minus_one;
         end
         mcu_pulses_generators_2_position_q_d = mcu_pulses_generators_2_position_q_q + mcu_pulses_generators_2_position_step;
         if (mcu_pulses_generators_2_reset) begin
             mcu_pulses_generators_2_phase_d = 32'h0;
             mcu_pulses_generators_2_position_q_d = 32'h0;
+            mcu_pulses_generators_2_command_up_d = 1'b0;
+            mcu_pulses_generators_2_command_down_d = 1'b0;
         end
         mcu_pulses_generators_2_step = mcu_pulses_generators_2_timer_step;
         mcu_pulses_generators_2_dir = mcu_pulses_generators_2_timer_dir;
         mcu_pulses_generators_2_position = mcu_pulses_generators_2_position_q_q;
         mcu_pulses_generators_2_busy_mask = 32'h0;
-        if (|mcu_pulses_generators_2_timer_pending | mcu_pulses_generators_2_timer_step) begin
+        if (|mcu_pulses_generators_2_timer_pending | mcu_pulses_generators_2_timer_step | mcu_pulses_generators_2_command_up_q | mcu_pulses_generators_2_command_down_q) begin
             mcu_pulses_generators_2_busy_mask = mcu_pulses_generators_2_busy_bit;
         end
         mcu_pulses_generators_2_status = {16'h0, mcu_pulses_generators_2_timer_pending} | mcu_pulses_generators_2_busy_mask;
@@ -4574,30 +4826,42 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_timer_dir_q_d = mcu_pulses_generators_2_timer_dir_q_q;
         mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_t_step_q;
         mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_t_dir_q;
+        mcu_pulses_generators_2_timer_space_ok_d = mcu_pulses_generators_2_timer_space_ok_q;
+        mcu_pulses_generators_2_timer_setup_ok_d = mcu_pulses_generators_2_timer_setup_ok_q;
+        mcu_pulses_generators_2_timer_len_ok_d = mcu_pulses_generators_2_timer_len_ok_q;
+        mcu_pulses_generators_2_timer_hold_ok_d = mcu_pulses_generators_2_timer_hold_ok_q;
+        mcu_pulses_generators_2_timer_emitted_d = mcu_pulses_generators_2_timer_emitted_q;
+        mcu_pulses_generators_2_timer_nonzero_d = mcu_pulses_generators_2_timer_nonzero_q;
         mcu_pulses_generators_2_timer_want_negative = |(mcu_pulses_generators_2_timer_pending_q_q & mcu_pulses_generators_2_timer_sign_mask);
-        mcu_pulses_generators_2_timer_emit = ~mcu_pulses_generators_2_timer_step_q_q & |mcu_pulses_generators_2_timer_pending_q_q & (mcu_pulses_generators_2_timer_dir_q_q == mcu_pulses_generators_2_timer_want_negative) & (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_space) & (mcu_pulses_generators_2_timer_t_dir_q >= mcu_pulses_generators_2_timer_dir_setup);
+        mcu_pulses_generators_2_timer_emit = ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q == mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_space_ok_q & mcu_pulses_generators_2_timer_setup_ok_q;
+        mcu_pulses_generators_2_timer_falls = mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_len_ok_q;
+        mcu_pulses_generators_2_timer_turns = ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q != mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_hold_ok_q;
+        mcu_pulses_generators_2_timer_step_event = mcu_pulses_generators_2_timer_falls | mcu_pulses_generators_2_timer_emit;
+        mcu_pulses_generators_2_timer_step_q_d = mcu_pulses_generators_2_timer_step_q_q ^ mcu_pulses_generators_2_timer_step_event;
+        mcu_pulses_generators_2_timer_dir_q_d = mcu_pulses_generators_2_timer_dir_q_q ^ mcu_pulses_generators_2_timer_turns;
+        mcu_pulses_generators_2_timer_emitted_d = mcu_pulses_generators_2_timer_emit;
         if (mcu_pulses_generators_2_timer_t_step_q != mcu_pulses_generators_2_timer_timer_max) begin
             mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_t_step_q + mcu_pulses_generators_2_timer_timer_one;
         end
         if (mcu_pulses_generators_2_timer_t_dir_q != mcu_pulses_generators_2_timer_timer_max) begin
             mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_t_dir_q + mcu_pulses_generators_2_timer_timer_one;
         end
-        if (mcu_pulses_generators_2_timer_step_q_q) begin
-            if (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_len) begin
-                mcu_pulses_generators_2_timer_step_q_d = 1'b0;
-                mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_one;
-            end
+        mcu_pulses_generators_2_timer_space_ok_d = mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_space;
+        mcu_pulses_generators_2_timer_len_ok_d = mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_step_len;
+        mcu_pulses_generators_2_timer_hold_ok_d = mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_dir_hold;
+        mcu_pulses_generators_2_timer_setup_ok_d = mcu_pulses_generators_2_timer_t_dir_q >= mcu_pulses_generators_2_timer_dir_setup;
+        if (mcu_pulses_generators_2_timer_step_event) begin
+            mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_restart;
+            mcu_pulses_generators_2_timer_space_ok_d = mcu_pulses_generators_2_timer_step_space <= mcu_pulses_generators_2_timer_timer_one;
+            mcu_pulses_generators_2_timer_len_ok_d = mcu_pulses_generators_2_timer_step_len <= mcu_pulses_generators_2_timer_timer_one;
+            mcu_pulses_generators_2_timer_hold_ok_d = mcu_pulses_generators_2_timer_dir_hold <= mcu_pulses_generators_2_timer_timer_one;
         end
-        else if (mcu_pulses_generators_2_timer_emit) begin
-            mcu_pulses_generators_2_timer_step_q_d = 1'b1;
-            mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_one;
-        end
-        else if (|mcu_pulses_generators_2_timer_pending_q_q & (mcu_pulses_generators_2_timer_dir_q_q != mcu_pulses_generators_2_timer_want_negative) & (mcu_pulses_generators_2_timer_t_step_q >= mcu_pulses_generators_2_timer_dir_hold)) begin
-            mcu_pulses_generators_2_timer_dir_q_d = ~mcu_pulses_generators_2_timer_dir_q_q;
-            mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_timer_one;
+        if (mcu_pulses_generators_2_timer_turns) begin
+            mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_timer_restart;
+            mcu_pulses_generators_2_timer_setup_ok_d = mcu_pulses_generators_2_timer_dir_setup <= mcu_pulses_generators_2_timer_timer_one;
         end
         mcu_pulses_generators_2_timer_delta = 16'h0;
-        if (mcu_pulses_generators_2_timer_emit) begin
+        if (mcu_pulses_generators_2_timer_emitted_q) begin
             if (mcu_pulses_generators_2_timer_dir_q_q) begin
                 mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_one;
                 if (mcu_pulses_generators_2_timer_request_up) begin
@@ -4625,26 +4889,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_generators_2_timer_delta = mcu_pulses_generators_2_timer_minus_one;
             end
         end
-        mcu_pulses_generators_2_timer_pending_q_d = mcu_pulses_generators_2_timer_pending_q_q + mcu_pulses_generators_2_timer_delta;
+        mcu_pulses_generators_2_timer_pending_next = mcu_pulses_generators_2_timer_pending_q_q + mcu_pulses_generators_2_timer_delta;
         if (mcu_pulses_generators_2_timer_reset) begin
-            mcu_pulses_generators_2_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_2_timer_pending_next = 16'h0;
             mcu_pulses_generators_2_timer_step_q_d = 1'b0;
             mcu_pulses_generators_2_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_2_timer_emitted_d = 1'b0;
             mcu_pulses_generators_2_timer_t_step_d = mcu_pulses_generators_2_timer_timer_max;
             mcu_pulses_generators_2_timer_t_dir_d = mcu_pulses_generators_2_timer_timer_max;
+            mcu_pulses_generators_2_timer_space_ok_d = 1'b1;
+            mcu_pulses_generators_2_timer_len_ok_d = 1'b1;
+            mcu_pulses_generators_2_timer_hold_ok_d = 1'b1;
+            mcu_pulses_generators_2_timer_setup_ok_d = 1'b1;
         end
+        mcu_pulses_generators_2_timer_pending_q_d = mcu_pulses_generators_2_timer_pending_next;
+        mcu_pulses_generators_2_timer_nonzero_d = |mcu_pulses_generators_2_timer_pending_next;
         mcu_pulses_generators_2_timer_step = mcu_pulses_generators_2_timer_step_q_q;
         mcu_pulses_generators_2_timer_dir = mcu_pulses_generators_2_timer_dir_q_q;
-        mcu_pulses_generators_2_timer_emit_up = mcu_pulses_generators_2_timer_emit & ~mcu_pulses_generators_2_timer_dir_q_q;
-        mcu_pulses_generators_2_timer_emit_down = mcu_pulses_generators_2_timer_emit & mcu_pulses_generators_2_timer_dir_q_q;
-        mcu_pulses_generators_2_timer_accept_up = mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_max;
-        mcu_pulses_generators_2_timer_accept_down = mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_min;
+        mcu_pulses_generators_2_timer_leave_up = mcu_pulses_generators_2_timer_emitted_q & ~mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_leave_down = mcu_pulses_generators_2_timer_emitted_q & mcu_pulses_generators_2_timer_dir_q_q;
+        mcu_pulses_generators_2_timer_room_up = (mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_max) & (mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_max_less_one);
+        mcu_pulses_generators_2_timer_room_down = (mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_min) & (mcu_pulses_generators_2_timer_pending_q_q != mcu_pulses_generators_2_timer_pending_min_plus_one);
         mcu_pulses_generators_2_timer_pending = mcu_pulses_generators_2_timer_pending_q_q;
     end
 
     always @(*) begin
         mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_phase_q;
         mcu_pulses_generators_3_position_q_d = mcu_pulses_generators_3_position_q_q;
+        mcu_pulses_generators_3_command_up_d = mcu_pulses_generators_3_command_up_q;
+        mcu_pulses_generators_3_command_down_d = mcu_pulses_generators_3_command_down_q;
         mcu_pulses_generators_3_timer_reset = mcu_pulses_generators_3_reset;
         mcu_pulses_generators_3_timer_step_len = mcu_pulses_generators_3_step_len;
         mcu_pulses_generators_3_timer_step_space = mcu_pulses_generators_3_step_space;
@@ -4655,41 +4928,61 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_3_rate_selected = mcu_pulses_generators_3_move_rate;
         end
         mcu_pulses_generators_3_negative = mcu_pulses_generators_3_rate_selected[31];
-        mcu_pulses_generators_3_magnitude = mcu_pulses_generators_3_rate_selected;
+        mcu_pulses_generators_3_rate_inverted = mcu_pulses_generators_3_rate_selected;
+        mcu_pulses_generators_3_carry_in = 17'h0;
         if (mcu_pulses_generators_3_negative) begin
-            mcu_pulses_generators_3_magnitude = ~mcu_pulses_generators_3_rate_selected + mcu_pulses_generators_3_one;
+            mcu_pulses_generators_3_rate_inverted = mcu_pulses_generators_3_rate_selected ^ mcu_pulses_generators_3_ones;
+            mcu_pulses_generators_3_carry_in = mcu_pulses_generators_3_low_one;
         end
-        mcu_pulses_generators_3_sum = {1'h0, mcu_pulses_generators_3_phase_q} + {1'h0, mcu_pulses_generators_3_magnitude};
-        mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_accept_up;
+        mcu_pulses_generators_3_phase_low = mcu_pulses_generators_3_phase_q[15:0];
+        mcu_pulses_generators_3_phase_high = mcu_pulses_generators_3_phase_q[31:16];
+        mcu_pulses_generators_3_rate_low = mcu_pulses_generators_3_rate_inverted[15:0];
+        mcu_pulses_generators_3_rate_high = mcu_pulses_generators_3_rate_inverted[31:16];
+        mcu_pulses_generators_3_sum_low = {1'h0, mcu_pulses_generators_3_phase_low} + {1'h0, mcu_pulses_generators_3_rate_low} + mcu_pulses_generators_3_carry_in;
+        mcu_pulses_generators_3_sum_high = {1'h0, mcu_pulses_generators_3_phase_high} + {1'h0, mcu_pulses_generators_3_rate_high};
+        mcu_pulses_generators_3_sum_high_carried = {1'h0, mcu_pulses_generators_3_phase_high} + {1'h0, mcu_pulses_generators_3_rate_high} + mcu_pulses_generators_3_low_one;
+        mcu_pulses_generators_3_phase_low_next = mcu_pulses_generators_3_sum_low[15:0];
+        mcu_pulses_generators_3_carry = mcu_pulses_generators_3_sum_high[16];
+        mcu_pulses_generators_3_phase_high_next = mcu_pulses_generators_3_sum_high[15:0];
+        if (mcu_pulses_generators_3_sum_low[16]) begin
+            mcu_pulses_generators_3_carry = mcu_pulses_generators_3_sum_high_carried[16];
+            mcu_pulses_generators_3_phase_high_next = mcu_pulses_generators_3_sum_high_carried[15:0];
+        end
+        mcu_pulses_generators_3_phase_next = ({16'h0, mcu_pulses_generators_3_phase_high_next} << mcu_pulses_generators_3_shift_sixteen) | {16'h0, mcu_pulses_generators_3_phase_low_next};
+        mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_room_up;
         if (mcu_pulses_generators_3_negative) begin
-            mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_accept_down;
+            mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_room_down;
         end
-        mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_sum[32] & ~mcu_pulses_generators_3_negative;
-        mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_sum[32] & mcu_pulses_generators_3_negative;
-        mcu_pulses_generators_3_timer_request_up = mcu_pulses_generators_3_request_up;
-        mcu_pulses_generators_3_timer_request_down = mcu_pulses_generators_3_request_down;
+        mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_carry & ~mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_carry & mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_command_up_d = mcu_pulses_generators_3_request_up;
+        mcu_pulses_generators_3_command_down_d = mcu_pulses_generators_3_request_down;
+        mcu_pulses_generators_3_timer_request_up = mcu_pulses_generators_3_command_up_q;
+        mcu_pulses_generators_3_timer_request_down = mcu_pulses_generators_3_command_down_q;
         mcu_pulses_generators_3_commanded = mcu_pulses_generators_3_request_up | mcu_pulses_generators_3_request_down;
         mcu_pulses_generators_3_advancing = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked;
         if (mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked) begin
-            mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_sum[31:0];
+            mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_phase_next;
         end
         mcu_pulses_generators_3_position_step = 32'h0;
-        if (mcu_pulses_generators_3_timer_emit_up) begin
+        if (mcu_pulses_generators_3_timer_leave_up) begin
             mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_one;
         end
-        if (mcu_pulses_generators_3_timer_emit_down) begin
+        if (mcu_pulses_generators_3_timer_leave_down) begin
             mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_minus_one;
         end
         mcu_pulses_generators_3_position_q_d = mcu_pulses_generators_3_position_q_q + mcu_pulses_generators_3_position_step;
         if (mcu_pulses_generators_3_reset) begin
             mcu_pulses_generators_3_phase_d = 32'h0;
             mcu_pulses_generators_3_position_q_d = 32'h0;
+            mcu_pulses_generators_3_command_up_d = 1'b0;
+            mcu_pulses_generators_3_command_down_d = 1'b0;
         end
         mcu_pulses_generators_3_step = mcu_pulses_generators_3_timer_step;
         mcu_pulses_generators_3_dir = mcu_pulses_generators_3_timer_dir;
         mcu_pulses_generators_3_position = mcu_pulses_generators_3_position_q_q;
         mcu_pulses_generators_3_busy_mask = 32'h0;
-        if (|mcu_pulses_generators_3_timer_pending | mcu_pulses_generators_3_timer_step) begin
+        if (|mcu_pulses_generators_3_timer_pending | mcu_pulses_generators_3_timer_step | mcu_pulses_generators_3_command_up_q | mcu_pulses_generators_3_command_down_q) begin
             mcu_pulses_generators_3_busy_mask = mcu_pulses_generators_3_busy_bit;
         end
         mcu_pulses_generators_3_status = {16'h0, mcu_pulses_generators_3_timer_pending} | mcu_pulses_generators_3_busy_mask;
@@ -4701,30 +4994,42 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_timer_dir_q_d = mcu_pulses_generators_3_timer_dir_q_q;
         mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_t_step_q;
         mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_t_dir_q;
+        mcu_pulses_generators_3_timer_space_ok_d = mcu_pulses_generators_3_timer_space_ok_q;
+        mcu_pulses_generators_3_timer_setup_ok_d = mcu_pulses_generators_3_timer_setup_ok_q;
+        mcu_pulses_generators_3_timer_len_ok_d = mcu_pulses_generators_3_timer_len_ok_q;
+        mcu_pulses_generators_3_timer_hold_ok_d = mcu_pulses_generators_3_timer_hold_ok_q;
+        mcu_pulses_generators_3_timer_emitted_d = mcu_pulses_generators_3_timer_emitted_q;
+        mcu_pulses_generators_3_timer_nonzero_d = mcu_pulses_generators_3_timer_nonzero_q;
         mcu_pulses_generators_3_timer_want_negative = |(mcu_pulses_generators_3_timer_pending_q_q & mcu_pulses_generators_3_timer_sign_mask);
-        mcu_pulses_generators_3_timer_emit = ~mcu_pulses_generators_3_timer_step_q_q & |mcu_pulses_generators_3_timer_pending_q_q & (mcu_pulses_generators_3_timer_dir_q_q == mcu_pulses_generators_3_timer_want_negative) & (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_space) & (mcu_pulses_generators_3_timer_t_dir_q >= mcu_pulses_generators_3_timer_dir_setup);
+        mcu_pulses_generators_3_timer_emit = ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q == mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_space_ok_q & mcu_pulses_generators_3_timer_setup_ok_q;
+        mcu_pulses_generators_3_timer_falls = mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_len_ok_q;
+        mcu_pulses_generators_3_timer_turns = ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q != mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_hold_ok_q;
+        mcu_pulses_generators_3_timer_step_event = mcu_pulses_generators_3_timer_falls | mcu_pulses_generators_3_timer_emit;
+        mcu_pulses_generators_3_timer_step_q_d = mcu_pulses_generators_3_timer_step_q_q ^ mcu_pulses_generators_3_timer_step_event;
+        mcu_pulses_generators_3_timer_dir_q_d = mcu_pulses_generators_3_timer_dir_q_q ^ mcu_pulses_generators_3_timer_turns;
+        mcu_pulses_generators_3_timer_emitted_d = mcu_pulses_generators_3_timer_emit;
         if (mcu_pulses_generators_3_timer_t_step_q != mcu_pulses_generators_3_timer_timer_max) begin
             mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_t_step_q + mcu_pulses_generators_3_timer_timer_one;
         end
         if (mcu_pulses_generators_3_timer_t_dir_q != mcu_pulses_generators_3_timer_timer_max) begin
             mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_t_dir_q + mcu_pulses_generators_3_timer_timer_one;
         end
-        if (mcu_pulses_generators_3_timer_step_q_q) begin
-            if (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_len) begin
-                mcu_pulses_generators_3_timer_step_q_d = 1'b0;
-                mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_one;
-            end
+        mcu_pulses_generators_3_timer_space_ok_d = mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_space;
+        mcu_pulses_generators_3_timer_len_ok_d = mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_step_len;
+        mcu_pulses_generators_3_timer_hold_ok_d = mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_dir_hold;
+        mcu_pulses_generators_3_timer_setup_ok_d = mcu_pulses_generators_3_timer_t_dir_q >= mcu_pulses_generators_3_timer_dir_setup;
+        if (mcu_pulses_generators_3_timer_step_event) begin
+            mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_restart;
+            mcu_pulses_generators_3_timer_space_ok_d = mcu_pulses_generators_3_timer_step_space <= mcu_pulses_generators_3_timer_timer_one;
+            mcu_pulses_generators_3_timer_len_ok_d = mcu_pulses_generators_3_timer_step_len <= mcu_pulses_generators_3_timer_timer_one;
+            mcu_pulses_generators_3_timer_hold_ok_d = mcu_pulses_generators_3_timer_dir_hold <= mcu_pulses_generators_3_timer_timer_one;
         end
-        else if (mcu_pulses_generators_3_timer_emit) begin
-            mcu_pulses_generators_3_timer_step_q_d = 1'b1;
-            mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_one;
-        end
-        else if (|mcu_pulses_generators_3_timer_pending_q_q & (mcu_pulses_generators_3_timer_dir_q_q != mcu_pulses_generators_3_timer_want_negative) & (mcu_pulses_generators_3_timer_t_step_q >= mcu_pulses_generators_3_timer_dir_hold)) begin
-            mcu_pulses_generators_3_timer_dir_q_d = ~mcu_pulses_generators_3_timer_dir_q_q;
-            mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_timer_one;
+        if (mcu_pulses_generators_3_timer_turns) begin
+            mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_timer_restart;
+            mcu_pulses_generators_3_timer_setup_ok_d = mcu_pulses_generators_3_timer_dir_setup <= mcu_pulses_generators_3_timer_timer_one;
         end
         mcu_pulses_generators_3_timer_delta = 16'h0;
-        if (mcu_pulses_generators_3_timer_emit) begin
+        if (mcu_pulses_generators_3_timer_emitted_q) begin
             if (mcu_pulses_generators_3_timer_dir_q_q) begin
                 mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_one;
                 if (mcu_pulses_generators_3_timer_request_up) begin
@@ -4752,20 +5057,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_generators_3_timer_delta = mcu_pulses_generators_3_timer_minus_one;
             end
         end
-        mcu_pulses_generators_3_timer_pending_q_d = mcu_pulses_generators_3_timer_pending_q_q + mcu_pulses_generators_3_timer_delta;
+        mcu_pulses_generators_3_timer_pending_next = mcu_pulses_generators_3_timer_pending_q_q + mcu_pulses_generators_3_timer_delta;
         if (mcu_pulses_generators_3_timer_reset) begin
-            mcu_pulses_generators_3_timer_pending_q_d = 16'h0;
+            mcu_pulses_generators_3_timer_pending_next = 16'h0;
             mcu_pulses_generators_3_timer_step_q_d = 1'b0;
             mcu_pulses_generators_3_timer_dir_q_d = 1'b0;
+            mcu_pulses_generators_3_timer_emitted_d = 1'b0;
             mcu_pulses_generators_3_timer_t_step_d = mcu_pulses_generators_3_timer_timer_max;
             mcu_pulses_generators_3_timer_t_dir_d = mcu_pulses_generators_3_timer_timer_max;
+            mcu_pulses_generators_3_timer_space_ok_d = 1'b1;
+            mcu_pulses_generators_3_timer_len_ok_d = 1'b1;
+            mcu_pulses_generators_3_timer_hold_ok_d = 1'b1;
+            mcu_pulses_generators_3_timer_setup_ok_d = 1'b1;
         end
+        mcu_pulses_generators_3_timer_pending_q_d = mcu_pulses_generators_3_timer_pending_next;
+        mcu_pulses_generators_3_timer_nonzero_d = |mcu_pulses_generators_3_timer_pending_next;
         mcu_pulses_generators_3_timer_step = mcu_pulses_generators_3_timer_step_q_q;
         mcu_pulses_generators_3_timer_dir = mcu_pulses_generators_3_timer_dir_q_q;
-        mcu_pulses_generators_3_timer_emit_up = mcu_pulses_generators_3_timer_emit & ~mcu_pulses_generators_3_timer_dir_q_q;
-        mcu_pulses_generators_3_timer_emit_down = mcu_pulses_generators_3_timer_emit & mcu_pulses_generators_3_timer_dir_q_q;
-        mcu_pulses_generators_3_timer_accept_up = mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_max;
-        mcu_pulses_generators_3_timer_accept_down = mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_min;
+        mcu_pulses_generators_3_timer_leave_up = mcu_pulses_generators_3_timer_emitted_q & ~mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_leave_down = mcu_pulses_generators_3_timer_emitted_q & mcu_pulses_generators_3_timer_dir_q_q;
+        mcu_pulses_generators_3_timer_room_up = (mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_max) & (mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_max_less_one);
+        mcu_pulses_generators_3_timer_room_down = (mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_min) & (mcu_pulses_generators_3_timer_pending_q_q != mcu_pulses_generators_3_timer_pending_min_plus_one);
         mcu_pulses_generators_3_timer_pending = mcu_pulses_generators_3_timer_pending_q_q;
     end
 
@@ -5850,29 +6162,61 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_generators_0_timer_dir_q_q <= mcu_pulses_generators_0_timer_dir_q_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_t_step_q <= mcu_pulses_generators_0_timer_t_step_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_t_dir_q <= mcu_pulses_generators_0_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_space_ok_q <= mcu_pulses_generators_0_timer_space_ok_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_setup_ok_q <= mcu_pulses_generators_0_timer_setup_ok_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_len_ok_q <= mcu_pulses_generators_0_timer_len_ok_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_hold_ok_q <= mcu_pulses_generators_0_timer_hold_ok_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_emitted_q <= mcu_pulses_generators_0_timer_emitted_d;
+    always @(posedge clock) mcu_pulses_generators_0_timer_nonzero_q <= mcu_pulses_generators_0_timer_nonzero_d;
     always @(posedge clock) mcu_pulses_generators_0_phase_q <= mcu_pulses_generators_0_phase_d;
     always @(posedge clock) mcu_pulses_generators_0_position_q_q <= mcu_pulses_generators_0_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_0_command_up_q <= mcu_pulses_generators_0_command_up_d;
+    always @(posedge clock) mcu_pulses_generators_0_command_down_q <= mcu_pulses_generators_0_command_down_d;
     always @(posedge clock) mcu_pulses_generators_1_timer_pending_q_q <= mcu_pulses_generators_1_timer_pending_q_d;
     always @(posedge clock) mcu_pulses_generators_1_timer_step_q_q <= mcu_pulses_generators_1_timer_step_q_d;
     always @(posedge clock) mcu_pulses_generators_1_timer_dir_q_q <= mcu_pulses_generators_1_timer_dir_q_d;
     always @(posedge clock) mcu_pulses_generators_1_timer_t_step_q <= mcu_pulses_generators_1_timer_t_step_d;
     always @(posedge clock) mcu_pulses_generators_1_timer_t_dir_q <= mcu_pulses_generators_1_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_space_ok_q <= mcu_pulses_generators_1_timer_space_ok_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_setup_ok_q <= mcu_pulses_generators_1_timer_setup_ok_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_len_ok_q <= mcu_pulses_generators_1_timer_len_ok_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_hold_ok_q <= mcu_pulses_generators_1_timer_hold_ok_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_emitted_q <= mcu_pulses_generators_1_timer_emitted_d;
+    always @(posedge clock) mcu_pulses_generators_1_timer_nonzero_q <= mcu_pulses_generators_1_timer_nonzero_d;
     always @(posedge clock) mcu_pulses_generators_1_phase_q <= mcu_pulses_generators_1_phase_d;
     always @(posedge clock) mcu_pulses_generators_1_position_q_q <= mcu_pulses_generators_1_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_1_command_up_q <= mcu_pulses_generators_1_command_up_d;
+    always @(posedge clock) mcu_pulses_generators_1_command_down_q <= mcu_pulses_generators_1_command_down_d;
     always @(posedge clock) mcu_pulses_generators_2_timer_pending_q_q <= mcu_pulses_generators_2_timer_pending_q_d;
     always @(posedge clock) mcu_pulses_generators_2_timer_step_q_q <= mcu_pulses_generators_2_timer_step_q_d;
     always @(posedge clock) mcu_pulses_generators_2_timer_dir_q_q <= mcu_pulses_generators_2_timer_dir_q_d;
     always @(posedge clock) mcu_pulses_generators_2_timer_t_step_q <= mcu_pulses_generators_2_timer_t_step_d;
     always @(posedge clock) mcu_pulses_generators_2_timer_t_dir_q <= mcu_pulses_generators_2_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_space_ok_q <= mcu_pulses_generators_2_timer_space_ok_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_setup_ok_q <= mcu_pulses_generators_2_timer_setup_ok_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_len_ok_q <= mcu_pulses_generators_2_timer_len_ok_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_hold_ok_q <= mcu_pulses_generators_2_timer_hold_ok_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_emitted_q <= mcu_pulses_generators_2_timer_emitted_d;
+    always @(posedge clock) mcu_pulses_generators_2_timer_nonzero_q <= mcu_pulses_generators_2_timer_nonzero_d;
     always @(posedge clock) mcu_pulses_generators_2_phase_q <= mcu_pulses_generators_2_phase_d;
     always @(posedge clock) mcu_pulses_generators_2_position_q_q <= mcu_pulses_generators_2_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_2_command_up_q <= mcu_pulses_generators_2_command_up_d;
+    always @(posedge clock) mcu_pulses_generators_2_command_down_q <= mcu_pulses_generators_2_command_down_d;
     always @(posedge clock) mcu_pulses_generators_3_timer_pending_q_q <= mcu_pulses_generators_3_timer_pending_q_d;
     always @(posedge clock) mcu_pulses_generators_3_timer_step_q_q <= mcu_pulses_generators_3_timer_step_q_d;
     always @(posedge clock) mcu_pulses_generators_3_timer_dir_q_q <= mcu_pulses_generators_3_timer_dir_q_d;
     always @(posedge clock) mcu_pulses_generators_3_timer_t_step_q <= mcu_pulses_generators_3_timer_t_step_d;
     always @(posedge clock) mcu_pulses_generators_3_timer_t_dir_q <= mcu_pulses_generators_3_timer_t_dir_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_space_ok_q <= mcu_pulses_generators_3_timer_space_ok_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_setup_ok_q <= mcu_pulses_generators_3_timer_setup_ok_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_len_ok_q <= mcu_pulses_generators_3_timer_len_ok_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_hold_ok_q <= mcu_pulses_generators_3_timer_hold_ok_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_emitted_q <= mcu_pulses_generators_3_timer_emitted_d;
+    always @(posedge clock) mcu_pulses_generators_3_timer_nonzero_q <= mcu_pulses_generators_3_timer_nonzero_d;
     always @(posedge clock) mcu_pulses_generators_3_phase_q <= mcu_pulses_generators_3_phase_d;
     always @(posedge clock) mcu_pulses_generators_3_position_q_q <= mcu_pulses_generators_3_position_q_d;
+    always @(posedge clock) mcu_pulses_generators_3_command_up_q <= mcu_pulses_generators_3_command_up_d;
+    always @(posedge clock) mcu_pulses_generators_3_command_down_q <= mcu_pulses_generators_3_command_down_d;
     always @(posedge clock) mcu_pulses_engines_0_active_q_q <= mcu_pulses_engines_0_active_q_d;
     always @(posedge clock) mcu_pulses_engines_0_rate_q_q <= mcu_pulses_engines_0_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_0_accel_q_q <= mcu_pulses_engines_0_accel_q_d;

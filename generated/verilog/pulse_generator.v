@@ -24,15 +24,21 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
 
     localparam one = 32'h1;
     localparam minus_one = 32'hffffffff;
+    localparam ones = 32'hffffffff;
+    localparam shift_sixteen = 5'b10000;
+    localparam low_one = 17'b1;
     localparam busy_bit = 32'h10000;
     localparam timer_sign_mask = 16'h8000;
     localparam timer_pending_max = 16'h7fff;
+    localparam timer_pending_max_less_one = 16'h7ffe;
     localparam timer_pending_min = 16'h8001;
+    localparam timer_pending_min_plus_one = 16'h8002;
     localparam timer_one = 16'h1;
     localparam timer_minus_one = 16'hffff;
     localparam timer_two = 16'h2;
     localparam timer_minus_two = 16'hfffe;
     localparam timer_timer_one = 16'h1;
+    localparam timer_timer_restart = 16'h2;
     localparam timer_timer_max = 16'hffff;
 
     reg timer_reset;
@@ -44,20 +50,35 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     reg [15:0] timer_dir_hold;
     reg timer_step;
     reg timer_dir;
-    reg timer_emit_up;
-    reg timer_emit_down;
-    reg timer_accept_up;
-    reg timer_accept_down;
+    reg timer_leave_up;
+    reg timer_leave_down;
+    reg timer_room_up;
+    reg timer_room_down;
     reg [15:0] timer_pending;
     reg [31:0] phase_d;
     reg [31:0] phase_q = 32'h0;
     reg [31:0] position_q_d;
     reg [31:0] position_q_q = 32'h0;
+    reg command_up_d;
+    reg command_up_q = 1'h0;
+    reg command_down_d;
+    reg command_down_q = 1'h0;
     reg [31:0] rate_selected;
     reg [31:0] busy_mask;
     reg negative;
-    reg [31:0] magnitude;
-    reg [32:0] sum;
+    reg [31:0] rate_inverted;
+    reg [16:0] carry_in;
+    reg [16:0] sum_low;
+    reg [16:0] sum_high;
+    reg [16:0] sum_high_carried;
+    reg carry;
+    reg [31:0] phase_next;
+    reg [15:0] phase_low;
+    reg [15:0] phase_high;
+    reg [15:0] rate_low;
+    reg [15:0] rate_high;
+    reg [15:0] phase_low_next;
+    reg [15:0] phase_high_next;
     reg blocked;
     reg request_up;
     reg request_down;
@@ -72,8 +93,24 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     reg [15:0] timer_t_step_q = 16'h0;
     reg [15:0] timer_t_dir_d;
     reg [15:0] timer_t_dir_q = 16'h0;
+    reg timer_space_ok_d;
+    reg timer_space_ok_q = 1'h0;
+    reg timer_setup_ok_d;
+    reg timer_setup_ok_q = 1'h0;
+    reg timer_len_ok_d;
+    reg timer_len_ok_q = 1'h0;
+    reg timer_hold_ok_d;
+    reg timer_hold_ok_q = 1'h0;
+    reg timer_emitted_d;
+    reg timer_emitted_q = 1'h0;
+    reg timer_nonzero_d;
+    reg timer_nonzero_q = 1'h0;
     reg timer_want_negative;
+    reg [15:0] timer_pending_next;
     reg timer_emit;
+    reg timer_falls;
+    reg timer_turns;
+    reg timer_step_event;
     reg [15:0] timer_delta;
 
     assign step = timer_step;
@@ -86,6 +123,8 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     always @(*) begin
         phase_d = phase_q;
         position_q_d = position_q_q;
+        command_up_d = command_up_q;
+        command_down_d = command_down_q;
         timer_reset = reset;
         timer_step_len = step_len;
         timer_step_space = step_space;
@@ -96,36 +135,56 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
             rate_selected = move_rate;
         end
         negative = rate_selected[31];
-        magnitude = rate_selected;
+        rate_inverted = rate_selected;
+        carry_in = 17'h0;
         if (negative) begin
-            magnitude = ~rate_selected + one;
+            rate_inverted = rate_selected ^ ones;
+            carry_in = low_one;
         end
-        sum = {1'h0, phase_q} + {1'h0, magnitude};
-        blocked = ~timer_accept_up;
+        phase_low = phase_q[15:0];
+        phase_high = phase_q[31:16];
+        rate_low = rate_inverted[15:0];
+        rate_high = rate_inverted[31:16];
+        sum_low = {1'h0, phase_low} + {1'h0, rate_low} + carry_in;
+        sum_high = {1'h0, phase_high} + {1'h0, rate_high};
+        sum_high_carried = {1'h0, phase_high} + {1'h0, rate_high} + low_one;
+        phase_low_next = sum_low[15:0];
+        carry = sum_high[16];
+        phase_high_next = sum_high[15:0];
+        if (sum_low[16]) begin
+            carry = sum_high_carried[16];
+            phase_high_next = sum_high_carried[15:0];
+        end
+        phase_next = ({16'h0, phase_high_next} << shift_sixteen) | {16'h0, phase_low_next};
+        blocked = ~timer_room_up;
         if (negative) begin
-            blocked = ~timer_accept_down;
+            blocked = ~timer_room_down;
         end
-        request_up = enable & ~blocked & sum[32] & ~negative;
-        request_down = enable & ~blocked & sum[32] & negative;
-        timer_request_up = request_up;
-        timer_request_down = request_down;
+        request_up = enable & ~blocked & carry & ~negative;
+        request_down = enable & ~blocked & carry & negative;
+        command_up_d = request_up;
+        command_down_d = request_down;
+        timer_request_up = command_up_q;
+        timer_request_down = command_down_q;
         if (enable & ~blocked) begin
-            phase_d = sum[31:0];
+            phase_d = phase_next;
         end
         position_step = 32'h0;
-        if (timer_emit_up) begin
+        if (timer_leave_up) begin
             position_step = one;
         end
-        if (timer_emit_down) begin
+        if (timer_leave_down) begin
             position_step = minus_one;
         end
         position_q_d = position_q_q + position_step;
         if (reset) begin
             phase_d = 32'h0;
             position_q_d = 32'h0;
+            command_up_d = 1'b0;
+            command_down_d = 1'b0;
         end
         busy_mask = 32'h0;
-        if (|timer_pending | timer_step) begin
+        if (|timer_pending | timer_step | command_up_q | command_down_q) begin
             busy_mask = busy_bit;
         end
     end
@@ -136,30 +195,42 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
         timer_dir_q_d = timer_dir_q_q;
         timer_t_step_d = timer_t_step_q;
         timer_t_dir_d = timer_t_dir_q;
+        timer_space_ok_d = timer_space_ok_q;
+        timer_setup_ok_d = timer_setup_ok_q;
+        timer_len_ok_d = timer_len_ok_q;
+        timer_hold_ok_d = timer_hold_ok_q;
+        timer_emitted_d = timer_emitted_q;
+        timer_nonzero_d = timer_nonzero_q;
         timer_want_negative = |(timer_pending_q_q & timer_sign_mask);
-        timer_emit = ~timer_step_q_q & |timer_pending_q_q & (timer_dir_q_q == timer_want_negative) & (timer_t_step_q >= timer_step_space) & (timer_t_dir_q >= timer_dir_setup);
+        timer_emit = ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q == timer_want_negative) & timer_space_ok_q & timer_setup_ok_q;
+        timer_falls = timer_step_q_q & timer_len_ok_q;
+        timer_turns = ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q != timer_want_negative) & timer_hold_ok_q;
+        timer_step_event = timer_falls | timer_emit;
+        timer_step_q_d = timer_step_q_q ^ timer_step_event;
+        timer_dir_q_d = timer_dir_q_q ^ timer_turns;
+        timer_emitted_d = timer_emit;
         if (timer_t_step_q != timer_timer_max) begin
             timer_t_step_d = timer_t_step_q + timer_timer_one;
         end
         if (timer_t_dir_q != timer_timer_max) begin
             timer_t_dir_d = timer_t_dir_q + timer_timer_one;
         end
-        if (timer_step_q_q) begin
-            if (timer_t_step_q >= timer_step_len) begin
-                timer_step_q_d = 1'b0;
-                timer_t_step_d = timer_timer_one;
-            end
+        timer_space_ok_d = timer_t_step_q >= timer_step_space;
+        timer_len_ok_d = timer_t_step_q >= timer_step_len;
+        timer_hold_ok_d = timer_t_step_q >= timer_dir_hold;
+        timer_setup_ok_d = timer_t_dir_q >= timer_dir_setup;
+        if (timer_step_event) begin
+            timer_t_step_d = timer_timer_restart;
+            timer_space_ok_d = timer_step_space <= timer_timer_one;
+            timer_len_ok_d = timer_step_len <= timer_timer_one;
+            timer_hold_ok_d = timer_dir_hold <= timer_timer_one;
         end
-        else if (timer_emit) begin
-            timer_step_q_d = 1'b1;
-            timer_t_step_d = timer_timer_one;
-        end
-        else if (|timer_pending_q_q & (timer_dir_q_q != timer_want_negative) & (timer_t_step_q >= timer_dir_hold)) begin
-            timer_dir_q_d = ~timer_dir_q_q;
-            timer_t_dir_d = timer_timer_one;
+        if (timer_turns) begin
+            timer_t_dir_d = timer_timer_restart;
+            timer_setup_ok_d = timer_dir_setup <= timer_timer_one;
         end
         timer_delta = 16'h0;
-        if (timer_emit) begin
+        if (timer_emitted_q) begin
             if (timer_dir_q_q) begin
                 timer_delta = timer_one;
                 if (timer_request_up) begin
@@ -187,20 +258,27 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
                 timer_delta = timer_minus_one;
             end
         end
-        timer_pending_q_d = timer_pending_q_q + timer_delta;
+        timer_pending_next = timer_pending_q_q + timer_delta;
         if (timer_reset) begin
-            timer_pending_q_d = 16'h0;
+            timer_pending_next = 16'h0;
             timer_step_q_d = 1'b0;
             timer_dir_q_d = 1'b0;
+            timer_emitted_d = 1'b0;
             timer_t_step_d = timer_timer_max;
             timer_t_dir_d = timer_timer_max;
+            timer_space_ok_d = 1'b1;
+            timer_len_ok_d = 1'b1;
+            timer_hold_ok_d = 1'b1;
+            timer_setup_ok_d = 1'b1;
         end
+        timer_pending_q_d = timer_pending_next;
+        timer_nonzero_d = |timer_pending_next;
         timer_step = timer_step_q_q;
         timer_dir = timer_dir_q_q;
-        timer_emit_up = timer_emit & ~timer_dir_q_q;
-        timer_emit_down = timer_emit & timer_dir_q_q;
-        timer_accept_up = timer_pending_q_q != timer_pending_max;
-        timer_accept_down = timer_pending_q_q != timer_pending_min;
+        timer_leave_up = timer_emitted_q & ~timer_dir_q_q;
+        timer_leave_down = timer_emitted_q & timer_dir_q_q;
+        timer_room_up = (timer_pending_q_q != timer_pending_max) & (timer_pending_q_q != timer_pending_max_less_one);
+        timer_room_down = (timer_pending_q_q != timer_pending_min) & (timer_pending_q_q != timer_pending_min_plus_one);
         timer_pending = timer_pending_q_q;
     end
 
@@ -209,8 +287,16 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     always @(posedge clock) timer_dir_q_q <= timer_dir_q_d;
     always @(posedge clock) timer_t_step_q <= timer_t_step_d;
     always @(posedge clock) timer_t_dir_q <= timer_t_dir_d;
+    always @(posedge clock) timer_space_ok_q <= timer_space_ok_d;
+    always @(posedge clock) timer_setup_ok_q <= timer_setup_ok_d;
+    always @(posedge clock) timer_len_ok_q <= timer_len_ok_d;
+    always @(posedge clock) timer_hold_ok_q <= timer_hold_ok_d;
+    always @(posedge clock) timer_emitted_q <= timer_emitted_d;
+    always @(posedge clock) timer_nonzero_q <= timer_nonzero_d;
     always @(posedge clock) phase_q <= phase_d;
     always @(posedge clock) position_q_q <= position_q_d;
+    always @(posedge clock) command_up_q <= command_up_d;
+    always @(posedge clock) command_down_q <= command_down_d;
 endmodule // pulse_generator
 
 `default_nettype wire

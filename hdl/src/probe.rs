@@ -11,8 +11,9 @@ pub struct FilterRegisters {
     pub cnt: u8,
 }
 
-/// The step timer: pending queue (read as two's complement), S1, S2 and
-/// the two hold timers.
+/// The step timer: pending queue (read as two's complement), S1, S2, the
+/// two hold timers, the four timing flags and the step leaving the queue.
+/// (The room flags are a function of the queue, checked as outputs.)
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StepTimerRegisters {
     pub pending: i32,
@@ -20,6 +21,21 @@ pub struct StepTimerRegisters {
     pub dir: bool,
     pub t_step: u32,
     pub t_dir: u32,
+    pub space_ok: bool,
+    pub setup_ok: bool,
+    pub len_ok: bool,
+    pub hold_ok: bool,
+    pub emitted: bool,
+}
+
+/// A pulse generator: NCO phase, position, the command register (+1, -1
+/// or 0) and the step timer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GeneratorRegisters {
+    pub phase: u32,
+    pub position: u32,
+    pub command: i8,
+    pub timer: StepTimerRegisters,
 }
 
 /// Every register of one counter channel.

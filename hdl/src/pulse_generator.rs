@@ -10,10 +10,12 @@ const T: usize = TIMER_BITS as usize;
 
 /// One axis. Each clock with `enable`, the NCO adds |`rate`| to a 32-bit
 /// phase; a carry commands one step in the direction of `rate`'s sign, so
-/// the step frequency is |rate| × f_clk / 2^32, up to f_clk / 2. Commanded
-/// steps wait in a signed queue until the timing allows them; when the
-/// queue is full the NCO holds (the axis falls behind, it never drops a
-/// step). `position` counts the steps emitted; `status` shows the queue.
+/// the step frequency is |rate| × f_clk / 2^32, up to f_clk / 2. The
+/// command is registered and enters a signed queue of steps the next
+/// clock; queued steps wait until the timing allows them. When the queue
+/// is within two steps of full the NCO holds (the axis falls behind, it
+/// never drops a step). `position` counts the steps emitted; `status`
+/// shows the queue.
 #[derive(LogicBlock)]
 pub struct PulseGenerator {
     /// FPGA clock.
@@ -41,26 +43,44 @@ pub struct PulseGenerator {
     pub step: Signal<Out, Bit>,
     /// S2: direction, 1 = negative.
     pub dir: Signal<Out, Bit>,
-    /// Steps emitted, signed, modulo 2^32.
+    /// Steps emitted, signed, modulo 2^32 (a step counts from the clock
+    /// after S1 rose).
     pub position: Signal<Out, Bits<32>>,
     /// The NCO commanded a step this clock (combinational).
     pub commanded: Signal<Out, Bit>,
     /// The NCO's phase advanced this clock (combinational).
     pub advancing: Signal<Out, Bit>,
     /// PULSE.AX[n].STATUS bits 16:0 as the register map lays it out: PENDING in
-    /// bits 15:0, BUSY (steps pending or S1 high) in bit 16.
+    /// bits 15:0, BUSY (a step commanded and not yet out, or S1 high) in
+    /// bit 16.
     pub status: Signal<Out, Bits<32>>,
     timer: StepTimer<P, T>,
     phase: DFF<Bits<32>>,
     position_q: DFF<Bits<32>>,
+    command_up: DFF<Bit>,
+    command_down: DFF<Bit>,
     one: Constant<Bits<32>>,
     minus_one: Constant<Bits<32>>,
+    ones: Constant<Bits<32>>,
+    shift_sixteen: Constant<Bits<5>>,
+    low_one: Constant<Bits<17>>,
     busy_bit: Constant<Bits<32>>,
     rate_selected: Signal<Local, Bits<32>>,
     busy_mask: Signal<Local, Bits<32>>,
     negative: Signal<Local, Bit>,
-    magnitude: Signal<Local, Bits<32>>,
-    sum: Signal<Local, Bits<33>>,
+    rate_inverted: Signal<Local, Bits<32>>,
+    carry_in: Signal<Local, Bits<17>>,
+    sum_low: Signal<Local, Bits<17>>,
+    sum_high: Signal<Local, Bits<17>>,
+    sum_high_carried: Signal<Local, Bits<17>>,
+    carry: Signal<Local, Bit>,
+    phase_next: Signal<Local, Bits<32>>,
+    phase_low: Signal<Local, Bits<16>>,
+    phase_high: Signal<Local, Bits<16>>,
+    rate_low: Signal<Local, Bits<16>>,
+    rate_high: Signal<Local, Bits<16>>,
+    phase_low_next: Signal<Local, Bits<16>>,
+    phase_high_next: Signal<Local, Bits<16>>,
     blocked: Signal<Local, Bit>,
     request_up: Signal<Local, Bit>,
     request_down: Signal<Local, Bit>,
@@ -96,14 +116,30 @@ impl PulseGenerator {
             timer: StepTimer::new(),
             phase: Default::default(),
             position_q: Default::default(),
+            command_up: Default::default(),
+            command_down: Default::default(),
             one: Constant::new(1.into()),
             minus_one: Constant::new(0xffff_ffffu64.into()),
+            ones: Constant::new(0xffff_ffffu64.into()),
+            shift_sixteen: Constant::new(16.into()),
+            low_one: Constant::new(1.into()),
             busy_bit: Constant::new((1u64 << 16).into()),
             rate_selected: Default::default(),
             busy_mask: Default::default(),
             negative: Default::default(),
-            magnitude: Default::default(),
-            sum: Default::default(),
+            rate_inverted: Default::default(),
+            carry_in: Default::default(),
+            sum_low: Default::default(),
+            sum_high: Default::default(),
+            sum_high_carried: Default::default(),
+            carry: Default::default(),
+            phase_next: Default::default(),
+            phase_low: Default::default(),
+            phase_high: Default::default(),
+            rate_low: Default::default(),
+            rate_high: Default::default(),
+            phase_low_next: Default::default(),
+            phase_high_next: Default::default(),
             blocked: Default::default(),
             request_up: Default::default(),
             request_down: Default::default(),
@@ -112,19 +148,20 @@ impl PulseGenerator {
     }
 
     /// Every register, for comparison with the model.
-    pub fn probe(&self) -> (u32, u32, crate::probe::StepTimerRegisters) {
-        (
-            self.phase.q.val().index() as u32,
-            self.position_q.q.val().index() as u32,
-            self.timer.probe(),
-        )
+    pub fn probe(&self) -> crate::probe::GeneratorRegisters {
+        crate::probe::GeneratorRegisters {
+            phase: self.phase.q.val().index() as u32,
+            position: self.position_q.q.val().index() as u32,
+            command: i8::from(self.command_up.q.val()) - i8::from(self.command_down.q.val()),
+            timer: self.timer.probe(),
+        }
     }
 }
 
 impl Logic for PulseGenerator {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, phase, position_q);
+        dff_setup!(self, clock, phase, position_q, command_up, command_down);
         self.timer.clock.next = self.clock.val();
         self.timer.reset.next = self.reset.val();
         self.timer.step_len.next = self.step_len.val();
@@ -140,49 +177,81 @@ impl Logic for PulseGenerator {
             self.rate_selected.next = self.move_rate.val();
         }
         self.negative.next = self.rate_selected.val().get_bit(31);
-        self.magnitude.next = self.rate_selected.val();
+        self.rate_inverted.next = self.rate_selected.val();
+        self.carry_in.next = 0.into();
         if self.negative.val() {
-            self.magnitude.next = !self.rate_selected.val() + self.one.val();
+            self.rate_inverted.next = self.rate_selected.val() ^ self.ones.val();
+            self.carry_in.next = self.low_one.val();
         }
-        self.sum.next =
-            bit_cast::<33, 32>(self.phase.q.val()) + bit_cast::<33, 32>(self.magnitude.val());
-        self.blocked.next = !self.timer.accept_up.val();
+        // phase + |rate| as carry chains: for a negative rate, |rate| =
+        // !rate + 1 and the +1 is the carry into bit 0. The high half is
+        // added both with and without the low half's carry (carry select),
+        // so no chain is longer than 17 bits.
+        self.phase_low.next = self.phase.q.val().get_bits::<16>(0);
+        self.phase_high.next = self.phase.q.val().get_bits::<16>(16);
+        self.rate_low.next = self.rate_inverted.val().get_bits::<16>(0);
+        self.rate_high.next = self.rate_inverted.val().get_bits::<16>(16);
+        self.sum_low.next = bit_cast::<17, 16>(self.phase_low.val())
+            + bit_cast::<17, 16>(self.rate_low.val())
+            + self.carry_in.val();
+        self.sum_high.next =
+            bit_cast::<17, 16>(self.phase_high.val()) + bit_cast::<17, 16>(self.rate_high.val());
+        self.sum_high_carried.next = bit_cast::<17, 16>(self.phase_high.val())
+            + bit_cast::<17, 16>(self.rate_high.val())
+            + self.low_one.val();
+        self.phase_low_next.next = self.sum_low.val().get_bits::<16>(0);
+        self.carry.next = self.sum_high.val().get_bit(16);
+        self.phase_high_next.next = self.sum_high.val().get_bits::<16>(0);
+        if self.sum_low.val().get_bit(16) {
+            self.carry.next = self.sum_high_carried.val().get_bit(16);
+            self.phase_high_next.next = self.sum_high_carried.val().get_bits::<16>(0);
+        }
+        self.phase_next.next = (bit_cast::<32, 16>(self.phase_high_next.val())
+            << self.shift_sixteen.val())
+            | bit_cast::<32, 16>(self.phase_low_next.val());
+        self.blocked.next = !self.timer.room_up.val();
         if self.negative.val() {
-            self.blocked.next = !self.timer.accept_down.val();
+            self.blocked.next = !self.timer.room_down.val();
         }
-        self.request_up.next = self.enable.val()
-            & !self.blocked.val()
-            & self.sum.val().get_bit(32)
-            & !self.negative.val();
-        self.request_down.next = self.enable.val()
-            & !self.blocked.val()
-            & self.sum.val().get_bit(32)
-            & self.negative.val();
-        self.timer.request_up.next = self.request_up.val();
-        self.timer.request_down.next = self.request_down.val();
+        self.request_up.next =
+            self.enable.val() & !self.blocked.val() & self.carry.val() & !self.negative.val();
+        self.request_down.next =
+            self.enable.val() & !self.blocked.val() & self.carry.val() & self.negative.val();
+        // The command is registered: the queue adds it a clock later.
+        self.command_up.d.next = self.request_up.val();
+        self.command_down.d.next = self.request_down.val();
+        self.timer.request_up.next = self.command_up.q.val();
+        self.timer.request_down.next = self.command_down.q.val();
         self.commanded.next = self.request_up.val() | self.request_down.val();
         self.advancing.next = self.enable.val() & !self.blocked.val();
         if self.enable.val() & !self.blocked.val() {
-            self.phase.d.next = self.sum.val().get_bits::<32>(0);
+            self.phase.d.next = self.phase_next.val();
         }
-        // Position: one adder.
+        // Position: one adder, fed by flip-flops (the step S1 started at
+        // the last edge).
         self.position_step.next = 0.into();
-        if self.timer.emit_up.val() {
+        if self.timer.leave_up.val() {
             self.position_step.next = self.one.val();
         }
-        if self.timer.emit_down.val() {
+        if self.timer.leave_down.val() {
             self.position_step.next = self.minus_one.val();
         }
         self.position_q.d.next = self.position_q.q.val() + self.position_step.val();
         if self.reset.val() {
             self.phase.d.next = 0.into();
             self.position_q.d.next = 0.into();
+            self.command_up.d.next = false;
+            self.command_down.d.next = false;
         }
         self.step.next = self.timer.step.val();
         self.dir.next = self.timer.dir.val();
         self.position.next = self.position_q.q.val();
         self.busy_mask.next = 0.into();
-        if self.timer.pending.val().any() | self.timer.step.val() {
+        if self.timer.pending.val().any()
+            | self.timer.step.val()
+            | self.command_up.q.val()
+            | self.command_down.q.val()
+        {
             self.busy_mask.next = self.busy_bit.val();
         }
         self.status.next = bit_cast::<32, P>(self.timer.pending.val()) | self.busy_mask.val();

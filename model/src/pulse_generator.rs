@@ -26,8 +26,12 @@ pub use step_timer::{Request, StepTimer, StepTimerState, StepTiming};
 pub struct PulseGenerator {
     /// NCO phase accumulator.
     pub phase: u32,
-    /// Emitted steps, signed, modulo 2^32.
+    /// Emitted steps, signed, modulo 2^32: a step counts from the clock
+    /// after S1 rose.
     pub position: u32,
+    /// The step the NCO commanded at the last edge, on its way into the
+    /// queue (a register: the NCO's carry chain ends there).
+    pub command: Request,
     pub timer: StepTimer,
 }
 
@@ -52,6 +56,7 @@ impl PulseGenerator {
         Self {
             phase: 0,
             position: 0,
+            command: Request::None,
             timer: StepTimer::new(PENDING_BITS, TIMER_BITS),
         }
     }
@@ -60,6 +65,13 @@ impl PulseGenerator {
     pub fn outputs(&self) -> (bool, bool) {
         let s = self.timer.state();
         (s.step, s.dir)
+    }
+
+    /// STATUS.BUSY: a step is commanded and not yet out (on its way into
+    /// the queue, queued, or leaving it) or S1 is high.
+    pub fn busy(&self) -> bool {
+        let s = self.timer.state();
+        s.pending != 0 || s.step || self.command != Request::None
     }
 
     /// The NCO's request at this edge, and whether the queue holds it back
@@ -74,7 +86,7 @@ impl PulseGenerator {
             (true, false) => Request::Up,
             (true, true) => Request::Down,
         };
-        let blocked = !self.timer.accepts(if inp.rate < 0 {
+        let blocked = !self.timer.has_room(if inp.rate < 0 {
             Request::Down
         } else {
             Request::Up
@@ -89,11 +101,11 @@ impl PulseGenerator {
             return;
         }
         let (request, blocked) = self.request(inp);
-        let emit = self.timer.emits(&inp.timing);
         if inp.enable && !blocked {
             self.phase = self.phase.wrapping_add(inp.rate.unsigned_abs());
         }
-        self.position = self.position.wrapping_add(emit as u32);
-        self.timer.clock(request, &inp.timing);
+        self.position = self.position.wrapping_add(self.timer.leaving() as u32);
+        self.timer.clock(self.command, &inp.timing);
+        self.command = request;
     }
 }

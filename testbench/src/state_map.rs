@@ -3,10 +3,12 @@
 //! the one place that knows both sides.
 
 use motionhdl_hdl::probe::{
-    ChannelRegisters, FilterRegisters, MoveEngineRegisters, StepTimerRegisters,
+    ChannelRegisters, FilterRegisters, GeneratorRegisters, MoveEngineRegisters, StepTimerRegisters,
 };
 use motionhdl_model::counter::{ChannelState, InputFilter};
-use motionhdl_model::pulse_generator::{MoveEngineProbe, StepTimerState};
+use motionhdl_model::pulse_generator::{
+    MoveEngineProbe, PulseGenerator, Request, StepTimer, StepTimerState, PENDING_BITS, TIMER_BITS,
+};
 
 pub fn filter(r: FilterRegisters) -> InputFilter {
     InputFilter {
@@ -24,14 +26,28 @@ pub fn step_timer(r: StepTimerRegisters) -> StepTimerState {
         dir: r.dir,
         t_step: r.t_step,
         t_dir: r.t_dir,
+        space_ok: r.space_ok,
+        setup_ok: r.setup_ok,
+        len_ok: r.len_ok,
+        hold_ok: r.hold_ok,
+        emitted: r.emitted,
     }
 }
 
-/// A pulse generator's (NCO phase, position, step timer).
-pub fn generator(
-    (phase, position, timer): (u32, u32, StepTimerRegisters),
-) -> (u32, u32, StepTimerState) {
-    (phase, position, step_timer(timer))
+/// A pulse generator as the model's axis (full-width queue and timers).
+pub fn generator(r: GeneratorRegisters) -> PulseGenerator {
+    let mut timer = StepTimer::new(PENDING_BITS, TIMER_BITS);
+    timer.set_state(step_timer(r.timer));
+    PulseGenerator {
+        phase: r.phase,
+        position: r.position,
+        command: match r.command {
+            1 => Request::Up,
+            -1 => Request::Down,
+            _ => Request::None,
+        },
+        timer,
+    }
 }
 
 pub fn channel(r: ChannelRegisters) -> ChannelState {

@@ -137,7 +137,7 @@ impl PulseBank {
                         "STATUS" => {
                             let t = self.generators[i].timer.state();
                             let e = &self.engines[i];
-                            let busy = t.pending != 0 || t.step;
+                            let busy = self.generators[i].busy();
                             (t.pending as u32 & 0xffff)
                                 | u32::from(busy) << 16
                                 | u32::from(e.active()) << 17

@@ -26,19 +26,38 @@ pub enum Request {
 }
 
 /// The step timer's registers.
+///
+/// The timing comparisons are made a clock ahead and held in flip-flops
+/// (`space_ok`, `setup_ok`, `len_ok`, `hold_ok`), so no comparison sits
+/// between a register and the queue's adder: each flag at clock k says
+/// whether its timer's value at clock k reaches the timing of clock k-1.
+/// A new STEP_TIMING/DIR_TIMING therefore acts one clock after it arrives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct StepTimerState {
-    /// Commanded minus emitted steps.
+    /// Commanded minus emitted steps, a step counting as emitted from the
+    /// clock after S1 rose (see `emitted`).
     pub pending: i32,
     /// S1.
     pub step: bool,
     /// S2: 1 = negative direction (the counter bank's PULSE_DIR convention).
     pub dir: bool,
-    /// Clocks S1 has held its level, counting the clock after the edge that
-    /// set it as 1; saturates at the timer's maximum.
+    /// Clocks S1 will have held its level at the next clock: 2 in the first
+    /// clock after the edge that changed it; saturates at the timer's
+    /// maximum.
     pub t_step: u32,
-    /// Clocks S2 has held its level, the same way.
+    /// The same for S2.
     pub t_dir: u32,
+    /// S1 has been low for at least STEP_SPACE clocks.
+    pub space_ok: bool,
+    /// S2 has been stable for at least DIR_SETUP clocks.
+    pub setup_ok: bool,
+    /// S1 has been high for at least STEP_LEN clocks.
+    pub len_ok: bool,
+    /// S1 has been low for at least DIR_HOLD clocks.
+    pub hold_ok: bool,
+    /// S1 rose at the last edge: the step leaves the queue (and enters the
+    /// position) at the next one, in the direction S2 shows.
+    pub emitted: bool,
 }
 
 /// The output timing state machine with a `pending_bits`-bit queue and
@@ -54,29 +73,37 @@ pub struct StepTimer {
 impl StepTimer {
     pub fn new(pending_bits: u32, timer_bits: u32) -> Self {
         assert!(
-            (2..=16).contains(&pending_bits),
-            "pending_bits = {pending_bits} out of range 2..=16"
+            (3..=16).contains(&pending_bits),
+            "pending_bits = {pending_bits} out of range 3..=16"
         );
         assert!(
             (1..=16).contains(&timer_bits),
             "timer_bits = {timer_bits} out of range 1..=16"
         );
-        let mut t = Self {
+        let max = (1 << timer_bits) - 1;
+        Self {
             pending_bits,
             timer_bits,
-            state: StepTimerState {
-                pending: 0,
-                step: false,
-                dir: false,
-                t_step: 0,
-                t_dir: 0,
-            },
-        };
-        t.reset();
-        t
+            state: Self::reset_state(max),
+        }
     }
 
-    /// Largest queue magnitude: the NCO holds rather than go past it.
+    fn reset_state(timer_max: u32) -> StepTimerState {
+        StepTimerState {
+            pending: 0,
+            step: false,
+            dir: false,
+            t_step: timer_max,
+            t_dir: timer_max,
+            space_ok: true,
+            setup_ok: true,
+            len_ok: true,
+            hold_ok: true,
+            emitted: false,
+        }
+    }
+
+    /// Largest queue magnitude: a request past it is refused.
     pub fn pending_max(&self) -> i32 {
         (1 << (self.pending_bits - 1)) - 1
     }
@@ -94,16 +121,10 @@ impl StepTimer {
     }
 
     pub fn reset(&mut self) {
-        self.state = StepTimerState {
-            pending: 0,
-            step: false,
-            dir: false,
-            t_step: self.timer_max(),
-            t_dir: self.timer_max(),
-        };
+        self.state = Self::reset_state(self.timer_max());
     }
 
-    /// Whether the queue can take `request` this clock (else the NCO holds).
+    /// Whether the queue can take `request` at this edge.
     pub fn accepts(&self, request: Request) -> bool {
         match request {
             Request::None => true,
@@ -112,16 +133,22 @@ impl StepTimer {
         }
     }
 
-    /// The step emitted at this edge, if any: +1 or -1.
-    pub fn emits(&self, timing: &StepTiming) -> i32 {
+    /// Whether a request in this direction decided now, and so reaching
+    /// the queue one clock later, still fits: the queue is at least two
+    /// steps from its end (one more may be on its way in).
+    pub fn has_room(&self, request: Request) -> bool {
+        match request {
+            Request::None => true,
+            Request::Up => self.state.pending <= self.pending_max() - 2,
+            Request::Down => self.state.pending >= 2 - self.pending_max(),
+        }
+    }
+
+    /// The step S1 starts at this edge, if any: +1 or -1.
+    pub fn emits(&self) -> i32 {
         let s = &self.state;
         let want_negative = s.pending < 0;
-        if !s.step
-            && s.pending != 0
-            && s.dir == want_negative
-            && s.t_step >= timing.step_space
-            && s.t_dir >= timing.dir_setup
-        {
+        if !s.step && s.pending != 0 && s.dir == want_negative && s.space_ok && s.setup_ok {
             if s.dir {
                 -1
             } else {
@@ -129,6 +156,16 @@ impl StepTimer {
             }
         } else {
             0
+        }
+    }
+
+    /// The step that leaves the queue at this edge (S1 rose at the last
+    /// one): +1, -1 or 0.
+    pub fn leaving(&self) -> i32 {
+        match (self.state.emitted, self.state.dir) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => -1,
         }
     }
 
@@ -142,28 +179,33 @@ impl StepTimer {
         let max = self.timer_max();
         let inc = |t: u32| if t < max { t + 1 } else { t };
         let s = self.state;
-        let emit = self.emits(timing);
-        let mut n = s;
-        n.t_step = inc(s.t_step);
-        n.t_dir = inc(s.t_dir);
-        if s.step {
-            if s.t_step >= timing.step_len {
-                n.step = false;
-                n.t_step = 1;
-            }
-        } else if emit != 0 {
-            n.step = true;
-            n.t_step = 1;
-        } else if s.pending != 0 && s.dir != (s.pending < 0) && s.t_step >= timing.dir_hold {
-            n.dir = !s.dir;
-            n.t_dir = 1;
-        }
+        let emit = self.emits();
+        let falls = s.step && s.len_ok;
+        let turns = !s.step && emit == 0 && s.pending != 0 && s.dir != (s.pending < 0) && s.hold_ok;
+        // The timers' values at the next clock, compared with this clock's
+        // timing: the flags of the next clock.
+        let step_now = if falls || emit != 0 { 1 } else { s.t_step };
+        let dir_now = if turns { 1 } else { s.t_dir };
         let commanded = match request {
             Request::None => 0,
             Request::Up => 1,
             Request::Down => -1,
         };
-        n.pending = s.pending + commanded - emit;
-        self.state = n;
+        self.state = StepTimerState {
+            pending: s.pending + commanded - self.leaving(),
+            step: if s.step { !falls } else { emit != 0 },
+            dir: s.dir != turns,
+            t_step: if falls || emit != 0 {
+                inc(1)
+            } else {
+                inc(s.t_step)
+            },
+            t_dir: if turns { inc(1) } else { inc(s.t_dir) },
+            space_ok: step_now >= timing.step_space,
+            setup_ok: dir_now >= timing.dir_setup,
+            len_ok: step_now >= timing.step_len,
+            hold_ok: step_now >= timing.dir_hold,
+            emitted: emit != 0,
+        };
     }
 }

@@ -103,7 +103,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "STEP_TIMING",
                     2,
                     ReadWrite,
-                    "Minimum step pulse length and space, in clocks (0 counts as 1).",
+                    "Minimum step pulse length and space, in clocks (0 counts as 1); acts one clock after it is written.",
                     "",
                     timing("STEP_LEN", "STEP_SPACE", "S1 high at least this long.", "S1 low at least this long between steps."),
                 ),
@@ -111,7 +111,7 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "DIR_TIMING",
                     3,
                     ReadWrite,
-                    "Minimum direction set-up and hold, in clocks (0 counts as 1).",
+                    "Minimum direction set-up and hold, in clocks (0 counts as 1); acts one clock after it is written.",
                     "",
                     timing("DIR_SETUP", "DIR_HOLD", "S2 stable at least this long before S1 rises.", "S1 low at least this long before S2 changes."),
                 ),
@@ -130,8 +130,8 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "Live state of the axis.",
                     "",
                     vec![
-                        field("PENDING", 0, 16, ReadOnly, "Steps commanded but not yet emitted, signed."),
-                        field("BUSY", 16, 1, ReadOnly, "Steps pending or S1 high."),
+                        field("PENDING", 0, 16, ReadOnly, "Steps queued, signed: a step enters 2 clocks after the NCO commands it and leaves the clock after S1 rises."),
+                        field("BUSY", 16, 1, ReadOnly, "A commanded step is not yet out (entering, queued or leaving) or S1 is high."),
                         field("MOVING", 17, 1, ReadOnly, "A segment is running."),
                         field(
                             "DONE",

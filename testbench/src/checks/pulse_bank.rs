@@ -100,7 +100,7 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
             let f = (uut.f1.val().get_bit(i), uut.f2.val().get_bit(i));
             let g = state_map::generator(uut.generator(i).probe());
             let mg = model.generator(i);
-            let want_g = (mg.phase, mg.position, mg.timer.state());
+            let want_g = *mg;
             let e = state_map::engine(uut.engine(i).probe());
             let want_e = model.engine(i).probe();
             if e != want_e {
@@ -263,7 +263,7 @@ pub fn loopback(output: Output, seed: u64, segments: usize) -> (i64, i64, u64) {
         false,
     );
     let mut guard = 0;
-    while pb.generator(0).probe().2.pending != 0 || pb.generator(0).step.val() {
+    while pb.generator(0).status.val().get_bit(16) {
         step(&mut pb, &mut cb, idle, idle, false);
         guard += 1;
         assert!(guard < 1_000_000, "queue does not drain");
@@ -289,7 +289,7 @@ pub fn loopback(output: Output, seed: u64, segments: usize) -> (i64, i64, u64) {
     step(&mut pb, &mut cb, idle, idle, false);
     let counted = cb.rdata.val().index() as u32 as i32 as i64;
     let position =
-        motionhdl_model::counter::sign_extend(pb.generator(0).probe().1, W) as i32 as i64;
+        motionhdl_model::counter::sign_extend(pb.generator(0).probe().position, W) as i32 as i64;
     (position, counted, clocks)
 }
 
@@ -332,10 +332,7 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
                 state_map::generator(uut.generator(a).probe()),
             );
             let g = model.generator(a);
-            let want = (
-                model.engine(a).probe(),
-                (g.phase, g.position, g.timer.state()),
-            );
+            let want = (model.engine(a).probe(), *g);
             r.case((got != want).then(|| format!("clock {clocks}: HDL {got:?}, model {want:?}")));
         };
     let idle = BusCycle::default();

@@ -98,15 +98,14 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
         uut.dir_setup.next = u64::from(timing.dir_setup).into();
         uut.dir_hold.next = u64::from(timing.dir_hold).into();
         settle(&mut uut);
-        let emit = model.emits(&timing);
-        let accept = (model.accepts(Request::Up), model.accepts(Request::Down));
+        // A step S1 starts shows in the `emitted` register after the edge.
+        let leave = model.leaving();
+        let room = (model.has_room(Request::Up), model.has_room(Request::Down));
         let got_comb = (
-            uut.emit_up.val(),
-            uut.emit_down.val(),
-            uut.accept_up.val(),
-            uut.accept_down.val(),
+            (uut.leave_up.val(), uut.leave_down.val()),
+            (uut.room_up.val(), uut.room_down.val()),
         );
-        let want_comb = (emit > 0, emit < 0, accept.0, accept.1);
+        let want_comb = ((leave > 0, leave < 0), room);
         let before = model.state();
         model.clock(request, &timing);
         cycle(&mut uut, |u| &mut u.clock);
@@ -192,8 +191,8 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
 }
 
 /// The model through `vectors`: (S1, S2, position, pending as
-/// PENDING_BITS-bit two's complement) after every clock.
-pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32)> {
+/// PENDING_BITS-bit two's complement, BUSY) after every clock.
+pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32, bool)> {
     let mut g = m::PulseGenerator::new();
     let mask = (1u32 << m::PENDING_BITS) - 1;
     vectors
@@ -201,7 +200,13 @@ pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32)> {
         .map(|v| {
             g.clock(&v.inputs, v.reset);
             let (s, d) = g.outputs();
-            (s, d, g.position, g.timer.state().pending as u32 & mask)
+            (
+                s,
+                d,
+                g.position,
+                g.timer.state().pending as u32 & mask,
+                g.busy(),
+            )
         })
         .collect()
 }
@@ -236,7 +241,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
         cycle(&mut uut, |u| &mut u.clock);
         g.clock(&v.inputs, v.reset);
         let got = state_map::generator(uut.probe());
-        let want = (g.phase, g.position, g.timer.state());
+        let want = g;
         r.case((got != want).then(|| format!("clock {k} {v:?}: HDL {got:?}, model {want:?}")));
         if r.failures.len() > 5 {
             break;
@@ -300,9 +305,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     rows.push(vec![0; 9]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
-            for (k, &(s, d, p, q)) in want.iter().enumerate() {
+            for (k, &(s, d, p, q, busy)) in want.iter().enumerate() {
                 let got = &out[k + 1];
-                let busy = q != 0 || s;
                 let status = q | u32::from(busy) << 16;
                 let want = [u64::from(s), u64::from(d), u64::from(p), u64::from(status)];
                 let got = &got[..want.len()];
@@ -417,7 +421,7 @@ pub fn run_schedule(
         timing,
     };
     let mut guard = 0;
-    while g.timer.state().pending != 0 || g.outputs().0 {
+    while g.busy() {
         step(&mut g, idle, &mut out);
         guard += 1;
         assert!(guard < 10_000_000, "queue does not drain");
