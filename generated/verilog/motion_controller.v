@@ -407,6 +407,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_3_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_3_timer_timer_max = 16'hffff;
     localparam mcu_pulses_engines_0_one = 32'h1;
+    localparam mcu_pulses_engines_0_two = 32'h2;
     localparam mcu_pulses_engines_0_full = 7'b1000000;
     localparam mcu_pulses_engines_0_word_shift = 8'h2;
     localparam mcu_pulses_engines_0_word_rate = 8'h1;
@@ -417,6 +418,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_0_low_bit = 32'h8000000;
     localparam mcu_pulses_engines_0_level_shift = 32'h14;
     localparam mcu_pulses_engines_1_one = 32'h1;
+    localparam mcu_pulses_engines_1_two = 32'h2;
     localparam mcu_pulses_engines_1_full = 7'b1000000;
     localparam mcu_pulses_engines_1_word_shift = 8'h2;
     localparam mcu_pulses_engines_1_word_rate = 8'h1;
@@ -427,6 +429,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_1_low_bit = 32'h8000000;
     localparam mcu_pulses_engines_1_level_shift = 32'h14;
     localparam mcu_pulses_engines_2_one = 32'h1;
+    localparam mcu_pulses_engines_2_two = 32'h2;
     localparam mcu_pulses_engines_2_full = 7'b1000000;
     localparam mcu_pulses_engines_2_word_shift = 8'h2;
     localparam mcu_pulses_engines_2_word_rate = 8'h1;
@@ -437,6 +440,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_2_low_bit = 32'h8000000;
     localparam mcu_pulses_engines_2_level_shift = 32'h14;
     localparam mcu_pulses_engines_3_one = 32'h1;
+    localparam mcu_pulses_engines_3_two = 32'h2;
     localparam mcu_pulses_engines_3_full = 7'b1000000;
     localparam mcu_pulses_engines_3_word_shift = 8'h2;
     localparam mcu_pulses_engines_3_word_rate = 8'h1;
@@ -1763,6 +1767,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_0_accel_q_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_remaining_d;
     reg [31:0] mcu_pulses_engines_0_remaining_q = 32'h0;
+    reg mcu_pulses_engines_0_commanded_q_d;
+    reg mcu_pulses_engines_0_commanded_q_q = 1'h0;
+    reg mcu_pulses_engines_0_last_q_d;
+    reg mcu_pulses_engines_0_last_q_q = 1'h0;
     reg mcu_pulses_engines_0_done_q_d;
     reg mcu_pulses_engines_0_done_q_q = 1'h0;
     reg mcu_pulses_engines_0_overflow_q_d;
@@ -1787,6 +1795,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_0_ram_write_data;
     reg mcu_pulses_engines_0_ram_write_enable;
     reg [5:0] mcu_pulses_engines_0_tail;
+    reg mcu_pulses_engines_0_ending;
+    reg mcu_pulses_engines_0_live;
+    reg mcu_pulses_engines_0_done_now;
     reg mcu_pulses_engines_0_popped;
     reg mcu_pulses_engines_0_ended;
     reg [6:0] mcu_pulses_engines_0_count_after_pop;
@@ -1802,6 +1813,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_1_accel_q_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_remaining_d;
     reg [31:0] mcu_pulses_engines_1_remaining_q = 32'h0;
+    reg mcu_pulses_engines_1_commanded_q_d;
+    reg mcu_pulses_engines_1_commanded_q_q = 1'h0;
+    reg mcu_pulses_engines_1_last_q_d;
+    reg mcu_pulses_engines_1_last_q_q = 1'h0;
     reg mcu_pulses_engines_1_done_q_d;
     reg mcu_pulses_engines_1_done_q_q = 1'h0;
     reg mcu_pulses_engines_1_overflow_q_d;
@@ -1826,6 +1841,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_1_ram_write_data;
     reg mcu_pulses_engines_1_ram_write_enable;
     reg [5:0] mcu_pulses_engines_1_tail;
+    reg mcu_pulses_engines_1_ending;
+    reg mcu_pulses_engines_1_live;
+    reg mcu_pulses_engines_1_done_now;
     reg mcu_pulses_engines_1_popped;
     reg mcu_pulses_engines_1_ended;
     reg [6:0] mcu_pulses_engines_1_count_after_pop;
@@ -1841,6 +1859,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_2_accel_q_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_remaining_d;
     reg [31:0] mcu_pulses_engines_2_remaining_q = 32'h0;
+    reg mcu_pulses_engines_2_commanded_q_d;
+    reg mcu_pulses_engines_2_commanded_q_q = 1'h0;
+    reg mcu_pulses_engines_2_last_q_d;
+    reg mcu_pulses_engines_2_last_q_q = 1'h0;
     reg mcu_pulses_engines_2_done_q_d;
     reg mcu_pulses_engines_2_done_q_q = 1'h0;
     reg mcu_pulses_engines_2_overflow_q_d;
@@ -1865,6 +1887,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_2_ram_write_data;
     reg mcu_pulses_engines_2_ram_write_enable;
     reg [5:0] mcu_pulses_engines_2_tail;
+    reg mcu_pulses_engines_2_ending;
+    reg mcu_pulses_engines_2_live;
+    reg mcu_pulses_engines_2_done_now;
     reg mcu_pulses_engines_2_popped;
     reg mcu_pulses_engines_2_ended;
     reg [6:0] mcu_pulses_engines_2_count_after_pop;
@@ -1880,6 +1905,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_3_accel_q_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_remaining_d;
     reg [31:0] mcu_pulses_engines_3_remaining_q = 32'h0;
+    reg mcu_pulses_engines_3_commanded_q_d;
+    reg mcu_pulses_engines_3_commanded_q_q = 1'h0;
+    reg mcu_pulses_engines_3_last_q_d;
+    reg mcu_pulses_engines_3_last_q_q = 1'h0;
     reg mcu_pulses_engines_3_done_q_d;
     reg mcu_pulses_engines_3_done_q_q = 1'h0;
     reg mcu_pulses_engines_3_overflow_q_d;
@@ -1904,6 +1933,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_3_ram_write_data;
     reg mcu_pulses_engines_3_ram_write_enable;
     reg [5:0] mcu_pulses_engines_3_tail;
+    reg mcu_pulses_engines_3_ending;
+    reg mcu_pulses_engines_3_live;
+    reg mcu_pulses_engines_3_done_now;
     reg mcu_pulses_engines_3_popped;
     reg mcu_pulses_engines_3_ended;
     reg [6:0] mcu_pulses_engines_3_count_after_pop;
@@ -5086,6 +5118,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q;
         mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_accel_q_q;
         mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_remaining_q;
+        mcu_pulses_engines_0_commanded_q_d = mcu_pulses_engines_0_commanded_q_q;
+        mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_last_q_q;
         mcu_pulses_engines_0_done_q_d = mcu_pulses_engines_0_done_q_q;
         mcu_pulses_engines_0_overflow_q_d = mcu_pulses_engines_0_overflow_q_q;
         mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q;
@@ -5115,16 +5149,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_staged_d = 1'b1;
             mcu_pulses_engines_0_fetch_d = 2'h0;
         end
+        mcu_pulses_engines_0_ending = mcu_pulses_engines_0_active_q_q & mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q;
+        mcu_pulses_engines_0_live = mcu_pulses_engines_0_active_q_q & ~mcu_pulses_engines_0_ending;
+        mcu_pulses_engines_0_commanded_q_d = mcu_pulses_engines_0_commanded & mcu_pulses_engines_0_live;
         mcu_pulses_engines_0_popped = 1'b0;
         mcu_pulses_engines_0_ended = 1'b0;
-        if (mcu_pulses_engines_0_active_q_q) begin
-            if (mcu_pulses_engines_0_commanded) begin
-                mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_remaining_q - mcu_pulses_engines_0_one;
-                if (mcu_pulses_engines_0_remaining_q == mcu_pulses_engines_0_one) begin
-                    mcu_pulses_engines_0_active_q_d = 1'b0;
-                    mcu_pulses_engines_0_ended = 1'b1;
-                end
+        if (mcu_pulses_engines_0_active_q_q & mcu_pulses_engines_0_commanded_q_q) begin
+            mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_remaining_q - mcu_pulses_engines_0_one;
+            mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_remaining_q == mcu_pulses_engines_0_two;
+            if (mcu_pulses_engines_0_last_q_q) begin
+                mcu_pulses_engines_0_active_q_d = 1'b0;
             end
+        end
+        if (mcu_pulses_engines_0_live) begin
             if (mcu_pulses_engines_0_advancing) begin
                 mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_q_q;
             end
@@ -5138,12 +5175,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_staged_rate_q;
             mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_staged_accel_q;
             mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_staged_steps_q;
+            mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_staged_steps_q == mcu_pulses_engines_0_one;
         end
         mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q;
         if (mcu_pulses_engines_0_popped) begin
             mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q - 7'h1;
         end
-        if (mcu_pulses_engines_0_ended & ~|mcu_pulses_engines_0_count_after_pop) begin
+        mcu_pulses_engines_0_done_now = mcu_pulses_engines_0_ending & ~|mcu_pulses_engines_0_count_q;
+        if (mcu_pulses_engines_0_done_now | (mcu_pulses_engines_0_ended & ~|mcu_pulses_engines_0_count_after_pop)) begin
             mcu_pulses_engines_0_done_q_d = 1'b1;
         end
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_after_pop;
@@ -5174,6 +5213,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_rate_q_d = 32'h0;
             mcu_pulses_engines_0_accel_q_d = 32'h0;
             mcu_pulses_engines_0_remaining_d = 32'h0;
+            mcu_pulses_engines_0_commanded_q_d = 1'b0;
+            mcu_pulses_engines_0_last_q_d = 1'b0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
             mcu_pulses_engines_0_head_d = 6'h0;
@@ -5182,15 +5223,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
-        if (mcu_pulses_engines_0_active_q_q) begin
+        if (mcu_pulses_engines_0_active_q_q & ~(mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q)) begin
             mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q;
         end
         mcu_pulses_engines_0_level_word = {25'h0, mcu_pulses_engines_0_count_q};
         mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_level_word << mcu_pulses_engines_0_level_shift;
-        if (mcu_pulses_engines_0_active_q_q) begin
+        if (mcu_pulses_engines_0_live) begin
             mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_moving_bit;
         end
-        if (mcu_pulses_engines_0_done_q_q) begin
+        if (mcu_pulses_engines_0_done_q_q | mcu_pulses_engines_0_done_now) begin
             mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_done_bit;
         end
         if (mcu_pulses_engines_0_overflow_q_q) begin
@@ -5208,6 +5249,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q;
         mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_accel_q_q;
         mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_remaining_q;
+        mcu_pulses_engines_1_commanded_q_d = mcu_pulses_engines_1_commanded_q_q;
+        mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_last_q_q;
         mcu_pulses_engines_1_done_q_d = mcu_pulses_engines_1_done_q_q;
         mcu_pulses_engines_1_overflow_q_d = mcu_pulses_engines_1_overflow_q_q;
         mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q;
@@ -5237,16 +5280,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_staged_d = 1'b1;
             mcu_pulses_engines_1_fetch_d = 2'h0;
         end
+        mcu_pulses_engines_1_ending = mcu_pulses_engines_1_active_q_q & mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q;
+        mcu_pulses_engines_1_live = mcu_pulses_engines_1_active_q_q & ~mcu_pulses_engines_1_ending;
+        mcu_pulses_engines_1_commanded_q_d = mcu_pulses_engines_1_commanded & mcu_pulses_engines_1_live;
         mcu_pulses_engines_1_popped = 1'b0;
         mcu_pulses_engines_1_ended = 1'b0;
-        if (mcu_pulses_engines_1_active_q_q) begin
-            if (mcu_pulses_engines_1_commanded) begin
-                mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_remaining_q - mcu_pulses_engines_1_one;
-                if (mcu_pulses_engines_1_remaining_q == mcu_pulses_engines_1_one) begin
-                    mcu_pulses_engines_1_active_q_d = 1'b0;
-                    mcu_pulses_engines_1_ended = 1'b1;
-                end
+        if (mcu_pulses_engines_1_active_q_q & mcu_pulses_engines_1_commanded_q_q) begin
+            mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_remaining_q - mcu_pulses_engines_1_one;
+            mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_remaining_q == mcu_pulses_engines_1_two;
+            if (mcu_pulses_engines_1_last_q_q) begin
+                mcu_pulses_engines_1_active_q_d = 1'b0;
             end
+        end
+        if (mcu_pulses_engines_1_live) begin
             if (mcu_pulses_engines_1_advancing) begin
                 mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_q_q;
             end
@@ -5260,12 +5306,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_staged_rate_q;
             mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_staged_accel_q;
             mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_staged_steps_q;
+            mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_staged_steps_q == mcu_pulses_engines_1_one;
         end
         mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q;
         if (mcu_pulses_engines_1_popped) begin
             mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q - 7'h1;
         end
-        if (mcu_pulses_engines_1_ended & ~|mcu_pulses_engines_1_count_after_pop) begin
+        mcu_pulses_engines_1_done_now = mcu_pulses_engines_1_ending & ~|mcu_pulses_engines_1_count_q;
+        if (mcu_pulses_engines_1_done_now | (mcu_pulses_engines_1_ended & ~|mcu_pulses_engines_1_count_after_pop)) begin
             mcu_pulses_engines_1_done_q_d = 1'b1;
         end
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_after_pop;
@@ -5296,6 +5344,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_rate_q_d = 32'h0;
             mcu_pulses_engines_1_accel_q_d = 32'h0;
             mcu_pulses_engines_1_remaining_d = 32'h0;
+            mcu_pulses_engines_1_commanded_q_d = 1'b0;
+            mcu_pulses_engines_1_last_q_d = 1'b0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
             mcu_pulses_engines_1_head_d = 6'h0;
@@ -5304,15 +5354,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_fetch_d = 2'h0;
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
-        if (mcu_pulses_engines_1_active_q_q) begin
+        if (mcu_pulses_engines_1_active_q_q & ~(mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q)) begin
             mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q;
         end
         mcu_pulses_engines_1_level_word = {25'h0, mcu_pulses_engines_1_count_q};
         mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_level_word << mcu_pulses_engines_1_level_shift;
-        if (mcu_pulses_engines_1_active_q_q) begin
+        if (mcu_pulses_engines_1_live) begin
             mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_moving_bit;
         end
-        if (mcu_pulses_engines_1_done_q_q) begin
+        if (mcu_pulses_engines_1_done_q_q | mcu_pulses_engines_1_done_now) begin
             mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_done_bit;
         end
         if (mcu_pulses_engines_1_overflow_q_q) begin
@@ -5330,6 +5380,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q;
         mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_accel_q_q;
         mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_remaining_q;
+        mcu_pulses_engines_2_commanded_q_d = mcu_pulses_engines_2_commanded_q_q;
+        mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_last_q_q;
         mcu_pulses_engines_2_done_q_d = mcu_pulses_engines_2_done_q_q;
         mcu_pulses_engines_2_overflow_q_d = mcu_pulses_engines_2_overflow_q_q;
         mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q;
@@ -5359,16 +5411,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_staged_d = 1'b1;
             mcu_pulses_engines_2_fetch_d = 2'h0;
         end
+        mcu_pulses_engines_2_ending = mcu_pulses_engines_2_active_q_q & mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q;
+        mcu_pulses_engines_2_live = mcu_pulses_engines_2_active_q_q & ~mcu_pulses_engines_2_ending;
+        mcu_pulses_engines_2_commanded_q_d = mcu_pulses_engines_2_commanded & mcu_pulses_engines_2_live;
         mcu_pulses_engines_2_popped = 1'b0;
         mcu_pulses_engines_2_ended = 1'b0;
-        if (mcu_pulses_engines_2_active_q_q) begin
-            if (mcu_pulses_engines_2_commanded) begin
-                mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_remaining_q - mcu_pulses_engines_2_one;
-                if (mcu_pulses_engines_2_remaining_q == mcu_pulses_engines_2_one) begin
-                    mcu_pulses_engines_2_active_q_d = 1'b0;
-                    mcu_pulses_engines_2_ended = 1'b1;
-                end
+        if (mcu_pulses_engines_2_active_q_q & mcu_pulses_engines_2_commanded_q_q) begin
+            mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_remaining_q - mcu_pulses_engines_2_one;
+            mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_remaining_q == mcu_pulses_engines_2_two;
+            if (mcu_pulses_engines_2_last_q_q) begin
+                mcu_pulses_engines_2_active_q_d = 1'b0;
             end
+        end
+        if (mcu_pulses_engines_2_live) begin
             if (mcu_pulses_engines_2_advancing) begin
                 mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_q_q;
             end
@@ -5382,12 +5437,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_staged_rate_q;
             mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_staged_accel_q;
             mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_staged_steps_q;
+            mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_staged_steps_q == mcu_pulses_engines_2_one;
         end
         mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q;
         if (mcu_pulses_engines_2_popped) begin
             mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q - 7'h1;
         end
-        if (mcu_pulses_engines_2_ended & ~|mcu_pulses_engines_2_count_after_pop) begin
+        mcu_pulses_engines_2_done_now = mcu_pulses_engines_2_ending & ~|mcu_pulses_engines_2_count_q;
+        if (mcu_pulses_engines_2_done_now | (mcu_pulses_engines_2_ended & ~|mcu_pulses_engines_2_count_after_pop)) begin
             mcu_pulses_engines_2_done_q_d = 1'b1;
         end
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_after_pop;
@@ -5418,6 +5475,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_rate_q_d = 32'h0;
             mcu_pulses_engines_2_accel_q_d = 32'h0;
             mcu_pulses_engines_2_remaining_d = 32'h0;
+            mcu_pulses_engines_2_commanded_q_d = 1'b0;
+            mcu_pulses_engines_2_last_q_d = 1'b0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
             mcu_pulses_engines_2_head_d = 6'h0;
@@ -5426,15 +5485,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_fetch_d = 2'h0;
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
-        if (mcu_pulses_engines_2_active_q_q) begin
+        if (mcu_pulses_engines_2_active_q_q & ~(mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q)) begin
             mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q;
         end
         mcu_pulses_engines_2_level_word = {25'h0, mcu_pulses_engines_2_count_q};
         mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_level_word << mcu_pulses_engines_2_level_shift;
-        if (mcu_pulses_engines_2_active_q_q) begin
+        if (mcu_pulses_engines_2_live) begin
             mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_moving_bit;
         end
-        if (mcu_pulses_engines_2_done_q_q) begin
+        if (mcu_pulses_engines_2_done_q_q | mcu_pulses_engines_2_done_now) begin
             mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_done_bit;
         end
         if (mcu_pulses_engines_2_overflow_q_q) begin
@@ -5452,6 +5511,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q;
         mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_accel_q_q;
         mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_remaining_q;
+        mcu_pulses_engines_3_commanded_q_d = mcu_pulses_engines_3_commanded_q_q;
+        mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_last_q_q;
         mcu_pulses_engines_3_done_q_d = mcu_pulses_engines_3_done_q_q;
         mcu_pulses_engines_3_overflow_q_d = mcu_pulses_engines_3_overflow_q_q;
         mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q;
@@ -5481,16 +5542,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_staged_d = 1'b1;
             mcu_pulses_engines_3_fetch_d = 2'h0;
         end
+        mcu_pulses_engines_3_ending = mcu_pulses_engines_3_active_q_q & mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q;
+        mcu_pulses_engines_3_live = mcu_pulses_engines_3_active_q_q & ~mcu_pulses_engines_3_ending;
+        mcu_pulses_engines_3_commanded_q_d = mcu_pulses_engines_3_commanded & mcu_pulses_engines_3_live;
         mcu_pulses_engines_3_popped = 1'b0;
         mcu_pulses_engines_3_ended = 1'b0;
-        if (mcu_pulses_engines_3_active_q_q) begin
-            if (mcu_pulses_engines_3_commanded) begin
-                mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_remaining_q - mcu_pulses_engines_3_one;
-                if (mcu_pulses_engines_3_remaining_q == mcu_pulses_engines_3_one) begin
-                    mcu_pulses_engines_3_active_q_d = 1'b0;
-                    mcu_pulses_engines_3_ended = 1'b1;
-                end
+        if (mcu_pulses_engines_3_active_q_q & mcu_pulses_engines_3_commanded_q_q) begin
+            mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_remaining_q - mcu_pulses_engines_3_one;
+            mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_remaining_q == mcu_pulses_engines_3_two;
+            if (mcu_pulses_engines_3_last_q_q) begin
+                mcu_pulses_engines_3_active_q_d = 1'b0;
             end
+        end
+        if (mcu_pulses_engines_3_live) begin
             if (mcu_pulses_engines_3_advancing) begin
                 mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_q_q;
             end
@@ -5504,12 +5568,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_staged_rate_q;
             mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_staged_accel_q;
             mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_staged_steps_q;
+            mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_staged_steps_q == mcu_pulses_engines_3_one;
         end
         mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q;
         if (mcu_pulses_engines_3_popped) begin
             mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q - 7'h1;
         end
-        if (mcu_pulses_engines_3_ended & ~|mcu_pulses_engines_3_count_after_pop) begin
+        mcu_pulses_engines_3_done_now = mcu_pulses_engines_3_ending & ~|mcu_pulses_engines_3_count_q;
+        if (mcu_pulses_engines_3_done_now | (mcu_pulses_engines_3_ended & ~|mcu_pulses_engines_3_count_after_pop)) begin
             mcu_pulses_engines_3_done_q_d = 1'b1;
         end
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_after_pop;
@@ -5540,6 +5606,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_rate_q_d = 32'h0;
             mcu_pulses_engines_3_accel_q_d = 32'h0;
             mcu_pulses_engines_3_remaining_d = 32'h0;
+            mcu_pulses_engines_3_commanded_q_d = 1'b0;
+            mcu_pulses_engines_3_last_q_d = 1'b0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
             mcu_pulses_engines_3_head_d = 6'h0;
@@ -5548,15 +5616,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
-        if (mcu_pulses_engines_3_active_q_q) begin
+        if (mcu_pulses_engines_3_active_q_q & ~(mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q)) begin
             mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q;
         end
         mcu_pulses_engines_3_level_word = {25'h0, mcu_pulses_engines_3_count_q};
         mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_level_word << mcu_pulses_engines_3_level_shift;
-        if (mcu_pulses_engines_3_active_q_q) begin
+        if (mcu_pulses_engines_3_live) begin
             mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_moving_bit;
         end
-        if (mcu_pulses_engines_3_done_q_q) begin
+        if (mcu_pulses_engines_3_done_q_q | mcu_pulses_engines_3_done_now) begin
             mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_done_bit;
         end
         if (mcu_pulses_engines_3_overflow_q_q) begin
@@ -6221,6 +6289,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_rate_q_q <= mcu_pulses_engines_0_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_0_accel_q_q <= mcu_pulses_engines_0_accel_q_d;
     always @(posedge clock) mcu_pulses_engines_0_remaining_q <= mcu_pulses_engines_0_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_0_commanded_q_q <= mcu_pulses_engines_0_commanded_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_last_q_q <= mcu_pulses_engines_0_last_q_d;
     always @(posedge clock) mcu_pulses_engines_0_done_q_q <= mcu_pulses_engines_0_done_q_d;
     always @(posedge clock) mcu_pulses_engines_0_overflow_q_q <= mcu_pulses_engines_0_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_0_head_q <= mcu_pulses_engines_0_head_d;
@@ -6234,6 +6304,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_rate_q_q <= mcu_pulses_engines_1_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_1_accel_q_q <= mcu_pulses_engines_1_accel_q_d;
     always @(posedge clock) mcu_pulses_engines_1_remaining_q <= mcu_pulses_engines_1_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_1_commanded_q_q <= mcu_pulses_engines_1_commanded_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_last_q_q <= mcu_pulses_engines_1_last_q_d;
     always @(posedge clock) mcu_pulses_engines_1_done_q_q <= mcu_pulses_engines_1_done_q_d;
     always @(posedge clock) mcu_pulses_engines_1_overflow_q_q <= mcu_pulses_engines_1_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_1_head_q <= mcu_pulses_engines_1_head_d;
@@ -6247,6 +6319,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_rate_q_q <= mcu_pulses_engines_2_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_2_accel_q_q <= mcu_pulses_engines_2_accel_q_d;
     always @(posedge clock) mcu_pulses_engines_2_remaining_q <= mcu_pulses_engines_2_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_2_commanded_q_q <= mcu_pulses_engines_2_commanded_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_last_q_q <= mcu_pulses_engines_2_last_q_d;
     always @(posedge clock) mcu_pulses_engines_2_done_q_q <= mcu_pulses_engines_2_done_q_d;
     always @(posedge clock) mcu_pulses_engines_2_overflow_q_q <= mcu_pulses_engines_2_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_2_head_q <= mcu_pulses_engines_2_head_d;
@@ -6260,6 +6334,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_rate_q_q <= mcu_pulses_engines_3_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_3_accel_q_q <= mcu_pulses_engines_3_accel_q_d;
     always @(posedge clock) mcu_pulses_engines_3_remaining_q <= mcu_pulses_engines_3_remaining_d;
+    always @(posedge clock) mcu_pulses_engines_3_commanded_q_q <= mcu_pulses_engines_3_commanded_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_last_q_q <= mcu_pulses_engines_3_last_q_d;
     always @(posedge clock) mcu_pulses_engines_3_done_q_q <= mcu_pulses_engines_3_done_q_d;
     always @(posedge clock) mcu_pulses_engines_3_overflow_q_q <= mcu_pulses_engines_3_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_3_head_q <= mcu_pulses_engines_3_head_d;

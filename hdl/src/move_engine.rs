@@ -24,6 +24,14 @@ const RAM_ADDR: usize = PTR + 2;
 /// `accel` on every clock the NCO advances; `done` rises when the last
 /// pushed segment has commanded all its steps. Reset clears every flip-flop;
 /// the RAM keeps its words.
+///
+/// The NCO's carry is registered (`commanded_q`) before it is counted, so
+/// no path runs from the NCO's adder into this block's logic. That costs no
+/// clock: the NCO never carries two clocks running (|rate| ≤ 2^31), so in
+/// the clock after a segment's last step the segment is taken as ended
+/// (`ending`, from flip-flops alone), as the unregistered count would have
+/// ended it at that edge. [`MoveEngine::probe`] reports the registers as
+/// that count would hold them.
 #[derive(LogicBlock)]
 pub struct MoveEngine {
     /// FPGA clock.
@@ -32,7 +40,7 @@ pub struct MoveEngine {
     pub reset: Signal<In, Bit>,
     /// The axis runs moves (RUN bit and CTRL.MOVES): segments may load.
     pub run: Signal<In, Bit>,
-    /// The NCO commanded a step this clock.
+    /// The NCO commanded a step this clock (registered here first).
     pub commanded: Signal<In, Bit>,
     /// The NCO's phase advanced this clock.
     pub advancing: Signal<In, Bit>,
@@ -60,6 +68,8 @@ pub struct MoveEngine {
     rate_q: DFF<Bits<32>>,
     accel_q: DFF<Bits<32>>,
     remaining: DFF<Bits<32>>,
+    commanded_q: DFF<Bit>,
+    last_q: DFF<Bit>,
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
     head: DFF<Bits<PTR>>,
@@ -73,6 +83,7 @@ pub struct MoveEngine {
     staged_accel: DFF<Bits<32>>,
     ram: RAM<Bits<32>, RAM_ADDR>,
     one: Constant<Bits<32>>,
+    two: Constant<Bits<32>>,
     full: Constant<Bits<LEVEL>>,
     word_shift: Constant<Bits<RAM_ADDR>>,
     word_rate: Constant<Bits<RAM_ADDR>>,
@@ -83,6 +94,9 @@ pub struct MoveEngine {
     low_bit: Constant<Bits<32>>,
     level_shift: Constant<Bits<32>>,
     tail: Signal<Local, Bits<PTR>>,
+    ending: Signal<Local, Bit>,
+    live: Signal<Local, Bit>,
+    done_now: Signal<Local, Bit>,
     popped: Signal<Local, Bit>,
     ended: Signal<Local, Bit>,
     count_after_pop: Signal<Local, Bits<LEVEL>>,
@@ -132,6 +146,8 @@ impl MoveEngine {
             rate_q: Default::default(),
             accel_q: Default::default(),
             remaining: Default::default(),
+            commanded_q: Default::default(),
+            last_q: Default::default(),
             done_q: Default::default(),
             overflow_q: Default::default(),
             head: Default::default(),
@@ -143,6 +159,7 @@ impl MoveEngine {
             staged_accel: Default::default(),
             ram: Default::default(),
             one: Constant::new(1.into()),
+            two: Constant::new(2.into()),
             full: Constant::new((DEPTH as u64).into()),
             word_shift: word(2),
             word_rate: word(1),
@@ -153,6 +170,9 @@ impl MoveEngine {
             low_bit: bit("FIFO_LOW"),
             level_shift: Constant::new((level.lsb as u64).into()),
             tail: Default::default(),
+            ending: Default::default(),
+            live: Default::default(),
+            done_now: Default::default(),
             popped: Default::default(),
             ended: Default::default(),
             count_after_pop: Default::default(),
@@ -163,13 +183,18 @@ impl MoveEngine {
         }
     }
 
-    /// The registers, for comparison with the model.
+    /// The registers, for comparison with the model: `active`,
+    /// `remaining` and `done` as they would stand had the step registered
+    /// in `commanded_q` been counted at the edge it was commanded.
     pub fn probe(&self) -> MoveEngineRegisters {
+        let counted = self.active_q.q.val() && self.commanded_q.q.val();
+        let remaining = self.remaining.q.val().index() as u32;
+        let ending = counted && remaining == 1;
         MoveEngineRegisters {
-            active: self.active_q.q.val(),
+            active: self.active_q.q.val() && !ending,
             rate: self.rate_q.q.val().index() as u32,
-            remaining: self.remaining.q.val().index() as u32,
-            done: self.done_q.q.val(),
+            remaining: remaining - u32::from(counted),
+            done: self.done_q.q.val() || (ending && self.count.q.val().index() == 0),
             overflow: self.overflow_q.q.val(),
             level: self.count.q.val().index() as u32,
             staged: self.staged.q.val(),
@@ -188,6 +213,8 @@ impl Logic for MoveEngine {
             rate_q,
             accel_q,
             remaining,
+            commanded_q,
+            last_q,
             done_q,
             overflow_q,
             head,
@@ -221,16 +248,21 @@ impl Logic for MoveEngine {
             self.staged.d.next = true;
             self.fetch.d.next = 0.into();
         }
+        // The step the NCO commanded last clock is counted now; if it was
+        // the segment's last, the segment is over in this clock already.
+        self.ending.next = self.active_q.q.val() & self.commanded_q.q.val() & self.last_q.q.val();
+        self.live.next = self.active_q.q.val() & !self.ending.val();
+        self.commanded_q.d.next = self.commanded.val() & self.live.val();
         self.popped.next = false;
         self.ended.next = false;
-        if self.active_q.q.val() {
-            if self.commanded.val() {
-                self.remaining.d.next = self.remaining.q.val() - self.one.val();
-                if self.remaining.q.val() == self.one.val() {
-                    self.active_q.d.next = false;
-                    self.ended.next = true;
-                }
+        if self.active_q.q.val() & self.commanded_q.q.val() {
+            self.remaining.d.next = self.remaining.q.val() - self.one.val();
+            self.last_q.d.next = self.remaining.q.val() == self.two.val();
+            if self.last_q.q.val() {
+                self.active_q.d.next = false;
             }
+        }
+        if self.live.val() {
             if self.advancing.val() {
                 self.rate_q.d.next = self.rate_q.q.val() + self.accel_q.q.val();
             }
@@ -243,12 +275,17 @@ impl Logic for MoveEngine {
             self.rate_q.d.next = self.staged_rate.q.val();
             self.accel_q.d.next = self.staged_accel.q.val();
             self.remaining.d.next = self.staged_steps.q.val();
+            self.last_q.d.next = self.staged_steps.q.val() == self.one.val();
         }
         self.count_after_pop.next = self.count.q.val();
         if self.popped.val() {
             self.count_after_pop.next = self.count.q.val() - 1;
         }
-        if self.ended.val() & !self.count_after_pop.val().any() {
+        // DONE as the unregistered count would show it: a segment ending
+        // now with nothing queued behind it (the count before this clock's
+        // pop: a pop loads a segment that is still to run).
+        self.done_now.next = self.ending.val() & !self.count.q.val().any();
+        if self.done_now.val() | (self.ended.val() & !self.count_after_pop.val().any()) {
             self.done_q.d.next = true;
         }
         self.count.d.next = self.count_after_pop.val();
@@ -286,6 +323,8 @@ impl Logic for MoveEngine {
             self.rate_q.d.next = 0.into();
             self.accel_q.d.next = 0.into();
             self.remaining.d.next = 0.into();
+            self.commanded_q.d.next = false;
+            self.last_q.d.next = false;
             self.done_q.d.next = false;
             self.overflow_q.d.next = false;
             self.head.d.next = 0.into();
@@ -294,16 +333,19 @@ impl Logic for MoveEngine {
             self.fetch.d.next = 0.into();
         }
         // One assignment to each output (see PulseGenerator::update).
+        // From flip-flops only (not through `live`, which shares its block
+        // with the NCO's inputs): Verilator then sees no loop through the
+        // NCO.
         self.rate_out.next = 0.into();
-        if self.active_q.q.val() {
+        if self.active_q.q.val() & !(self.commanded_q.q.val() & self.last_q.q.val()) {
             self.rate_out.next = self.rate_q.q.val();
         }
         self.level_word.next = bit_cast::<32, LEVEL>(self.count.q.val());
         self.status_word.next = self.level_word.val() << self.level_shift.val();
-        if self.active_q.q.val() {
+        if self.live.val() {
             self.status_word.next = self.status_word.val() | self.moving_bit.val();
         }
-        if self.done_q.q.val() {
+        if self.done_q.q.val() | self.done_now.val() {
             self.status_word.next = self.status_word.val() | self.done_bit.val();
         }
         if self.overflow_q.q.val() {
