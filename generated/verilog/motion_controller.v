@@ -335,8 +335,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_axis_bit_2 = 4'h4;
     localparam mcu_pulses_axis_bit_3 = 4'h8;
     localparam mcu_pulses_generators_0_one = 32'h1;
-    localparam mcu_pulses_generators_0_minus_one = 32'hffffffff;
-    localparam mcu_pulses_generators_0_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_0_all_ones = 32'hffffffff;
     localparam mcu_pulses_generators_0_shift_sixteen = 5'b10000;
     localparam mcu_pulses_generators_0_low_one = 17'b1;
     localparam mcu_pulses_generators_0_busy_bit = 32'h10000;
@@ -353,8 +352,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_0_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_0_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_1_one = 32'h1;
-    localparam mcu_pulses_generators_1_minus_one = 32'hffffffff;
-    localparam mcu_pulses_generators_1_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_1_all_ones = 32'hffffffff;
     localparam mcu_pulses_generators_1_shift_sixteen = 5'b10000;
     localparam mcu_pulses_generators_1_low_one = 17'b1;
     localparam mcu_pulses_generators_1_busy_bit = 32'h10000;
@@ -371,8 +369,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_1_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_1_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_2_one = 32'h1;
-    localparam mcu_pulses_generators_2_minus_one = 32'hffffffff;
-    localparam mcu_pulses_generators_2_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_2_all_ones = 32'hffffffff;
     localparam mcu_pulses_generators_2_shift_sixteen = 5'b10000;
     localparam mcu_pulses_generators_2_low_one = 17'b1;
     localparam mcu_pulses_generators_2_busy_bit = 32'h10000;
@@ -389,8 +386,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_generators_2_timer_timer_restart = 16'h2;
     localparam mcu_pulses_generators_2_timer_timer_max = 16'hffff;
     localparam mcu_pulses_generators_3_one = 32'h1;
-    localparam mcu_pulses_generators_3_minus_one = 32'hffffffff;
-    localparam mcu_pulses_generators_3_ones = 32'hffffffff;
+    localparam mcu_pulses_generators_3_all_ones = 32'hffffffff;
     localparam mcu_pulses_generators_3_shift_sixteen = 5'b10000;
     localparam mcu_pulses_generators_3_low_one = 17'b1;
     localparam mcu_pulses_generators_3_busy_bit = 32'h10000;
@@ -1514,6 +1510,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_0_phase_low_next;
     reg [15:0] mcu_pulses_generators_0_phase_high_next;
     reg mcu_pulses_generators_0_blocked;
+    reg mcu_pulses_generators_0_advance;
     reg mcu_pulses_generators_0_request_up;
     reg mcu_pulses_generators_0_request_down;
     reg [31:0] mcu_pulses_generators_0_position_step;
@@ -1585,6 +1582,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_1_phase_low_next;
     reg [15:0] mcu_pulses_generators_1_phase_high_next;
     reg mcu_pulses_generators_1_blocked;
+    reg mcu_pulses_generators_1_advance;
     reg mcu_pulses_generators_1_request_up;
     reg mcu_pulses_generators_1_request_down;
     reg [31:0] mcu_pulses_generators_1_position_step;
@@ -1656,6 +1654,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_2_phase_low_next;
     reg [15:0] mcu_pulses_generators_2_phase_high_next;
     reg mcu_pulses_generators_2_blocked;
+    reg mcu_pulses_generators_2_advance;
     reg mcu_pulses_generators_2_request_up;
     reg mcu_pulses_generators_2_request_down;
     reg [31:0] mcu_pulses_generators_2_position_step;
@@ -1727,6 +1726,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_3_phase_low_next;
     reg [15:0] mcu_pulses_generators_3_phase_high_next;
     reg mcu_pulses_generators_3_blocked;
+    reg mcu_pulses_generators_3_advance;
     reg mcu_pulses_generators_3_request_up;
     reg mcu_pulses_generators_3_request_down;
     reg [31:0] mcu_pulses_generators_3_position_step;
@@ -4459,7 +4459,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_rate_inverted = mcu_pulses_generators_0_rate_selected;
         mcu_pulses_generators_0_carry_in = 17'h0;
         if (mcu_pulses_generators_0_negative) begin
-            mcu_pulses_generators_0_rate_inverted = mcu_pulses_generators_0_rate_selected ^ mcu_pulses_generators_0_ones;
+            mcu_pulses_generators_0_rate_inverted = mcu_pulses_generators_0_rate_selected ^ mcu_pulses_generators_0_all_ones;
             mcu_pulses_generators_0_carry_in = mcu_pulses_generators_0_low_one;
         end
         mcu_pulses_generators_0_phase_low = mcu_pulses_generators_0_phase_q[15:0];
@@ -4481,15 +4481,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_0_negative) begin
             mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_room_down;
         end
-        mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_carry & ~mcu_pulses_generators_0_negative;
-        mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked & mcu_pulses_generators_0_carry & mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_advance = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked;
+        mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_advance & mcu_pulses_generators_0_carry & ~mcu_pulses_generators_0_negative;
+        mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_advance & mcu_pulses_generators_0_carry & mcu_pulses_generators_0_negative;
         mcu_pulses_generators_0_command_up_d = mcu_pulses_generators_0_request_up;
         mcu_pulses_generators_0_command_down_d = mcu_pulses_generators_0_request_down;
         mcu_pulses_generators_0_timer_request_up = mcu_pulses_generators_0_command_up_q;
         mcu_pulses_generators_0_timer_request_down = mcu_pulses_generators_0_command_down_q;
         mcu_pulses_generators_0_commanded = mcu_pulses_generators_0_request_up | mcu_pulses_generators_0_request_down;
-        mcu_pulses_generators_0_advancing = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked;
-        if (mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked) begin
+        mcu_pulses_generators_0_advancing = mcu_pulses_generators_0_advance;
+        if (mcu_pulses_generators_0_advance) begin
             mcu_pulses_generators_0_phase_d = mcu_pulses_generators_0_phase_next;
         end
         mcu_pulses_generators_0_position_step = 32'h0;
@@ -4497,7 +4498,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_one;
         end
         if (mcu_pulses_generators_0_timer_leave_down) begin
-            mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_minus_one;
+            mcu_pulses_generators_0_position_step = mcu_pulses_generators_0_all_ones;
         end
         mcu_pulses_generators_0_position_q_d = mcu_pulses_generators_0_position_q_q + mcu_pulses_generators_0_position_step;
         if (mcu_pulses_generators_0_reset) begin
@@ -4627,7 +4628,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_rate_inverted = mcu_pulses_generators_1_rate_selected;
         mcu_pulses_generators_1_carry_in = 17'h0;
         if (mcu_pulses_generators_1_negative) begin
-            mcu_pulses_generators_1_rate_inverted = mcu_pulses_generators_1_rate_selected ^ mcu_pulses_generators_1_ones;
+            mcu_pulses_generators_1_rate_inverted = mcu_pulses_generators_1_rate_selected ^ mcu_pulses_generators_1_all_ones;
             mcu_pulses_generators_1_carry_in = mcu_pulses_generators_1_low_one;
         end
         mcu_pulses_generators_1_phase_low = mcu_pulses_generators_1_phase_q[15:0];
@@ -4649,15 +4650,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_1_negative) begin
             mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_room_down;
         end
-        mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_carry & ~mcu_pulses_generators_1_negative;
-        mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked & mcu_pulses_generators_1_carry & mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_advance = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked;
+        mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_advance & mcu_pulses_generators_1_carry & ~mcu_pulses_generators_1_negative;
+        mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_advance & mcu_pulses_generators_1_carry & mcu_pulses_generators_1_negative;
         mcu_pulses_generators_1_command_up_d = mcu_pulses_generators_1_request_up;
         mcu_pulses_generators_1_command_down_d = mcu_pulses_generators_1_request_down;
         mcu_pulses_generators_1_timer_request_up = mcu_pulses_generators_1_command_up_q;
         mcu_pulses_generators_1_timer_request_down = mcu_pulses_generators_1_command_down_q;
         mcu_pulses_generators_1_commanded = mcu_pulses_generators_1_request_up | mcu_pulses_generators_1_request_down;
-        mcu_pulses_generators_1_advancing = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked;
-        if (mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked) begin
+        mcu_pulses_generators_1_advancing = mcu_pulses_generators_1_advance;
+        if (mcu_pulses_generators_1_advance) begin
             mcu_pulses_generators_1_phase_d = mcu_pulses_generators_1_phase_next;
         end
         mcu_pulses_generators_1_position_step = 32'h0;
@@ -4665,7 +4667,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_one;
         end
         if (mcu_pulses_generators_1_timer_leave_down) begin
-            mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_minus_one;
+            mcu_pulses_generators_1_position_step = mcu_pulses_generators_1_all_ones;
         end
         mcu_pulses_generators_1_position_q_d = mcu_pulses_generators_1_position_q_q + mcu_pulses_generators_1_position_step;
         if (mcu_pulses_generators_1_reset) begin
@@ -4795,7 +4797,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_rate_inverted = mcu_pulses_generators_2_rate_selected;
         mcu_pulses_generators_2_carry_in = 17'h0;
         if (mcu_pulses_generators_2_negative) begin
-            mcu_pulses_generators_2_rate_inverted = mcu_pulses_generators_2_rate_selected ^ mcu_pulses_generators_2_ones;
+            mcu_pulses_generators_2_rate_inverted = mcu_pulses_generators_2_rate_selected ^ mcu_pulses_generators_2_all_ones;
             mcu_pulses_generators_2_carry_in = mcu_pulses_generators_2_low_one;
         end
         mcu_pulses_generators_2_phase_low = mcu_pulses_generators_2_phase_q[15:0];
@@ -4817,15 +4819,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_2_negative) begin
             mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_room_down;
         end
-        mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_carry & ~mcu_pulses_generators_2_negative;
-        mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked & mcu_pulses_generators_2_carry & mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_advance = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked;
+        mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_advance & mcu_pulses_generators_2_carry & ~mcu_pulses_generators_2_negative;
+        mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_advance & mcu_pulses_generators_2_carry & mcu_pulses_generators_2_negative;
         mcu_pulses_generators_2_command_up_d = mcu_pulses_generators_2_request_up;
         mcu_pulses_generators_2_command_down_d = mcu_pulses_generators_2_request_down;
         mcu_pulses_generators_2_timer_request_up = mcu_pulses_generators_2_command_up_q;
         mcu_pulses_generators_2_timer_request_down = mcu_pulses_generators_2_command_down_q;
         mcu_pulses_generators_2_commanded = mcu_pulses_generators_2_request_up | mcu_pulses_generators_2_request_down;
-        mcu_pulses_generators_2_advancing = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked;
-        if (mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked) begin
+        mcu_pulses_generators_2_advancing = mcu_pulses_generators_2_advance;
+        if (mcu_pulses_generators_2_advance) begin
             mcu_pulses_generators_2_phase_d = mcu_pulses_generators_2_phase_next;
         end
         mcu_pulses_generators_2_position_step = 32'h0;
@@ -4833,7 +4836,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_one;
         end
         if (mcu_pulses_generators_2_timer_leave_down) begin
-            mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_minus_one;
+            mcu_pulses_generators_2_position_step = mcu_pulses_generators_2_all_ones;
         end
         mcu_pulses_generators_2_position_q_d = mcu_pulses_generators_2_position_q_q + mcu_pulses_generators_2_position_step;
         if (mcu_pulses_generators_2_reset) begin
@@ -4963,7 +4966,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_rate_inverted = mcu_pulses_generators_3_rate_selected;
         mcu_pulses_generators_3_carry_in = 17'h0;
         if (mcu_pulses_generators_3_negative) begin
-            mcu_pulses_generators_3_rate_inverted = mcu_pulses_generators_3_rate_selected ^ mcu_pulses_generators_3_ones;
+            mcu_pulses_generators_3_rate_inverted = mcu_pulses_generators_3_rate_selected ^ mcu_pulses_generators_3_all_ones;
             mcu_pulses_generators_3_carry_in = mcu_pulses_generators_3_low_one;
         end
         mcu_pulses_generators_3_phase_low = mcu_pulses_generators_3_phase_q[15:0];
@@ -4985,15 +4988,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_3_negative) begin
             mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_room_down;
         end
-        mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_carry & ~mcu_pulses_generators_3_negative;
-        mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked & mcu_pulses_generators_3_carry & mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_advance = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked;
+        mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_advance & mcu_pulses_generators_3_carry & ~mcu_pulses_generators_3_negative;
+        mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_advance & mcu_pulses_generators_3_carry & mcu_pulses_generators_3_negative;
         mcu_pulses_generators_3_command_up_d = mcu_pulses_generators_3_request_up;
         mcu_pulses_generators_3_command_down_d = mcu_pulses_generators_3_request_down;
         mcu_pulses_generators_3_timer_request_up = mcu_pulses_generators_3_command_up_q;
         mcu_pulses_generators_3_timer_request_down = mcu_pulses_generators_3_command_down_q;
         mcu_pulses_generators_3_commanded = mcu_pulses_generators_3_request_up | mcu_pulses_generators_3_request_down;
-        mcu_pulses_generators_3_advancing = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked;
-        if (mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked) begin
+        mcu_pulses_generators_3_advancing = mcu_pulses_generators_3_advance;
+        if (mcu_pulses_generators_3_advance) begin
             mcu_pulses_generators_3_phase_d = mcu_pulses_generators_3_phase_next;
         end
         mcu_pulses_generators_3_position_step = 32'h0;
@@ -5001,7 +5005,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_one;
         end
         if (mcu_pulses_generators_3_timer_leave_down) begin
-            mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_minus_one;
+            mcu_pulses_generators_3_position_step = mcu_pulses_generators_3_all_ones;
         end
         mcu_pulses_generators_3_position_q_d = mcu_pulses_generators_3_position_q_q + mcu_pulses_generators_3_position_step;
         if (mcu_pulses_generators_3_reset) begin

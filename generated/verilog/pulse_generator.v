@@ -23,8 +23,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     output wire [31:0] status;
 
     localparam one = 32'h1;
-    localparam minus_one = 32'hffffffff;
-    localparam ones = 32'hffffffff;
+    localparam all_ones = 32'hffffffff;
     localparam shift_sixteen = 5'b10000;
     localparam low_one = 17'b1;
     localparam busy_bit = 32'h10000;
@@ -80,6 +79,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     reg [15:0] phase_low_next;
     reg [15:0] phase_high_next;
     reg blocked;
+    reg advance;
     reg request_up;
     reg request_down;
     reg [31:0] position_step;
@@ -117,7 +117,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     assign dir = timer_dir;
     assign position = position_q_q;
     assign commanded = request_up | request_down;
-    assign advancing = enable & ~blocked;
+    assign advancing = advance;
     assign status = {16'h0, timer_pending} | busy_mask;
 
     always @(*) begin
@@ -138,7 +138,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
         rate_inverted = rate_selected;
         carry_in = 17'h0;
         if (negative) begin
-            rate_inverted = rate_selected ^ ones;
+            rate_inverted = rate_selected ^ all_ones;
             carry_in = low_one;
         end
         phase_low = phase_q[15:0];
@@ -160,13 +160,14 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
         if (negative) begin
             blocked = ~timer_room_down;
         end
-        request_up = enable & ~blocked & carry & ~negative;
-        request_down = enable & ~blocked & carry & negative;
+        advance = enable & ~blocked;
+        request_up = advance & carry & ~negative;
+        request_down = advance & carry & negative;
         command_up_d = request_up;
         command_down_d = request_down;
         timer_request_up = command_up_q;
         timer_request_down = command_down_q;
-        if (enable & ~blocked) begin
+        if (advance) begin
             phase_d = phase_next;
         end
         position_step = 32'h0;
@@ -174,7 +175,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
             position_step = one;
         end
         if (timer_leave_down) begin
-            position_step = minus_one;
+            position_step = all_ones;
         end
         position_q_d = position_q_q + position_step;
         if (reset) begin

@@ -60,8 +60,8 @@ pub struct PulseGenerator {
     command_up: DFF<Bit>,
     command_down: DFF<Bit>,
     one: Constant<Bits<32>>,
-    minus_one: Constant<Bits<32>>,
-    ones: Constant<Bits<32>>,
+    /// -1 as a position step, and the mask that inverts a negative rate.
+    all_ones: Constant<Bits<32>>,
     shift_sixteen: Constant<Bits<5>>,
     low_one: Constant<Bits<17>>,
     busy_bit: Constant<Bits<32>>,
@@ -82,6 +82,7 @@ pub struct PulseGenerator {
     phase_low_next: Signal<Local, Bits<16>>,
     phase_high_next: Signal<Local, Bits<16>>,
     blocked: Signal<Local, Bit>,
+    advance: Signal<Local, Bit>,
     request_up: Signal<Local, Bit>,
     request_down: Signal<Local, Bit>,
     position_step: Signal<Local, Bits<32>>,
@@ -119,8 +120,7 @@ impl PulseGenerator {
             command_up: Default::default(),
             command_down: Default::default(),
             one: Constant::new(1.into()),
-            minus_one: Constant::new(0xffff_ffffu64.into()),
-            ones: Constant::new(0xffff_ffffu64.into()),
+            all_ones: Constant::new(0xffff_ffffu64.into()),
             shift_sixteen: Constant::new(16.into()),
             low_one: Constant::new(1.into()),
             busy_bit: Constant::new((1u64 << 16).into()),
@@ -141,6 +141,7 @@ impl PulseGenerator {
             phase_low_next: Default::default(),
             phase_high_next: Default::default(),
             blocked: Default::default(),
+            advance: Default::default(),
             request_up: Default::default(),
             request_down: Default::default(),
             position_step: Default::default(),
@@ -180,7 +181,7 @@ impl Logic for PulseGenerator {
         self.rate_inverted.next = self.rate_selected.val();
         self.carry_in.next = 0.into();
         if self.negative.val() {
-            self.rate_inverted.next = self.rate_selected.val() ^ self.ones.val();
+            self.rate_inverted.next = self.rate_selected.val() ^ self.all_ones.val();
             self.carry_in.next = self.low_one.val();
         }
         // phase + |rate| as carry chains: for a negative rate, |rate| =
@@ -213,18 +214,17 @@ impl Logic for PulseGenerator {
         if self.negative.val() {
             self.blocked.next = !self.timer.room_down.val();
         }
-        self.request_up.next =
-            self.enable.val() & !self.blocked.val() & self.carry.val() & !self.negative.val();
-        self.request_down.next =
-            self.enable.val() & !self.blocked.val() & self.carry.val() & self.negative.val();
+        self.advance.next = self.enable.val() & !self.blocked.val();
+        self.request_up.next = self.advance.val() & self.carry.val() & !self.negative.val();
+        self.request_down.next = self.advance.val() & self.carry.val() & self.negative.val();
         // The command is registered: the queue adds it a clock later.
         self.command_up.d.next = self.request_up.val();
         self.command_down.d.next = self.request_down.val();
         self.timer.request_up.next = self.command_up.q.val();
         self.timer.request_down.next = self.command_down.q.val();
         self.commanded.next = self.request_up.val() | self.request_down.val();
-        self.advancing.next = self.enable.val() & !self.blocked.val();
-        if self.enable.val() & !self.blocked.val() {
+        self.advancing.next = self.advance.val();
+        if self.advance.val() {
             self.phase.d.next = self.phase_next.val();
         }
         // Position: one adder, fed by flip-flops (the step S1 started at
@@ -234,7 +234,7 @@ impl Logic for PulseGenerator {
             self.position_step.next = self.one.val();
         }
         if self.timer.leave_down.val() {
-            self.position_step.next = self.minus_one.val();
+            self.position_step.next = self.all_ones.val();
         }
         self.position_q.d.next = self.position_q.q.val() + self.position_step.val();
         if self.reset.val() {

@@ -195,12 +195,8 @@ impl StepTimer {
             pending: s.pending + commanded - self.leaving(),
             step: if s.step { !falls } else { emit != 0 },
             dir: s.dir != turns,
-            t_step: if falls || emit != 0 {
-                inc(1)
-            } else {
-                inc(s.t_step)
-            },
-            t_dir: if turns { inc(1) } else { inc(s.t_dir) },
+            t_step: inc(step_now),
+            t_dir: inc(dir_now),
             space_ok: step_now >= timing.step_space,
             setup_ok: dir_now >= timing.dir_setup,
             len_ok: step_now >= timing.step_len,
