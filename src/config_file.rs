@@ -7,10 +7,14 @@
 //! counter_width = 28    # 8..=32 bits
 //! clock_hz = 50_000_000 # 1 MHz..=400 MHz
 //! isa_ram = "internal"  # or "external": where the ISA bridge's RAM lives
+//! counter_filter = true    # counter channel build options
+//! counter_index = true     # (docs/counter_bank.md, "Build options")
+//! counter_error = true
+//! counter_snapshot = true
 //! ```
 
 use crate::CliError;
-use motionhdl_model::{Config, IsaRam};
+use motionhdl_model::{Config, CounterFeatures, IsaRam};
 use serde::Deserialize;
 use std::ops::RangeInclusive;
 use std::path::Path;
@@ -24,14 +28,19 @@ pub const MAX_BYTES: u64 = 1 << 20;
 enum Kind {
     Integer(RangeInclusive<u64>),
     Choice(&'static [&'static str]),
+    Boolean,
 }
 
 /// Every key, with what it accepts (messages name the allowed values).
-const KEYS: [(&str, Kind); 4] = [
+const KEYS: [(&str, Kind); 8] = [
     ("axes", Kind::Integer(Config::AXES)),
     ("counter_width", Kind::Integer(Config::COUNTER_WIDTH)),
     ("clock_hz", Kind::Integer(Config::CLOCK_HZ)),
     ("isa_ram", Kind::Choice(&IsaRam::NAMES)),
+    (CounterFeatures::KEYS[0], Kind::Boolean),
+    (CounterFeatures::KEYS[1], Kind::Boolean),
+    (CounterFeatures::KEYS[2], Kind::Boolean),
+    (CounterFeatures::KEYS[3], Kind::Boolean),
 ];
 
 #[derive(Deserialize)]
@@ -41,6 +50,10 @@ struct RawConfig {
     counter_width: Option<Spanned<Value>>,
     clock_hz: Option<Spanned<Value>>,
     isa_ram: Option<Spanned<Value>>,
+    counter_filter: Option<Spanned<Value>>,
+    counter_index: Option<Spanned<Value>>,
+    counter_error: Option<Spanned<Value>>,
+    counter_snapshot: Option<Spanned<Value>>,
 }
 
 fn kind(key: &str) -> &'static Kind {
@@ -70,6 +83,7 @@ fn refusal(origin: &str, key: &str, written: &str) -> CliError {
             "{origin}: {key} = {written} is not allowed: use one of {}",
             choices_text(names)
         ),
+        Kind::Boolean => format!("{origin}: {key} = {written} is not allowed: use true or false"),
     })
 }
 
@@ -111,8 +125,24 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
             .and_then(IsaRam::from_name)
             .ok_or_else(|| refusal(origin, "isa_ram", &written(v)))?,
     };
+    let boolean = |key: &str, v: &Option<Spanned<Value>>| -> Result<bool, CliError> {
+        match v {
+            None => Ok(true),
+            Some(v) => v
+                .get_ref()
+                .as_bool()
+                .ok_or_else(|| refusal(origin, key, &written(v))),
+        }
+    };
+    let [filter, index, error, snapshot] = CounterFeatures::KEYS;
+    let features = CounterFeatures {
+        filter: boolean(filter, &raw.counter_filter)?,
+        index: boolean(index, &raw.counter_index)?,
+        error: boolean(error, &raw.counter_error)?,
+        snapshot: boolean(snapshot, &raw.counter_snapshot)?,
+    };
     Config::new(axes, width, clock)
-        .map(|c| c.with_isa_ram(isa_ram))
+        .map(|c| c.with_isa_ram(isa_ram).with_counter_features(features))
         .map_err(|e| CliError::input(format!("{origin}: {e}")))
 }
 
@@ -181,6 +211,19 @@ mod tests {
         let e = parse("isa_ram = \"sram\"\n", "t").unwrap_err().to_string();
         assert!(e.contains("isa_ram = \"sram\""), "{e}");
         assert!(e.contains("\"internal\", \"external\""), "{e}");
+    }
+
+    #[test]
+    fn counter_features_are_read_and_checked() {
+        let c = parse("counter_index = false\ncounter_error = false\n", "t").unwrap();
+        let f = c.counter_features();
+        assert!(f.filter && !f.index && !f.error && f.snapshot, "{f:?}");
+        let e = parse("counter_snapshot = 1\n", "c").unwrap_err();
+        assert_eq!(e.exit_code, 2);
+        assert_eq!(
+            e.message,
+            "c: counter_snapshot = 1 is not allowed: use true or false"
+        );
     }
 
     #[test]

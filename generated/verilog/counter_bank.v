@@ -18,8 +18,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
 
     localparam addr_info = 8'h0;
     localparam addr_snapshot = 8'h1;
+    localparam has_snapshot = 1'b1;
     localparam addr_preset = 8'h2;
-    localparam info = 32'h81c04;
+    localparam info = 32'hf081c04;
     localparam width_mask = 32'hfffffff;
     localparam low_mask = 32'h3fff;
     localparam sign_bit = 32'h8000000;
@@ -53,13 +54,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_0_status_b = 32'h20;
     localparam channels_0_status_z = 32'h40;
     localparam channels_0_status_err_count_lsb = 5'b1000;
+    localparam channels_0_status_err_count_mask = 32'hff00;
+    localparam channels_0_has_index = 1'b1;
+    localparam channels_0_has_clear_status = 1'b1;
+    localparam channels_0_has_snapshot = 1'b1;
     localparam channels_0_quadrature_modes = 3'b11;
     localparam channels_0_sign_bit = 32'h8000000;
     localparam channels_0_sign_extension = 32'hf0000000;
     localparam channels_0_err_max_minus_one = 8'hfe;
     localparam channels_0_filter_a_one = 4'h1;
+    localparam channels_0_filter_a_filtering = 1'b1;
     localparam channels_0_filter_b_one = 4'h1;
+    localparam channels_0_filter_b_filtering = 1'b1;
     localparam channels_0_filter_z_one = 4'h1;
+    localparam channels_0_filter_z_filtering = 1'b1;
     localparam channels_0_decoder_mode_x4 = 3'b0;
     localparam channels_0_decoder_mode_x2 = 3'b1;
     localparam channels_0_decoder_mode_x1 = 3'b10;
@@ -102,13 +110,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_1_status_b = 32'h20;
     localparam channels_1_status_z = 32'h40;
     localparam channels_1_status_err_count_lsb = 5'b1000;
+    localparam channels_1_status_err_count_mask = 32'hff00;
+    localparam channels_1_has_index = 1'b1;
+    localparam channels_1_has_clear_status = 1'b1;
+    localparam channels_1_has_snapshot = 1'b1;
     localparam channels_1_quadrature_modes = 3'b11;
     localparam channels_1_sign_bit = 32'h8000000;
     localparam channels_1_sign_extension = 32'hf0000000;
     localparam channels_1_err_max_minus_one = 8'hfe;
     localparam channels_1_filter_a_one = 4'h1;
+    localparam channels_1_filter_a_filtering = 1'b1;
     localparam channels_1_filter_b_one = 4'h1;
+    localparam channels_1_filter_b_filtering = 1'b1;
     localparam channels_1_filter_z_one = 4'h1;
+    localparam channels_1_filter_z_filtering = 1'b1;
     localparam channels_1_decoder_mode_x4 = 3'b0;
     localparam channels_1_decoder_mode_x2 = 3'b1;
     localparam channels_1_decoder_mode_x1 = 3'b10;
@@ -151,13 +166,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_2_status_b = 32'h20;
     localparam channels_2_status_z = 32'h40;
     localparam channels_2_status_err_count_lsb = 5'b1000;
+    localparam channels_2_status_err_count_mask = 32'hff00;
+    localparam channels_2_has_index = 1'b1;
+    localparam channels_2_has_clear_status = 1'b1;
+    localparam channels_2_has_snapshot = 1'b1;
     localparam channels_2_quadrature_modes = 3'b11;
     localparam channels_2_sign_bit = 32'h8000000;
     localparam channels_2_sign_extension = 32'hf0000000;
     localparam channels_2_err_max_minus_one = 8'hfe;
     localparam channels_2_filter_a_one = 4'h1;
+    localparam channels_2_filter_a_filtering = 1'b1;
     localparam channels_2_filter_b_one = 4'h1;
+    localparam channels_2_filter_b_filtering = 1'b1;
     localparam channels_2_filter_z_one = 4'h1;
+    localparam channels_2_filter_z_filtering = 1'b1;
     localparam channels_2_decoder_mode_x4 = 3'b0;
     localparam channels_2_decoder_mode_x2 = 3'b1;
     localparam channels_2_decoder_mode_x1 = 3'b10;
@@ -200,13 +222,20 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     localparam channels_3_status_b = 32'h20;
     localparam channels_3_status_z = 32'h40;
     localparam channels_3_status_err_count_lsb = 5'b1000;
+    localparam channels_3_status_err_count_mask = 32'hff00;
+    localparam channels_3_has_index = 1'b1;
+    localparam channels_3_has_clear_status = 1'b1;
+    localparam channels_3_has_snapshot = 1'b1;
     localparam channels_3_quadrature_modes = 3'b11;
     localparam channels_3_sign_bit = 32'h8000000;
     localparam channels_3_sign_extension = 32'hf0000000;
     localparam channels_3_err_max_minus_one = 8'hfe;
     localparam channels_3_filter_a_one = 4'h1;
+    localparam channels_3_filter_a_filtering = 1'b1;
     localparam channels_3_filter_b_one = 4'h1;
+    localparam channels_3_filter_b_filtering = 1'b1;
     localparam channels_3_filter_z_one = 4'h1;
+    localparam channels_3_filter_z_filtering = 1'b1;
     localparam channels_3_decoder_mode_x4 = 3'b0;
     localparam channels_3_decoder_mode_x2 = 3'b1;
     localparam channels_3_decoder_mode_x1 = 3'b10;
@@ -372,6 +401,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_cmd_write;
     reg [31:0] channels_0_status;
     reg [31:0] channels_0_count_read;
+    reg [31:0] channels_0_count_view;
+    reg [31:0] channels_0_index_view;
+    reg [31:0] channels_0_status_view;
     reg [31:0] channels_0_index_read;
     reg channels_0_filter_a_sync1_d;
     reg channels_0_filter_a_sync1_q = 1'h0;
@@ -517,6 +549,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_cmd_write;
     reg [31:0] channels_1_status;
     reg [31:0] channels_1_count_read;
+    reg [31:0] channels_1_count_view;
+    reg [31:0] channels_1_index_view;
+    reg [31:0] channels_1_status_view;
     reg [31:0] channels_1_index_read;
     reg channels_1_filter_a_sync1_d;
     reg channels_1_filter_a_sync1_q = 1'h0;
@@ -662,6 +697,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_cmd_write;
     reg [31:0] channels_2_status;
     reg [31:0] channels_2_count_read;
+    reg [31:0] channels_2_count_view;
+    reg [31:0] channels_2_index_view;
+    reg [31:0] channels_2_status_view;
     reg [31:0] channels_2_index_read;
     reg channels_2_filter_a_sync1_d;
     reg channels_2_filter_a_sync1_q = 1'h0;
@@ -807,6 +845,9 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_cmd_write;
     reg [31:0] channels_3_status;
     reg [31:0] channels_3_count_read;
+    reg [31:0] channels_3_count_view;
+    reg [31:0] channels_3_index_view;
+    reg [31:0] channels_3_status_view;
     reg [31:0] channels_3_index_read;
     reg channels_3_filter_a_sync1_d;
     reg channels_3_filter_a_sync1_q = 1'h0;
@@ -881,7 +922,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         read_pending_d = read_pending_q;
         read_sel_d = read_sel_q;
         read_word_d = read_word_q;
-        snapshot = we & (addr == addr_snapshot);
+        snapshot = we & (addr == addr_snapshot) & has_snapshot;
         channels_0_reset = reset;
         channels_0_a = a[0];
         channels_0_b = b[0];
@@ -1046,17 +1087,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
                 channels_0_err_sat_d = channels_0_err_count_q == channels_0_err_max_minus_one;
             end
         end
-        if (channels_0_index_event) begin
+        if (channels_0_index_event & channels_0_has_index) begin
             channels_0_seen_d = 1'b1;
         end
         if (channels_0_index_act & channels_0_ctrl_q[channels_0_idx_oneshot_bit]) begin
             channels_0_armed_d = 1'b0;
         end
         if (channels_0_cmd_write) begin
-            if (channels_0_wdata[channels_0_cmd_arm_bit]) begin
+            if (channels_0_wdata[channels_0_cmd_arm_bit] & channels_0_has_index) begin
                 channels_0_armed_d = 1'b1;
             end
-            if (channels_0_wdata[channels_0_cmd_clear_status_bit]) begin
+            if (channels_0_wdata[channels_0_cmd_clear_status_bit] & channels_0_has_clear_status) begin
                 channels_0_err_d = 1'b0;
                 channels_0_err_count_d = 8'h0;
                 channels_0_err_sat_d = 1'b0;
@@ -1066,7 +1107,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_0_we & (channels_0_addr == channels_0_addr_ctrl)) begin
             channels_0_ctrl_d = channels_0_wdata & channels_0_ctrl_writable;
         end
-        channels_0_status = {24'h0, channels_0_err_count_q} << channels_0_status_err_count_lsb;
+        channels_0_status = ({24'h0, channels_0_err_count_q} << channels_0_status_err_count_lsb) & channels_0_status_err_count_mask;
         if (channels_0_err_q) begin
             channels_0_status = channels_0_status | channels_0_status_err;
         end
@@ -1090,17 +1131,27 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_snap_index_d = channels_0_index_q;
             channels_0_snap_status_d = channels_0_status;
         end
-        if (|(channels_0_snap_count_q & channels_0_sign_bit)) begin
-            channels_0_count_read = channels_0_snap_count_q | channels_0_sign_extension;
+        if (channels_0_has_snapshot) begin
+            channels_0_count_view = channels_0_snap_count_q;
+            channels_0_index_view = channels_0_snap_index_q;
+            channels_0_status_view = channels_0_snap_status_q;
         end
         else begin
-            channels_0_count_read = channels_0_snap_count_q;
+            channels_0_count_view = channels_0_count_now;
+            channels_0_index_view = channels_0_index_q;
+            channels_0_status_view = channels_0_status;
         end
-        if (|(channels_0_snap_index_q & channels_0_sign_bit)) begin
-            channels_0_index_read = channels_0_snap_index_q | channels_0_sign_extension;
+        if (|(channels_0_count_view & channels_0_sign_bit)) begin
+            channels_0_count_read = channels_0_count_view | channels_0_sign_extension;
         end
         else begin
-            channels_0_index_read = channels_0_snap_index_q;
+            channels_0_count_read = channels_0_count_view;
+        end
+        if (|(channels_0_index_view & channels_0_sign_bit)) begin
+            channels_0_index_read = channels_0_index_view | channels_0_sign_extension;
+        end
+        else begin
+            channels_0_index_read = channels_0_index_view;
         end
         channels_0_read_sel_d = channels_0_re & (channels_0_addr[7:3] == channels_0_channel_page);
         channels_0_read_word_d = 32'h0;
@@ -1110,11 +1161,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_0_addr[2:0] == channels_0_slot_count) begin
             channels_0_read_word_d = channels_0_count_read;
         end
-        if (channels_0_addr[2:0] == channels_0_slot_index) begin
+        if ((channels_0_addr[2:0] == channels_0_slot_index) & channels_0_has_index) begin
             channels_0_read_word_d = channels_0_index_read;
         end
         if (channels_0_addr[2:0] == channels_0_slot_status) begin
-            channels_0_read_word_d = channels_0_snap_status_q;
+            channels_0_read_word_d = channels_0_status_view;
         end
         if (channels_0_reset) begin
             channels_0_index_d = 32'h0;
@@ -1165,6 +1216,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_filter_a_count_d = channels_0_filter_a_count_q - 4'h1;
             channels_0_filter_a_count_nonzero_d = channels_0_filter_a_count_q != channels_0_filter_a_one;
         end
+        if (~channels_0_filter_a_filtering) begin
+            channels_0_filter_a_count_d = 4'h0;
+            channels_0_filter_a_count_nonzero_d = 1'b0;
+        end
         channels_0_filter_a_level = channels_0_filter_a_accepted_q;
     end
 
@@ -1194,6 +1249,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_0_filter_b_count_d = channels_0_filter_b_count_q - 4'h1;
             channels_0_filter_b_count_nonzero_d = channels_0_filter_b_count_q != channels_0_filter_b_one;
         end
+        if (~channels_0_filter_b_filtering) begin
+            channels_0_filter_b_count_d = 4'h0;
+            channels_0_filter_b_count_nonzero_d = 1'b0;
+        end
         channels_0_filter_b_level = channels_0_filter_b_accepted_q;
     end
 
@@ -1222,6 +1281,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_0_filter_z_count_d = channels_0_filter_z_count_q - 4'h1;
             channels_0_filter_z_count_nonzero_d = channels_0_filter_z_count_q != channels_0_filter_z_one;
+        end
+        if (~channels_0_filter_z_filtering) begin
+            channels_0_filter_z_count_d = 4'h0;
+            channels_0_filter_z_count_nonzero_d = 1'b0;
         end
         channels_0_filter_z_level = channels_0_filter_z_accepted_q;
     end
@@ -1415,17 +1478,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
                 channels_1_err_sat_d = channels_1_err_count_q == channels_1_err_max_minus_one;
             end
         end
-        if (channels_1_index_event) begin
+        if (channels_1_index_event & channels_1_has_index) begin
             channels_1_seen_d = 1'b1;
         end
         if (channels_1_index_act & channels_1_ctrl_q[channels_1_idx_oneshot_bit]) begin
             channels_1_armed_d = 1'b0;
         end
         if (channels_1_cmd_write) begin
-            if (channels_1_wdata[channels_1_cmd_arm_bit]) begin
+            if (channels_1_wdata[channels_1_cmd_arm_bit] & channels_1_has_index) begin
                 channels_1_armed_d = 1'b1;
             end
-            if (channels_1_wdata[channels_1_cmd_clear_status_bit]) begin
+            if (channels_1_wdata[channels_1_cmd_clear_status_bit] & channels_1_has_clear_status) begin
                 channels_1_err_d = 1'b0;
                 channels_1_err_count_d = 8'h0;
                 channels_1_err_sat_d = 1'b0;
@@ -1435,7 +1498,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_1_we & (channels_1_addr == channels_1_addr_ctrl)) begin
             channels_1_ctrl_d = channels_1_wdata & channels_1_ctrl_writable;
         end
-        channels_1_status = {24'h0, channels_1_err_count_q} << channels_1_status_err_count_lsb;
+        channels_1_status = ({24'h0, channels_1_err_count_q} << channels_1_status_err_count_lsb) & channels_1_status_err_count_mask;
         if (channels_1_err_q) begin
             channels_1_status = channels_1_status | channels_1_status_err;
         end
@@ -1459,17 +1522,27 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_snap_index_d = channels_1_index_q;
             channels_1_snap_status_d = channels_1_status;
         end
-        if (|(channels_1_snap_count_q & channels_1_sign_bit)) begin
-            channels_1_count_read = channels_1_snap_count_q | channels_1_sign_extension;
+        if (channels_1_has_snapshot) begin
+            channels_1_count_view = channels_1_snap_count_q;
+            channels_1_index_view = channels_1_snap_index_q;
+            channels_1_status_view = channels_1_snap_status_q;
         end
         else begin
-            channels_1_count_read = channels_1_snap_count_q;
+            channels_1_count_view = channels_1_count_now;
+            channels_1_index_view = channels_1_index_q;
+            channels_1_status_view = channels_1_status;
         end
-        if (|(channels_1_snap_index_q & channels_1_sign_bit)) begin
-            channels_1_index_read = channels_1_snap_index_q | channels_1_sign_extension;
+        if (|(channels_1_count_view & channels_1_sign_bit)) begin
+            channels_1_count_read = channels_1_count_view | channels_1_sign_extension;
         end
         else begin
-            channels_1_index_read = channels_1_snap_index_q;
+            channels_1_count_read = channels_1_count_view;
+        end
+        if (|(channels_1_index_view & channels_1_sign_bit)) begin
+            channels_1_index_read = channels_1_index_view | channels_1_sign_extension;
+        end
+        else begin
+            channels_1_index_read = channels_1_index_view;
         end
         channels_1_read_sel_d = channels_1_re & (channels_1_addr[7:3] == channels_1_channel_page);
         channels_1_read_word_d = 32'h0;
@@ -1479,11 +1552,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_1_addr[2:0] == channels_1_slot_count) begin
             channels_1_read_word_d = channels_1_count_read;
         end
-        if (channels_1_addr[2:0] == channels_1_slot_index) begin
+        if ((channels_1_addr[2:0] == channels_1_slot_index) & channels_1_has_index) begin
             channels_1_read_word_d = channels_1_index_read;
         end
         if (channels_1_addr[2:0] == channels_1_slot_status) begin
-            channels_1_read_word_d = channels_1_snap_status_q;
+            channels_1_read_word_d = channels_1_status_view;
         end
         if (channels_1_reset) begin
             channels_1_index_d = 32'h0;
@@ -1534,6 +1607,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_filter_a_count_d = channels_1_filter_a_count_q - 4'h1;
             channels_1_filter_a_count_nonzero_d = channels_1_filter_a_count_q != channels_1_filter_a_one;
         end
+        if (~channels_1_filter_a_filtering) begin
+            channels_1_filter_a_count_d = 4'h0;
+            channels_1_filter_a_count_nonzero_d = 1'b0;
+        end
         channels_1_filter_a_level = channels_1_filter_a_accepted_q;
     end
 
@@ -1563,6 +1640,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_1_filter_b_count_d = channels_1_filter_b_count_q - 4'h1;
             channels_1_filter_b_count_nonzero_d = channels_1_filter_b_count_q != channels_1_filter_b_one;
         end
+        if (~channels_1_filter_b_filtering) begin
+            channels_1_filter_b_count_d = 4'h0;
+            channels_1_filter_b_count_nonzero_d = 1'b0;
+        end
         channels_1_filter_b_level = channels_1_filter_b_accepted_q;
     end
 
@@ -1591,6 +1672,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_1_filter_z_count_d = channels_1_filter_z_count_q - 4'h1;
             channels_1_filter_z_count_nonzero_d = channels_1_filter_z_count_q != channels_1_filter_z_one;
+        end
+        if (~channels_1_filter_z_filtering) begin
+            channels_1_filter_z_count_d = 4'h0;
+            channels_1_filter_z_count_nonzero_d = 1'b0;
         end
         channels_1_filter_z_level = channels_1_filter_z_accepted_q;
     end
@@ -1784,17 +1869,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
                 channels_2_err_sat_d = channels_2_err_count_q == channels_2_err_max_minus_one;
             end
         end
-        if (channels_2_index_event) begin
+        if (channels_2_index_event & channels_2_has_index) begin
             channels_2_seen_d = 1'b1;
         end
         if (channels_2_index_act & channels_2_ctrl_q[channels_2_idx_oneshot_bit]) begin
             channels_2_armed_d = 1'b0;
         end
         if (channels_2_cmd_write) begin
-            if (channels_2_wdata[channels_2_cmd_arm_bit]) begin
+            if (channels_2_wdata[channels_2_cmd_arm_bit] & channels_2_has_index) begin
                 channels_2_armed_d = 1'b1;
             end
-            if (channels_2_wdata[channels_2_cmd_clear_status_bit]) begin
+            if (channels_2_wdata[channels_2_cmd_clear_status_bit] & channels_2_has_clear_status) begin
                 channels_2_err_d = 1'b0;
                 channels_2_err_count_d = 8'h0;
                 channels_2_err_sat_d = 1'b0;
@@ -1804,7 +1889,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_2_we & (channels_2_addr == channels_2_addr_ctrl)) begin
             channels_2_ctrl_d = channels_2_wdata & channels_2_ctrl_writable;
         end
-        channels_2_status = {24'h0, channels_2_err_count_q} << channels_2_status_err_count_lsb;
+        channels_2_status = ({24'h0, channels_2_err_count_q} << channels_2_status_err_count_lsb) & channels_2_status_err_count_mask;
         if (channels_2_err_q) begin
             channels_2_status = channels_2_status | channels_2_status_err;
         end
@@ -1828,17 +1913,27 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_snap_index_d = channels_2_index_q;
             channels_2_snap_status_d = channels_2_status;
         end
-        if (|(channels_2_snap_count_q & channels_2_sign_bit)) begin
-            channels_2_count_read = channels_2_snap_count_q | channels_2_sign_extension;
+        if (channels_2_has_snapshot) begin
+            channels_2_count_view = channels_2_snap_count_q;
+            channels_2_index_view = channels_2_snap_index_q;
+            channels_2_status_view = channels_2_snap_status_q;
         end
         else begin
-            channels_2_count_read = channels_2_snap_count_q;
+            channels_2_count_view = channels_2_count_now;
+            channels_2_index_view = channels_2_index_q;
+            channels_2_status_view = channels_2_status;
         end
-        if (|(channels_2_snap_index_q & channels_2_sign_bit)) begin
-            channels_2_index_read = channels_2_snap_index_q | channels_2_sign_extension;
+        if (|(channels_2_count_view & channels_2_sign_bit)) begin
+            channels_2_count_read = channels_2_count_view | channels_2_sign_extension;
         end
         else begin
-            channels_2_index_read = channels_2_snap_index_q;
+            channels_2_count_read = channels_2_count_view;
+        end
+        if (|(channels_2_index_view & channels_2_sign_bit)) begin
+            channels_2_index_read = channels_2_index_view | channels_2_sign_extension;
+        end
+        else begin
+            channels_2_index_read = channels_2_index_view;
         end
         channels_2_read_sel_d = channels_2_re & (channels_2_addr[7:3] == channels_2_channel_page);
         channels_2_read_word_d = 32'h0;
@@ -1848,11 +1943,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_2_addr[2:0] == channels_2_slot_count) begin
             channels_2_read_word_d = channels_2_count_read;
         end
-        if (channels_2_addr[2:0] == channels_2_slot_index) begin
+        if ((channels_2_addr[2:0] == channels_2_slot_index) & channels_2_has_index) begin
             channels_2_read_word_d = channels_2_index_read;
         end
         if (channels_2_addr[2:0] == channels_2_slot_status) begin
-            channels_2_read_word_d = channels_2_snap_status_q;
+            channels_2_read_word_d = channels_2_status_view;
         end
         if (channels_2_reset) begin
             channels_2_index_d = 32'h0;
@@ -1903,6 +1998,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_filter_a_count_d = channels_2_filter_a_count_q - 4'h1;
             channels_2_filter_a_count_nonzero_d = channels_2_filter_a_count_q != channels_2_filter_a_one;
         end
+        if (~channels_2_filter_a_filtering) begin
+            channels_2_filter_a_count_d = 4'h0;
+            channels_2_filter_a_count_nonzero_d = 1'b0;
+        end
         channels_2_filter_a_level = channels_2_filter_a_accepted_q;
     end
 
@@ -1932,6 +2031,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_2_filter_b_count_d = channels_2_filter_b_count_q - 4'h1;
             channels_2_filter_b_count_nonzero_d = channels_2_filter_b_count_q != channels_2_filter_b_one;
         end
+        if (~channels_2_filter_b_filtering) begin
+            channels_2_filter_b_count_d = 4'h0;
+            channels_2_filter_b_count_nonzero_d = 1'b0;
+        end
         channels_2_filter_b_level = channels_2_filter_b_accepted_q;
     end
 
@@ -1960,6 +2063,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_2_filter_z_count_d = channels_2_filter_z_count_q - 4'h1;
             channels_2_filter_z_count_nonzero_d = channels_2_filter_z_count_q != channels_2_filter_z_one;
+        end
+        if (~channels_2_filter_z_filtering) begin
+            channels_2_filter_z_count_d = 4'h0;
+            channels_2_filter_z_count_nonzero_d = 1'b0;
         end
         channels_2_filter_z_level = channels_2_filter_z_accepted_q;
     end
@@ -2153,17 +2260,17 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
                 channels_3_err_sat_d = channels_3_err_count_q == channels_3_err_max_minus_one;
             end
         end
-        if (channels_3_index_event) begin
+        if (channels_3_index_event & channels_3_has_index) begin
             channels_3_seen_d = 1'b1;
         end
         if (channels_3_index_act & channels_3_ctrl_q[channels_3_idx_oneshot_bit]) begin
             channels_3_armed_d = 1'b0;
         end
         if (channels_3_cmd_write) begin
-            if (channels_3_wdata[channels_3_cmd_arm_bit]) begin
+            if (channels_3_wdata[channels_3_cmd_arm_bit] & channels_3_has_index) begin
                 channels_3_armed_d = 1'b1;
             end
-            if (channels_3_wdata[channels_3_cmd_clear_status_bit]) begin
+            if (channels_3_wdata[channels_3_cmd_clear_status_bit] & channels_3_has_clear_status) begin
                 channels_3_err_d = 1'b0;
                 channels_3_err_count_d = 8'h0;
                 channels_3_err_sat_d = 1'b0;
@@ -2173,7 +2280,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_3_we & (channels_3_addr == channels_3_addr_ctrl)) begin
             channels_3_ctrl_d = channels_3_wdata & channels_3_ctrl_writable;
         end
-        channels_3_status = {24'h0, channels_3_err_count_q} << channels_3_status_err_count_lsb;
+        channels_3_status = ({24'h0, channels_3_err_count_q} << channels_3_status_err_count_lsb) & channels_3_status_err_count_mask;
         if (channels_3_err_q) begin
             channels_3_status = channels_3_status | channels_3_status_err;
         end
@@ -2197,17 +2304,27 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_snap_index_d = channels_3_index_q;
             channels_3_snap_status_d = channels_3_status;
         end
-        if (|(channels_3_snap_count_q & channels_3_sign_bit)) begin
-            channels_3_count_read = channels_3_snap_count_q | channels_3_sign_extension;
+        if (channels_3_has_snapshot) begin
+            channels_3_count_view = channels_3_snap_count_q;
+            channels_3_index_view = channels_3_snap_index_q;
+            channels_3_status_view = channels_3_snap_status_q;
         end
         else begin
-            channels_3_count_read = channels_3_snap_count_q;
+            channels_3_count_view = channels_3_count_now;
+            channels_3_index_view = channels_3_index_q;
+            channels_3_status_view = channels_3_status;
         end
-        if (|(channels_3_snap_index_q & channels_3_sign_bit)) begin
-            channels_3_index_read = channels_3_snap_index_q | channels_3_sign_extension;
+        if (|(channels_3_count_view & channels_3_sign_bit)) begin
+            channels_3_count_read = channels_3_count_view | channels_3_sign_extension;
         end
         else begin
-            channels_3_index_read = channels_3_snap_index_q;
+            channels_3_count_read = channels_3_count_view;
+        end
+        if (|(channels_3_index_view & channels_3_sign_bit)) begin
+            channels_3_index_read = channels_3_index_view | channels_3_sign_extension;
+        end
+        else begin
+            channels_3_index_read = channels_3_index_view;
         end
         channels_3_read_sel_d = channels_3_re & (channels_3_addr[7:3] == channels_3_channel_page);
         channels_3_read_word_d = 32'h0;
@@ -2217,11 +2334,11 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         if (channels_3_addr[2:0] == channels_3_slot_count) begin
             channels_3_read_word_d = channels_3_count_read;
         end
-        if (channels_3_addr[2:0] == channels_3_slot_index) begin
+        if ((channels_3_addr[2:0] == channels_3_slot_index) & channels_3_has_index) begin
             channels_3_read_word_d = channels_3_index_read;
         end
         if (channels_3_addr[2:0] == channels_3_slot_status) begin
-            channels_3_read_word_d = channels_3_snap_status_q;
+            channels_3_read_word_d = channels_3_status_view;
         end
         if (channels_3_reset) begin
             channels_3_index_d = 32'h0;
@@ -2272,6 +2389,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_filter_a_count_d = channels_3_filter_a_count_q - 4'h1;
             channels_3_filter_a_count_nonzero_d = channels_3_filter_a_count_q != channels_3_filter_a_one;
         end
+        if (~channels_3_filter_a_filtering) begin
+            channels_3_filter_a_count_d = 4'h0;
+            channels_3_filter_a_count_nonzero_d = 1'b0;
+        end
         channels_3_filter_a_level = channels_3_filter_a_accepted_q;
     end
 
@@ -2301,6 +2422,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             channels_3_filter_b_count_d = channels_3_filter_b_count_q - 4'h1;
             channels_3_filter_b_count_nonzero_d = channels_3_filter_b_count_q != channels_3_filter_b_one;
         end
+        if (~channels_3_filter_b_filtering) begin
+            channels_3_filter_b_count_d = 4'h0;
+            channels_3_filter_b_count_nonzero_d = 1'b0;
+        end
         channels_3_filter_b_level = channels_3_filter_b_accepted_q;
     end
 
@@ -2329,6 +2454,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         else begin
             channels_3_filter_z_count_d = channels_3_filter_z_count_q - 4'h1;
             channels_3_filter_z_count_nonzero_d = channels_3_filter_z_count_q != channels_3_filter_z_one;
+        end
+        if (~channels_3_filter_z_filtering) begin
+            channels_3_filter_z_count_d = 4'h0;
+            channels_3_filter_z_count_nonzero_d = 1'b0;
         end
         channels_3_filter_z_level = channels_3_filter_z_accepted_q;
     end

@@ -63,7 +63,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h5823c69e;
+    localparam mcu_identity_values_7 = 32'h8bc5092b;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -74,8 +74,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_15 = 32'h0;
     localparam mcu_counters_addr_info = 8'h0;
     localparam mcu_counters_addr_snapshot = 8'h1;
+    localparam mcu_counters_has_snapshot = 1'b1;
     localparam mcu_counters_addr_preset = 8'h2;
-    localparam mcu_counters_info = 32'h81c04;
+    localparam mcu_counters_info = 32'hf081c04;
     localparam mcu_counters_width_mask = 32'hfffffff;
     localparam mcu_counters_low_mask = 32'h3fff;
     localparam mcu_counters_sign_bit = 32'h8000000;
@@ -109,13 +110,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_0_status_b = 32'h20;
     localparam mcu_counters_channels_0_status_z = 32'h40;
     localparam mcu_counters_channels_0_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_0_status_err_count_mask = 32'hff00;
+    localparam mcu_counters_channels_0_has_index = 1'b1;
+    localparam mcu_counters_channels_0_has_clear_status = 1'b1;
+    localparam mcu_counters_channels_0_has_snapshot = 1'b1;
     localparam mcu_counters_channels_0_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_0_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_0_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_0_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_0_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_0_filter_a_filtering = 1'b1;
     localparam mcu_counters_channels_0_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_0_filter_b_filtering = 1'b1;
     localparam mcu_counters_channels_0_filter_z_one = 4'h1;
+    localparam mcu_counters_channels_0_filter_z_filtering = 1'b1;
     localparam mcu_counters_channels_0_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_0_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_0_decoder_mode_x1 = 3'b10;
@@ -158,13 +166,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_1_status_b = 32'h20;
     localparam mcu_counters_channels_1_status_z = 32'h40;
     localparam mcu_counters_channels_1_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_1_status_err_count_mask = 32'hff00;
+    localparam mcu_counters_channels_1_has_index = 1'b1;
+    localparam mcu_counters_channels_1_has_clear_status = 1'b1;
+    localparam mcu_counters_channels_1_has_snapshot = 1'b1;
     localparam mcu_counters_channels_1_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_1_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_1_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_1_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_1_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_1_filter_a_filtering = 1'b1;
     localparam mcu_counters_channels_1_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_1_filter_b_filtering = 1'b1;
     localparam mcu_counters_channels_1_filter_z_one = 4'h1;
+    localparam mcu_counters_channels_1_filter_z_filtering = 1'b1;
     localparam mcu_counters_channels_1_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_1_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_1_decoder_mode_x1 = 3'b10;
@@ -207,13 +222,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_2_status_b = 32'h20;
     localparam mcu_counters_channels_2_status_z = 32'h40;
     localparam mcu_counters_channels_2_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_2_status_err_count_mask = 32'hff00;
+    localparam mcu_counters_channels_2_has_index = 1'b1;
+    localparam mcu_counters_channels_2_has_clear_status = 1'b1;
+    localparam mcu_counters_channels_2_has_snapshot = 1'b1;
     localparam mcu_counters_channels_2_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_2_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_2_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_2_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_2_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_2_filter_a_filtering = 1'b1;
     localparam mcu_counters_channels_2_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_2_filter_b_filtering = 1'b1;
     localparam mcu_counters_channels_2_filter_z_one = 4'h1;
+    localparam mcu_counters_channels_2_filter_z_filtering = 1'b1;
     localparam mcu_counters_channels_2_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_2_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_2_decoder_mode_x1 = 3'b10;
@@ -256,13 +278,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_channels_3_status_b = 32'h20;
     localparam mcu_counters_channels_3_status_z = 32'h40;
     localparam mcu_counters_channels_3_status_err_count_lsb = 5'b1000;
+    localparam mcu_counters_channels_3_status_err_count_mask = 32'hff00;
+    localparam mcu_counters_channels_3_has_index = 1'b1;
+    localparam mcu_counters_channels_3_has_clear_status = 1'b1;
+    localparam mcu_counters_channels_3_has_snapshot = 1'b1;
     localparam mcu_counters_channels_3_quadrature_modes = 3'b11;
     localparam mcu_counters_channels_3_sign_bit = 32'h8000000;
     localparam mcu_counters_channels_3_sign_extension = 32'hf0000000;
     localparam mcu_counters_channels_3_err_max_minus_one = 8'hfe;
     localparam mcu_counters_channels_3_filter_a_one = 4'h1;
+    localparam mcu_counters_channels_3_filter_a_filtering = 1'b1;
     localparam mcu_counters_channels_3_filter_b_one = 4'h1;
+    localparam mcu_counters_channels_3_filter_b_filtering = 1'b1;
     localparam mcu_counters_channels_3_filter_z_one = 4'h1;
+    localparam mcu_counters_channels_3_filter_z_filtering = 1'b1;
     localparam mcu_counters_channels_3_decoder_mode_x4 = 3'b0;
     localparam mcu_counters_channels_3_decoder_mode_x2 = 3'b1;
     localparam mcu_counters_channels_3_decoder_mode_x1 = 3'b10;
@@ -746,6 +775,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_cmd_write;
     reg [31:0] mcu_counters_channels_0_status;
     reg [31:0] mcu_counters_channels_0_count_read;
+    reg [31:0] mcu_counters_channels_0_count_view;
+    reg [31:0] mcu_counters_channels_0_index_view;
+    reg [31:0] mcu_counters_channels_0_status_view;
     reg [31:0] mcu_counters_channels_0_index_read;
     reg mcu_counters_channels_0_filter_a_sync1_d;
     reg mcu_counters_channels_0_filter_a_sync1_q = 1'h0;
@@ -891,6 +923,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_cmd_write;
     reg [31:0] mcu_counters_channels_1_status;
     reg [31:0] mcu_counters_channels_1_count_read;
+    reg [31:0] mcu_counters_channels_1_count_view;
+    reg [31:0] mcu_counters_channels_1_index_view;
+    reg [31:0] mcu_counters_channels_1_status_view;
     reg [31:0] mcu_counters_channels_1_index_read;
     reg mcu_counters_channels_1_filter_a_sync1_d;
     reg mcu_counters_channels_1_filter_a_sync1_q = 1'h0;
@@ -1036,6 +1071,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_cmd_write;
     reg [31:0] mcu_counters_channels_2_status;
     reg [31:0] mcu_counters_channels_2_count_read;
+    reg [31:0] mcu_counters_channels_2_count_view;
+    reg [31:0] mcu_counters_channels_2_index_view;
+    reg [31:0] mcu_counters_channels_2_status_view;
     reg [31:0] mcu_counters_channels_2_index_read;
     reg mcu_counters_channels_2_filter_a_sync1_d;
     reg mcu_counters_channels_2_filter_a_sync1_q = 1'h0;
@@ -1181,6 +1219,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_cmd_write;
     reg [31:0] mcu_counters_channels_3_status;
     reg [31:0] mcu_counters_channels_3_count_read;
+    reg [31:0] mcu_counters_channels_3_count_view;
+    reg [31:0] mcu_counters_channels_3_index_view;
+    reg [31:0] mcu_counters_channels_3_status_view;
     reg [31:0] mcu_counters_channels_3_index_read;
     reg mcu_counters_channels_3_filter_a_sync1_d;
     reg mcu_counters_channels_3_filter_a_sync1_q = 1'h0;
@@ -2402,7 +2443,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_read_pending_d = mcu_counters_read_pending_q;
         mcu_counters_read_sel_d = mcu_counters_read_sel_q;
         mcu_counters_read_word_d = mcu_counters_read_word_q;
-        mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot);
+        mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot) & mcu_counters_has_snapshot;
         mcu_counters_channels_0_reset = mcu_counters_reset;
         mcu_counters_channels_0_a = mcu_counters_a[0];
         mcu_counters_channels_0_b = mcu_counters_b[0];
@@ -2568,17 +2609,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_counters_channels_0_err_sat_d = mcu_counters_channels_0_err_count_q == mcu_counters_channels_0_err_max_minus_one;
             end
         end
-        if (mcu_counters_channels_0_index_event) begin
+        if (mcu_counters_channels_0_index_event & mcu_counters_channels_0_has_index) begin
             mcu_counters_channels_0_seen_d = 1'b1;
         end
         if (mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_oneshot_bit]) begin
             mcu_counters_channels_0_armed_d = 1'b0;
         end
         if (mcu_counters_channels_0_cmd_write) begin
-            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_arm_bit]) begin
+            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_arm_bit] & mcu_counters_channels_0_has_index) begin
                 mcu_counters_channels_0_armed_d = 1'b1;
             end
-            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_status_bit]) begin
+            if (mcu_counters_channels_0_wdata[mcu_counters_channels_0_cmd_clear_status_bit] & mcu_counters_channels_0_has_clear_status) begin
                 mcu_counters_channels_0_err_d = 1'b0;
                 mcu_counters_channels_0_err_count_d = 8'h0;
                 mcu_counters_channels_0_err_sat_d = 1'b0;
@@ -2588,7 +2629,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_0_we & (mcu_counters_channels_0_addr == mcu_counters_channels_0_addr_ctrl)) begin
             mcu_counters_channels_0_ctrl_d = mcu_counters_channels_0_wdata & mcu_counters_channels_0_ctrl_writable;
         end
-        mcu_counters_channels_0_status = {24'h0, mcu_counters_channels_0_err_count_q} << mcu_counters_channels_0_status_err_count_lsb;
+        mcu_counters_channels_0_status = ({24'h0, mcu_counters_channels_0_err_count_q} << mcu_counters_channels_0_status_err_count_lsb) & mcu_counters_channels_0_status_err_count_mask;
         if (mcu_counters_channels_0_err_q) begin
             mcu_counters_channels_0_status = mcu_counters_channels_0_status | mcu_counters_channels_0_status_err;
         end
@@ -2612,17 +2653,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_snap_index_d = mcu_counters_channels_0_index_q;
             mcu_counters_channels_0_snap_status_d = mcu_counters_channels_0_status;
         end
-        if (|(mcu_counters_channels_0_snap_count_q & mcu_counters_channels_0_sign_bit)) begin
-            mcu_counters_channels_0_count_read = mcu_counters_channels_0_snap_count_q | mcu_counters_channels_0_sign_extension;
+        if (mcu_counters_channels_0_has_snapshot) begin
+            mcu_counters_channels_0_count_view = mcu_counters_channels_0_snap_count_q;
+            mcu_counters_channels_0_index_view = mcu_counters_channels_0_snap_index_q;
+            mcu_counters_channels_0_status_view = mcu_counters_channels_0_snap_status_q;
         end
         else begin
-            mcu_counters_channels_0_count_read = mcu_counters_channels_0_snap_count_q;
+            mcu_counters_channels_0_count_view = mcu_counters_channels_0_count_now;
+            mcu_counters_channels_0_index_view = mcu_counters_channels_0_index_q;
+            mcu_counters_channels_0_status_view = mcu_counters_channels_0_status;
         end
-        if (|(mcu_counters_channels_0_snap_index_q & mcu_counters_channels_0_sign_bit)) begin
-            mcu_counters_channels_0_index_read = mcu_counters_channels_0_snap_index_q | mcu_counters_channels_0_sign_extension;
+        if (|(mcu_counters_channels_0_count_view & mcu_counters_channels_0_sign_bit)) begin
+            mcu_counters_channels_0_count_read = mcu_counters_channels_0_count_view | mcu_counters_channels_0_sign_extension;
         end
         else begin
-            mcu_counters_channels_0_index_read = mcu_counters_channels_0_snap_index_q;
+            mcu_counters_channels_0_count_read = mcu_counters_channels_0_count_view;
+        end
+        if (|(mcu_counters_channels_0_index_view & mcu_counters_channels_0_sign_bit)) begin
+            mcu_counters_channels_0_index_read = mcu_counters_channels_0_index_view | mcu_counters_channels_0_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_0_index_read = mcu_counters_channels_0_index_view;
         end
         mcu_counters_channels_0_read_sel_d = mcu_counters_channels_0_re & (mcu_counters_channels_0_addr[7:3] == mcu_counters_channels_0_channel_page);
         mcu_counters_channels_0_read_word_d = 32'h0;
@@ -2632,11 +2683,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_count) begin
             mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_count_read;
         end
-        if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_index) begin
+        if ((mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_index) & mcu_counters_channels_0_has_index) begin
             mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_index_read;
         end
         if (mcu_counters_channels_0_addr[2:0] == mcu_counters_channels_0_slot_status) begin
-            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_snap_status_q;
+            mcu_counters_channels_0_read_word_d = mcu_counters_channels_0_status_view;
         end
         if (mcu_counters_channels_0_reset) begin
             mcu_counters_channels_0_index_d = 32'h0;
@@ -2687,6 +2738,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_filter_a_count_d = mcu_counters_channels_0_filter_a_count_q - 4'h1;
             mcu_counters_channels_0_filter_a_count_nonzero_d = mcu_counters_channels_0_filter_a_count_q != mcu_counters_channels_0_filter_a_one;
         end
+        if (~mcu_counters_channels_0_filter_a_filtering) begin
+            mcu_counters_channels_0_filter_a_count_d = 4'h0;
+            mcu_counters_channels_0_filter_a_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_0_filter_a_level = mcu_counters_channels_0_filter_a_accepted_q;
     end
 
@@ -2716,6 +2771,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_0_filter_b_count_d = mcu_counters_channels_0_filter_b_count_q - 4'h1;
             mcu_counters_channels_0_filter_b_count_nonzero_d = mcu_counters_channels_0_filter_b_count_q != mcu_counters_channels_0_filter_b_one;
         end
+        if (~mcu_counters_channels_0_filter_b_filtering) begin
+            mcu_counters_channels_0_filter_b_count_d = 4'h0;
+            mcu_counters_channels_0_filter_b_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_0_filter_b_level = mcu_counters_channels_0_filter_b_accepted_q;
     end
 
@@ -2744,6 +2803,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_0_filter_z_count_d = mcu_counters_channels_0_filter_z_count_q - 4'h1;
             mcu_counters_channels_0_filter_z_count_nonzero_d = mcu_counters_channels_0_filter_z_count_q != mcu_counters_channels_0_filter_z_one;
+        end
+        if (~mcu_counters_channels_0_filter_z_filtering) begin
+            mcu_counters_channels_0_filter_z_count_d = 4'h0;
+            mcu_counters_channels_0_filter_z_count_nonzero_d = 1'b0;
         end
         mcu_counters_channels_0_filter_z_level = mcu_counters_channels_0_filter_z_accepted_q;
     end
@@ -2937,17 +3000,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_counters_channels_1_err_sat_d = mcu_counters_channels_1_err_count_q == mcu_counters_channels_1_err_max_minus_one;
             end
         end
-        if (mcu_counters_channels_1_index_event) begin
+        if (mcu_counters_channels_1_index_event & mcu_counters_channels_1_has_index) begin
             mcu_counters_channels_1_seen_d = 1'b1;
         end
         if (mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_oneshot_bit]) begin
             mcu_counters_channels_1_armed_d = 1'b0;
         end
         if (mcu_counters_channels_1_cmd_write) begin
-            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_arm_bit]) begin
+            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_arm_bit] & mcu_counters_channels_1_has_index) begin
                 mcu_counters_channels_1_armed_d = 1'b1;
             end
-            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_status_bit]) begin
+            if (mcu_counters_channels_1_wdata[mcu_counters_channels_1_cmd_clear_status_bit] & mcu_counters_channels_1_has_clear_status) begin
                 mcu_counters_channels_1_err_d = 1'b0;
                 mcu_counters_channels_1_err_count_d = 8'h0;
                 mcu_counters_channels_1_err_sat_d = 1'b0;
@@ -2957,7 +3020,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_1_we & (mcu_counters_channels_1_addr == mcu_counters_channels_1_addr_ctrl)) begin
             mcu_counters_channels_1_ctrl_d = mcu_counters_channels_1_wdata & mcu_counters_channels_1_ctrl_writable;
         end
-        mcu_counters_channels_1_status = {24'h0, mcu_counters_channels_1_err_count_q} << mcu_counters_channels_1_status_err_count_lsb;
+        mcu_counters_channels_1_status = ({24'h0, mcu_counters_channels_1_err_count_q} << mcu_counters_channels_1_status_err_count_lsb) & mcu_counters_channels_1_status_err_count_mask;
         if (mcu_counters_channels_1_err_q) begin
             mcu_counters_channels_1_status = mcu_counters_channels_1_status | mcu_counters_channels_1_status_err;
         end
@@ -2981,17 +3044,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_snap_index_d = mcu_counters_channels_1_index_q;
             mcu_counters_channels_1_snap_status_d = mcu_counters_channels_1_status;
         end
-        if (|(mcu_counters_channels_1_snap_count_q & mcu_counters_channels_1_sign_bit)) begin
-            mcu_counters_channels_1_count_read = mcu_counters_channels_1_snap_count_q | mcu_counters_channels_1_sign_extension;
+        if (mcu_counters_channels_1_has_snapshot) begin
+            mcu_counters_channels_1_count_view = mcu_counters_channels_1_snap_count_q;
+            mcu_counters_channels_1_index_view = mcu_counters_channels_1_snap_index_q;
+            mcu_counters_channels_1_status_view = mcu_counters_channels_1_snap_status_q;
         end
         else begin
-            mcu_counters_channels_1_count_read = mcu_counters_channels_1_snap_count_q;
+            mcu_counters_channels_1_count_view = mcu_counters_channels_1_count_now;
+            mcu_counters_channels_1_index_view = mcu_counters_channels_1_index_q;
+            mcu_counters_channels_1_status_view = mcu_counters_channels_1_status;
         end
-        if (|(mcu_counters_channels_1_snap_index_q & mcu_counters_channels_1_sign_bit)) begin
-            mcu_counters_channels_1_index_read = mcu_counters_channels_1_snap_index_q | mcu_counters_channels_1_sign_extension;
+        if (|(mcu_counters_channels_1_count_view & mcu_counters_channels_1_sign_bit)) begin
+            mcu_counters_channels_1_count_read = mcu_counters_channels_1_count_view | mcu_counters_channels_1_sign_extension;
         end
         else begin
-            mcu_counters_channels_1_index_read = mcu_counters_channels_1_snap_index_q;
+            mcu_counters_channels_1_count_read = mcu_counters_channels_1_count_view;
+        end
+        if (|(mcu_counters_channels_1_index_view & mcu_counters_channels_1_sign_bit)) begin
+            mcu_counters_channels_1_index_read = mcu_counters_channels_1_index_view | mcu_counters_channels_1_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_1_index_read = mcu_counters_channels_1_index_view;
         end
         mcu_counters_channels_1_read_sel_d = mcu_counters_channels_1_re & (mcu_counters_channels_1_addr[7:3] == mcu_counters_channels_1_channel_page);
         mcu_counters_channels_1_read_word_d = 32'h0;
@@ -3001,11 +3074,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_count) begin
             mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_count_read;
         end
-        if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_index) begin
+        if ((mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_index) & mcu_counters_channels_1_has_index) begin
             mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_index_read;
         end
         if (mcu_counters_channels_1_addr[2:0] == mcu_counters_channels_1_slot_status) begin
-            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_snap_status_q;
+            mcu_counters_channels_1_read_word_d = mcu_counters_channels_1_status_view;
         end
         if (mcu_counters_channels_1_reset) begin
             mcu_counters_channels_1_index_d = 32'h0;
@@ -3056,6 +3129,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_filter_a_count_d = mcu_counters_channels_1_filter_a_count_q - 4'h1;
             mcu_counters_channels_1_filter_a_count_nonzero_d = mcu_counters_channels_1_filter_a_count_q != mcu_counters_channels_1_filter_a_one;
         end
+        if (~mcu_counters_channels_1_filter_a_filtering) begin
+            mcu_counters_channels_1_filter_a_count_d = 4'h0;
+            mcu_counters_channels_1_filter_a_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_1_filter_a_level = mcu_counters_channels_1_filter_a_accepted_q;
     end
 
@@ -3085,6 +3162,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_1_filter_b_count_d = mcu_counters_channels_1_filter_b_count_q - 4'h1;
             mcu_counters_channels_1_filter_b_count_nonzero_d = mcu_counters_channels_1_filter_b_count_q != mcu_counters_channels_1_filter_b_one;
         end
+        if (~mcu_counters_channels_1_filter_b_filtering) begin
+            mcu_counters_channels_1_filter_b_count_d = 4'h0;
+            mcu_counters_channels_1_filter_b_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_1_filter_b_level = mcu_counters_channels_1_filter_b_accepted_q;
     end
 
@@ -3113,6 +3194,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_1_filter_z_count_d = mcu_counters_channels_1_filter_z_count_q - 4'h1;
             mcu_counters_channels_1_filter_z_count_nonzero_d = mcu_counters_channels_1_filter_z_count_q != mcu_counters_channels_1_filter_z_one;
+        end
+        if (~mcu_counters_channels_1_filter_z_filtering) begin
+            mcu_counters_channels_1_filter_z_count_d = 4'h0;
+            mcu_counters_channels_1_filter_z_count_nonzero_d = 1'b0;
         end
         mcu_counters_channels_1_filter_z_level = mcu_counters_channels_1_filter_z_accepted_q;
     end
@@ -3306,17 +3391,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_counters_channels_2_err_sat_d = mcu_counters_channels_2_err_count_q == mcu_counters_channels_2_err_max_minus_one;
             end
         end
-        if (mcu_counters_channels_2_index_event) begin
+        if (mcu_counters_channels_2_index_event & mcu_counters_channels_2_has_index) begin
             mcu_counters_channels_2_seen_d = 1'b1;
         end
         if (mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_oneshot_bit]) begin
             mcu_counters_channels_2_armed_d = 1'b0;
         end
         if (mcu_counters_channels_2_cmd_write) begin
-            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_arm_bit]) begin
+            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_arm_bit] & mcu_counters_channels_2_has_index) begin
                 mcu_counters_channels_2_armed_d = 1'b1;
             end
-            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_status_bit]) begin
+            if (mcu_counters_channels_2_wdata[mcu_counters_channels_2_cmd_clear_status_bit] & mcu_counters_channels_2_has_clear_status) begin
                 mcu_counters_channels_2_err_d = 1'b0;
                 mcu_counters_channels_2_err_count_d = 8'h0;
                 mcu_counters_channels_2_err_sat_d = 1'b0;
@@ -3326,7 +3411,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_2_we & (mcu_counters_channels_2_addr == mcu_counters_channels_2_addr_ctrl)) begin
             mcu_counters_channels_2_ctrl_d = mcu_counters_channels_2_wdata & mcu_counters_channels_2_ctrl_writable;
         end
-        mcu_counters_channels_2_status = {24'h0, mcu_counters_channels_2_err_count_q} << mcu_counters_channels_2_status_err_count_lsb;
+        mcu_counters_channels_2_status = ({24'h0, mcu_counters_channels_2_err_count_q} << mcu_counters_channels_2_status_err_count_lsb) & mcu_counters_channels_2_status_err_count_mask;
         if (mcu_counters_channels_2_err_q) begin
             mcu_counters_channels_2_status = mcu_counters_channels_2_status | mcu_counters_channels_2_status_err;
         end
@@ -3350,17 +3435,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_snap_index_d = mcu_counters_channels_2_index_q;
             mcu_counters_channels_2_snap_status_d = mcu_counters_channels_2_status;
         end
-        if (|(mcu_counters_channels_2_snap_count_q & mcu_counters_channels_2_sign_bit)) begin
-            mcu_counters_channels_2_count_read = mcu_counters_channels_2_snap_count_q | mcu_counters_channels_2_sign_extension;
+        if (mcu_counters_channels_2_has_snapshot) begin
+            mcu_counters_channels_2_count_view = mcu_counters_channels_2_snap_count_q;
+            mcu_counters_channels_2_index_view = mcu_counters_channels_2_snap_index_q;
+            mcu_counters_channels_2_status_view = mcu_counters_channels_2_snap_status_q;
         end
         else begin
-            mcu_counters_channels_2_count_read = mcu_counters_channels_2_snap_count_q;
+            mcu_counters_channels_2_count_view = mcu_counters_channels_2_count_now;
+            mcu_counters_channels_2_index_view = mcu_counters_channels_2_index_q;
+            mcu_counters_channels_2_status_view = mcu_counters_channels_2_status;
         end
-        if (|(mcu_counters_channels_2_snap_index_q & mcu_counters_channels_2_sign_bit)) begin
-            mcu_counters_channels_2_index_read = mcu_counters_channels_2_snap_index_q | mcu_counters_channels_2_sign_extension;
+        if (|(mcu_counters_channels_2_count_view & mcu_counters_channels_2_sign_bit)) begin
+            mcu_counters_channels_2_count_read = mcu_counters_channels_2_count_view | mcu_counters_channels_2_sign_extension;
         end
         else begin
-            mcu_counters_channels_2_index_read = mcu_counters_channels_2_snap_index_q;
+            mcu_counters_channels_2_count_read = mcu_counters_channels_2_count_view;
+        end
+        if (|(mcu_counters_channels_2_index_view & mcu_counters_channels_2_sign_bit)) begin
+            mcu_counters_channels_2_index_read = mcu_counters_channels_2_index_view | mcu_counters_channels_2_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_2_index_read = mcu_counters_channels_2_index_view;
         end
         mcu_counters_channels_2_read_sel_d = mcu_counters_channels_2_re & (mcu_counters_channels_2_addr[7:3] == mcu_counters_channels_2_channel_page);
         mcu_counters_channels_2_read_word_d = 32'h0;
@@ -3370,11 +3465,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_count) begin
             mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_count_read;
         end
-        if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_index) begin
+        if ((mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_index) & mcu_counters_channels_2_has_index) begin
             mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_index_read;
         end
         if (mcu_counters_channels_2_addr[2:0] == mcu_counters_channels_2_slot_status) begin
-            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_snap_status_q;
+            mcu_counters_channels_2_read_word_d = mcu_counters_channels_2_status_view;
         end
         if (mcu_counters_channels_2_reset) begin
             mcu_counters_channels_2_index_d = 32'h0;
@@ -3425,6 +3520,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_filter_a_count_d = mcu_counters_channels_2_filter_a_count_q - 4'h1;
             mcu_counters_channels_2_filter_a_count_nonzero_d = mcu_counters_channels_2_filter_a_count_q != mcu_counters_channels_2_filter_a_one;
         end
+        if (~mcu_counters_channels_2_filter_a_filtering) begin
+            mcu_counters_channels_2_filter_a_count_d = 4'h0;
+            mcu_counters_channels_2_filter_a_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_2_filter_a_level = mcu_counters_channels_2_filter_a_accepted_q;
     end
 
@@ -3454,6 +3553,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_2_filter_b_count_d = mcu_counters_channels_2_filter_b_count_q - 4'h1;
             mcu_counters_channels_2_filter_b_count_nonzero_d = mcu_counters_channels_2_filter_b_count_q != mcu_counters_channels_2_filter_b_one;
         end
+        if (~mcu_counters_channels_2_filter_b_filtering) begin
+            mcu_counters_channels_2_filter_b_count_d = 4'h0;
+            mcu_counters_channels_2_filter_b_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_2_filter_b_level = mcu_counters_channels_2_filter_b_accepted_q;
     end
 
@@ -3482,6 +3585,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_2_filter_z_count_d = mcu_counters_channels_2_filter_z_count_q - 4'h1;
             mcu_counters_channels_2_filter_z_count_nonzero_d = mcu_counters_channels_2_filter_z_count_q != mcu_counters_channels_2_filter_z_one;
+        end
+        if (~mcu_counters_channels_2_filter_z_filtering) begin
+            mcu_counters_channels_2_filter_z_count_d = 4'h0;
+            mcu_counters_channels_2_filter_z_count_nonzero_d = 1'b0;
         end
         mcu_counters_channels_2_filter_z_level = mcu_counters_channels_2_filter_z_accepted_q;
     end
@@ -3675,17 +3782,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_counters_channels_3_err_sat_d = mcu_counters_channels_3_err_count_q == mcu_counters_channels_3_err_max_minus_one;
             end
         end
-        if (mcu_counters_channels_3_index_event) begin
+        if (mcu_counters_channels_3_index_event & mcu_counters_channels_3_has_index) begin
             mcu_counters_channels_3_seen_d = 1'b1;
         end
         if (mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_oneshot_bit]) begin
             mcu_counters_channels_3_armed_d = 1'b0;
         end
         if (mcu_counters_channels_3_cmd_write) begin
-            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_arm_bit]) begin
+            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_arm_bit] & mcu_counters_channels_3_has_index) begin
                 mcu_counters_channels_3_armed_d = 1'b1;
             end
-            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_status_bit]) begin
+            if (mcu_counters_channels_3_wdata[mcu_counters_channels_3_cmd_clear_status_bit] & mcu_counters_channels_3_has_clear_status) begin
                 mcu_counters_channels_3_err_d = 1'b0;
                 mcu_counters_channels_3_err_count_d = 8'h0;
                 mcu_counters_channels_3_err_sat_d = 1'b0;
@@ -3695,7 +3802,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_3_we & (mcu_counters_channels_3_addr == mcu_counters_channels_3_addr_ctrl)) begin
             mcu_counters_channels_3_ctrl_d = mcu_counters_channels_3_wdata & mcu_counters_channels_3_ctrl_writable;
         end
-        mcu_counters_channels_3_status = {24'h0, mcu_counters_channels_3_err_count_q} << mcu_counters_channels_3_status_err_count_lsb;
+        mcu_counters_channels_3_status = ({24'h0, mcu_counters_channels_3_err_count_q} << mcu_counters_channels_3_status_err_count_lsb) & mcu_counters_channels_3_status_err_count_mask;
         if (mcu_counters_channels_3_err_q) begin
             mcu_counters_channels_3_status = mcu_counters_channels_3_status | mcu_counters_channels_3_status_err;
         end
@@ -3719,17 +3826,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_snap_index_d = mcu_counters_channels_3_index_q;
             mcu_counters_channels_3_snap_status_d = mcu_counters_channels_3_status;
         end
-        if (|(mcu_counters_channels_3_snap_count_q & mcu_counters_channels_3_sign_bit)) begin
-            mcu_counters_channels_3_count_read = mcu_counters_channels_3_snap_count_q | mcu_counters_channels_3_sign_extension;
+        if (mcu_counters_channels_3_has_snapshot) begin
+            mcu_counters_channels_3_count_view = mcu_counters_channels_3_snap_count_q;
+            mcu_counters_channels_3_index_view = mcu_counters_channels_3_snap_index_q;
+            mcu_counters_channels_3_status_view = mcu_counters_channels_3_snap_status_q;
         end
         else begin
-            mcu_counters_channels_3_count_read = mcu_counters_channels_3_snap_count_q;
+            mcu_counters_channels_3_count_view = mcu_counters_channels_3_count_now;
+            mcu_counters_channels_3_index_view = mcu_counters_channels_3_index_q;
+            mcu_counters_channels_3_status_view = mcu_counters_channels_3_status;
         end
-        if (|(mcu_counters_channels_3_snap_index_q & mcu_counters_channels_3_sign_bit)) begin
-            mcu_counters_channels_3_index_read = mcu_counters_channels_3_snap_index_q | mcu_counters_channels_3_sign_extension;
+        if (|(mcu_counters_channels_3_count_view & mcu_counters_channels_3_sign_bit)) begin
+            mcu_counters_channels_3_count_read = mcu_counters_channels_3_count_view | mcu_counters_channels_3_sign_extension;
         end
         else begin
-            mcu_counters_channels_3_index_read = mcu_counters_channels_3_snap_index_q;
+            mcu_counters_channels_3_count_read = mcu_counters_channels_3_count_view;
+        end
+        if (|(mcu_counters_channels_3_index_view & mcu_counters_channels_3_sign_bit)) begin
+            mcu_counters_channels_3_index_read = mcu_counters_channels_3_index_view | mcu_counters_channels_3_sign_extension;
+        end
+        else begin
+            mcu_counters_channels_3_index_read = mcu_counters_channels_3_index_view;
         end
         mcu_counters_channels_3_read_sel_d = mcu_counters_channels_3_re & (mcu_counters_channels_3_addr[7:3] == mcu_counters_channels_3_channel_page);
         mcu_counters_channels_3_read_word_d = 32'h0;
@@ -3739,11 +3856,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_count) begin
             mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_count_read;
         end
-        if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_index) begin
+        if ((mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_index) & mcu_counters_channels_3_has_index) begin
             mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_index_read;
         end
         if (mcu_counters_channels_3_addr[2:0] == mcu_counters_channels_3_slot_status) begin
-            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_snap_status_q;
+            mcu_counters_channels_3_read_word_d = mcu_counters_channels_3_status_view;
         end
         if (mcu_counters_channels_3_reset) begin
             mcu_counters_channels_3_index_d = 32'h0;
@@ -3794,6 +3911,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_filter_a_count_d = mcu_counters_channels_3_filter_a_count_q - 4'h1;
             mcu_counters_channels_3_filter_a_count_nonzero_d = mcu_counters_channels_3_filter_a_count_q != mcu_counters_channels_3_filter_a_one;
         end
+        if (~mcu_counters_channels_3_filter_a_filtering) begin
+            mcu_counters_channels_3_filter_a_count_d = 4'h0;
+            mcu_counters_channels_3_filter_a_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_3_filter_a_level = mcu_counters_channels_3_filter_a_accepted_q;
     end
 
@@ -3823,6 +3944,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_channels_3_filter_b_count_d = mcu_counters_channels_3_filter_b_count_q - 4'h1;
             mcu_counters_channels_3_filter_b_count_nonzero_d = mcu_counters_channels_3_filter_b_count_q != mcu_counters_channels_3_filter_b_one;
         end
+        if (~mcu_counters_channels_3_filter_b_filtering) begin
+            mcu_counters_channels_3_filter_b_count_d = 4'h0;
+            mcu_counters_channels_3_filter_b_count_nonzero_d = 1'b0;
+        end
         mcu_counters_channels_3_filter_b_level = mcu_counters_channels_3_filter_b_accepted_q;
     end
 
@@ -3851,6 +3976,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_counters_channels_3_filter_z_count_d = mcu_counters_channels_3_filter_z_count_q - 4'h1;
             mcu_counters_channels_3_filter_z_count_nonzero_d = mcu_counters_channels_3_filter_z_count_q != mcu_counters_channels_3_filter_z_one;
+        end
+        if (~mcu_counters_channels_3_filter_z_filtering) begin
+            mcu_counters_channels_3_filter_z_count_d = 4'h0;
+            mcu_counters_channels_3_filter_z_count_nonzero_d = 1'b0;
         end
         mcu_counters_channels_3_filter_z_level = mcu_counters_channels_3_filter_z_accepted_q;
     end

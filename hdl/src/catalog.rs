@@ -6,7 +6,7 @@ use crate::{
     MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
     PulseModeSelectorRegistered, QuadratureCore,
 };
-use motionhdl_spec::{Config, IsaRam};
+use motionhdl_spec::{Config, CounterFeatures, IsaRam};
 use rust_hdl::prelude::Block;
 
 /// One exported module.
@@ -77,15 +77,26 @@ pub fn pulse_mode_selector_registered() -> VerilogModule {
     )
 }
 
-/// The counter bank for `axes` channels (1..=16) of `width`-bit counters.
+/// The counter bank for `axes` channels (1..=16) of `width`-bit counters
+/// with every feature.
 pub fn counter_bank(axes: u32, width: u32) -> VerilogModule {
+    counter_bank_with(axes, width, CounterFeatures::ALL)
+}
+
+/// The counter bank built with `features` (docs/counter_bank.md, "Build
+/// options").
+pub fn counter_bank_with(axes: u32, width: u32, features: CounterFeatures) -> VerilogModule {
     const SUMMARY: &str = "quadrature/pulse counter bank: X4/X2/X1, pulse+direction, CW/CCW; \
                            filters, index, snapshot, register bus (docs/counter_bank.md)";
     // The axis count sets port widths, a compile-time parameter in rust-hdl.
     macro_rules! bank {
         ($($n:literal)+) => {
             match axes {
-                $($n => module(CounterBank::<$n>::new(width), "counter_bank", SUMMARY),)+
+                $($n => module(
+                    CounterBank::<$n>::with_features(width, features),
+                    "counter_bank",
+                    SUMMARY,
+                ),)+
                 _ => panic!("axes = {axes} out of range 1..=16"),
             }
         };
@@ -170,7 +181,11 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         ls688(),
         pulse_mode_selector(),
         pulse_mode_selector_registered(),
-        counter_bank(config.axes(), config.counter_width()),
+        counter_bank_with(
+            config.axes(),
+            config.counter_width(),
+            config.counter_features(),
+        ),
         quadrature_core(config.counter_width()),
         isa_bridge(config.isa_ram()),
         fsmc_bridge(),

@@ -2,7 +2,7 @@
 
 use crate::counter_channel::CounterChannel;
 use crate::up_down_counter::UpDownCounter;
-use motionhdl_spec::bus::CounterParams;
+use motionhdl_spec::bus::{CounterFeatures, CounterParams};
 use motionhdl_spec::regmap::{self, ERR_COUNT_BITS};
 use rust_hdl::prelude::*;
 
@@ -49,6 +49,8 @@ pub struct CounterBank<const N: usize> {
     read_word: DFF<Bits<32>>,
     addr_info: Constant<Bits<8>>,
     addr_snapshot: Constant<Bits<8>>,
+    // 0 in a build without SNAPSHOT: its address is then unmapped.
+    has_snapshot: Constant<Bit>,
     addr_preset: Constant<Bits<8>>,
     info: Constant<Bits<32>>,
     width_mask: Constant<Bits<32>>,
@@ -64,15 +66,30 @@ impl<const N: usize> CounterBank<N> {
     /// A bank of `N` channels with `width`-bit counters (2..=32; the
     /// configuration allows 8..=32) and the gateware's 8-bit error counters.
     pub fn new(width: u32) -> Self {
-        Self::with_err_bits(width, ERR_COUNT_BITS)
+        Self::with_params(CounterParams::new(width, ERR_COUNT_BITS))
+    }
+
+    /// As [`CounterBank::new`], built with `features`.
+    pub fn with_features(width: u32, features: CounterFeatures) -> Self {
+        Self::with_params(CounterParams::new(width, ERR_COUNT_BITS).with_features(features))
     }
 
     /// As [`CounterBank::new`] with `err_bits`-bit error counters (1..=8),
     /// for exhaustive checks at narrow instances.
     pub fn with_err_bits(width: u32, err_bits: u32) -> Self {
+        Self::with_params(CounterParams::new(width, err_bits))
+    }
+
+    /// A bank of channels built with `params` (width, error counter width,
+    /// features).
+    pub fn with_params(params: CounterParams) -> Self {
         assert!((1..=16).contains(&N), "axes = {N} out of range 1..=16");
-        let map = regmap::counter_bank(N as u32, width);
-        let addr = |reg: &str| Constant::new((map.register(reg).offset as u64).into());
+        let width = params.width;
+        let full = regmap::counter_bank(N as u32, width);
+        let map = regmap::counter_bank_with(N as u32, width, params.features);
+        let addr = |reg: &str| -> Constant<Bits<8>> {
+            Constant::new((full.register(reg).offset as u64).into())
+        };
         let width_mask = CounterParams::new(width, 1).count_mask();
         let k32 = |v: u32| Constant::new((v as u64).into());
         Self {
@@ -87,7 +104,7 @@ impl<const N: usize> CounterBank<N> {
             re: Default::default(),
             rdata: Default::default(),
             channels: (0..N as u32)
-                .map(|i| CounterChannel::new(N as u32, i, width, err_bits))
+                .map(|i| CounterChannel::new(N as u32, i, params))
                 .collect(),
             preset: Default::default(),
             read_data: Default::default(),
@@ -98,6 +115,7 @@ impl<const N: usize> CounterBank<N> {
             read_word: Default::default(),
             addr_info: addr("INFO"),
             addr_snapshot: addr("SNAPSHOT"),
+            has_snapshot: Constant::new(params.features.snapshot),
             addr_preset: addr("PRESET"),
             info: k32(map.register("INFO").reset),
             width_mask: k32(width_mask),
@@ -130,7 +148,8 @@ impl<const N: usize> Logic for CounterBank<N> {
             read_sel,
             read_word
         );
-        self.snapshot.next = self.we.val() & (self.addr.val() == self.addr_snapshot.val());
+        self.snapshot.next =
+            self.we.val() & (self.addr.val() == self.addr_snapshot.val()) & self.has_snapshot.val();
         for i in 0..N {
             self.channels[i].clock.next = self.clock.val();
             self.channels[i].reset.next = self.reset.val();

@@ -109,6 +109,12 @@ pub struct CounterChannel {
     status_b: Constant<Bits<32>>,
     status_z: Constant<Bits<32>>,
     status_err_count_lsb: Constant<Bits<5>>,
+    status_err_count_mask: Constant<Bits<32>>,
+    // The build's features (CounterFeatures): each gates what the register
+    // map alone cannot remove (commands, reads, the snapshot).
+    has_index: Constant<Bit>,
+    has_clear_status: Constant<Bit>,
+    has_snapshot: Constant<Bit>,
     // Counter width.
     quadrature_modes: Constant<Bits<3>>,
     sign_bit: Constant<Bits<32>>,
@@ -129,22 +135,36 @@ pub struct CounterChannel {
     cmd_write: Signal<Local, Bit>,
     status: Signal<Local, Bits<32>>,
     count_read: Signal<Local, Bits<32>>,
+    count_view: Signal<Local, Bits<32>>,
+    index_view: Signal<Local, Bits<32>>,
+    status_view: Signal<Local, Bits<32>>,
     index_read: Signal<Local, Bits<32>>,
 }
 
+/// A field's position in the full map. A CTRL field the build lacks is not
+/// writable there (the build's CTRL mask), so its bits read 0; a CMD field
+/// it lacks is gated by a feature constant.
 fn bit_of(block: &Block, reg: &str, field: &str) -> Constant<Bits<5>> {
     let f = block.array("CH").register(reg).field(field);
     Constant::new((f.lsb as u64).into())
 }
 
+/// A field's mask in the build's map: 0 for a field the build lacks.
 fn mask_of(block: &Block, reg: &str, field: &str) -> Constant<Bits<32>> {
-    Constant::new((block.array("CH").register(reg).field(field).mask() as u64).into())
+    let f = block.array("CH").register(reg).find_field(field);
+    Constant::new((f.map_or(0, |f| f.mask()) as u64).into())
 }
 
 impl CounterChannel {
-    /// Channel `channel` of a bank of `axes` channels with `width`-bit
-    /// counters (2..=32) and `err_bits`-bit error counters (1..=8).
-    pub fn new(axes: u32, channel: u32, width: u32, err_bits: u32) -> Self {
+    /// Channel `channel` of a bank of `axes` channels with `params.width`-bit
+    /// counters (2..=32), `params.err_bits`-bit error counters (1..=8) and
+    /// `params.features`.
+    pub fn new(axes: u32, channel: u32, params: CounterParams) -> Self {
+        let CounterParams {
+            width,
+            err_bits,
+            features,
+        } = params;
         assert!(
             (2..=32).contains(&width),
             "width = {width} out of range 2..=32"
@@ -153,8 +173,9 @@ impl CounterChannel {
             (1..=8).contains(&err_bits),
             "err_bits = {err_bits} out of range 1..=8"
         );
-        let map = regmap::counter_bank(axes, width);
-        let ch = map.array("CH");
+        let full = regmap::counter_bank(axes, width);
+        let map = regmap::counter_bank_with(axes, width, features);
+        let ch = full.array("CH");
         let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
         // Read stage 1 splits the address into the channel's page (bits 7..3)
         // and the register's slot in it (bits 2..0).
@@ -187,9 +208,9 @@ impl CounterChannel {
             preset_low_is_max: Default::default(),
             preset_low_is_nonzero: Default::default(),
             rdata: Default::default(),
-            filter_a: Default::default(),
-            filter_b: Default::default(),
-            filter_z: Default::default(),
+            filter_a: InputFilter::with_filtering(features.filter),
+            filter_b: InputFilter::with_filtering(features.filter),
+            filter_z: InputFilter::with_filtering(features.filter),
             a_prev: Default::default(),
             b_prev: Default::default(),
             zg_prev: Default::default(),
@@ -219,28 +240,32 @@ impl CounterChannel {
             slot_count: slot("COUNT"),
             slot_index: slot("INDEX"),
             slot_status: slot("STATUS"),
-            ctrl_writable: k32(ch.register("CTRL").writable_mask()),
-            mode_lsb: bit_of(&map, "CTRL", "MODE"),
-            reverse_bit: bit_of(&map, "CTRL", "REVERSE"),
-            err_en_bit: bit_of(&map, "CTRL", "ERR_EN"),
-            idx_invert_bit: bit_of(&map, "CTRL", "IDX_INVERT"),
-            idx_latch_bit: bit_of(&map, "CTRL", "IDX_LATCH"),
-            idx_clear_bit: bit_of(&map, "CTRL", "IDX_CLEAR"),
-            idx_gate_bit: bit_of(&map, "CTRL", "IDX_GATE"),
-            idx_oneshot_bit: bit_of(&map, "CTRL", "IDX_ONESHOT"),
-            filter_ab_lsb: bit_of(&map, "CTRL", "FILTER_AB"),
-            filter_z_lsb: bit_of(&map, "CTRL", "FILTER_Z"),
-            cmd_clear_bit: bit_of(&map, "CMD", "CLEAR"),
-            cmd_load_bit: bit_of(&map, "CMD", "LOAD"),
-            cmd_arm_bit: bit_of(&map, "CMD", "ARM"),
-            cmd_clear_status_bit: bit_of(&map, "CMD", "CLEAR_STATUS"),
+            ctrl_writable: k32(map.array("CH").register("CTRL").writable_mask()),
+            mode_lsb: bit_of(&full, "CTRL", "MODE"),
+            reverse_bit: bit_of(&full, "CTRL", "REVERSE"),
+            err_en_bit: bit_of(&full, "CTRL", "ERR_EN"),
+            idx_invert_bit: bit_of(&full, "CTRL", "IDX_INVERT"),
+            idx_latch_bit: bit_of(&full, "CTRL", "IDX_LATCH"),
+            idx_clear_bit: bit_of(&full, "CTRL", "IDX_CLEAR"),
+            idx_gate_bit: bit_of(&full, "CTRL", "IDX_GATE"),
+            idx_oneshot_bit: bit_of(&full, "CTRL", "IDX_ONESHOT"),
+            filter_ab_lsb: bit_of(&full, "CTRL", "FILTER_AB"),
+            filter_z_lsb: bit_of(&full, "CTRL", "FILTER_Z"),
+            cmd_clear_bit: bit_of(&full, "CMD", "CLEAR"),
+            cmd_load_bit: bit_of(&full, "CMD", "LOAD"),
+            cmd_arm_bit: bit_of(&full, "CMD", "ARM"),
+            cmd_clear_status_bit: bit_of(&full, "CMD", "CLEAR_STATUS"),
             status_err: mask_of(&map, "STATUS", "ERR"),
             status_armed: mask_of(&map, "STATUS", "ARMED"),
             status_seen: mask_of(&map, "STATUS", "SEEN"),
             status_a: mask_of(&map, "STATUS", "A"),
             status_b: mask_of(&map, "STATUS", "B"),
             status_z: mask_of(&map, "STATUS", "Z"),
-            status_err_count_lsb: bit_of(&map, "STATUS", "ERR_COUNT"),
+            status_err_count_lsb: bit_of(&full, "STATUS", "ERR_COUNT"),
+            status_err_count_mask: mask_of(&map, "STATUS", "ERR_COUNT"),
+            has_index: Constant::new(features.index),
+            has_clear_status: Constant::new(features.index || features.error),
+            has_snapshot: Constant::new(features.snapshot),
             quadrature_modes: Constant::new((regmap::mode::PULSE_DIR as u64).into()),
             sign_bit: k32(sign_bit),
             sign_extension: k32(!width_mask),
@@ -258,6 +283,9 @@ impl CounterChannel {
             cmd_write: Default::default(),
             status: Default::default(),
             count_read: Default::default(),
+            count_view: Default::default(),
+            index_view: Default::default(),
+            status_view: Default::default(),
             index_read: Default::default(),
         }
     }
@@ -443,7 +471,7 @@ impl Logic for CounterChannel {
                 self.err_sat.d.next = self.err_count.q.val() == self.err_max_minus_one.val();
             }
         }
-        if self.index_event.val() {
+        if self.index_event.val() & self.has_index.val() {
             self.seen.d.next = true;
         }
         if self.index_act.val()
@@ -456,13 +484,14 @@ impl Logic for CounterChannel {
             self.armed.d.next = false;
         }
         if self.cmd_write.val() {
-            if self.wdata.val().get_bit(self.cmd_arm_bit.val().index()) {
+            if self.wdata.val().get_bit(self.cmd_arm_bit.val().index()) & self.has_index.val() {
                 self.armed.d.next = true;
             }
             if self
                 .wdata
                 .val()
                 .get_bit(self.cmd_clear_status_bit.val().index())
+                & self.has_clear_status.val()
             {
                 self.err.d.next = false;
                 self.err_count.d.next = 0.into();
@@ -475,8 +504,9 @@ impl Logic for CounterChannel {
         }
 
         // Status word and snapshot.
-        self.status.next =
-            bit_cast::<32, 8>(self.err_count.q.val()) << self.status_err_count_lsb.val();
+        self.status.next = (bit_cast::<32, 8>(self.err_count.q.val())
+            << self.status_err_count_lsb.val())
+            & self.status_err_count_mask.val();
         if self.err.q.val() {
             self.status.next = self.status.val() | self.status_err.val();
         }
@@ -501,17 +531,27 @@ impl Logic for CounterChannel {
             self.snap_status.d.next = self.status.val();
         }
 
-        // Reads, stage 1: the addressed register's value now; W-bit values
-        // sign-extended to 32 bits.
-        if (self.snap_count.q.val() & self.sign_bit.val()).any() {
-            self.count_read.next = self.snap_count.q.val() | self.sign_extension.val();
+        // Reads, stage 1: the addressed register's value now (captured, or
+        // live in a build without SNAPSHOT); W-bit values sign-extended to
+        // 32 bits.
+        if self.has_snapshot.val() {
+            self.count_view.next = self.snap_count.q.val();
+            self.index_view.next = self.snap_index.q.val();
+            self.status_view.next = self.snap_status.q.val();
         } else {
-            self.count_read.next = self.snap_count.q.val();
+            self.count_view.next = self.count_now.val();
+            self.index_view.next = self.index.q.val();
+            self.status_view.next = self.status.val();
         }
-        if (self.snap_index.q.val() & self.sign_bit.val()).any() {
-            self.index_read.next = self.snap_index.q.val() | self.sign_extension.val();
+        if (self.count_view.val() & self.sign_bit.val()).any() {
+            self.count_read.next = self.count_view.val() | self.sign_extension.val();
         } else {
-            self.index_read.next = self.snap_index.q.val();
+            self.count_read.next = self.count_view.val();
+        }
+        if (self.index_view.val() & self.sign_bit.val()).any() {
+            self.index_read.next = self.index_view.val() | self.sign_extension.val();
+        } else {
+            self.index_read.next = self.index_view.val();
         }
         self.read_sel.d.next =
             self.re.val() & (self.addr.val().get_bits::<5>(3) == self.channel_page.val());
@@ -522,11 +562,11 @@ impl Logic for CounterChannel {
         if self.addr.val().get_bits::<3>(0) == self.slot_count.val() {
             self.read_word.d.next = self.count_read.val();
         }
-        if self.addr.val().get_bits::<3>(0) == self.slot_index.val() {
+        if (self.addr.val().get_bits::<3>(0) == self.slot_index.val()) & self.has_index.val() {
             self.read_word.d.next = self.index_read.val();
         }
         if self.addr.val().get_bits::<3>(0) == self.slot_status.val() {
-            self.read_word.d.next = self.snap_status.q.val();
+            self.read_word.d.next = self.status_view.val();
         }
 
         if self.reset.val() {

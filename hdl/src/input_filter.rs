@@ -31,10 +31,21 @@ pub struct InputFilter {
     count: DFF<Bits<4>>,
     count_nonzero: DFF<Bit>,
     one: Constant<Bits<4>>,
+    // 0 in a build without the filter: the count is held at 0, so a change
+    // is accepted the clock after `sync2` shows it and synthesis drops the
+    // counter (it cannot prove by itself that the count stays 0).
+    filtering: Constant<Bit>,
 }
 
 impl Default for InputFilter {
     fn default() -> Self {
+        Self::with_filtering(true)
+    }
+}
+
+impl InputFilter {
+    /// A filter (`filtering`) or a plain synchroniser with the same latency.
+    pub fn with_filtering(filtering: bool) -> Self {
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -47,11 +58,10 @@ impl Default for InputFilter {
             count: Default::default(),
             count_nonzero: Default::default(),
             one: Constant::new(1u64.into()),
+            filtering: Constant::new(filtering),
         }
     }
-}
 
-impl InputFilter {
     /// Contract: the `count_nonzero` flag describes the counter.
     pub fn consistent(&self) -> bool {
         self.count_nonzero.q.val() == self.count.q.val().any()
@@ -88,6 +98,10 @@ impl Logic for InputFilter {
         } else {
             self.count.d.next = self.count.q.val() - 1;
             self.count_nonzero.d.next = self.count.q.val() != self.one.val();
+        }
+        if !self.filtering.val() {
+            self.count.d.next = 0.into();
+            self.count_nonzero.d.next = false;
         }
         self.level.next = self.accepted.q.val();
     }

@@ -84,7 +84,10 @@ impl<const N: usize> McuSide<N> {
             ram_rdata: Default::default(),
             mcu_bus: FsmcBridge::new(),
             identity: IdBlock::new(config),
-            counters: CounterBank::new(config.counter_width()),
+            counters: CounterBank::with_features(
+                config.counter_width(),
+                config.counter_features(),
+            ),
             pulses: PulseBank::new(config.counter_width()),
             pulse_f1: Default::default(),
             pulse_f2: Default::default(),

@@ -25,4 +25,6 @@ mod tests;
 pub use bank::Bank;
 pub use channel::{Channel, ChannelInputs, ChannelState};
 pub use input_filter::InputFilter;
-pub use motionhdl_spec::bus::{mask_bits, sign_extend, wrap, BusCycle, CounterParams};
+pub use motionhdl_spec::bus::{
+    mask_bits, sign_extend, wrap, BusCycle, CounterFeatures, CounterParams,
+};

@@ -16,4 +16,4 @@ pub mod motion_controller;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
 
-pub use config::{Config, ConfigError, IsaRam};
+pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

@@ -216,7 +216,8 @@ impl MotionControllerModel {
             id: IdBlockModel::new(id),
             counters: Bank::new(
                 axes,
-                CounterParams::new(config.counter_width(), ERR_COUNT_BITS),
+                CounterParams::new(config.counter_width(), ERR_COUNT_BITS)
+                    .with_features(config.counter_features()),
             ),
             pulses: PulseBank::new(axes, config.counter_width()),
             isa: IsaBridgeModel::new(),

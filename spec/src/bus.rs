@@ -3,6 +3,7 @@
 //! instance parameters of a counter, wrap and sign extension.
 
 use crate::regmap;
+pub use crate::CounterFeatures;
 
 /// Parameters of a channel/bank instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -11,6 +12,8 @@ pub struct CounterParams {
     pub width: u32,
     /// Error counter width E in bits (1..=[`regmap::ERR_COUNT_BITS`]).
     pub err_bits: u32,
+    /// The channel's optional features ([`CounterFeatures`]).
+    pub features: CounterFeatures,
 }
 
 impl CounterParams {
@@ -26,7 +29,16 @@ impl CounterParams {
             "err_bits = {err_bits} out of range 1..={}",
             regmap::ERR_COUNT_BITS
         );
-        Self { width, err_bits }
+        Self {
+            width,
+            err_bits,
+            features: CounterFeatures::ALL,
+        }
+    }
+
+    /// The same parameters with the channel built with `features`.
+    pub fn with_features(self, features: CounterFeatures) -> Self {
+        Self { features, ..self }
     }
 
     /// 2^W − 1: the mask of a W-bit register.

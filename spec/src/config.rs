@@ -12,6 +12,71 @@ pub struct Config {
     counter_width: u32,
     clock_hz: u64,
     isa_ram: IsaRam,
+    counter_features: CounterFeatures,
+}
+
+/// The counter channel's optional features (docs/counter_bank.md, "Build
+/// options"). A feature left out has no registers, fields or logic: its
+/// fields are absent from the register map (writes to them are ignored and
+/// they read 0) and INFO says which features the build has. All are in by
+/// default.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CounterFeatures {
+    /// The programmable digital filter on A, B and Z (CTRL.FILTER_AB/_Z).
+    pub filter: bool,
+    /// The index input: latch, clear, gate, one-shot (INDEX register).
+    pub index: bool,
+    /// Illegal-transition detection: STATUS.ERR and ERR_COUNT, CTRL.ERR_EN.
+    pub error: bool,
+    /// SNAPSHOT: COUNT, INDEX and STATUS read as captured together; without
+    /// it they read live.
+    pub snapshot: bool,
+}
+
+impl Default for CounterFeatures {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+impl CounterFeatures {
+    /// Every feature in: the default build.
+    pub const ALL: Self = Self {
+        filter: true,
+        index: true,
+        error: true,
+        snapshot: true,
+    };
+    /// The configuration-file keys, in INFO's bit order.
+    pub const KEYS: [&'static str; 4] = [
+        "counter_filter",
+        "counter_index",
+        "counter_error",
+        "counter_snapshot",
+    ];
+
+    /// The features as bits, in the order of [`Self::KEYS`].
+    pub fn bits(self) -> u32 {
+        u32::from(self.filter)
+            | u32::from(self.index) << 1
+            | u32::from(self.error) << 2
+            | u32::from(self.snapshot) << 3
+    }
+
+    /// The features whose bits are set in `bits` (order of [`Self::KEYS`]).
+    pub fn from_bits(bits: u32) -> Self {
+        Self {
+            filter: bits & 1 != 0,
+            index: bits & 2 != 0,
+            error: bits & 4 != 0,
+            snapshot: bits & 8 != 0,
+        }
+    }
+
+    /// Every combination, the full build first.
+    pub fn every() -> impl Iterator<Item = Self> {
+        (0..16).rev().map(Self::from_bits)
+    }
 }
 
 /// Where the ISA bridge's shared 1 K × 16 RAM lives (a build option).
@@ -64,6 +129,7 @@ impl Config {
             counter_width: counter_width as u32,
             clock_hz,
             isa_ram: IsaRam::default(),
+            counter_features: CounterFeatures::ALL,
         })
     }
 
@@ -74,6 +140,18 @@ impl Config {
 
     pub fn isa_ram(&self) -> IsaRam {
         self.isa_ram
+    }
+
+    /// The same configuration with the counter channels built with `features`.
+    pub fn with_counter_features(self, counter_features: CounterFeatures) -> Self {
+        Self {
+            counter_features,
+            ..self
+        }
+    }
+
+    pub fn counter_features(&self) -> CounterFeatures {
+        self.counter_features
     }
 
     pub fn axes(&self) -> u32 {
@@ -98,6 +176,7 @@ impl Default for Config {
             counter_width: 28,
             clock_hz: 50_000_000,
             isa_ram: IsaRam::Internal,
+            counter_features: CounterFeatures::ALL,
         }
     }
 }
@@ -170,5 +249,17 @@ mod tests {
         }
         assert!(Config::new(1, 8, 1_000_000).is_ok());
         assert!(Config::new(16, 32, 400_000_000).is_ok());
+    }
+
+    #[test]
+    fn counter_features_round_trip_through_their_bits() {
+        let all: Vec<_> = CounterFeatures::every().collect();
+        assert_eq!(all.len(), 16);
+        assert_eq!(all[0], CounterFeatures::ALL);
+        for (i, f) in all.iter().enumerate() {
+            assert_eq!(CounterFeatures::from_bits(f.bits()), *f);
+            assert_eq!(f.bits(), 15 - i as u32);
+        }
+        assert_eq!(Config::default().counter_features(), CounterFeatures::ALL);
     }
 }

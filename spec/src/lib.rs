@@ -15,4 +15,4 @@ pub mod isa;
 pub mod pulse;
 pub mod regmap;
 
-pub use config::{Config, ConfigError, IsaRam};
+pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

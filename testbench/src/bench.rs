@@ -10,7 +10,7 @@ use crate::harness::{cycle, settle};
 use crate::verilog_sim::Simulator;
 use motionhdl_hdl::{CounterBank, MotionController};
 use motionhdl_model::motion_controller::MotionControllerModel;
-use motionhdl_model::Config;
+use motionhdl_model::{Config, CounterFeatures};
 use rust_hdl::prelude::*;
 use std::time::Instant;
 
@@ -33,7 +33,7 @@ impl Throughput {
 /// The model stepping the bank (stimulus generation included).
 pub fn model(cycles: u64) -> Throughput {
     let t = Instant::now();
-    std::hint::black_box(model_sums(4, 28, 1, cycles));
+    std::hint::black_box(model_sums(4, 28, CounterFeatures::ALL, 1, cycles));
     Throughput {
         engine: "model (plain Rust)".into(),
         cycles,

@@ -7,7 +7,7 @@ use motionhdl::regmap_export::{c_header, json};
 use motionhdl_hdl::banner;
 use motionhdl_model::fsmc_bridge;
 use motionhdl_model::regmap::{mcu_map, Access, Block, BusMap, Register, RegisterArray};
-use motionhdl_model::{Config, IsaRam};
+use motionhdl_model::{Config, CounterFeatures, IsaRam};
 use std::collections::{BTreeMap, BTreeSet};
 
 pub const P: &str = "MOTIONHDL";
@@ -24,6 +24,9 @@ pub fn other_configs() -> Vec<Config> {
             .unwrap()
             .with_isa_ram(IsaRam::External),
         Config::new(16, 32, 100_000_000).unwrap(),
+        // The DSP seed card's counter features: no filter, index or error
+        // detection (the exports drop their fields and the INDEX register).
+        Config::default().with_counter_features(CounterFeatures::from_bits(8)),
     ]
 }
 

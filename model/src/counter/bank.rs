@@ -53,7 +53,7 @@ pub struct Bank {
 impl Bank {
     /// A bank at power-up (every flop 0), decoding `regmap::counter_bank`.
     pub fn new(axes: u32, params: CounterParams) -> Self {
-        let map = regmap::counter_bank(axes, params.width);
+        let map = regmap::counter_bank_with(axes, params.width, params.features);
         let mut decode = vec![Slot::Unmapped; 1usize << map.address_bits];
         for (addr, reg, element) in map.decoded() {
             let slot = match (element, reg.name) {

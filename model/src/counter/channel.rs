@@ -2,7 +2,7 @@
 
 use std::sync::OnceLock;
 
-use super::{sign_extend, wrap, CounterParams, InputFilter};
+use super::{sign_extend, wrap, CounterFeatures, CounterParams, InputFilter};
 use crate::regmap::{self, Block, Field};
 
 /// What one channel sees in one clock.
@@ -78,11 +78,13 @@ struct Bits {
 }
 
 impl Bits {
-    fn of(f: &Field) -> Self {
-        Self {
+    /// The field's bits; a field the build lacks has none (reads 0, writes
+    /// nothing).
+    fn of(f: Option<&Field>) -> Self {
+        f.map_or(Self { lsb: 0, mask: 0 }, |f| Self {
             lsb: f.lsb,
             mask: f.mask(),
-        }
+        })
     }
     fn get(self, reg: u32) -> u32 {
         (reg & self.mask) >> self.lsb
@@ -128,9 +130,9 @@ impl Layout {
         let ctrl = ch.register("CTRL");
         let cmd = ch.register("CMD");
         let status = ch.register("STATUS");
-        let c = |n: &str| Bits::of(ctrl.field(n));
-        let k = |n: &str| Bits::of(cmd.field(n));
-        let s = |n: &str| Bits::of(status.field(n));
+        let c = |n: &str| Bits::of(ctrl.find_field(n));
+        let k = |n: &str| Bits::of(cmd.find_field(n));
+        let s = |n: &str| Bits::of(status.find_field(n));
         Self {
             mode: c("MODE"),
             reverse: c("REVERSE"),
@@ -157,16 +159,22 @@ impl Layout {
         }
     }
 
-    /// The layout for counters of `width` bits. Built once per width: exhaustive
-    /// checks create a channel per explored transition, and the map allocates.
-    fn for_width(width: u32) -> Self {
+    /// The layout for counters of `width` bits with `features`. Built once
+    /// per pair: exhaustive checks create a channel per explored transition,
+    /// and the map allocates.
+    fn for_build(width: u32, features: CounterFeatures) -> Self {
         static LAYOUTS: OnceLock<Vec<Layout>> = OnceLock::new();
         let all = LAYOUTS.get_or_init(|| {
             (2..=32)
-                .map(|w| Layout::from_map(&regmap::counter_bank(1, w)))
+                .flat_map(|w| {
+                    (0..16).map(move |b| {
+                        let f = CounterFeatures::from_bits(b);
+                        Layout::from_map(&regmap::counter_bank_with(1, w, f))
+                    })
+                })
                 .collect()
         });
-        all[(width - 2) as usize]
+        all[(width - 2) as usize * 16 + features.bits() as usize]
     }
 }
 
@@ -203,10 +211,11 @@ impl Channel {
     /// A channel at power-up: every flop 0, as the HDL's flops start.
     pub fn new(params: CounterParams) -> Self {
         // Re-validate: the fields are public, so params may not come from new().
-        let params = CounterParams::new(params.width, params.err_bits);
+        let params =
+            CounterParams::new(params.width, params.err_bits).with_features(params.features);
         Self {
             params,
-            layout: Layout::for_width(params.width),
+            layout: Layout::for_build(params.width, params.features),
             state: ChannelState::default(),
         }
     }
@@ -303,9 +312,10 @@ impl Channel {
         let d = self.decide();
         let mut n = s;
 
-        n.fa.clock(inp.a, l.filter_ab.get(s.ctrl) as u8, inp.reset);
-        n.fb.clock(inp.b, l.filter_ab.get(s.ctrl) as u8, inp.reset);
-        n.fz.clock(inp.z, l.filter_z.get(s.ctrl) as u8, inp.reset);
+        let filtering = self.params.features.filter;
+        n.fa.clock(inp.a, l.filter_ab.get(s.ctrl) as u8, inp.reset, filtering);
+        n.fb.clock(inp.b, l.filter_ab.get(s.ctrl) as u8, inp.reset, filtering);
+        n.fz.clock(inp.z, l.filter_z.get(s.ctrl) as u8, inp.reset, filtering);
         // In reset too: the previous-value flops load the current values, so
         // no step or index event follows reset.
         n.a_prev = s.fa.level;
@@ -379,7 +389,8 @@ impl Channel {
         }
         if clear_status {
             n.seen = false;
-        } else if d.event {
+        } else if d.event && self.params.features.index {
+            // A build without the index has no SEEN to set.
             n.seen = true;
         }
         if arm {
@@ -391,7 +402,8 @@ impl Channel {
         if let Some(data) = inp.ctrl_write {
             n.ctrl = data & l.ctrl_writable;
         }
-        if inp.snapshot {
+        // A build without the snapshot has no snapshot registers: they stay 0.
+        if inp.snapshot && self.params.features.snapshot {
             n.snap_count = s.count;
             n.snap_index = s.index;
             n.snap_status = self.status();
@@ -400,17 +412,23 @@ impl Channel {
     }
 
     /// A channel register as the bus reads it: CTRL live, CMD 0 (write-only),
-    /// COUNT / INDEX / STATUS from the snapshot registers, COUNT and INDEX
-    /// sign-extended from W bits. Panics on a name the map does not have.
+    /// COUNT / INDEX / STATUS from the snapshot registers (live in a build
+    /// without SNAPSHOT), COUNT and INDEX sign-extended from W bits. Panics
+    /// on a name the map does not have.
     pub fn read(&self, register: &str) -> u32 {
         let s = &self.state;
         let w = self.params.width;
+        let (count, index, status) = if self.params.features.snapshot {
+            (s.snap_count, s.snap_index, s.snap_status)
+        } else {
+            (s.count, s.index, self.status())
+        };
         match register {
             "CTRL" => s.ctrl,
             "CMD" => 0,
-            "COUNT" => sign_extend(s.snap_count, w),
-            "INDEX" => sign_extend(s.snap_index, w),
-            "STATUS" => s.snap_status,
+            "COUNT" => sign_extend(count, w),
+            "INDEX" if self.params.features.index => sign_extend(index, w),
+            "STATUS" => status,
             other => panic!("channel has no register {other}"),
         }
     }

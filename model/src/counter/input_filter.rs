@@ -23,7 +23,8 @@ impl InputFilter {
     /// `s2` equals `level` (and when a change is accepted), and a change is
     /// accepted when it reaches 0. So F is taken on the last clock before a
     /// change starts; writing CTRL during a change does not alter it.
-    pub fn clock(&mut self, pin: bool, setting: u8, reset: bool) {
+    /// Without `filtering` (a build without the filter) `cnt` is always 0.
+    pub fn clock(&mut self, pin: bool, setting: u8, reset: bool, filtering: bool) {
         let f = setting & Self::CNT_MASK;
         let before = *self;
         self.s1 = pin;
@@ -38,6 +39,9 @@ impl InputFilter {
             self.cnt = f;
         } else {
             self.cnt = before.cnt - 1;
+        }
+        if !filtering {
+            self.cnt = 0;
         }
     }
 }

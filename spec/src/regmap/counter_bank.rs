@@ -1,6 +1,7 @@
 //! The COUNTER block: the counter bank's registers (docs/counter_bank.md).
 
-use super::{field, reg, Access, Block, EnumValue, RegisterArray};
+use super::{field, reg, Access, Block, EnumValue, Field, RegisterArray};
+use crate::CounterFeatures;
 
 /// Counting modes of CTRL.MODE.
 pub mod mode {
@@ -15,8 +16,18 @@ pub mod mode {
 pub const ERR_COUNT_BITS: u32 = 8;
 
 /// The counter bank's registers for `axes` channels of `width`-bit counters
-/// (see docs/counter_bank.md).
+/// with every feature (see docs/counter_bank.md).
 pub fn counter_bank(axes: u32, width: u32) -> Block {
+    counter_bank_with(axes, width, CounterFeatures::ALL)
+}
+
+/// Bit of INFO where the feature flags start, in [`CounterFeatures::KEYS`] order.
+const INFO_FEATURES_LSB: u32 = 24;
+
+/// The counter bank's registers for a build with `features`: a feature left
+/// out has no fields or registers here, so every export and both twins
+/// follow from this one table.
+pub fn counter_bank_with(axes: u32, width: u32, features: CounterFeatures) -> Block {
     use Access::*;
     assert!(
         (1..=16).contains(&axes),
@@ -37,7 +48,33 @@ pub fn counter_bank(axes: u32, width: u32) -> Block {
         ReadOnly,
         "Width of each channel's error counter.",
     );
-    info_err.reset = ERR_COUNT_BITS;
+    info_err.reset = if features.error { ERR_COUNT_BITS } else { 0 };
+    let mut info = vec![info_axes, info_width, info_err];
+    for (i, (name, description)) in [
+        (
+            "FILTER",
+            "1: the build has the input filters (CTRL.FILTER_AB, FILTER_Z).",
+        ),
+        (
+            "INDEX",
+            "1: the build has the index logic (INDEX, CTRL.IDX_*, CMD.ARM).",
+        ),
+        (
+            "ERROR",
+            "1: the build detects illegal transitions (STATUS.ERR, ERR_COUNT).",
+        ),
+        (
+            "SNAPSHOT",
+            "1: COUNT, INDEX and STATUS read as SNAPSHOT captured them; 0: live.",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut f = field(name, INFO_FEATURES_LSB + i as u32, 1, ReadOnly, description);
+        f.reset = (features.bits() >> i) & 1;
+        info.push(f);
+    }
     let mut mode = field("MODE", 0, 3, ReadWrite, "Counting mode.");
     mode.values = vec![
         EnumValue {
@@ -66,7 +103,7 @@ pub fn counter_bank(axes: u32, width: u32) -> Block {
             description: "A pulses count up, B pulses count down.",
         },
     ];
-    Block {
+    let block = Block {
         name: "COUNTER",
         description: "Quadrature/pulse counter bank",
         base: 0,
@@ -78,14 +115,18 @@ pub fn counter_bank(axes: u32, width: u32) -> Block {
                 ReadOnly,
                 "Build parameters of the bank.",
                 "",
-                vec![info_axes, info_width, info_err],
+                info,
             ),
             reg(
                 "SNAPSHOT",
                 1,
                 WriteOnly,
-                "Capture every channel's COUNT, INDEX and STATUS in the same clock.",
-                "Any write captures; the data is ignored.",
+                if features.snapshot {
+                    "Capture every channel's COUNT, INDEX and STATUS in the same clock."
+                } else {
+                    "No counter snapshot in this build: COUNT, INDEX and STATUS read live."
+                },
+                "Any write captures; the data is ignored. On the MCU bus it also captures every pulse generator's POSITION.",
                 vec![],
             ),
             reg(
@@ -247,5 +288,50 @@ pub fn counter_bank(axes: u32, width: u32) -> Block {
                 ),
             ],
         }],
+    };
+    without_absent(block, features)
+}
+
+/// Whether a channel field exists in a build with `features`.
+fn channel_field_kept(register: &str, field: &str, f: CounterFeatures) -> bool {
+    match (register, field) {
+        ("CTRL", "FILTER_AB") => f.filter,
+        ("CTRL", "FILTER_Z") => f.filter && f.index,
+        ("CTRL", "ERR_EN") | ("STATUS", "ERR" | "ERR_COUNT") => f.error,
+        ("CTRL", name) if name.starts_with("IDX_") => f.index,
+        ("CMD", "ARM") | ("STATUS", "ARMED" | "SEEN" | "Z") => f.index,
+        ("CMD", "CLEAR_STATUS") => f.error || f.index,
+        _ => true,
     }
+}
+
+/// Removes what a build without some features lacks and words the rest for it.
+fn without_absent(mut block: Block, f: CounterFeatures) -> Block {
+    let ch = &mut block.arrays[0];
+    ch.registers.retain(|r| r.name != "INDEX" || f.index);
+    for r in &mut ch.registers {
+        let name = r.name;
+        r.fields
+            .retain(|x: &Field| channel_field_kept(name, x.name, f));
+        if !f.snapshot {
+            r.description = match name {
+                "COUNT" => "Live count, sign-extended from WIDTH bits (no SNAPSHOT in this build).",
+                "INDEX" => {
+                    "Live index latch, sign-extended from WIDTH bits (no SNAPSHOT in this build)."
+                }
+                "STATUS" => "Live status (no SNAPSHOT in this build).",
+                _ => r.description,
+            };
+        }
+        for x in &mut r.fields {
+            if (name, x.name) == ("CMD", "CLEAR_STATUS") {
+                x.description = match (f.error, f.index) {
+                    (true, true) => "Clear STATUS.ERR, ERR_COUNT and SEEN.",
+                    (true, false) => "Clear STATUS.ERR and ERR_COUNT.",
+                    _ => "Clear STATUS.SEEN.",
+                };
+            }
+        }
+    }
+    block
 }

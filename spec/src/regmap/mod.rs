@@ -16,7 +16,7 @@ mod pulse_bank;
 #[cfg(test)]
 mod tests;
 
-pub use counter_bank::{counter_bank, mode, ERR_COUNT_BITS};
+pub use counter_bank::{counter_bank, counter_bank_with, mode, ERR_COUNT_BITS};
 pub use id::{gateware_version, id_block, ID_MAGIC};
 pub use isa_bridge::{isa_bridge, ISA_ADDR_BITS, ISA_RAM_WORDS};
 pub use pulse_bank::pulse_bank;
@@ -82,10 +82,12 @@ pub struct Register {
 impl Register {
     /// The field called `name`; panics if there is none (a map bug).
     pub fn field(&self, name: &str) -> &Field {
-        self.fields
-            .iter()
-            .find(|f| f.name == name)
+        self.find_field(name)
             .unwrap_or_else(|| panic!("register {} has no field {name}", self.name))
+    }
+    /// The field called `name`, if this build has it.
+    pub fn find_field(&self, name: &str) -> Option<&Field> {
+        self.fields.iter().find(|f| f.name == name)
     }
     /// Mask of every writable bit.
     pub fn writable_mask(&self) -> u32 {
@@ -267,7 +269,11 @@ pub const MCU_RAM_BYTE_OFFSET: u32 = 0x1000;
 /// with the internal RAM, the shared RAM window.
 pub fn mcu_map(config: &crate::Config) -> BusMap {
     let build = |hash| {
-        let mut counter = counter_bank(config.axes(), config.counter_width());
+        let mut counter = counter_bank_with(
+            config.axes(),
+            config.counter_width(),
+            config.counter_features(),
+        );
         counter.base = MCU_COUNTER_WORD_BASE;
         let mut pulse = pulse_bank(config.axes(), config.counter_width());
         pulse.base = MCU_PULSE_WORD_BASE;

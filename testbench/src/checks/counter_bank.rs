@@ -8,7 +8,7 @@ pub mod stimulus;
 use crate::harness::{cycle, settle, CheckReport};
 use crate::state_map;
 use motionhdl_hdl::CounterBank;
-use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
+use motionhdl_model::counter::{Bank, BusCycle, CounterFeatures, CounterParams};
 use motionhdl_model::regmap::{self, Block as RegisterBlock};
 use rust_hdl::prelude::*;
 
@@ -22,13 +22,19 @@ pub struct BankPair<const N: usize> {
 
 impl<const N: usize> BankPair<N> {
     pub fn new(width: u32, err_bits: u32) -> Self {
-        let mut hdl = CounterBank::<N>::with_err_bits(width, err_bits);
+        Self::with_params(CounterParams::new(width, err_bits))
+    }
+
+    /// Both twins built with `params` (width, error counter, features);
+    /// `map` is the full map, whose addresses every build shares.
+    pub fn with_params(params: CounterParams) -> Self {
+        let mut hdl = CounterBank::<N>::with_params(params);
         hdl.connect_all();
         settle(&mut hdl);
         Self {
             hdl,
-            model: Bank::new(N as u32, CounterParams::new(width, err_bits)),
-            map: regmap::counter_bank(N as u32, width),
+            model: Bank::new(N as u32, params),
+            map: regmap::counter_bank(N as u32, params.width),
             cycles: 0,
         }
     }
@@ -133,15 +139,45 @@ pub const VERILOG_SEED: u32 = 777;
 /// [`long_stimulus_hdl`] with another seed: with [`VERILOG_SEED`], the
 /// stimulus of the generated-Verilog runs, clock for clock.
 pub fn long_stimulus_hdl_seeded(cycles: u64, seed: u32) -> CheckReport {
+    long_stimulus_hdl_built(cycles, seed, CounterFeatures::ALL)
+}
+
+/// How a build's features read in a check's name: "" for the full build.
+pub fn build_label(features: CounterFeatures) -> String {
+    let [filter, index, error, snapshot] = CounterFeatures::KEYS;
+    let off: Vec<&str> = [
+        (features.filter, filter),
+        (features.index, index),
+        (features.error, error),
+        (features.snapshot, snapshot),
+    ]
+    .into_iter()
+    .filter(|(on, _)| !on)
+    .map(|(_, key)| key)
+    .collect();
+    if off.is_empty() {
+        String::new()
+    } else {
+        format!(", built with {} = false", off.join(", "))
+    }
+}
+
+/// [`long_stimulus_hdl_seeded`] with both twins built with `features`.
+pub fn long_stimulus_hdl_built(cycles: u64, seed: u32, features: CounterFeatures) -> CheckReport {
     use stimulus::Stimulus;
     let (axes, width) = (4u32, 28u32);
     let mut r = CheckReport::new(
         "counter_bank",
-        &format!("rust-hdl vs model, random encoder/bus stimulus (seed {seed}), 4×28, clocks"),
+        &format!(
+            "rust-hdl vs model, random encoder/bus stimulus (seed {seed}), 4×28{}, clocks",
+            build_label(features)
+        ),
         cycles,
     );
     let mut s = Stimulus::new(axes, width, seed);
-    let mut p = BankPair::<4>::new(width, regmap::ERR_COUNT_BITS);
+    let mut p = BankPair::<4>::with_params(
+        CounterParams::new(width, regmap::ERR_COUNT_BITS).with_features(features),
+    );
     for n in 0..cycles {
         let c = s.clock();
         if let Err(e) = p.step(&c.pins, c.reset, &c.bus) {
@@ -157,25 +193,38 @@ pub fn long_stimulus_hdl_seeded(cycles: u64, seed: u32) -> CheckReport {
 /// clocks of the long stimulus, compared with the model through checksums
 /// of the stimulus and of every clock's read data.
 pub fn verilog_long_run(target: impl Into<crate::verilog_sim::Target>, cycles: u64) -> CheckReport {
+    verilog_long_run_built(target, cycles, CounterFeatures::ALL)
+}
+
+/// [`verilog_long_run`] of the bank built with `features`.
+pub fn verilog_long_run_built(
+    target: impl Into<crate::verilog_sim::Target>,
+    cycles: u64,
+    features: CounterFeatures,
+) -> CheckReport {
     use stimulus::{model_sums, verilog_sums};
     let t = target.into();
     let (axes, width, seed) = (4u32, 28u32, VERILOG_SEED);
     let mut r = CheckReport::new(
         "counter_bank",
-        &format!("{} vs model, random stimulus, clocks", t.describe()),
+        &format!(
+            "{} vs model, random stimulus{}, clocks",
+            t.describe(),
+            build_label(features)
+        ),
         cycles,
     );
     if let Err(why) = t.available() {
         return r.skip(why);
     }
-    let m = motionhdl_hdl::catalog::counter_bank(axes, width);
+    let m = motionhdl_hdl::catalog::counter_bank_with(axes, width, features);
     match t
         .text(&m)
         .and_then(|text| verilog_sums(t.sim, &m, &text, width, seed, cycles))
     {
         Err(e) => r.failures.push(e),
         Ok(got) => {
-            let want = model_sums(axes, width, seed, cycles);
+            let want = model_sums(axes, width, features, seed, cycles);
             if got.stimulus != want.stimulus {
                 r.failures
                     .push("the Verilog and Rust stimulus generators differ".into());

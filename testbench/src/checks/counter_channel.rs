@@ -2,11 +2,11 @@
 //! channel through every reachable (state, input) pair in each mode,
 //! rust-hdl beside the model every clock.
 
-use super::counter_bank::BankPair;
+use super::counter_bank::{build_label, BankPair};
 use crate::harness::CheckReport;
 use crate::tour::{explore, tour};
 use motionhdl_model::counter::{
-    BusCycle, Channel, ChannelInputs, ChannelState, CounterParams, InputFilter,
+    BusCycle, Channel, ChannelInputs, ChannelState, CounterFeatures, CounterParams, InputFilter,
 };
 use motionhdl_model::regmap::{self};
 use std::collections::BTreeSet;
@@ -63,16 +63,10 @@ pub type CoreInput = (bool, bool, bool, u32);
 /// fixed CTRL, driven through the full rust-hdl bank's pins (filters off, so
 /// the synchroniser and filter are a 3-clock delay) and compared with the
 /// model every clock. Coverage is counted from the model's observed state.
-pub fn core_exhaustive(
-    label: &str,
-    width: u32,
-    err_bits: u32,
-    ctrl: u32,
-    cmds: &[u32],
-) -> CheckReport {
+pub fn core_exhaustive(label: &str, params: CounterParams, ctrl: u32, cmds: &[u32]) -> CheckReport {
+    let width = params.width;
     let map = regmap::counter_bank(1, width);
     let ch = map.array("CH");
-    let params = CounterParams::new(width, err_bits);
     // The model channel after CTRL is written, idle pins.
     let mut setup = Channel::new(params);
     for _ in 0..3 {
@@ -145,7 +139,7 @@ pub fn core_exhaustive(
 
     // Drive the bank: the same setup, then pins 3 clocks ahead of the core.
     const LEAD: usize = 3;
-    let mut pair = BankPair::<1>::new(width, err_bits);
+    let mut pair = BankPair::<1>::with_params(params);
     let idle = [(false, false, false)];
     let cmd_addr = ch.address(0, "CMD");
     let run = (|| -> Result<BTreeSet<(Core, usize)>, String> {
@@ -206,7 +200,11 @@ pub fn ctrl_value(width: u32, fields: &[(&str, u32)]) -> u32 {
 /// X4 reversed; then every index feature at once at W=3 (the index latch
 /// multiplies the state space by 2^W).
 pub fn core_checks() -> Vec<CheckReport> {
-    let jobs = core_check_jobs();
+    run_jobs(core_check_jobs())
+}
+
+/// Runs the tours side by side, one thread each.
+fn run_jobs(jobs: Vec<Job>) -> Vec<CheckReport> {
     std::thread::scope(|scope| {
         let handles: Vec<_> = jobs.into_iter().map(|job| scope.spawn(job)).collect();
         handles
@@ -217,6 +215,17 @@ pub fn core_checks() -> Vec<CheckReport> {
 }
 
 type Job = Box<dyn FnOnce() -> CheckReport + Send>;
+
+/// CTRL of the index tours: X4, error latching and every index feature.
+const EVERY_INDEX_FEATURE: [(&str, u32); 7] = [
+    ("MODE", regmap::mode::X4),
+    ("ERR_EN", 1),
+    ("IDX_LATCH", 1),
+    ("IDX_CLEAR", 1),
+    ("IDX_GATE", 1),
+    ("IDX_ONESHOT", 1),
+    ("IDX_INVERT", 1),
+];
 
 fn core_check_jobs() -> Vec<Job> {
     let cmd = |w: u32, name: &str| {
@@ -240,8 +249,7 @@ fn core_check_jobs() -> Vec<Job> {
         out.push(Box::new(move || {
             core_exhaustive(
                 &format!("channel core {name}, W=4, every reachable state × input"),
-                w,
-                2,
+                CounterParams::new(w, 2),
                 ctrl,
                 &cmds,
             )
@@ -255,31 +263,18 @@ fn core_check_jobs() -> Vec<Job> {
     out.push(Box::new(move || {
         core_exhaustive(
             "channel core X4 reversed, W=4, every reachable state × input",
-            w,
-            2,
+            CounterParams::new(w, 2),
             ctrl,
             &cmds[..2],
         )
     }));
     let w = 3;
     let cmds = [0, cmd(w, "CLEAR_STATUS"), cmd(w, "ARM"), cmd(w, "CLEAR")];
-    let ctrl = ctrl_value(
-        w,
-        &[
-            ("MODE", regmap::mode::X4),
-            ("ERR_EN", 1),
-            ("IDX_LATCH", 1),
-            ("IDX_CLEAR", 1),
-            ("IDX_GATE", 1),
-            ("IDX_ONESHOT", 1),
-            ("IDX_INVERT", 1),
-        ],
-    );
+    let ctrl = ctrl_value(w, &EVERY_INDEX_FEATURE);
     out.push(Box::new(move || {
         core_exhaustive(
             "channel core X4 + every index feature, W=3, every reachable state × input",
-            w,
-            2,
+            CounterParams::new(w, 2),
             ctrl,
             &cmds,
         )
@@ -287,7 +282,74 @@ fn core_check_jobs() -> Vec<Job> {
     out
 }
 
+/// The exhaustive core checks of builds that leave features out, each with
+/// the same CTRL and commands as a full-build tour, the absent fields' bits
+/// included (so the tour shows them ignored): without the index at W=4
+/// (error latching on), without error detection at W=3 (every index feature
+/// on), and with index, error and filter all out at W=4. A build without the
+/// filter or the snapshot changes nothing the core sees (the filter's tour
+/// and the bank's random runs check those).
+pub fn core_checks_of_partial_builds() -> Vec<CheckReport> {
+    run_jobs(partial_build_jobs())
+}
+
+fn partial_build_jobs() -> Vec<Job> {
+    let full = CounterFeatures::ALL;
+    let builds = [
+        (
+            4,
+            CounterFeatures {
+                index: false,
+                ..full
+            },
+        ),
+        (
+            3,
+            CounterFeatures {
+                error: false,
+                ..full
+            },
+        ),
+        (
+            4,
+            CounterFeatures {
+                filter: false,
+                index: false,
+                error: false,
+                ..full
+            },
+        ),
+    ];
+    builds
+        .into_iter()
+        .map(|(w, features)| {
+            let cmd = |name: &str| {
+                regmap::counter_bank(1, w)
+                    .array("CH")
+                    .register("CMD")
+                    .field(name)
+                    .mask()
+            };
+            let cmds = [0, cmd("CLEAR_STATUS"), cmd("ARM"), cmd("CLEAR")];
+            let ctrl = ctrl_value(w, &EVERY_INDEX_FEATURE);
+            Box::new(move || {
+                core_exhaustive(
+                    &format!(
+                        "channel core X4, every CTRL feature written, W={w}{}, every reachable state × input",
+                        build_label(features)
+                    ),
+                    CounterParams::new(w, 2).with_features(features),
+                    ctrl,
+                    &cmds,
+                )
+            }) as Job
+        })
+        .collect()
+}
+
 /// The channel core checks `motionhdl verify` runs.
 pub fn all(_external: bool) -> Vec<CheckReport> {
-    core_checks()
+    let mut v = core_checks();
+    v.extend(core_checks_of_partial_builds());
+    v
 }

@@ -15,7 +15,7 @@ fn filter_rejects_f_clocks_and_accepts_f_plus_one() {
             let mut accepted = false;
             for t in 0..(len as usize + 20) {
                 flt.s2 = t < len as usize;
-                flt.clock(false, f, false);
+                flt.clock(false, f, false, true);
                 accepted |= flt.level;
                 // Keep s2 under the test's control.
                 flt.s1 = false;
@@ -35,7 +35,7 @@ fn filter_latency_pin_to_level_is_f_plus_three() {
         let mut flt = InputFilter::default();
         let mut edges = 0;
         while !flt.level {
-            flt.clock(true, f, false);
+            flt.clock(true, f, false, true);
             edges += 1;
             assert!(edges < 40);
         }
@@ -48,20 +48,20 @@ fn filter_latency_pin_to_level_is_f_plus_three() {
 fn filter_takes_f_before_the_change_starts() {
     // Idle: cnt follows F every clock.
     let mut flt = InputFilter::default();
-    flt.clock(false, 9, false);
+    flt.clock(false, 9, false, true);
     assert_eq!(flt.cnt, 9);
-    flt.clock(false, 3, false);
+    flt.clock(false, 3, false, true);
     assert_eq!(flt.cnt, 3, "reloaded while s2 equals level");
     // A change starts: F is lowered to 0 mid-count, the change still
     // needs the 3 + 1 clocks of the F it started with.
     flt.s2 = true;
     flt.s1 = true;
     for left in [2, 1, 0] {
-        flt.clock(true, 0, false);
+        flt.clock(true, 0, false, true);
         assert!(!flt.level);
         assert_eq!(flt.cnt, left);
     }
-    flt.clock(true, 0, false);
+    flt.clock(true, 0, false, true);
     assert!(flt.level, "accepted on the fourth clock");
     assert_eq!(flt.cnt, 0, "and reloaded with the F of that clock");
     // Raised mid-count: the change is accepted after the old F too.
@@ -71,9 +71,9 @@ fn filter_takes_f_before_the_change_starts() {
         level: false,
         cnt: 1,
     };
-    flt.clock(true, 15, false);
+    flt.clock(true, 15, false, true);
     assert!(!flt.level);
-    flt.clock(true, 15, false);
+    flt.clock(true, 15, false, true);
     assert!(flt.level);
     assert_eq!(flt.cnt, 15);
 }
@@ -86,7 +86,7 @@ fn filter_follows_s2_during_reset() {
         level: false,
         cnt: 9,
     };
-    flt.clock(false, 15, true);
+    flt.clock(false, 15, true, true);
     assert_eq!(
         flt,
         InputFilter {
@@ -96,4 +96,22 @@ fn filter_follows_s2_during_reset() {
             cnt: 0
         }
     );
+}
+
+#[test]
+fn filter_left_out_of_the_build_is_a_synchroniser_whatever_the_setting() {
+    for f in [0u8, 1, 15] {
+        let mut flt = InputFilter::default();
+        let mut edges = 0;
+        while !flt.level {
+            flt.clock(true, f, false, false);
+            assert_eq!(
+                flt.cnt, 0,
+                "F = {f}: the count of a filter left out stays 0"
+            );
+            edges += 1;
+            assert!(edges < 40);
+        }
+        assert_eq!(edges, 3, "F = {f}: the latency of F = 0");
+    }
 }

@@ -11,7 +11,7 @@
 
 use crate::verilog_sim::{dut_instance, run_for_sums, Simulator};
 use motionhdl_hdl::catalog::VerilogModule;
-use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
+use motionhdl_model::counter::{Bank, BusCycle, CounterFeatures, CounterParams};
 use motionhdl_model::regmap;
 use std::fmt::Write as _;
 
@@ -131,9 +131,16 @@ impl Sums {
 }
 
 /// The model's checksums after `cycles` clocks from `seed`.
-pub fn model_sums(axes: u32, width: u32, seed: u32, cycles: u64) -> Sums {
+pub fn model_sums(
+    axes: u32,
+    width: u32,
+    features: CounterFeatures,
+    seed: u32,
+    cycles: u64,
+) -> Sums {
     let mut s = Stimulus::new(axes, width, seed);
-    let mut bank = Bank::new(axes, CounterParams::new(width, regmap::ERR_COUNT_BITS));
+    let params = CounterParams::new(width, regmap::ERR_COUNT_BITS).with_features(features);
+    let mut bank = Bank::new(axes, params);
     let mut sums = Sums::default();
     for _ in 0..cycles {
         let c = s.clock();

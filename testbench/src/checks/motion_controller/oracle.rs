@@ -31,7 +31,8 @@ impl McuOracle {
         let map = regmap::mcu_map(config);
         let bank = Bank::new(
             config.axes(),
-            CounterParams::new(config.counter_width(), ERR_COUNT_BITS),
+            CounterParams::new(config.counter_width(), ERR_COUNT_BITS)
+                .with_features(config.counter_features()),
         );
         let words = map.memories.first().map_or(0, |m| m.words) as usize;
         Self {
