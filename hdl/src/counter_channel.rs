@@ -175,6 +175,8 @@ impl CounterChannel {
         );
         let full = regmap::counter_bank(axes, width);
         let map = regmap::counter_bank_with(axes, width, features);
+        // The map's table says which builds have CLEAR_STATUS.
+        let cmd = map.array("CH").register("CMD");
         let ch = full.array("CH");
         let addr = |reg: &str| Constant::new((ch.address(channel, reg) as u64).into());
         // Read stage 1 splits the address into the channel's page (bits 7..3)
@@ -264,7 +266,7 @@ impl CounterChannel {
             status_err_count_lsb: bit_of(&full, "STATUS", "ERR_COUNT"),
             status_err_count_mask: mask_of(&map, "STATUS", "ERR_COUNT"),
             has_index: Constant::new(features.index),
-            has_clear_status: Constant::new(features.index || features.error),
+            has_clear_status: Constant::new(cmd.find_field("CLEAR_STATUS").is_some()),
             has_snapshot: Constant::new(features.snapshot),
             quadrature_modes: Constant::new((regmap::mode::PULSE_DIR as u64).into()),
             sign_bit: k32(sign_bit),

@@ -126,7 +126,11 @@ pub fn counter_bank_with(axes: u32, width: u32, features: CounterFeatures) -> Bl
                 } else {
                     "No counter snapshot in this build: COUNT, INDEX and STATUS read live."
                 },
-                "Any write captures; the data is ignored. On the MCU bus it also captures every pulse generator's POSITION.",
+                if features.snapshot {
+                    "Any write captures; the data is ignored. On the MCU bus it also captures every pulse generator's POSITION."
+                } else {
+                    "The counters ignore a write. On the MCU bus it captures every pulse generator's POSITION."
+                },
                 vec![],
             ),
             reg(

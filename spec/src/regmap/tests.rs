@@ -37,8 +37,12 @@ fn info_reset_value_encodes_the_build() {
     let b = counter_bank(4, 28);
     assert_eq!(
         b.register("INFO").reset,
-        4 | (28 << 8) | (ERR_COUNT_BITS << 16)
+        4 | (28 << 8) | (ERR_COUNT_BITS << 16) | (0xf << 24)
     );
+    // The DSP seed set: snapshot only, no error counter.
+    let lean = counter_bank_with(4, 28, crate::CounterFeatures::from_bits(8));
+    assert_eq!(lean.register("INFO").reset, 4 | (28 << 8) | (8 << 24));
+    assert_eq!(lean.array("CH").register("CTRL").writable_mask(), 0x0f);
     assert_eq!(b.array("CH").address(1, "COUNT"), 8 + 8 + 2);
     assert_eq!(b.array("CH").register("CTRL").writable_mask(), 0x00ff_03ff);
 }

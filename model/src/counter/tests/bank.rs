@@ -53,7 +53,8 @@ fn bank_reads_info_preset_and_unmapped() {
     let info = r.reg("INFO");
     let preset = r.reg("PRESET");
     let snapshot = r.reg("SNAPSHOT");
-    assert_eq!(r.read(info), 3 | (28 << 8) | (8 << 16));
+    // AXES, WIDTH, ERR_BITS and the four feature bits (every feature in).
+    assert_eq!(r.read(info), 3 | (28 << 8) | (8 << 16) | (0xf << 24));
     r.write(info, 0);
     assert_eq!(r.read(info), r.map().register("INFO").reset);
 
