@@ -55,15 +55,16 @@ fn a_sweep_writes_its_table_between_the_markers() {
                 "by `motionhdl synth --sweep --axes 1 --seeds 1 --targets ice40-hx8k --no-blocks`"
             )
     );
-    // The row: routed, with the one-axis top's numbers (10 RAM blocks: the
-    // ISA RAM's 8 and the axis's segment FIFO's 2) and an Fmax.
+    // The row: routed, with the one-axis top's numbers (12 RAM blocks: the
+    // ISA RAM's 8, the axis's segment FIFO's 2 and its jerk ring's 2) and
+    // an Fmax.
     let row = after
         .lines()
         .find(|l| l.starts_with("| ice40-hx8k | board top, 1 axis | 1 |"))
         .unwrap_or_else(|| panic!("no row in\n{after}"));
     let cols: Vec<&str> = row.split('|').map(str::trim).collect();
     assert!(cols[4].ends_with(" / 7680"), "{row}");
-    assert_eq!(cols[8], "10", "{row}");
+    assert_eq!(cols[8], "12", "{row}");
     assert!(
         cols[10].ends_with("(50)") || cols[10].ends_with("(50, misses it)"),
         "{row}"

@@ -80,8 +80,9 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     assert!((1000..7680).contains(&lc), "{lc} logic cells");
     assert!(number(&f["FFs"]) > 500);
     assert!(number(&f["carry cells"]) > 50);
-    // The ISA RAM (8) and the axis's segment FIFO (2: 256 x 32 bits).
-    assert!(f["RAM blocks"].starts_with("10 "), "{}", f["RAM blocks"]);
+    // The ISA RAM (8), the axis's segment FIFO (2: 256 x 32 bits) and its
+    // jerk ring (2: 128 x 32 bits).
+    assert!(f["RAM blocks"].starts_with("12 "), "{}", f["RAM blocks"]);
     let config = motionhdl::config_file::parse("axes = 1", "t").unwrap();
     let pins: u32 = motionhdl::board::ports(&config)
         .iter()

@@ -2,9 +2,10 @@
 //! generator's move FIFO ([`motionhdl_spec::pulse::Segment`]).
 //!
 //! The pulse generator's NCO commands steps at rate/2^32 steps per clock
-//! (|rate| <= 2^31); a segment starts the NCO at `rate`, adds `accel` on every
-//! clock the NCO advances, and ends once it has commanded `steps` steps; the
-//! sign of the rate is the direction. The move engine spends one clock
+//! (|rate| <= 2^31); a segment starts the NCO at `rate`, adds `accel` (16
+//! fraction bits: 2^-16 of a rate LSB) to its rate on every clock the NCO
+//! advances, and `jerk` to its accel, and ends once it has commanded
+//! `steps` steps; the sign of the rate is the direction. The move engine spends one clock
 //! loading each segment (the NCO stands still on it) and the NCO's phase
 //! carries over from one segment to the next; the segment's copy out of the
 //! FIFO's RAM takes 4 clocks, which a tick-long segment always covers. The
@@ -25,19 +26,16 @@
 //! * `rate` = the velocity at the tick's start, estimated as the central
 //!   difference (p(k+1) − p(k−1))/2 of the positions, in steps per clock ×
 //!   2^32 (C = clock_hz / tick_hz clocks per tick, floor);
-//! * `accel` = (end rate − start rate) / (C − 1), truncated toward 0: the
-//!   linear change that reaches the end velocity (the central difference at
-//!   the tick's end) over the tick's advancing clocks (one of the C goes to
-//!   loading the segment).
+//! * `accel` = 2^16·(end rate − start rate) / (C − 1), truncated toward 0:
+//!   the linear change that reaches the end velocity (the central difference
+//!   at the tick's end) over the tick's advancing clocks (one of the C goes
+//!   to loading the segment); `jerk` = 0.
 //!
-//! The move engine adds `accel` to the rate every clock with no fractional
-//! bits, so one LSB of accel is 2^-32 steps/clock²: at 50 MHz and a 1 kHz
-//! tick, 0.58 steps/tick² (5.8·10^5 steps/s²). Slower changes truncate to 0
-//! (the start of an S-curve does), and a segment would then run at its start
-//! rate only, far too slowly at a move's start. So the start rate also gets
-//! half the truncated part of the ramp: the segment keeps the ramp's mean
-//! rate, hence its steps per tick, and the rate follows the profile as a
-//! staircase of segments.
+//! One LSB of accel is 2^-48 steps/clock² (about 8.9 steps/s² at 50 MHz),
+//! so the truncation loses less than a thousandth of a step over a tick.
+//! The steepest is 2^31 LSBs (about 1.9·10^10 steps/s²); a steeper ramp is
+//! clamped to it and its start rate raised by half the part cut off, so
+//! the segment keeps its mean rate and its steps per tick.
 //!
 //! A tick with no whole step (slow motion) gets no segment of its own: it
 //! is merged into the next segment, whose ramp then runs from the first
@@ -58,13 +56,16 @@
 //! tick's clocks); [`SegmentBuilder::adjusted`] counts those segments.
 
 use crate::OutOfRange;
-use motionhdl_spec::pulse::Segment;
+use motionhdl_spec::pulse::{Segment, ACCEL_FRAC_BITS, LOAD_FRACTION};
 
 /// Largest |rate| the builder emits: 2^31 − 1, so that both directions are
 /// representable as a positive or negative i32 (the NCO takes up to 2^31).
 pub const RATE_MAX: i64 = i32::MAX as i64;
 /// Longest segment [`segment_clocks`] follows (about 65 days at 50 MHz).
 pub const CLOCK_LIMIT: u64 = 1 << 48;
+/// Longest segment with a jerk [`segment_clocks`] follows: it runs those
+/// clock by clock (about 86 s at 50 MHz).
+pub const JERK_CLOCK_LIMIT: u64 = 1 << 32;
 
 /// Clock rates and the NCO's phase at the start.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -139,12 +140,37 @@ impl core::fmt::Display for SegmentError {
 impl core::error::Error for SegmentError {}
 
 /// The direction a segment steps: the sign of its rate, or of its accel
-/// when the rate starts at 0.
+/// when the rate starts at 0, or of its jerk when both do.
 pub fn direction(seg: &Segment) -> i64 {
-    if seg.rate != 0 {
-        i64::from(seg.rate.signum())
-    } else {
-        i64::from(seg.accel.signum())
+    [seg.rate, seg.accel, seg.jerk]
+        .into_iter()
+        .find(|&x| x != 0)
+        .map_or(0, |x| i64::from(x.signum()))
+}
+
+/// Σ_{i<n} ⌊(a·i + b)/m⌋ for n >= 0, m > 0 (the AtCoder Library's
+/// floor_sum, extended to negative a and b).
+pub fn floor_sum(n: i128, m: i128, a: i128, b: i128) -> i128 {
+    let (mut n, mut m) = (n, m);
+    let pairs = n * (n - 1) / 2;
+    let (a0, b0) = (a.rem_euclid(m), b.rem_euclid(m));
+    let mut ans = pairs * ((a - a0) / m) + n * ((b - b0) / m);
+    let (mut a, mut b) = (a0, b0);
+    loop {
+        if a >= m {
+            ans += n * (n - 1) / 2 * (a / m);
+            a %= m;
+        }
+        if b >= m {
+            ans += n * (b / m);
+            b %= m;
+        }
+        let y_max = a * n + b;
+        if y_max < m {
+            return ans;
+        }
+        (n, b) = (y_max / m, y_max % m);
+        (m, a) = (a, m);
     }
 }
 
@@ -161,14 +187,16 @@ pub struct SegmentRun {
 /// Clocks `seg` takes when the NCO's phase starts at `phase` and the step
 /// output never holds the NCO back; `None` if it never completes: the rate
 /// would turn direction (pass 0) or leave the i32 range before the last
-/// step, or it would take more than [`CLOCK_LIMIT`] clocks.
+/// step, or it would take more than [`CLOCK_LIMIT`] clocks
+/// ([`JERK_CLOCK_LIMIT`] with a jerk).
 ///
 /// The NCO adds |rate_k| to its 32-bit phase on clock k of the segment and
-/// commands a step on every carry, with rate_k = rate + k·accel; after n
-/// advancing clocks it has commanded ⌊(phase + S(n))/2^32⌋ steps, S(n) =
-/// Σ|rate_k| = n·|rate| + ±accel·n(n−1)/2 while the sign holds. That sum is
-/// what a clock-by-clock u64 accumulation computes; here the least n with
-/// S(n) >= steps·2^32 − phase is found by bisection, plus the load clock.
+/// commands a step on every carry; after n advancing clocks it has
+/// commanded ⌊(phase + S(n))/2^32⌋ steps, S(n) = Σ|rate_k|. Without a jerk
+/// rate_k = ⌊(rate·2^16 + 2^15 + k·accel)/2^16⌋, so S(n) is a floor sum
+/// ([`floor_sum`]) while the sign holds, and the least n with S(n) >=
+/// steps·2^32 − phase is found by bisection, plus the load clock. With a
+/// jerk the rate is followed clock by clock ([`jerk_segment_clocks`]).
 pub fn segment_clocks(seg: &Segment, phase: u32) -> Option<SegmentRun> {
     if seg.steps == 0 {
         return Some(SegmentRun { clocks: 1, phase });
@@ -177,20 +205,28 @@ pub fn segment_clocks(seg: &Segment, phase: u32) -> Option<SegmentRun> {
     if dir == 0 {
         return None;
     }
-    // Magnitude frame: rate_k·dir = r0 + k·am must stay in 0..=max.
+    if seg.jerk != 0 {
+        return jerk_segment_clocks(seg, phase, dir);
+    }
+    // Magnitude frame: |rate_k| = ⌊(r0 + c + k·am)/2^16⌋ must stay in
+    // 0..=max: forwards c is the load's half LSB; backwards the register
+    // is −r0 + 2^15 and |⌊x⌋| = ⌈−x⌉ = ⌊(r0 − 2^15 + 2^16 − 1)/2^16⌋.
+    let one = 1i128 << ACCEL_FRAC_BITS;
     let (r0, am) = (
-        i128::from(seg.rate) * i128::from(dir),
+        (i128::from(seg.rate) << ACCEL_FRAC_BITS) * i128::from(dir),
         i128::from(seg.accel) * i128::from(dir),
     );
+    let half = i128::from(LOAD_FRACTION);
+    let c = if dir > 0 { half } else { one - 1 - half };
     // i32: up to 2^31 − 1 forward, 2^31 backward.
     let max = (1i128 << 31) - i128::from(dir > 0);
     let limit = i128::from(CLOCK_LIMIT);
     let n_max = match am {
         0 => limit,
-        am if am > 0 => ((max - r0) / am + 1).min(limit),
-        am => (r0 / -am + 1).min(limit),
+        am if am > 0 => (((max + 1) * one - r0 - c + am - 1) / am).min(limit),
+        am => ((r0 + c) / -am + 1).min(limit),
     };
-    let sum = |n: i128| n * r0 + am * n * (n - 1) / 2;
+    let sum = |n: i128| floor_sum(n, one, am, r0 + c);
     let need = (i128::from(seg.steps) << 32) - i128::from(phase);
     if sum(n_max) < need {
         return None;
@@ -209,6 +245,41 @@ pub fn segment_clocks(seg: &Segment, phase: u32) -> Option<SegmentRun> {
         clocks: hi as u64 + 1,
         phase: (i128::from(phase) + sum(hi)) as u32,
     })
+}
+
+/// [`segment_clocks`] for a segment with a jerk, clock by clock as the
+/// move engine runs it (48-bit rate and acceleration, 16 fraction bits
+/// each).
+pub fn jerk_segment_clocks(seg: &Segment, phase: u32, dir: i64) -> Option<SegmentRun> {
+    let mut rate = (i64::from(seg.rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+    let mut accel = (i64::from(seg.accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+    let top = 1i64 << (31 + ACCEL_FRAC_BITS);
+    let mut acc = u64::from(phase);
+    let mut steps = 0;
+    for clock in 1..=JERK_CLOCK_LIMIT {
+        let nco = rate >> ACCEL_FRAC_BITS;
+        if nco * dir < 0 {
+            return None;
+        }
+        acc += nco.unsigned_abs();
+        if acc >> 32 != 0 {
+            acc &= 0xFFFF_FFFF;
+            steps += 1;
+            if steps == seg.steps {
+                return Some(SegmentRun {
+                    clocks: clock + 1,
+                    phase: acc as u32,
+                });
+            }
+        }
+        rate += accel >> ACCEL_FRAC_BITS;
+        accel += i64::from(seg.jerk);
+        // Leaving the i32 rate (or the 48-bit acceleration) range.
+        if rate >= top || rate < -top || accel >= top || accel < -top {
+            return None;
+        }
+    }
+    None
 }
 
 /// Streams positions in, segments out (one tick behind: a tick's end
@@ -327,16 +398,19 @@ impl SegmentBuilder {
             });
         }
         let advancing = i128::from(ticks * self.c - 1);
-        let am = (r1 - r0) / advancing;
-        // accel has no fraction (one LSB is 2^-32 steps/clock²): keep the
-        // ramp's mean rate by adding the truncated part's half-ramp,
-        // rem·(n−1)/(2n), to the start rate.
-        let rem = r1 - r0 - am * advancing;
-        let r0 = r0 + (rem * (advancing - 1) + advancing) / (2 * advancing);
+        // The steepest SEG_ACCEL is 2^15 rate LSBs a clock (about 1.9·10^10
+        // steps/s² at 50 MHz). A steeper ramp keeps its mean rate, so its
+        // steps per tick: the start rate takes half the part of the ramp
+        // the clamp cuts off.
+        let steepest = i128::from(i32::MAX);
+        let want = ((r1 - r0) << ACCEL_FRAC_BITS) / advancing;
+        let am = want.clamp(-steepest, steepest);
+        let r0 = r0 + (((want - am) * (advancing - 1)) >> (ACCEL_FRAC_BITS + 1));
         let seg = |r: i128, a: i128| Segment {
             steps: steps.unsigned_abs() as u32,
             rate: (r * dir) as i32,
             accel: (a * dir) as i32,
+            jerk: 0,
         };
         let mut out = seg(r0, am);
         if segment_clocks(&out, self.phase).is_none() {

@@ -3,8 +3,8 @@
 
 use motionhdl_firmware::scurve::{SCurve, SCurveParams};
 use motionhdl_firmware::segments::{
-    direction, segment_clocks, segments, SegmentBuilder, SegmentConfig, SegmentError, SegmentRun,
-    CLOCK_LIMIT, RATE_MAX,
+    direction, floor_sum, segment_clocks, segments, SegmentBuilder, SegmentConfig, SegmentError,
+    SegmentRun, CLOCK_LIMIT, RATE_MAX,
 };
 use motionhdl_firmware::trapezoid::{TrapezoidParams, TrapezoidStepper};
 use motionhdl_firmware::ONE;
@@ -13,10 +13,12 @@ use motionhdl_model::pulse_generator::{
 };
 use proptest::prelude::*;
 
-/// The NCO clock by clock, as the brief describes the estimate: a u64 phase
-/// accumulator; |rate| added per clock, a step per carry, accel added to the
-/// rate. `None` if the rate changes sign or leaves i32 before the last step
-/// or `limit` clocks pass.
+/// The NCO clock by clock, as docs/pulse_generator.md describes the move
+/// engine: a u64 phase accumulator; |rate| added per clock, a step per
+/// carry; the rate and the acceleration carry 16 fraction bits, the rate
+/// grows by the acceleration's whole part and the acceleration by the jerk.
+/// `None` if the rate changes sign or leaves i32 before the last step or
+/// `limit` clocks pass.
 fn nco_reference(seg: &Segment, mut phase: u64, limit: u64) -> Option<SegmentRun> {
     if seg.steps == 0 {
         return Some(SegmentRun {
@@ -25,13 +27,17 @@ fn nco_reference(seg: &Segment, mut phase: u64, limit: u64) -> Option<SegmentRun
         });
     }
     let dir = direction(seg);
-    let mut rate = i64::from(seg.rate);
+    let (mut rate, mut accel) = (
+        (i64::from(seg.rate) << 16) + (1 << 15),
+        (i64::from(seg.accel) << 16) + (1 << 15),
+    );
     let mut steps = 0;
     for clock in 1..=limit {
-        if rate * dir < 0 || i32::try_from(rate).is_err() {
+        let nco = rate.div_euclid(1 << 16);
+        if nco * dir < 0 || i32::try_from(nco).is_err() {
             return None;
         }
-        phase += rate.unsigned_abs();
+        phase += nco.unsigned_abs();
         if phase >> 32 != 0 {
             phase &= 0xFFFF_FFFF;
             steps += 1;
@@ -42,7 +48,8 @@ fn nco_reference(seg: &Segment, mut phase: u64, limit: u64) -> Option<SegmentRun
                 });
             }
         }
-        rate += i64::from(seg.accel);
+        rate += accel.div_euclid(1 << 16);
+        accel += i64::from(seg.jerk);
     }
     None
 }
@@ -55,7 +62,7 @@ fn hand_computed_segment_clocks() {
     let s = Segment {
         steps: 1,
         rate: i32::MAX,
-        accel: 0,
+        ..Default::default()
     };
     assert_eq!(
         segment_clocks(&s, 0),
@@ -64,40 +71,60 @@ fn hand_computed_segment_clocks() {
             phase: (1 << 31) - 3
         })
     );
-    // From rest at accel 2^20: S(n) = 2^20·n(n−1)/2 >= 2^32 needs
-    // n(n−1) >= 8192: n = 92 (92·91 = 8372; 91·90 = 8190). Phase left:
-    // 2^19·8372 − 2^32 = 2^19·180.
+    // From rest at accel 2^30 (2^14 rate LSBs a clock): S(n) =
+    // 2^14·n(n−1)/2 >= 2^32 needs n(n−1) >= 2^19 = 524 288: n = 725
+    // (725·724 = 524 900; 724·723 = 523 452). Phase left: 2^13·524 900 −
+    // 2^32 = 2^13·612.
     let s = Segment {
         steps: 1,
-        rate: 0,
-        accel: 1 << 20,
+        accel: 1 << 30,
+        ..Default::default()
     };
     assert_eq!(
         segment_clocks(&s, 0),
         Some(SegmentRun {
-            clocks: 93,
-            phase: 180 << 19
+            clocks: 726,
+            phase: 612 << 13
         })
     );
     // Backwards, the same.
     let s = Segment {
         steps: 1,
-        rate: 0,
-        accel: -(1 << 20),
+        accel: -(1 << 30),
+        ..Default::default()
     };
-    assert_eq!(segment_clocks(&s, 0).unwrap().clocks, 93);
+    assert_eq!(segment_clocks(&s, 0).unwrap().clocks, 726);
+    // A fraction-only ramp: accel 3 (3·2^-16 rate LSBs a clock) from rate
+    // 2^31 − 3 reaches 2^31 − 1 (the top) after ⌈2^17/3⌉ = 43 691 clocks,
+    // where the floor sum must agree with the clock-by-clock reference.
+    let s = Segment {
+        steps: 30_000,
+        rate: i32::MAX - 2,
+        accel: 3,
+        jerk: 0,
+    };
+    assert_eq!(segment_clocks(&s, 5), nco_reference(&s, 5, 100_000));
+    // Past the top rate it never completes.
+    let s = Segment { steps: 40_000, ..s };
+    assert_eq!(segment_clocks(&s, 5), None);
     // Decelerating through zero before the step: never completes.
     let s = Segment {
         steps: 3,
         rate: 1 << 20,
-        accel: -(1 << 10),
+        accel: -(1 << 26),
+        jerk: 0,
     };
     assert_eq!(segment_clocks(&s, 0), None);
+    // The same with a jerk that turns the rate back up in time: the
+    // rate's minimum is 2^20 − 2^10·k + 2^-16·j·k²/2 ...; the clock-by-
+    // clock follower agrees with the reference.
+    let s = Segment { jerk: 1 << 20, ..s };
+    assert_eq!(segment_clocks(&s, 0), nco_reference(&s, 0, 1 << 20));
     // A zero-step segment is consumed on its load clock.
     let s = Segment {
         steps: 0,
         rate: 5,
-        accel: 0,
+        ..Default::default()
     };
     assert_eq!(
         segment_clocks(&s, 77),
@@ -112,14 +139,23 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     #[test]
+    fn floor_sum_is_the_sum_of_floors(
+        n in 0i128..300, m in 1i128..5000, a in -100_000i128..100_000, b in -1_000_000i128..1_000_000,
+    ) {
+        let want: i128 = (0..n).map(|i| (a * i + b).div_euclid(m)).sum();
+        prop_assert_eq!(floor_sum(n, m, a, b), want);
+    }
+
+    #[test]
     fn segment_clocks_is_the_clock_by_clock_nco(
-        steps in 0u32..40, rate in any::<i32>(), accel_shift in 0u32..28, accel_sign in any::<bool>(),
+        steps in 0u32..40, rate in any::<i32>(), accel_shift in 0u32..31, accel_sign in any::<bool>(),
+        jerk in prop_oneof![Just(0i32), -(1i32 << 12)..(1 << 12), -(1i32 << 30)..(1 << 30)],
         phase in any::<u32>(),
     ) {
         // Rates large enough to finish within the reference's clock budget.
         let rate = rate / 64 * 64 + if rate < 0 { -(1 << 24) } else { 1 << 24 };
         let accel = (1i32 << accel_shift) * if accel_sign { -1 } else { 1 };
-        let seg = Segment { steps, rate, accel };
+        let seg = Segment { steps, rate, accel, jerk };
         let limit = 200_000;
         let want = nco_reference(&seg, u64::from(phase), limit);
         let got = segment_clocks(&seg, phase);
@@ -213,7 +249,10 @@ fn check_segments(segs: &[Segment], target: i64) -> Result<(), TestCaseError> {
         let run = segment_clocks(s, phase);
         prop_assert!(run.is_some(), "{:?} never completes", s);
         let run = run.unwrap();
-        let end_rate = i64::from(s.rate) + i64::from(s.accel) * (run.clocks as i64 - 2);
+        prop_assert_eq!(s.jerk, 0);
+        let end_rate =
+            ((i64::from(s.rate) << 16) + (1 << 15) + i64::from(s.accel) * (run.clocks as i64 - 2))
+                >> 16;
         prop_assert!(
             end_rate.abs() <= 1 << 31,
             "{:?} ends at rate {}",
@@ -349,7 +388,7 @@ fn too_fast_and_bad_configs_are_refused() {
     let slow = |steps| Segment {
         steps,
         rate: 1,
-        accel: 0,
+        ..Default::default()
     };
     assert_eq!(CLOCK_LIMIT, 1 << 48);
     assert_eq!(

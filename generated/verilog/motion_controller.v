@@ -63,7 +63,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h8bc5092b;
+    localparam mcu_identity_values_7 = 32'h99cd5929;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -343,6 +343,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_addr_seg_accel_1 = 9'b101000;
     localparam mcu_pulses_addr_seg_accel_2 = 9'b111000;
     localparam mcu_pulses_addr_seg_accel_3 = 9'b1001000;
+    localparam mcu_pulses_addr_seg_jerk_0 = 9'b11011;
+    localparam mcu_pulses_addr_seg_jerk_1 = 9'b101011;
+    localparam mcu_pulses_addr_seg_jerk_2 = 9'b111011;
+    localparam mcu_pulses_addr_seg_jerk_3 = 9'b1001011;
     localparam mcu_pulses_addr_seg_push_0 = 9'b11001;
     localparam mcu_pulses_addr_seg_push_1 = 9'b101001;
     localparam mcu_pulses_addr_seg_push_2 = 9'b111001;
@@ -435,8 +439,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_0_two = 32'h2;
     localparam mcu_pulses_engines_0_full = 7'b1000000;
     localparam mcu_pulses_engines_0_word_shift = 8'h2;
+    localparam mcu_pulses_engines_0_word_steps = 8'h0;
     localparam mcu_pulses_engines_0_word_rate = 8'h1;
     localparam mcu_pulses_engines_0_word_accel = 8'h2;
+    localparam mcu_pulses_engines_0_frac_shift = 6'b10000;
+    localparam mcu_pulses_engines_0_ramp_sign = 6'b101111;
+    localparam mcu_pulses_engines_0_load_fraction = 48'h8000;
+    localparam mcu_pulses_engines_0_sign_fill = 48'hffff00000000;
     localparam mcu_pulses_engines_0_moving_bit = 32'h20000;
     localparam mcu_pulses_engines_0_done_bit = 32'h40000;
     localparam mcu_pulses_engines_0_overflow_bit = 32'h80000;
@@ -446,8 +455,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_1_two = 32'h2;
     localparam mcu_pulses_engines_1_full = 7'b1000000;
     localparam mcu_pulses_engines_1_word_shift = 8'h2;
+    localparam mcu_pulses_engines_1_word_steps = 8'h0;
     localparam mcu_pulses_engines_1_word_rate = 8'h1;
     localparam mcu_pulses_engines_1_word_accel = 8'h2;
+    localparam mcu_pulses_engines_1_frac_shift = 6'b10000;
+    localparam mcu_pulses_engines_1_ramp_sign = 6'b101111;
+    localparam mcu_pulses_engines_1_load_fraction = 48'h8000;
+    localparam mcu_pulses_engines_1_sign_fill = 48'hffff00000000;
     localparam mcu_pulses_engines_1_moving_bit = 32'h20000;
     localparam mcu_pulses_engines_1_done_bit = 32'h40000;
     localparam mcu_pulses_engines_1_overflow_bit = 32'h80000;
@@ -457,8 +471,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_2_two = 32'h2;
     localparam mcu_pulses_engines_2_full = 7'b1000000;
     localparam mcu_pulses_engines_2_word_shift = 8'h2;
+    localparam mcu_pulses_engines_2_word_steps = 8'h0;
     localparam mcu_pulses_engines_2_word_rate = 8'h1;
     localparam mcu_pulses_engines_2_word_accel = 8'h2;
+    localparam mcu_pulses_engines_2_frac_shift = 6'b10000;
+    localparam mcu_pulses_engines_2_ramp_sign = 6'b101111;
+    localparam mcu_pulses_engines_2_load_fraction = 48'h8000;
+    localparam mcu_pulses_engines_2_sign_fill = 48'hffff00000000;
     localparam mcu_pulses_engines_2_moving_bit = 32'h20000;
     localparam mcu_pulses_engines_2_done_bit = 32'h40000;
     localparam mcu_pulses_engines_2_overflow_bit = 32'h80000;
@@ -468,8 +487,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_3_two = 32'h2;
     localparam mcu_pulses_engines_3_full = 7'b1000000;
     localparam mcu_pulses_engines_3_word_shift = 8'h2;
+    localparam mcu_pulses_engines_3_word_steps = 8'h0;
     localparam mcu_pulses_engines_3_word_rate = 8'h1;
     localparam mcu_pulses_engines_3_word_accel = 8'h2;
+    localparam mcu_pulses_engines_3_frac_shift = 6'b10000;
+    localparam mcu_pulses_engines_3_ramp_sign = 6'b101111;
+    localparam mcu_pulses_engines_3_load_fraction = 48'h8000;
+    localparam mcu_pulses_engines_3_sign_fill = 48'hffff00000000;
     localparam mcu_pulses_engines_3_moving_bit = 32'h20000;
     localparam mcu_pulses_engines_3_done_bit = 32'h40000;
     localparam mcu_pulses_engines_3_overflow_bit = 32'h80000;
@@ -1354,6 +1378,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_write_steps;
     reg mcu_pulses_engines_0_write_rate;
     reg mcu_pulses_engines_0_write_accel;
+    reg mcu_pulses_engines_0_write_jerk;
     reg mcu_pulses_engines_0_clear_overflow;
     reg [31:0] mcu_pulses_engines_0_low_water;
     reg [31:0] mcu_pulses_engines_0_rate;
@@ -1367,6 +1392,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_write_steps;
     reg mcu_pulses_engines_1_write_rate;
     reg mcu_pulses_engines_1_write_accel;
+    reg mcu_pulses_engines_1_write_jerk;
     reg mcu_pulses_engines_1_clear_overflow;
     reg [31:0] mcu_pulses_engines_1_low_water;
     reg [31:0] mcu_pulses_engines_1_rate;
@@ -1380,6 +1406,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_write_steps;
     reg mcu_pulses_engines_2_write_rate;
     reg mcu_pulses_engines_2_write_accel;
+    reg mcu_pulses_engines_2_write_jerk;
     reg mcu_pulses_engines_2_clear_overflow;
     reg [31:0] mcu_pulses_engines_2_low_water;
     reg [31:0] mcu_pulses_engines_2_rate;
@@ -1393,6 +1420,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_write_steps;
     reg mcu_pulses_engines_3_write_rate;
     reg mcu_pulses_engines_3_write_accel;
+    reg mcu_pulses_engines_3_write_jerk;
     reg mcu_pulses_engines_3_clear_overflow;
     reg [31:0] mcu_pulses_engines_3_low_water;
     reg [31:0] mcu_pulses_engines_3_rate;
@@ -1802,10 +1830,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_pulses_generators_3_timer_delta;
     reg mcu_pulses_engines_0_active_q_d;
     reg mcu_pulses_engines_0_active_q_q = 1'h0;
-    reg [31:0] mcu_pulses_engines_0_rate_q_d;
-    reg [31:0] mcu_pulses_engines_0_rate_q_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_accel_q_d;
-    reg [31:0] mcu_pulses_engines_0_accel_q_q = 32'h0;
+    reg [47:0] mcu_pulses_engines_0_rate_q_d;
+    reg [47:0] mcu_pulses_engines_0_rate_q_q = 48'h0;
+    reg [47:0] mcu_pulses_engines_0_accel_q_d;
+    reg [47:0] mcu_pulses_engines_0_accel_q_q = 48'h0;
     reg [31:0] mcu_pulses_engines_0_remaining_d;
     reg [31:0] mcu_pulses_engines_0_remaining_q = 32'h0;
     reg mcu_pulses_engines_0_commanded_q_d;
@@ -1816,8 +1844,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_done_q_q = 1'h0;
     reg mcu_pulses_engines_0_overflow_q_d;
     reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
-    reg [5:0] mcu_pulses_engines_0_head_d;
-    reg [5:0] mcu_pulses_engines_0_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_0_head_d;
+    reg [6:0] mcu_pulses_engines_0_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_0_count_d;
     reg [6:0] mcu_pulses_engines_0_count_q = 7'h0;
     reg mcu_pulses_engines_0_staged_d;
@@ -1828,14 +1856,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_0_staged_steps_q = 32'h0;
     reg [31:0] mcu_pulses_engines_0_staged_rate_d;
     reg [31:0] mcu_pulses_engines_0_staged_rate_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_0_staged_accel_d;
-    reg [31:0] mcu_pulses_engines_0_staged_accel_q = 32'h0;
     reg [7:0] mcu_pulses_engines_0_ram_read_address;
     reg [31:0] mcu_pulses_engines_0_ram_read_data = 32'h0;
     reg [7:0] mcu_pulses_engines_0_ram_write_address;
     reg [31:0] mcu_pulses_engines_0_ram_write_data;
     reg mcu_pulses_engines_0_ram_write_enable;
-    reg [5:0] mcu_pulses_engines_0_tail;
+    reg [6:0] mcu_pulses_engines_0_jerks_read_address;
+    reg [31:0] mcu_pulses_engines_0_jerks_read_data = 32'h0;
+    reg [6:0] mcu_pulses_engines_0_jerks_write_address;
+    reg [31:0] mcu_pulses_engines_0_jerks_write_data;
+    reg mcu_pulses_engines_0_jerks_write_enable;
+    reg [6:0] mcu_pulses_engines_0_tail;
+    reg [5:0] mcu_pulses_engines_0_head_slot;
+    reg [5:0] mcu_pulses_engines_0_tail_slot;
     reg mcu_pulses_engines_0_ending;
     reg mcu_pulses_engines_0_live;
     reg mcu_pulses_engines_0_done_now;
@@ -1843,15 +1876,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_ended;
     reg [6:0] mcu_pulses_engines_0_count_after_pop;
     reg [7:0] mcu_pulses_engines_0_write_word;
+    reg [7:0] mcu_pulses_engines_0_read_word;
     reg [31:0] mcu_pulses_engines_0_level_word;
     reg [31:0] mcu_pulses_engines_0_status_word;
     reg [31:0] mcu_pulses_engines_0_rate_out;
+    reg [47:0] mcu_pulses_engines_0_accel_whole;
+    reg [47:0] mcu_pulses_engines_0_jerk_wide;
     reg mcu_pulses_engines_1_active_q_d;
     reg mcu_pulses_engines_1_active_q_q = 1'h0;
-    reg [31:0] mcu_pulses_engines_1_rate_q_d;
-    reg [31:0] mcu_pulses_engines_1_rate_q_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_accel_q_d;
-    reg [31:0] mcu_pulses_engines_1_accel_q_q = 32'h0;
+    reg [47:0] mcu_pulses_engines_1_rate_q_d;
+    reg [47:0] mcu_pulses_engines_1_rate_q_q = 48'h0;
+    reg [47:0] mcu_pulses_engines_1_accel_q_d;
+    reg [47:0] mcu_pulses_engines_1_accel_q_q = 48'h0;
     reg [31:0] mcu_pulses_engines_1_remaining_d;
     reg [31:0] mcu_pulses_engines_1_remaining_q = 32'h0;
     reg mcu_pulses_engines_1_commanded_q_d;
@@ -1862,8 +1898,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_done_q_q = 1'h0;
     reg mcu_pulses_engines_1_overflow_q_d;
     reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
-    reg [5:0] mcu_pulses_engines_1_head_d;
-    reg [5:0] mcu_pulses_engines_1_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_1_head_d;
+    reg [6:0] mcu_pulses_engines_1_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_1_count_d;
     reg [6:0] mcu_pulses_engines_1_count_q = 7'h0;
     reg mcu_pulses_engines_1_staged_d;
@@ -1874,14 +1910,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_1_staged_steps_q = 32'h0;
     reg [31:0] mcu_pulses_engines_1_staged_rate_d;
     reg [31:0] mcu_pulses_engines_1_staged_rate_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_1_staged_accel_d;
-    reg [31:0] mcu_pulses_engines_1_staged_accel_q = 32'h0;
     reg [7:0] mcu_pulses_engines_1_ram_read_address;
     reg [31:0] mcu_pulses_engines_1_ram_read_data = 32'h0;
     reg [7:0] mcu_pulses_engines_1_ram_write_address;
     reg [31:0] mcu_pulses_engines_1_ram_write_data;
     reg mcu_pulses_engines_1_ram_write_enable;
-    reg [5:0] mcu_pulses_engines_1_tail;
+    reg [6:0] mcu_pulses_engines_1_jerks_read_address;
+    reg [31:0] mcu_pulses_engines_1_jerks_read_data = 32'h0;
+    reg [6:0] mcu_pulses_engines_1_jerks_write_address;
+    reg [31:0] mcu_pulses_engines_1_jerks_write_data;
+    reg mcu_pulses_engines_1_jerks_write_enable;
+    reg [6:0] mcu_pulses_engines_1_tail;
+    reg [5:0] mcu_pulses_engines_1_head_slot;
+    reg [5:0] mcu_pulses_engines_1_tail_slot;
     reg mcu_pulses_engines_1_ending;
     reg mcu_pulses_engines_1_live;
     reg mcu_pulses_engines_1_done_now;
@@ -1889,15 +1930,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_ended;
     reg [6:0] mcu_pulses_engines_1_count_after_pop;
     reg [7:0] mcu_pulses_engines_1_write_word;
+    reg [7:0] mcu_pulses_engines_1_read_word;
     reg [31:0] mcu_pulses_engines_1_level_word;
     reg [31:0] mcu_pulses_engines_1_status_word;
     reg [31:0] mcu_pulses_engines_1_rate_out;
+    reg [47:0] mcu_pulses_engines_1_accel_whole;
+    reg [47:0] mcu_pulses_engines_1_jerk_wide;
     reg mcu_pulses_engines_2_active_q_d;
     reg mcu_pulses_engines_2_active_q_q = 1'h0;
-    reg [31:0] mcu_pulses_engines_2_rate_q_d;
-    reg [31:0] mcu_pulses_engines_2_rate_q_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_accel_q_d;
-    reg [31:0] mcu_pulses_engines_2_accel_q_q = 32'h0;
+    reg [47:0] mcu_pulses_engines_2_rate_q_d;
+    reg [47:0] mcu_pulses_engines_2_rate_q_q = 48'h0;
+    reg [47:0] mcu_pulses_engines_2_accel_q_d;
+    reg [47:0] mcu_pulses_engines_2_accel_q_q = 48'h0;
     reg [31:0] mcu_pulses_engines_2_remaining_d;
     reg [31:0] mcu_pulses_engines_2_remaining_q = 32'h0;
     reg mcu_pulses_engines_2_commanded_q_d;
@@ -1908,8 +1952,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_done_q_q = 1'h0;
     reg mcu_pulses_engines_2_overflow_q_d;
     reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
-    reg [5:0] mcu_pulses_engines_2_head_d;
-    reg [5:0] mcu_pulses_engines_2_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_2_head_d;
+    reg [6:0] mcu_pulses_engines_2_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_2_count_d;
     reg [6:0] mcu_pulses_engines_2_count_q = 7'h0;
     reg mcu_pulses_engines_2_staged_d;
@@ -1920,14 +1964,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_2_staged_steps_q = 32'h0;
     reg [31:0] mcu_pulses_engines_2_staged_rate_d;
     reg [31:0] mcu_pulses_engines_2_staged_rate_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_2_staged_accel_d;
-    reg [31:0] mcu_pulses_engines_2_staged_accel_q = 32'h0;
     reg [7:0] mcu_pulses_engines_2_ram_read_address;
     reg [31:0] mcu_pulses_engines_2_ram_read_data = 32'h0;
     reg [7:0] mcu_pulses_engines_2_ram_write_address;
     reg [31:0] mcu_pulses_engines_2_ram_write_data;
     reg mcu_pulses_engines_2_ram_write_enable;
-    reg [5:0] mcu_pulses_engines_2_tail;
+    reg [6:0] mcu_pulses_engines_2_jerks_read_address;
+    reg [31:0] mcu_pulses_engines_2_jerks_read_data = 32'h0;
+    reg [6:0] mcu_pulses_engines_2_jerks_write_address;
+    reg [31:0] mcu_pulses_engines_2_jerks_write_data;
+    reg mcu_pulses_engines_2_jerks_write_enable;
+    reg [6:0] mcu_pulses_engines_2_tail;
+    reg [5:0] mcu_pulses_engines_2_head_slot;
+    reg [5:0] mcu_pulses_engines_2_tail_slot;
     reg mcu_pulses_engines_2_ending;
     reg mcu_pulses_engines_2_live;
     reg mcu_pulses_engines_2_done_now;
@@ -1935,15 +1984,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_ended;
     reg [6:0] mcu_pulses_engines_2_count_after_pop;
     reg [7:0] mcu_pulses_engines_2_write_word;
+    reg [7:0] mcu_pulses_engines_2_read_word;
     reg [31:0] mcu_pulses_engines_2_level_word;
     reg [31:0] mcu_pulses_engines_2_status_word;
     reg [31:0] mcu_pulses_engines_2_rate_out;
+    reg [47:0] mcu_pulses_engines_2_accel_whole;
+    reg [47:0] mcu_pulses_engines_2_jerk_wide;
     reg mcu_pulses_engines_3_active_q_d;
     reg mcu_pulses_engines_3_active_q_q = 1'h0;
-    reg [31:0] mcu_pulses_engines_3_rate_q_d;
-    reg [31:0] mcu_pulses_engines_3_rate_q_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_accel_q_d;
-    reg [31:0] mcu_pulses_engines_3_accel_q_q = 32'h0;
+    reg [47:0] mcu_pulses_engines_3_rate_q_d;
+    reg [47:0] mcu_pulses_engines_3_rate_q_q = 48'h0;
+    reg [47:0] mcu_pulses_engines_3_accel_q_d;
+    reg [47:0] mcu_pulses_engines_3_accel_q_q = 48'h0;
     reg [31:0] mcu_pulses_engines_3_remaining_d;
     reg [31:0] mcu_pulses_engines_3_remaining_q = 32'h0;
     reg mcu_pulses_engines_3_commanded_q_d;
@@ -1954,8 +2006,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_done_q_q = 1'h0;
     reg mcu_pulses_engines_3_overflow_q_d;
     reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
-    reg [5:0] mcu_pulses_engines_3_head_d;
-    reg [5:0] mcu_pulses_engines_3_head_q = 6'h0;
+    reg [6:0] mcu_pulses_engines_3_head_d;
+    reg [6:0] mcu_pulses_engines_3_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_3_count_d;
     reg [6:0] mcu_pulses_engines_3_count_q = 7'h0;
     reg mcu_pulses_engines_3_staged_d;
@@ -1966,14 +2018,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_3_staged_steps_q = 32'h0;
     reg [31:0] mcu_pulses_engines_3_staged_rate_d;
     reg [31:0] mcu_pulses_engines_3_staged_rate_q = 32'h0;
-    reg [31:0] mcu_pulses_engines_3_staged_accel_d;
-    reg [31:0] mcu_pulses_engines_3_staged_accel_q = 32'h0;
     reg [7:0] mcu_pulses_engines_3_ram_read_address;
     reg [31:0] mcu_pulses_engines_3_ram_read_data = 32'h0;
     reg [7:0] mcu_pulses_engines_3_ram_write_address;
     reg [31:0] mcu_pulses_engines_3_ram_write_data;
     reg mcu_pulses_engines_3_ram_write_enable;
-    reg [5:0] mcu_pulses_engines_3_tail;
+    reg [6:0] mcu_pulses_engines_3_jerks_read_address;
+    reg [31:0] mcu_pulses_engines_3_jerks_read_data = 32'h0;
+    reg [6:0] mcu_pulses_engines_3_jerks_write_address;
+    reg [31:0] mcu_pulses_engines_3_jerks_write_data;
+    reg mcu_pulses_engines_3_jerks_write_enable;
+    reg [6:0] mcu_pulses_engines_3_tail;
+    reg [5:0] mcu_pulses_engines_3_head_slot;
+    reg [5:0] mcu_pulses_engines_3_tail_slot;
     reg mcu_pulses_engines_3_ending;
     reg mcu_pulses_engines_3_live;
     reg mcu_pulses_engines_3_done_now;
@@ -1981,9 +2038,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_ended;
     reg [6:0] mcu_pulses_engines_3_count_after_pop;
     reg [7:0] mcu_pulses_engines_3_write_word;
+    reg [7:0] mcu_pulses_engines_3_read_word;
     reg [31:0] mcu_pulses_engines_3_level_word;
     reg [31:0] mcu_pulses_engines_3_status_word;
     reg [31:0] mcu_pulses_engines_3_rate_out;
+    reg [47:0] mcu_pulses_engines_3_accel_whole;
+    reg [47:0] mcu_pulses_engines_3_jerk_wide;
     reg mcu_pulses_selectors_0_selector_k;
     reg mcu_pulses_selectors_0_selector_s1;
     reg mcu_pulses_selectors_0_selector_s2;
@@ -4135,6 +4195,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_0);
         mcu_pulses_engines_0_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_0);
         mcu_pulses_engines_0_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_0);
+        mcu_pulses_engines_0_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_0);
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
         mcu_pulses_engines_0_low_water = mcu_pulses_low_water_0_q;
         mcu_pulses_ctrl_0_d = mcu_pulses_ctrl_0_q;
@@ -4245,6 +4306,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_1);
         mcu_pulses_engines_1_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_1);
         mcu_pulses_engines_1_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_1);
+        mcu_pulses_engines_1_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_1);
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
         mcu_pulses_engines_1_low_water = mcu_pulses_low_water_1_q;
         mcu_pulses_ctrl_1_d = mcu_pulses_ctrl_1_q;
@@ -4355,6 +4417,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_2);
         mcu_pulses_engines_2_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_2);
         mcu_pulses_engines_2_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_2);
+        mcu_pulses_engines_2_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_2);
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
         mcu_pulses_engines_2_low_water = mcu_pulses_low_water_2_q;
         mcu_pulses_ctrl_2_d = mcu_pulses_ctrl_2_q;
@@ -4465,6 +4528,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_3);
         mcu_pulses_engines_3_write_rate = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_rate_3);
         mcu_pulses_engines_3_write_accel = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_accel_3);
+        mcu_pulses_engines_3_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_3);
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
         mcu_pulses_engines_3_low_water = mcu_pulses_low_water_3_q;
         mcu_pulses_ctrl_3_d = mcu_pulses_ctrl_3_q;
@@ -5261,26 +5325,41 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_fetch_d = mcu_pulses_engines_0_fetch_q;
         mcu_pulses_engines_0_staged_steps_d = mcu_pulses_engines_0_staged_steps_q;
         mcu_pulses_engines_0_staged_rate_d = mcu_pulses_engines_0_staged_rate_q;
-        mcu_pulses_engines_0_staged_accel_d = mcu_pulses_engines_0_staged_accel_q;
-        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q[5:0];
-        mcu_pulses_engines_0_ram_read_address = ({2'h0, mcu_pulses_engines_0_head_q} << mcu_pulses_engines_0_word_shift) | {6'h0, mcu_pulses_engines_0_fetch_q};
+        mcu_pulses_engines_0_tail = mcu_pulses_engines_0_head_q + mcu_pulses_engines_0_count_q;
+        mcu_pulses_engines_0_head_slot = mcu_pulses_engines_0_head_q[5:0];
+        mcu_pulses_engines_0_tail_slot = mcu_pulses_engines_0_tail[5:0];
+        mcu_pulses_engines_0_read_word = mcu_pulses_engines_0_word_steps;
         if (mcu_pulses_engines_0_fetch_q == 2'h0) begin
-            if (~mcu_pulses_engines_0_staged_q & |mcu_pulses_engines_0_count_q) begin
+            if (mcu_pulses_engines_0_staged_q) begin
+                mcu_pulses_engines_0_read_word = mcu_pulses_engines_0_word_accel;
+            end
+            else if (|mcu_pulses_engines_0_count_q) begin
                 mcu_pulses_engines_0_fetch_d = 2'h1;
             end
         end
         else if (mcu_pulses_engines_0_fetch_q == 2'h1) begin
+            mcu_pulses_engines_0_read_word = mcu_pulses_engines_0_word_rate;
             mcu_pulses_engines_0_staged_steps_d = mcu_pulses_engines_0_ram_read_data;
             mcu_pulses_engines_0_fetch_d = 2'h2;
         end
         else if (mcu_pulses_engines_0_fetch_q == 2'h2) begin
+            mcu_pulses_engines_0_read_word = mcu_pulses_engines_0_word_accel;
             mcu_pulses_engines_0_staged_rate_d = mcu_pulses_engines_0_ram_read_data;
             mcu_pulses_engines_0_fetch_d = 2'h3;
         end
         else begin
-            mcu_pulses_engines_0_staged_accel_d = mcu_pulses_engines_0_ram_read_data;
+            mcu_pulses_engines_0_read_word = mcu_pulses_engines_0_word_accel;
             mcu_pulses_engines_0_staged_d = 1'b1;
             mcu_pulses_engines_0_fetch_d = 2'h0;
+        end
+        mcu_pulses_engines_0_ram_read_address = ({2'h0, mcu_pulses_engines_0_head_slot} << mcu_pulses_engines_0_word_shift) | mcu_pulses_engines_0_read_word;
+        mcu_pulses_engines_0_accel_whole = mcu_pulses_engines_0_accel_q_q >> mcu_pulses_engines_0_frac_shift;
+        if (mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]) begin
+            mcu_pulses_engines_0_accel_whole = mcu_pulses_engines_0_accel_whole | mcu_pulses_engines_0_sign_fill;
+        end
+        mcu_pulses_engines_0_jerk_wide = {16'h0, mcu_pulses_engines_0_jerks_read_data};
+        if (mcu_pulses_engines_0_jerks_read_data[31]) begin
+            mcu_pulses_engines_0_jerk_wide = mcu_pulses_engines_0_jerk_wide | mcu_pulses_engines_0_sign_fill;
         end
         mcu_pulses_engines_0_ending = mcu_pulses_engines_0_active_q_q & mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q;
         mcu_pulses_engines_0_live = mcu_pulses_engines_0_active_q_q & ~mcu_pulses_engines_0_ending;
@@ -5296,17 +5375,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_live) begin
             if (mcu_pulses_engines_0_advancing) begin
-                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_q_q;
+                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_whole;
+                mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_accel_q_q + mcu_pulses_engines_0_jerk_wide;
             end
         end
         else if (mcu_pulses_engines_0_run & mcu_pulses_engines_0_staged_q) begin
             mcu_pulses_engines_0_popped = 1'b1;
             mcu_pulses_engines_0_staged_d = 1'b0;
-            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 6'h1;
+            mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 7'h1;
             mcu_pulses_engines_0_active_q_d = |mcu_pulses_engines_0_staged_steps_q;
             mcu_pulses_engines_0_ended = ~|mcu_pulses_engines_0_staged_steps_q;
-            mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_staged_rate_q;
-            mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_staged_accel_q;
+            mcu_pulses_engines_0_rate_q_d = ({16'h0, mcu_pulses_engines_0_staged_rate_q} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
+            mcu_pulses_engines_0_accel_q_d = ({16'h0, mcu_pulses_engines_0_ram_read_data} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
             mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_staged_steps_q;
             mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_staged_steps_q == mcu_pulses_engines_0_one;
         end
@@ -5326,9 +5406,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_0_write_accel) begin
             mcu_pulses_engines_0_write_word = mcu_pulses_engines_0_word_accel;
         end
-        mcu_pulses_engines_0_ram_write_address = ({2'h0, mcu_pulses_engines_0_tail} << mcu_pulses_engines_0_word_shift) | mcu_pulses_engines_0_write_word;
+        mcu_pulses_engines_0_ram_write_address = ({2'h0, mcu_pulses_engines_0_tail_slot} << mcu_pulses_engines_0_word_shift) | mcu_pulses_engines_0_write_word;
         mcu_pulses_engines_0_ram_write_data = mcu_pulses_engines_0_wdata;
         mcu_pulses_engines_0_ram_write_enable = (mcu_pulses_engines_0_write_steps | mcu_pulses_engines_0_write_rate | mcu_pulses_engines_0_write_accel) & (mcu_pulses_engines_0_count_after_pop != mcu_pulses_engines_0_full) & ~mcu_pulses_engines_0_reset;
+        mcu_pulses_engines_0_jerks_write_address = mcu_pulses_engines_0_tail;
+        mcu_pulses_engines_0_jerks_write_data = mcu_pulses_engines_0_wdata;
+        mcu_pulses_engines_0_jerks_write_enable = mcu_pulses_engines_0_write_jerk & (mcu_pulses_engines_0_count_after_pop != mcu_pulses_engines_0_full) & ~mcu_pulses_engines_0_reset;
+        mcu_pulses_engines_0_jerks_read_address = mcu_pulses_engines_0_head_q - 7'h1;
+        if (mcu_pulses_engines_0_popped) begin
+            mcu_pulses_engines_0_jerks_read_address = mcu_pulses_engines_0_head_q;
+        end
         if (mcu_pulses_engines_0_push) begin
             if (mcu_pulses_engines_0_count_after_pop == mcu_pulses_engines_0_full) begin
                 mcu_pulses_engines_0_overflow_q_d = 1'b1;
@@ -5343,21 +5430,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_reset) begin
             mcu_pulses_engines_0_active_q_d = 1'b0;
-            mcu_pulses_engines_0_rate_q_d = 32'h0;
-            mcu_pulses_engines_0_accel_q_d = 32'h0;
+            mcu_pulses_engines_0_rate_q_d = 48'h0;
+            mcu_pulses_engines_0_accel_q_d = 48'h0;
             mcu_pulses_engines_0_remaining_d = 32'h0;
             mcu_pulses_engines_0_commanded_q_d = 1'b0;
             mcu_pulses_engines_0_last_q_d = 1'b0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
-            mcu_pulses_engines_0_head_d = 6'h0;
+            mcu_pulses_engines_0_head_d = 7'h0;
             mcu_pulses_engines_0_count_d = 7'h0;
             mcu_pulses_engines_0_staged_d = 1'b0;
             mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
         if (mcu_pulses_engines_0_active_q_q & ~(mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q)) begin
-            mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q;
+            mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
         end
         mcu_pulses_engines_0_level_word = {25'h0, mcu_pulses_engines_0_count_q};
         mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_level_word << mcu_pulses_engines_0_level_shift;
@@ -5392,26 +5479,41 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_fetch_d = mcu_pulses_engines_1_fetch_q;
         mcu_pulses_engines_1_staged_steps_d = mcu_pulses_engines_1_staged_steps_q;
         mcu_pulses_engines_1_staged_rate_d = mcu_pulses_engines_1_staged_rate_q;
-        mcu_pulses_engines_1_staged_accel_d = mcu_pulses_engines_1_staged_accel_q;
-        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q[5:0];
-        mcu_pulses_engines_1_ram_read_address = ({2'h0, mcu_pulses_engines_1_head_q} << mcu_pulses_engines_1_word_shift) | {6'h0, mcu_pulses_engines_1_fetch_q};
+        mcu_pulses_engines_1_tail = mcu_pulses_engines_1_head_q + mcu_pulses_engines_1_count_q;
+        mcu_pulses_engines_1_head_slot = mcu_pulses_engines_1_head_q[5:0];
+        mcu_pulses_engines_1_tail_slot = mcu_pulses_engines_1_tail[5:0];
+        mcu_pulses_engines_1_read_word = mcu_pulses_engines_1_word_steps;
         if (mcu_pulses_engines_1_fetch_q == 2'h0) begin
-            if (~mcu_pulses_engines_1_staged_q & |mcu_pulses_engines_1_count_q) begin
+            if (mcu_pulses_engines_1_staged_q) begin
+                mcu_pulses_engines_1_read_word = mcu_pulses_engines_1_word_accel;
+            end
+            else if (|mcu_pulses_engines_1_count_q) begin
                 mcu_pulses_engines_1_fetch_d = 2'h1;
             end
         end
         else if (mcu_pulses_engines_1_fetch_q == 2'h1) begin
+            mcu_pulses_engines_1_read_word = mcu_pulses_engines_1_word_rate;
             mcu_pulses_engines_1_staged_steps_d = mcu_pulses_engines_1_ram_read_data;
             mcu_pulses_engines_1_fetch_d = 2'h2;
         end
         else if (mcu_pulses_engines_1_fetch_q == 2'h2) begin
+            mcu_pulses_engines_1_read_word = mcu_pulses_engines_1_word_accel;
             mcu_pulses_engines_1_staged_rate_d = mcu_pulses_engines_1_ram_read_data;
             mcu_pulses_engines_1_fetch_d = 2'h3;
         end
         else begin
-            mcu_pulses_engines_1_staged_accel_d = mcu_pulses_engines_1_ram_read_data;
+            mcu_pulses_engines_1_read_word = mcu_pulses_engines_1_word_accel;
             mcu_pulses_engines_1_staged_d = 1'b1;
             mcu_pulses_engines_1_fetch_d = 2'h0;
+        end
+        mcu_pulses_engines_1_ram_read_address = ({2'h0, mcu_pulses_engines_1_head_slot} << mcu_pulses_engines_1_word_shift) | mcu_pulses_engines_1_read_word;
+        mcu_pulses_engines_1_accel_whole = mcu_pulses_engines_1_accel_q_q >> mcu_pulses_engines_1_frac_shift;
+        if (mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]) begin
+            mcu_pulses_engines_1_accel_whole = mcu_pulses_engines_1_accel_whole | mcu_pulses_engines_1_sign_fill;
+        end
+        mcu_pulses_engines_1_jerk_wide = {16'h0, mcu_pulses_engines_1_jerks_read_data};
+        if (mcu_pulses_engines_1_jerks_read_data[31]) begin
+            mcu_pulses_engines_1_jerk_wide = mcu_pulses_engines_1_jerk_wide | mcu_pulses_engines_1_sign_fill;
         end
         mcu_pulses_engines_1_ending = mcu_pulses_engines_1_active_q_q & mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q;
         mcu_pulses_engines_1_live = mcu_pulses_engines_1_active_q_q & ~mcu_pulses_engines_1_ending;
@@ -5427,17 +5529,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_1_live) begin
             if (mcu_pulses_engines_1_advancing) begin
-                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_q_q;
+                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_whole;
+                mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_accel_q_q + mcu_pulses_engines_1_jerk_wide;
             end
         end
         else if (mcu_pulses_engines_1_run & mcu_pulses_engines_1_staged_q) begin
             mcu_pulses_engines_1_popped = 1'b1;
             mcu_pulses_engines_1_staged_d = 1'b0;
-            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 6'h1;
+            mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 7'h1;
             mcu_pulses_engines_1_active_q_d = |mcu_pulses_engines_1_staged_steps_q;
             mcu_pulses_engines_1_ended = ~|mcu_pulses_engines_1_staged_steps_q;
-            mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_staged_rate_q;
-            mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_staged_accel_q;
+            mcu_pulses_engines_1_rate_q_d = ({16'h0, mcu_pulses_engines_1_staged_rate_q} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
+            mcu_pulses_engines_1_accel_q_d = ({16'h0, mcu_pulses_engines_1_ram_read_data} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
             mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_staged_steps_q;
             mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_staged_steps_q == mcu_pulses_engines_1_one;
         end
@@ -5457,9 +5560,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_write_accel) begin
             mcu_pulses_engines_1_write_word = mcu_pulses_engines_1_word_accel;
         end
-        mcu_pulses_engines_1_ram_write_address = ({2'h0, mcu_pulses_engines_1_tail} << mcu_pulses_engines_1_word_shift) | mcu_pulses_engines_1_write_word;
+        mcu_pulses_engines_1_ram_write_address = ({2'h0, mcu_pulses_engines_1_tail_slot} << mcu_pulses_engines_1_word_shift) | mcu_pulses_engines_1_write_word;
         mcu_pulses_engines_1_ram_write_data = mcu_pulses_engines_1_wdata;
         mcu_pulses_engines_1_ram_write_enable = (mcu_pulses_engines_1_write_steps | mcu_pulses_engines_1_write_rate | mcu_pulses_engines_1_write_accel) & (mcu_pulses_engines_1_count_after_pop != mcu_pulses_engines_1_full) & ~mcu_pulses_engines_1_reset;
+        mcu_pulses_engines_1_jerks_write_address = mcu_pulses_engines_1_tail;
+        mcu_pulses_engines_1_jerks_write_data = mcu_pulses_engines_1_wdata;
+        mcu_pulses_engines_1_jerks_write_enable = mcu_pulses_engines_1_write_jerk & (mcu_pulses_engines_1_count_after_pop != mcu_pulses_engines_1_full) & ~mcu_pulses_engines_1_reset;
+        mcu_pulses_engines_1_jerks_read_address = mcu_pulses_engines_1_head_q - 7'h1;
+        if (mcu_pulses_engines_1_popped) begin
+            mcu_pulses_engines_1_jerks_read_address = mcu_pulses_engines_1_head_q;
+        end
         if (mcu_pulses_engines_1_push) begin
             if (mcu_pulses_engines_1_count_after_pop == mcu_pulses_engines_1_full) begin
                 mcu_pulses_engines_1_overflow_q_d = 1'b1;
@@ -5474,21 +5584,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_1_reset) begin
             mcu_pulses_engines_1_active_q_d = 1'b0;
-            mcu_pulses_engines_1_rate_q_d = 32'h0;
-            mcu_pulses_engines_1_accel_q_d = 32'h0;
+            mcu_pulses_engines_1_rate_q_d = 48'h0;
+            mcu_pulses_engines_1_accel_q_d = 48'h0;
             mcu_pulses_engines_1_remaining_d = 32'h0;
             mcu_pulses_engines_1_commanded_q_d = 1'b0;
             mcu_pulses_engines_1_last_q_d = 1'b0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
-            mcu_pulses_engines_1_head_d = 6'h0;
+            mcu_pulses_engines_1_head_d = 7'h0;
             mcu_pulses_engines_1_count_d = 7'h0;
             mcu_pulses_engines_1_staged_d = 1'b0;
             mcu_pulses_engines_1_fetch_d = 2'h0;
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
         if (mcu_pulses_engines_1_active_q_q & ~(mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q)) begin
-            mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q;
+            mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
         end
         mcu_pulses_engines_1_level_word = {25'h0, mcu_pulses_engines_1_count_q};
         mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_level_word << mcu_pulses_engines_1_level_shift;
@@ -5523,26 +5633,41 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_fetch_d = mcu_pulses_engines_2_fetch_q;
         mcu_pulses_engines_2_staged_steps_d = mcu_pulses_engines_2_staged_steps_q;
         mcu_pulses_engines_2_staged_rate_d = mcu_pulses_engines_2_staged_rate_q;
-        mcu_pulses_engines_2_staged_accel_d = mcu_pulses_engines_2_staged_accel_q;
-        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q[5:0];
-        mcu_pulses_engines_2_ram_read_address = ({2'h0, mcu_pulses_engines_2_head_q} << mcu_pulses_engines_2_word_shift) | {6'h0, mcu_pulses_engines_2_fetch_q};
+        mcu_pulses_engines_2_tail = mcu_pulses_engines_2_head_q + mcu_pulses_engines_2_count_q;
+        mcu_pulses_engines_2_head_slot = mcu_pulses_engines_2_head_q[5:0];
+        mcu_pulses_engines_2_tail_slot = mcu_pulses_engines_2_tail[5:0];
+        mcu_pulses_engines_2_read_word = mcu_pulses_engines_2_word_steps;
         if (mcu_pulses_engines_2_fetch_q == 2'h0) begin
-            if (~mcu_pulses_engines_2_staged_q & |mcu_pulses_engines_2_count_q) begin
+            if (mcu_pulses_engines_2_staged_q) begin
+                mcu_pulses_engines_2_read_word = mcu_pulses_engines_2_word_accel;
+            end
+            else if (|mcu_pulses_engines_2_count_q) begin
                 mcu_pulses_engines_2_fetch_d = 2'h1;
             end
         end
         else if (mcu_pulses_engines_2_fetch_q == 2'h1) begin
+            mcu_pulses_engines_2_read_word = mcu_pulses_engines_2_word_rate;
             mcu_pulses_engines_2_staged_steps_d = mcu_pulses_engines_2_ram_read_data;
             mcu_pulses_engines_2_fetch_d = 2'h2;
         end
         else if (mcu_pulses_engines_2_fetch_q == 2'h2) begin
+            mcu_pulses_engines_2_read_word = mcu_pulses_engines_2_word_accel;
             mcu_pulses_engines_2_staged_rate_d = mcu_pulses_engines_2_ram_read_data;
             mcu_pulses_engines_2_fetch_d = 2'h3;
         end
         else begin
-            mcu_pulses_engines_2_staged_accel_d = mcu_pulses_engines_2_ram_read_data;
+            mcu_pulses_engines_2_read_word = mcu_pulses_engines_2_word_accel;
             mcu_pulses_engines_2_staged_d = 1'b1;
             mcu_pulses_engines_2_fetch_d = 2'h0;
+        end
+        mcu_pulses_engines_2_ram_read_address = ({2'h0, mcu_pulses_engines_2_head_slot} << mcu_pulses_engines_2_word_shift) | mcu_pulses_engines_2_read_word;
+        mcu_pulses_engines_2_accel_whole = mcu_pulses_engines_2_accel_q_q >> mcu_pulses_engines_2_frac_shift;
+        if (mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]) begin
+            mcu_pulses_engines_2_accel_whole = mcu_pulses_engines_2_accel_whole | mcu_pulses_engines_2_sign_fill;
+        end
+        mcu_pulses_engines_2_jerk_wide = {16'h0, mcu_pulses_engines_2_jerks_read_data};
+        if (mcu_pulses_engines_2_jerks_read_data[31]) begin
+            mcu_pulses_engines_2_jerk_wide = mcu_pulses_engines_2_jerk_wide | mcu_pulses_engines_2_sign_fill;
         end
         mcu_pulses_engines_2_ending = mcu_pulses_engines_2_active_q_q & mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q;
         mcu_pulses_engines_2_live = mcu_pulses_engines_2_active_q_q & ~mcu_pulses_engines_2_ending;
@@ -5558,17 +5683,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_2_live) begin
             if (mcu_pulses_engines_2_advancing) begin
-                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_q_q;
+                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_whole;
+                mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_accel_q_q + mcu_pulses_engines_2_jerk_wide;
             end
         end
         else if (mcu_pulses_engines_2_run & mcu_pulses_engines_2_staged_q) begin
             mcu_pulses_engines_2_popped = 1'b1;
             mcu_pulses_engines_2_staged_d = 1'b0;
-            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 6'h1;
+            mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 7'h1;
             mcu_pulses_engines_2_active_q_d = |mcu_pulses_engines_2_staged_steps_q;
             mcu_pulses_engines_2_ended = ~|mcu_pulses_engines_2_staged_steps_q;
-            mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_staged_rate_q;
-            mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_staged_accel_q;
+            mcu_pulses_engines_2_rate_q_d = ({16'h0, mcu_pulses_engines_2_staged_rate_q} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
+            mcu_pulses_engines_2_accel_q_d = ({16'h0, mcu_pulses_engines_2_ram_read_data} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
             mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_staged_steps_q;
             mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_staged_steps_q == mcu_pulses_engines_2_one;
         end
@@ -5588,9 +5714,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_write_accel) begin
             mcu_pulses_engines_2_write_word = mcu_pulses_engines_2_word_accel;
         end
-        mcu_pulses_engines_2_ram_write_address = ({2'h0, mcu_pulses_engines_2_tail} << mcu_pulses_engines_2_word_shift) | mcu_pulses_engines_2_write_word;
+        mcu_pulses_engines_2_ram_write_address = ({2'h0, mcu_pulses_engines_2_tail_slot} << mcu_pulses_engines_2_word_shift) | mcu_pulses_engines_2_write_word;
         mcu_pulses_engines_2_ram_write_data = mcu_pulses_engines_2_wdata;
         mcu_pulses_engines_2_ram_write_enable = (mcu_pulses_engines_2_write_steps | mcu_pulses_engines_2_write_rate | mcu_pulses_engines_2_write_accel) & (mcu_pulses_engines_2_count_after_pop != mcu_pulses_engines_2_full) & ~mcu_pulses_engines_2_reset;
+        mcu_pulses_engines_2_jerks_write_address = mcu_pulses_engines_2_tail;
+        mcu_pulses_engines_2_jerks_write_data = mcu_pulses_engines_2_wdata;
+        mcu_pulses_engines_2_jerks_write_enable = mcu_pulses_engines_2_write_jerk & (mcu_pulses_engines_2_count_after_pop != mcu_pulses_engines_2_full) & ~mcu_pulses_engines_2_reset;
+        mcu_pulses_engines_2_jerks_read_address = mcu_pulses_engines_2_head_q - 7'h1;
+        if (mcu_pulses_engines_2_popped) begin
+            mcu_pulses_engines_2_jerks_read_address = mcu_pulses_engines_2_head_q;
+        end
         if (mcu_pulses_engines_2_push) begin
             if (mcu_pulses_engines_2_count_after_pop == mcu_pulses_engines_2_full) begin
                 mcu_pulses_engines_2_overflow_q_d = 1'b1;
@@ -5605,21 +5738,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_2_reset) begin
             mcu_pulses_engines_2_active_q_d = 1'b0;
-            mcu_pulses_engines_2_rate_q_d = 32'h0;
-            mcu_pulses_engines_2_accel_q_d = 32'h0;
+            mcu_pulses_engines_2_rate_q_d = 48'h0;
+            mcu_pulses_engines_2_accel_q_d = 48'h0;
             mcu_pulses_engines_2_remaining_d = 32'h0;
             mcu_pulses_engines_2_commanded_q_d = 1'b0;
             mcu_pulses_engines_2_last_q_d = 1'b0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
-            mcu_pulses_engines_2_head_d = 6'h0;
+            mcu_pulses_engines_2_head_d = 7'h0;
             mcu_pulses_engines_2_count_d = 7'h0;
             mcu_pulses_engines_2_staged_d = 1'b0;
             mcu_pulses_engines_2_fetch_d = 2'h0;
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
         if (mcu_pulses_engines_2_active_q_q & ~(mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q)) begin
-            mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q;
+            mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
         end
         mcu_pulses_engines_2_level_word = {25'h0, mcu_pulses_engines_2_count_q};
         mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_level_word << mcu_pulses_engines_2_level_shift;
@@ -5654,26 +5787,41 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_fetch_d = mcu_pulses_engines_3_fetch_q;
         mcu_pulses_engines_3_staged_steps_d = mcu_pulses_engines_3_staged_steps_q;
         mcu_pulses_engines_3_staged_rate_d = mcu_pulses_engines_3_staged_rate_q;
-        mcu_pulses_engines_3_staged_accel_d = mcu_pulses_engines_3_staged_accel_q;
-        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q[5:0];
-        mcu_pulses_engines_3_ram_read_address = ({2'h0, mcu_pulses_engines_3_head_q} << mcu_pulses_engines_3_word_shift) | {6'h0, mcu_pulses_engines_3_fetch_q};
+        mcu_pulses_engines_3_tail = mcu_pulses_engines_3_head_q + mcu_pulses_engines_3_count_q;
+        mcu_pulses_engines_3_head_slot = mcu_pulses_engines_3_head_q[5:0];
+        mcu_pulses_engines_3_tail_slot = mcu_pulses_engines_3_tail[5:0];
+        mcu_pulses_engines_3_read_word = mcu_pulses_engines_3_word_steps;
         if (mcu_pulses_engines_3_fetch_q == 2'h0) begin
-            if (~mcu_pulses_engines_3_staged_q & |mcu_pulses_engines_3_count_q) begin
+            if (mcu_pulses_engines_3_staged_q) begin
+                mcu_pulses_engines_3_read_word = mcu_pulses_engines_3_word_accel;
+            end
+            else if (|mcu_pulses_engines_3_count_q) begin
                 mcu_pulses_engines_3_fetch_d = 2'h1;
             end
         end
         else if (mcu_pulses_engines_3_fetch_q == 2'h1) begin
+            mcu_pulses_engines_3_read_word = mcu_pulses_engines_3_word_rate;
             mcu_pulses_engines_3_staged_steps_d = mcu_pulses_engines_3_ram_read_data;
             mcu_pulses_engines_3_fetch_d = 2'h2;
         end
         else if (mcu_pulses_engines_3_fetch_q == 2'h2) begin
+            mcu_pulses_engines_3_read_word = mcu_pulses_engines_3_word_accel;
             mcu_pulses_engines_3_staged_rate_d = mcu_pulses_engines_3_ram_read_data;
             mcu_pulses_engines_3_fetch_d = 2'h3;
         end
         else begin
-            mcu_pulses_engines_3_staged_accel_d = mcu_pulses_engines_3_ram_read_data;
+            mcu_pulses_engines_3_read_word = mcu_pulses_engines_3_word_accel;
             mcu_pulses_engines_3_staged_d = 1'b1;
             mcu_pulses_engines_3_fetch_d = 2'h0;
+        end
+        mcu_pulses_engines_3_ram_read_address = ({2'h0, mcu_pulses_engines_3_head_slot} << mcu_pulses_engines_3_word_shift) | mcu_pulses_engines_3_read_word;
+        mcu_pulses_engines_3_accel_whole = mcu_pulses_engines_3_accel_q_q >> mcu_pulses_engines_3_frac_shift;
+        if (mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]) begin
+            mcu_pulses_engines_3_accel_whole = mcu_pulses_engines_3_accel_whole | mcu_pulses_engines_3_sign_fill;
+        end
+        mcu_pulses_engines_3_jerk_wide = {16'h0, mcu_pulses_engines_3_jerks_read_data};
+        if (mcu_pulses_engines_3_jerks_read_data[31]) begin
+            mcu_pulses_engines_3_jerk_wide = mcu_pulses_engines_3_jerk_wide | mcu_pulses_engines_3_sign_fill;
         end
         mcu_pulses_engines_3_ending = mcu_pulses_engines_3_active_q_q & mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q;
         mcu_pulses_engines_3_live = mcu_pulses_engines_3_active_q_q & ~mcu_pulses_engines_3_ending;
@@ -5689,17 +5837,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_live) begin
             if (mcu_pulses_engines_3_advancing) begin
-                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_q_q;
+                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_whole;
+                mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_accel_q_q + mcu_pulses_engines_3_jerk_wide;
             end
         end
         else if (mcu_pulses_engines_3_run & mcu_pulses_engines_3_staged_q) begin
             mcu_pulses_engines_3_popped = 1'b1;
             mcu_pulses_engines_3_staged_d = 1'b0;
-            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 6'h1;
+            mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 7'h1;
             mcu_pulses_engines_3_active_q_d = |mcu_pulses_engines_3_staged_steps_q;
             mcu_pulses_engines_3_ended = ~|mcu_pulses_engines_3_staged_steps_q;
-            mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_staged_rate_q;
-            mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_staged_accel_q;
+            mcu_pulses_engines_3_rate_q_d = ({16'h0, mcu_pulses_engines_3_staged_rate_q} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
+            mcu_pulses_engines_3_accel_q_d = ({16'h0, mcu_pulses_engines_3_ram_read_data} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
             mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_staged_steps_q;
             mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_staged_steps_q == mcu_pulses_engines_3_one;
         end
@@ -5719,9 +5868,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_3_write_accel) begin
             mcu_pulses_engines_3_write_word = mcu_pulses_engines_3_word_accel;
         end
-        mcu_pulses_engines_3_ram_write_address = ({2'h0, mcu_pulses_engines_3_tail} << mcu_pulses_engines_3_word_shift) | mcu_pulses_engines_3_write_word;
+        mcu_pulses_engines_3_ram_write_address = ({2'h0, mcu_pulses_engines_3_tail_slot} << mcu_pulses_engines_3_word_shift) | mcu_pulses_engines_3_write_word;
         mcu_pulses_engines_3_ram_write_data = mcu_pulses_engines_3_wdata;
         mcu_pulses_engines_3_ram_write_enable = (mcu_pulses_engines_3_write_steps | mcu_pulses_engines_3_write_rate | mcu_pulses_engines_3_write_accel) & (mcu_pulses_engines_3_count_after_pop != mcu_pulses_engines_3_full) & ~mcu_pulses_engines_3_reset;
+        mcu_pulses_engines_3_jerks_write_address = mcu_pulses_engines_3_tail;
+        mcu_pulses_engines_3_jerks_write_data = mcu_pulses_engines_3_wdata;
+        mcu_pulses_engines_3_jerks_write_enable = mcu_pulses_engines_3_write_jerk & (mcu_pulses_engines_3_count_after_pop != mcu_pulses_engines_3_full) & ~mcu_pulses_engines_3_reset;
+        mcu_pulses_engines_3_jerks_read_address = mcu_pulses_engines_3_head_q - 7'h1;
+        if (mcu_pulses_engines_3_popped) begin
+            mcu_pulses_engines_3_jerks_read_address = mcu_pulses_engines_3_head_q;
+        end
         if (mcu_pulses_engines_3_push) begin
             if (mcu_pulses_engines_3_count_after_pop == mcu_pulses_engines_3_full) begin
                 mcu_pulses_engines_3_overflow_q_d = 1'b1;
@@ -5736,21 +5892,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_reset) begin
             mcu_pulses_engines_3_active_q_d = 1'b0;
-            mcu_pulses_engines_3_rate_q_d = 32'h0;
-            mcu_pulses_engines_3_accel_q_d = 32'h0;
+            mcu_pulses_engines_3_rate_q_d = 48'h0;
+            mcu_pulses_engines_3_accel_q_d = 48'h0;
             mcu_pulses_engines_3_remaining_d = 32'h0;
             mcu_pulses_engines_3_commanded_q_d = 1'b0;
             mcu_pulses_engines_3_last_q_d = 1'b0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
-            mcu_pulses_engines_3_head_d = 6'h0;
+            mcu_pulses_engines_3_head_d = 7'h0;
             mcu_pulses_engines_3_count_d = 7'h0;
             mcu_pulses_engines_3_staged_d = 1'b0;
             mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
         if (mcu_pulses_engines_3_active_q_q & ~(mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q)) begin
-            mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q;
+            mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
         end
         mcu_pulses_engines_3_level_word = {25'h0, mcu_pulses_engines_3_count_q};
         mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_level_word << mcu_pulses_engines_3_level_shift;
@@ -6432,7 +6588,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_fetch_q <= mcu_pulses_engines_0_fetch_d;
     always @(posedge clock) mcu_pulses_engines_0_staged_steps_q <= mcu_pulses_engines_0_staged_steps_d;
     always @(posedge clock) mcu_pulses_engines_0_staged_rate_q <= mcu_pulses_engines_0_staged_rate_d;
-    always @(posedge clock) mcu_pulses_engines_0_staged_accel_q <= mcu_pulses_engines_0_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_1_active_q_q <= mcu_pulses_engines_1_active_q_d;
     always @(posedge clock) mcu_pulses_engines_1_rate_q_q <= mcu_pulses_engines_1_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_1_accel_q_q <= mcu_pulses_engines_1_accel_q_d;
@@ -6447,7 +6602,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_fetch_q <= mcu_pulses_engines_1_fetch_d;
     always @(posedge clock) mcu_pulses_engines_1_staged_steps_q <= mcu_pulses_engines_1_staged_steps_d;
     always @(posedge clock) mcu_pulses_engines_1_staged_rate_q <= mcu_pulses_engines_1_staged_rate_d;
-    always @(posedge clock) mcu_pulses_engines_1_staged_accel_q <= mcu_pulses_engines_1_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_2_active_q_q <= mcu_pulses_engines_2_active_q_d;
     always @(posedge clock) mcu_pulses_engines_2_rate_q_q <= mcu_pulses_engines_2_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_2_accel_q_q <= mcu_pulses_engines_2_accel_q_d;
@@ -6462,7 +6616,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_fetch_q <= mcu_pulses_engines_2_fetch_d;
     always @(posedge clock) mcu_pulses_engines_2_staged_steps_q <= mcu_pulses_engines_2_staged_steps_d;
     always @(posedge clock) mcu_pulses_engines_2_staged_rate_q <= mcu_pulses_engines_2_staged_rate_d;
-    always @(posedge clock) mcu_pulses_engines_2_staged_accel_q <= mcu_pulses_engines_2_staged_accel_d;
     always @(posedge clock) mcu_pulses_engines_3_active_q_q <= mcu_pulses_engines_3_active_q_d;
     always @(posedge clock) mcu_pulses_engines_3_rate_q_q <= mcu_pulses_engines_3_rate_q_d;
     always @(posedge clock) mcu_pulses_engines_3_accel_q_q <= mcu_pulses_engines_3_accel_q_d;
@@ -6477,7 +6630,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_fetch_q <= mcu_pulses_engines_3_fetch_d;
     always @(posedge clock) mcu_pulses_engines_3_staged_steps_q <= mcu_pulses_engines_3_staged_steps_d;
     always @(posedge clock) mcu_pulses_engines_3_staged_rate_q <= mcu_pulses_engines_3_staged_rate_d;
-    always @(posedge clock) mcu_pulses_engines_3_staged_accel_q <= mcu_pulses_engines_3_staged_accel_d;
     always @(posedge clock) mcu_pulses_selectors_0_f1_reg_q <= mcu_pulses_selectors_0_f1_reg_d;
     always @(posedge clock) mcu_pulses_selectors_0_f2_reg_q <= mcu_pulses_selectors_0_f2_reg_d;
     always @(posedge clock) mcu_pulses_selectors_1_f1_reg_q <= mcu_pulses_selectors_1_f1_reg_d;
@@ -6565,11 +6717,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_ram_read_data <= mcu_pulses_engines_0_ram_mem[mcu_pulses_engines_0_ram_read_address];
     always @(posedge clock) if (mcu_pulses_engines_0_ram_write_enable) mcu_pulses_engines_0_ram_mem[mcu_pulses_engines_0_ram_write_address] <= mcu_pulses_engines_0_ram_write_data;
 
+    reg [31:0] mcu_pulses_engines_0_jerks_mem [0:127];
+    integer mcu_pulses_engines_0_jerks_mem_i;
+    initial for (mcu_pulses_engines_0_jerks_mem_i = 0; mcu_pulses_engines_0_jerks_mem_i < 128; mcu_pulses_engines_0_jerks_mem_i = mcu_pulses_engines_0_jerks_mem_i + 1) mcu_pulses_engines_0_jerks_mem[mcu_pulses_engines_0_jerks_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_0_jerks_read_data <= mcu_pulses_engines_0_jerks_mem[mcu_pulses_engines_0_jerks_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_0_jerks_write_enable) mcu_pulses_engines_0_jerks_mem[mcu_pulses_engines_0_jerks_write_address] <= mcu_pulses_engines_0_jerks_write_data;
+
     reg [31:0] mcu_pulses_engines_1_ram_mem [0:255];
     integer mcu_pulses_engines_1_ram_mem_i;
     initial for (mcu_pulses_engines_1_ram_mem_i = 0; mcu_pulses_engines_1_ram_mem_i < 256; mcu_pulses_engines_1_ram_mem_i = mcu_pulses_engines_1_ram_mem_i + 1) mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_mem_i] = 32'h0;
     always @(posedge clock) mcu_pulses_engines_1_ram_read_data <= mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_read_address];
     always @(posedge clock) if (mcu_pulses_engines_1_ram_write_enable) mcu_pulses_engines_1_ram_mem[mcu_pulses_engines_1_ram_write_address] <= mcu_pulses_engines_1_ram_write_data;
+
+    reg [31:0] mcu_pulses_engines_1_jerks_mem [0:127];
+    integer mcu_pulses_engines_1_jerks_mem_i;
+    initial for (mcu_pulses_engines_1_jerks_mem_i = 0; mcu_pulses_engines_1_jerks_mem_i < 128; mcu_pulses_engines_1_jerks_mem_i = mcu_pulses_engines_1_jerks_mem_i + 1) mcu_pulses_engines_1_jerks_mem[mcu_pulses_engines_1_jerks_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_1_jerks_read_data <= mcu_pulses_engines_1_jerks_mem[mcu_pulses_engines_1_jerks_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_1_jerks_write_enable) mcu_pulses_engines_1_jerks_mem[mcu_pulses_engines_1_jerks_write_address] <= mcu_pulses_engines_1_jerks_write_data;
 
     reg [31:0] mcu_pulses_engines_2_ram_mem [0:255];
     integer mcu_pulses_engines_2_ram_mem_i;
@@ -6577,11 +6741,23 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_ram_read_data <= mcu_pulses_engines_2_ram_mem[mcu_pulses_engines_2_ram_read_address];
     always @(posedge clock) if (mcu_pulses_engines_2_ram_write_enable) mcu_pulses_engines_2_ram_mem[mcu_pulses_engines_2_ram_write_address] <= mcu_pulses_engines_2_ram_write_data;
 
+    reg [31:0] mcu_pulses_engines_2_jerks_mem [0:127];
+    integer mcu_pulses_engines_2_jerks_mem_i;
+    initial for (mcu_pulses_engines_2_jerks_mem_i = 0; mcu_pulses_engines_2_jerks_mem_i < 128; mcu_pulses_engines_2_jerks_mem_i = mcu_pulses_engines_2_jerks_mem_i + 1) mcu_pulses_engines_2_jerks_mem[mcu_pulses_engines_2_jerks_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_2_jerks_read_data <= mcu_pulses_engines_2_jerks_mem[mcu_pulses_engines_2_jerks_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_2_jerks_write_enable) mcu_pulses_engines_2_jerks_mem[mcu_pulses_engines_2_jerks_write_address] <= mcu_pulses_engines_2_jerks_write_data;
+
     reg [31:0] mcu_pulses_engines_3_ram_mem [0:255];
     integer mcu_pulses_engines_3_ram_mem_i;
     initial for (mcu_pulses_engines_3_ram_mem_i = 0; mcu_pulses_engines_3_ram_mem_i < 256; mcu_pulses_engines_3_ram_mem_i = mcu_pulses_engines_3_ram_mem_i + 1) mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_mem_i] = 32'h0;
     always @(posedge clock) mcu_pulses_engines_3_ram_read_data <= mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_read_address];
     always @(posedge clock) if (mcu_pulses_engines_3_ram_write_enable) mcu_pulses_engines_3_ram_mem[mcu_pulses_engines_3_ram_write_address] <= mcu_pulses_engines_3_ram_write_data;
+
+    reg [31:0] mcu_pulses_engines_3_jerks_mem [0:127];
+    integer mcu_pulses_engines_3_jerks_mem_i;
+    initial for (mcu_pulses_engines_3_jerks_mem_i = 0; mcu_pulses_engines_3_jerks_mem_i < 128; mcu_pulses_engines_3_jerks_mem_i = mcu_pulses_engines_3_jerks_mem_i + 1) mcu_pulses_engines_3_jerks_mem[mcu_pulses_engines_3_jerks_mem_i] = 32'h0;
+    always @(posedge clock) mcu_pulses_engines_3_jerks_read_data <= mcu_pulses_engines_3_jerks_mem[mcu_pulses_engines_3_jerks_read_address];
+    always @(posedge clock) if (mcu_pulses_engines_3_jerks_write_enable) mcu_pulses_engines_3_jerks_mem[mcu_pulses_engines_3_jerks_write_address] <= mcu_pulses_engines_3_jerks_write_data;
 
     reg [15:0] pc_bus_ram_pc_mem [0:1023];
     integer pc_bus_ram_pc_mem_i;

@@ -1,10 +1,12 @@
 //! Position moves of one pulse generator axis: a 64-deep FIFO of segments
-//! (steps, start rate, rate increment per clock) in block RAM, a copy of its
-//! head segment in flip-flops, and the running segment, which sets the
-//! NCO's rate (docs/pulse_generator.md).
+//! (steps, start rate, acceleration; the jerks in a ring of their own) in
+//! block RAM, a copy of its head segment in flip-flops, and the running
+//! segment, which sets the NCO's rate (docs/pulse_generator.md).
 
 use crate::probe::MoveEngineRegisters;
-use motionhdl_spec::pulse::{SEGMENT_FIFO_DEPTH, SEGMENT_SLOT_WORDS};
+use motionhdl_spec::pulse::{
+    ACCEL_FRAC_BITS, LOAD_FRACTION, RAMP_BITS, SEGMENT_FIFO_DEPTH, SEGMENT_SLOT_WORDS,
+};
 use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
@@ -15,13 +17,25 @@ const PTR: usize = DEPTH.trailing_zeros() as usize;
 const LEVEL: usize = PTR + 1;
 /// Bits of a segment RAM address: slot, then word in the slot.
 const RAM_ADDR: usize = PTR + 2;
+/// Bits of the running rate and acceleration (32 and their fraction).
+const RAMP: usize = RAMP_BITS as usize;
+/// Bits of the jerk ring's pointers: twice the FIFO's depth, so the tail
+/// never reaches the running segment's jerk.
+const JERK_PTR: usize = PTR + 1;
 
-/// The segment FIFO and the running segment. SEG_* writes go straight into
-/// the tail slot of the RAM (slot × 4 + field). Whenever the head slot holds
-/// a segment and no copy of it is complete, its three words are read, one a
-/// clock, into the copy; a segment loads from the copy. A segment commands
-/// exactly its `steps` steps (counted on `commanded`), its rate growing by
-/// `accel` on every clock the NCO advances; `done` rises when the last
+/// The segment FIFO and the running segment. SEG_STEPS, SEG_RATE and
+/// SEG_ACCEL go straight into the tail slot of the RAM (slot × 4 + field),
+/// SEG_JERK into the tail entry of a second RAM, a ring twice as deep.
+/// Whenever the head slot holds a segment and no copy of it is complete,
+/// its steps and rate are read, one a clock, into the copy, and its accel
+/// stays addressed, so the RAM's output register holds it for the load; a
+/// segment loads from the copy and that output. The jerk RAM's output
+/// holds the running segment's jerk (addressed at the load, so from the
+/// segment's first advancing clock). A segment commands
+/// exactly its `steps` steps (counted on `commanded`); on every clock the
+/// NCO advances its rate (16 fraction bits) grows by the acceleration's
+/// whole part and its acceleration (16 fraction bits) by `jerk`
+/// (`motionhdl_spec::pulse::Segment`); `done` rises when the last
 /// pushed segment has commanded all its steps. Reset clears every flip-flop;
 /// the RAM keeps its words.
 ///
@@ -53,8 +67,10 @@ pub struct MoveEngine {
     pub write_steps: Signal<In, Bit>,
     /// The same for the start rate (SEG_RATE).
     pub write_rate: Signal<In, Bit>,
-    /// The same for the rate increment (SEG_ACCEL).
+    /// The same for the acceleration (SEG_ACCEL).
     pub write_accel: Signal<In, Bit>,
+    /// The same for the jerk (SEG_JERK).
+    pub write_jerk: Signal<In, Bit>,
     /// Clear the sticky overflow flag.
     pub clear_overflow: Signal<In, Bit>,
     /// FIFO_LOW_WATER.LEVEL (upper bits 0).
@@ -65,14 +81,15 @@ pub struct MoveEngine {
     /// (the others 0).
     pub status: Signal<Out, Bits<32>>,
     active_q: DFF<Bit>,
-    rate_q: DFF<Bits<32>>,
-    accel_q: DFF<Bits<32>>,
+    rate_q: DFF<Bits<RAMP>>,
+    accel_q: DFF<Bits<RAMP>>,
     remaining: DFF<Bits<32>>,
     commanded_q: DFF<Bit>,
     last_q: DFF<Bit>,
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
-    head: DFF<Bits<PTR>>,
+    /// The head pointer with one more bit: the jerk ring's.
+    head: DFF<Bits<JERK_PTR>>,
     count: DFF<Bits<LEVEL>>,
     // The head segment's copy: complete when `staged`; `fetch` counts the
     // words read so far (the RAM answers one clock after its address).
@@ -80,20 +97,27 @@ pub struct MoveEngine {
     fetch: DFF<Bits<2>>,
     staged_steps: DFF<Bits<32>>,
     staged_rate: DFF<Bits<32>>,
-    staged_accel: DFF<Bits<32>>,
     ram: RAM<Bits<32>, RAM_ADDR>,
+    jerks: RAM<Bits<32>, JERK_PTR>,
     one: Constant<Bits<32>>,
     two: Constant<Bits<32>>,
     full: Constant<Bits<LEVEL>>,
     word_shift: Constant<Bits<RAM_ADDR>>,
+    word_steps: Constant<Bits<RAM_ADDR>>,
     word_rate: Constant<Bits<RAM_ADDR>>,
     word_accel: Constant<Bits<RAM_ADDR>>,
+    frac_shift: Constant<Bits<6>>,
+    ramp_sign: Constant<Bits<6>>,
+    load_fraction: Constant<Bits<RAMP>>,
+    sign_fill: Constant<Bits<RAMP>>,
     moving_bit: Constant<Bits<32>>,
     done_bit: Constant<Bits<32>>,
     overflow_bit: Constant<Bits<32>>,
     low_bit: Constant<Bits<32>>,
     level_shift: Constant<Bits<32>>,
-    tail: Signal<Local, Bits<PTR>>,
+    tail: Signal<Local, Bits<JERK_PTR>>,
+    head_slot: Signal<Local, Bits<PTR>>,
+    tail_slot: Signal<Local, Bits<PTR>>,
     ending: Signal<Local, Bit>,
     live: Signal<Local, Bit>,
     done_now: Signal<Local, Bit>,
@@ -101,9 +125,12 @@ pub struct MoveEngine {
     ended: Signal<Local, Bit>,
     count_after_pop: Signal<Local, Bits<LEVEL>>,
     write_word: Signal<Local, Bits<RAM_ADDR>>,
+    read_word: Signal<Local, Bits<RAM_ADDR>>,
     level_word: Signal<Local, Bits<32>>,
     status_word: Signal<Local, Bits<32>>,
     rate_out: Signal<Local, Bits<32>>,
+    accel_whole: Signal<Local, Bits<RAMP>>,
+    jerk_wide: Signal<Local, Bits<RAMP>>,
 }
 
 impl Default for MoveEngine {
@@ -138,6 +165,7 @@ impl MoveEngine {
             write_steps: Default::default(),
             write_rate: Default::default(),
             write_accel: Default::default(),
+            write_jerk: Default::default(),
             clear_overflow: Default::default(),
             low_water: Default::default(),
             rate: Default::default(),
@@ -156,20 +184,27 @@ impl MoveEngine {
             fetch: Default::default(),
             staged_steps: Default::default(),
             staged_rate: Default::default(),
-            staged_accel: Default::default(),
             ram: Default::default(),
+            jerks: Default::default(),
             one: Constant::new(1.into()),
             two: Constant::new(2.into()),
             full: Constant::new((DEPTH as u64).into()),
             word_shift: word(2),
+            word_steps: word(0),
             word_rate: word(1),
             word_accel: word(2),
+            frac_shift: Constant::new(u64::from(ACCEL_FRAC_BITS).into()),
+            ramp_sign: Constant::new((RAMP as u64 - 1).into()),
+            load_fraction: Constant::new((LOAD_FRACTION as u64).into()),
+            sign_fill: Constant::new((!0u64 << 32 & ((1 << RAMP) - 1)).into()),
             moving_bit: bit("MOVING"),
             done_bit: bit("DONE"),
             overflow_bit: bit("OVERFLOW"),
             low_bit: bit("FIFO_LOW"),
             level_shift: Constant::new((level.lsb as u64).into()),
             tail: Default::default(),
+            head_slot: Default::default(),
+            tail_slot: Default::default(),
             ending: Default::default(),
             live: Default::default(),
             done_now: Default::default(),
@@ -177,22 +212,33 @@ impl MoveEngine {
             ended: Default::default(),
             count_after_pop: Default::default(),
             write_word: Default::default(),
+            read_word: Default::default(),
             level_word: Default::default(),
             status_word: Default::default(),
             rate_out: Default::default(),
+            accel_whole: Default::default(),
+            jerk_wide: Default::default(),
         }
     }
 
     /// The registers, for comparison with the model: `active`,
     /// `remaining` and `done` as they would stand had the step registered
-    /// in `commanded_q` been counted at the edge it was commanded.
+    /// in `commanded_q` been counted at the edge it was commanded; the jerk
+    /// (the jerk RAM's output) while a segment runs, else 0.
     pub fn probe(&self) -> MoveEngineRegisters {
         let counted = self.active_q.q.val() && self.commanded_q.q.val();
         let remaining = self.remaining.q.val().index() as u32;
         let ending = counted && remaining == 1;
+        let active = self.active_q.q.val() && !ending;
         MoveEngineRegisters {
-            active: self.active_q.q.val() && !ending,
-            rate: self.rate_q.q.val().index() as u32,
+            active,
+            rate: self.rate_q.q.val().to_u64(),
+            accel: self.accel_q.q.val().to_u64(),
+            jerk: if active {
+                self.jerks.read_data.val().index() as u32
+            } else {
+                0
+            },
             remaining: remaining - u32::from(counted),
             done: self.done_q.q.val() || (ending && self.count.q.val().index() == 0),
             overflow: self.overflow_q.q.val(),
@@ -222,31 +268,52 @@ impl Logic for MoveEngine {
             staged,
             fetch,
             staged_steps,
-            staged_rate,
-            staged_accel
+            staged_rate
         );
         self.ram.read_clock.next = self.clock.val();
         self.ram.write_clock.next = self.clock.val();
-        self.tail.next = self.head.q.val() + self.count.q.val().get_bits::<PTR>(0);
-        // The head copy: word `fetch` of the head slot is addressed, the
-        // word addressed last clock arrives.
-        self.ram.read_address.next = (bit_cast::<RAM_ADDR, PTR>(self.head.q.val())
-            << self.word_shift.val())
-            | bit_cast::<RAM_ADDR, 2>(self.fetch.q.val());
+        self.jerks.read_clock.next = self.clock.val();
+        self.jerks.write_clock.next = self.clock.val();
+        self.tail.next = self.head.q.val() + self.count.q.val();
+        self.head_slot.next = self.head.q.val().get_bits::<PTR>(0);
+        self.tail_slot.next = self.tail.val().get_bits::<PTR>(0);
+        // The head copy: the head slot's steps and rate are read into
+        // flip-flops, one a clock, each arriving the clock after its
+        // address. Its accel is read last and then stays addressed while
+        // the copy is complete, so the RAM's output register holds it for
+        // the load (the head slot is never written while it holds a
+        // segment): 32 flip-flops fewer per axis.
+        self.read_word.next = self.word_steps.val();
         if self.fetch.q.val() == 0 {
-            if !self.staged.q.val() & self.count.q.val().any() {
+            if self.staged.q.val() {
+                self.read_word.next = self.word_accel.val();
+            } else if self.count.q.val().any() {
                 self.fetch.d.next = 1.into();
             }
         } else if self.fetch.q.val() == 1 {
+            self.read_word.next = self.word_rate.val();
             self.staged_steps.d.next = self.ram.read_data.val();
             self.fetch.d.next = 2.into();
         } else if self.fetch.q.val() == 2 {
+            self.read_word.next = self.word_accel.val();
             self.staged_rate.d.next = self.ram.read_data.val();
             self.fetch.d.next = 3.into();
         } else {
-            self.staged_accel.d.next = self.ram.read_data.val();
+            self.read_word.next = self.word_accel.val();
             self.staged.d.next = true;
             self.fetch.d.next = 0.into();
+        }
+        self.ram.read_address.next = (bit_cast::<RAM_ADDR, PTR>(self.head_slot.val())
+            << self.word_shift.val())
+            | self.read_word.val();
+        // The acceleration's whole part and the jerk, sign-extended.
+        self.accel_whole.next = self.accel_q.q.val() >> self.frac_shift.val();
+        if self.accel_q.q.val().get_bit(self.ramp_sign.val().index()) {
+            self.accel_whole.next = self.accel_whole.val() | self.sign_fill.val();
+        }
+        self.jerk_wide.next = bit_cast::<RAMP, 32>(self.jerks.read_data.val());
+        if self.jerks.read_data.val().get_bit(31) {
+            self.jerk_wide.next = self.jerk_wide.val() | self.sign_fill.val();
         }
         // The step the NCO commanded last clock is counted now; if it was
         // the segment's last, the segment is over in this clock already.
@@ -264,7 +331,8 @@ impl Logic for MoveEngine {
         }
         if self.live.val() {
             if self.advancing.val() {
-                self.rate_q.d.next = self.rate_q.q.val() + self.accel_q.q.val();
+                self.rate_q.d.next = self.rate_q.q.val() + self.accel_whole.val();
+                self.accel_q.d.next = self.accel_q.q.val() + self.jerk_wide.val();
             }
         } else if self.run.val() & self.staged.q.val() {
             self.popped.next = true;
@@ -272,8 +340,12 @@ impl Logic for MoveEngine {
             self.head.d.next = self.head.q.val() + 1;
             self.active_q.d.next = self.staged_steps.q.val().any();
             self.ended.next = !self.staged_steps.q.val().any();
-            self.rate_q.d.next = self.staged_rate.q.val();
-            self.accel_q.d.next = self.staged_accel.q.val();
+            self.rate_q.d.next = (bit_cast::<RAMP, 32>(self.staged_rate.q.val())
+                << self.frac_shift.val())
+                | self.load_fraction.val();
+            self.accel_q.d.next = (bit_cast::<RAMP, 32>(self.ram.read_data.val())
+                << self.frac_shift.val())
+                | self.load_fraction.val();
             self.remaining.d.next = self.staged_steps.q.val();
             self.last_q.d.next = self.staged_steps.q.val() == self.one.val();
         }
@@ -299,7 +371,7 @@ impl Logic for MoveEngine {
         if self.write_accel.val() {
             self.write_word.next = self.word_accel.val();
         }
-        self.ram.write_address.next = (bit_cast::<RAM_ADDR, PTR>(self.tail.val())
+        self.ram.write_address.next = (bit_cast::<RAM_ADDR, PTR>(self.tail_slot.val())
             << self.word_shift.val())
             | self.write_word.val();
         self.ram.write_data.next = self.wdata.val();
@@ -307,6 +379,17 @@ impl Logic for MoveEngine {
             (self.write_steps.val() | self.write_rate.val() | self.write_accel.val())
                 & (self.count_after_pop.val() != self.full.val())
                 & !self.reset.val();
+        self.jerks.write_address.next = self.tail.val();
+        self.jerks.write_data.next = self.wdata.val();
+        self.jerks.write_enable.next = self.write_jerk.val()
+            & (self.count_after_pop.val() != self.full.val())
+            & !self.reset.val();
+        // The running segment's jerk: the head's as it loads, then the
+        // entry behind the head.
+        self.jerks.read_address.next = self.head.q.val() - 1;
+        if self.popped.val() {
+            self.jerks.read_address.next = self.head.q.val();
+        }
         if self.push.val() {
             if self.count_after_pop.val() == self.full.val() {
                 self.overflow_q.d.next = true;
@@ -338,7 +421,11 @@ impl Logic for MoveEngine {
         // NCO.
         self.rate_out.next = 0.into();
         if self.active_q.q.val() & !(self.commanded_q.q.val() & self.last_q.q.val()) {
-            self.rate_out.next = self.rate_q.q.val();
+            self.rate_out.next = self
+                .rate_q
+                .q
+                .val()
+                .get_bits::<32>(self.frac_shift.val().index());
         }
         self.level_word.next = bit_cast::<32, LEVEL>(self.count.q.val());
         self.status_word.next = self.level_word.val() << self.level_shift.val();

@@ -70,7 +70,10 @@ pub struct ChannelRegisters {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MoveEngineRegisters {
     pub active: bool,
-    pub rate: u32,
+    /// Rate and acceleration with their 16 fraction bits (48 bits).
+    pub rate: u64,
+    pub accel: u64,
+    pub jerk: u32,
     pub remaining: u32,
     pub done: bool,
     pub overflow: bool,

@@ -60,6 +60,7 @@ pub struct PulseBank<const N: usize> {
     addr_seg_steps: Vec<Constant<Bits<9>>>,
     addr_seg_rate: Vec<Constant<Bits<9>>>,
     addr_seg_accel: Vec<Constant<Bits<9>>>,
+    addr_seg_jerk: Vec<Constant<Bits<9>>>,
     addr_seg_push: Vec<Constant<Bits<9>>>,
     addr_low_water: Vec<Constant<Bits<9>>>,
     info: Constant<Bits<32>>,
@@ -133,6 +134,7 @@ impl<const N: usize> PulseBank<N> {
             addr_seg_steps: per_axis("SEG_STEPS"),
             addr_seg_rate: per_axis("SEG_RATE"),
             addr_seg_accel: per_axis("SEG_ACCEL"),
+            addr_seg_jerk: per_axis("SEG_JERK"),
             addr_seg_push: per_axis("SEG_PUSH"),
             addr_low_water: per_axis("FIFO_LOW_WATER"),
             info: k32(map.register("INFO").reset),
@@ -224,6 +226,8 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.we.val() & (self.addr.val() == self.addr_seg_rate[i].val());
             self.engines[i].write_accel.next =
                 self.we.val() & (self.addr.val() == self.addr_seg_accel[i].val());
+            self.engines[i].write_jerk.next =
+                self.we.val() & (self.addr.val() == self.addr_seg_jerk[i].val());
             self.engines[i].clear_overflow.next =
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
             self.engines[i].low_water.next = self.low_water[i].q.val();

@@ -16,7 +16,10 @@ mod step_timer;
 #[cfg(test)]
 mod tests;
 
-pub use motionhdl_spec::pulse::{Segment, PENDING_BITS, SEGMENT_FIFO_DEPTH, TIMER_BITS};
+pub use motionhdl_spec::pulse::{
+    Segment, ACCEL_FRAC_BITS, JERK_FRAC_BITS, LOAD_FRACTION, PENDING_BITS, RAMP_BITS,
+    SEGMENT_FIFO_DEPTH, TIMER_BITS,
+};
 pub use move_engine::{MoveEngine, MoveEngineProbe, SegmentField, SEGMENT_FETCH_CLOCKS};
 pub use pulse_bank::{quadrature, PulseBank};
 pub use step_timer::{Request, StepTimer, StepTimerState, StepTiming};

@@ -82,6 +82,8 @@ pub fn engine(r: MoveEngineRegisters) -> MoveEngineProbe {
     MoveEngineProbe {
         active: r.active,
         rate: r.rate,
+        accel: r.accel,
+        jerk: r.jerk,
         remaining: r.remaining,
         done: r.done,
         overflow: r.overflow,

@@ -26,7 +26,8 @@ fn push(c: &mut FifoContract, level: u32, steps: u32, rate: u32) -> Vec<String> 
     for (f, v) in [
         (SegmentField::Steps, steps),
         (SegmentField::Rate, rate),
-        (SegmentField::Accel, 0),
+        (SegmentField::Accel, rate / 2),
+        (SegmentField::Jerk, rate / 4),
     ] {
         let inp = EngineInputs {
             write: Some((f, v)),
@@ -94,13 +95,30 @@ fn the_fifo_contract_catches_broken_fifos() {
         level: 1,
         status_level: 1,
         active: true,
-        running: (6, 200),
+        running: me::loaded([6, 200, 100, 50]),
         ..Default::default()
     };
     assert!(c
         .edge(&inp, &before, &after)
         .unwrap()
-        .contains("loaded (steps, rate) (6, 200), pushed (5, 100)"));
+        .contains("pushed [5, 100, 50, 25]"));
+    // The right segment with its jerk (or its acceleration's fraction)
+    // lost.
+    let half = 1 << 15;
+    for broken in [
+        [5, 100 << 16 | half, 50 << 16 | half, 0],
+        [5, 100 << 16 | half, 50 << 16, 25],
+        [5, 100 << 16, 50 << 16 | half, 25],
+    ] {
+        let mut c = FifoContract::default();
+        assert!(push(&mut c, 0, 5, 100).is_empty());
+        let after = EngineView {
+            running: broken,
+            ..after
+        };
+        let bad = c.edge(&inp, &before, &after).unwrap();
+        assert!(bad.contains("pushed [5, 100, 50, 25]"), "{bad}");
+    }
     // A push into the full FIFO that does not overflow.
     let mut c = FifoContract::default();
     let depth = SEGMENT_FIFO_DEPTH as u32;

@@ -3,7 +3,8 @@
 //! waveform (timings honoured, emitted = commanded, within one step of the
 //! ideal NCO) for random parameters.
 
-use motionhdl_model::pulse_generator::StepTiming;
+use motionhdl_firmware::segments::segment_clocks;
+use motionhdl_model::pulse_generator::{Segment, StepTiming};
 use motionhdl_testbench::checks::pulse_bank as pb;
 use motionhdl_testbench::checks::pulse_generator as pg;
 use motionhdl_testbench::verilog_sim::Simulator;
@@ -70,7 +71,6 @@ fn loopback_into_the_counter_bank_counts_every_step() {
 
 #[test]
 fn a_move_through_the_segment_fifo_ends_on_the_commanded_steps() {
-    use motionhdl_model::pulse_generator::Segment;
     // An S-curve-like stream in 7 segments (more than the FIFO holds):
     // accelerate, cruise, decelerate, then the same backwards, plus a
     // zero-length segment.
@@ -79,37 +79,44 @@ fn a_move_through_the_segment_fifo_ends_on_the_commanded_steps() {
         Segment {
             steps: 40,
             rate: k,
-            accel: 64,
+            accel: 64 << 16,
+            jerk: 0,
         },
         Segment {
             steps: 120,
             rate: 40 * k,
             accel: 0,
+            jerk: 0,
         },
         Segment {
             steps: 40,
             rate: 40 * k,
-            accel: -64,
+            accel: -64 << 16,
+            jerk: 0,
         },
         Segment {
             steps: 0,
             rate: k,
             accel: 0,
+            jerk: 0,
         },
         Segment {
             steps: 30,
             rate: -k,
-            accel: -64,
+            accel: -64 << 16,
+            jerk: 0,
         },
         Segment {
             steps: 50,
             rate: -30 * k,
             accel: 0,
+            jerk: 0,
         },
         Segment {
             steps: 30,
             rate: -30 * k,
-            accel: 64,
+            accel: 64 << 16,
+            jerk: 0,
         },
     ];
     let timing = StepTiming {
@@ -128,32 +135,77 @@ fn a_move_through_the_segment_fifo_ends_on_the_commanded_steps() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
-    /// Random segment streams: the move ends exactly on the sum of the
-    /// segments' steps, in rust-hdl beside the model every clock.
+    /// Random segment streams with ramps: start rate, acceleration with its
+    /// fraction bits, jerk, and reversals between segments. The move ends
+    /// exactly on the sum of the segments' steps (no step lost), and the
+    /// HDL's rate, acceleration and jerk equal the model's every clock.
     #[test]
-    fn random_moves_end_exactly(
+    fn random_ramped_moves_end_exactly(
         t in timing(),
-        segs in prop::collection::vec((0u32..200, 1i32..(1 << 27), -4096i32..4096, any::<bool>()), 1..7),
+        segs in prop::collection::vec(ramped_segment(), 1..7),
     ) {
-        use motionhdl_model::pulse_generator::Segment;
-        // The rate keeps its sign through the segment: accel bounded so
-        // that rate + steps x accel-per-clock stays positive is not
-        // guaranteed, so use accel >= 0 for positive rates (and mirror).
-        let segments: Vec<Segment> = segs
-            .iter()
-            .map(|&(steps, rate, accel, negative)| {
-                let accel = accel.abs();
-                if negative {
-                    Segment { steps, rate: -rate, accel: -accel }
-                } else {
-                    Segment { steps, rate, accel }
-                }
-            })
-            .collect();
-        let (r, position, expected) = pb::move_rust(&segments, t);
+        let (r, position, expected) = pb::move_rust(&segs, t);
         prop_assert!(r.failures.is_empty(), "{:?}", r.failures);
         prop_assert_eq!(position, expected);
     }
+}
+
+/// The strategy keeps most ramps: a fallback to a constant rate would make
+/// the property above test little.
+#[test]
+fn ramped_segments_mostly_carry_a_ramp() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = ramped_segment();
+    let (mut jerk, mut fraction, n) = (0, 0, 400);
+    for _ in 0..n {
+        let s = strategy.new_tree(&mut runner).unwrap().current();
+        jerk += usize::from(s.jerk != 0);
+        fraction += usize::from(s.accel != 0 && s.accel.unsigned_abs() < 1 << 16);
+    }
+    assert!(jerk >= n / 3, "{jerk} of {n} segments with a jerk");
+    assert!(
+        fraction >= n / 10,
+        "{fraction} of {n} with a fraction-only accel"
+    );
+}
+
+/// A segment whose rate keeps its sign until its last step and which takes
+/// at most 20 000 clocks (from phase 0, the slowest start); else the same
+/// steps at a constant rate. Accel and jerk are often small (fraction-only
+/// ramps) and sometimes steep.
+fn ramped_segment() -> impl Strategy<Value = Segment> {
+    let accel = prop_oneof![-(1i32 << 16)..(1 << 16), -(1i32 << 27)..(1 << 27)];
+    let jerk = prop_oneof![
+        Just(0i32),
+        -(1i32 << 16)..(1 << 16),
+        -(1i32 << 30)..(1 << 30)
+    ];
+    (
+        0u32..200,
+        (1i32 << 22)..(1 << 27),
+        accel,
+        jerk,
+        any::<bool>(),
+    )
+        .prop_map(|(steps, rate, accel, jerk, negative)| {
+            let sign = if negative { -1 } else { 1 };
+            let seg = Segment {
+                steps,
+                rate: sign * rate,
+                accel: sign * accel,
+                jerk: sign * jerk,
+            };
+            match segment_clocks(&seg, 0) {
+                Some(run) if run.clocks <= 20_000 => seg,
+                _ => Segment {
+                    accel: 0,
+                    jerk: 0,
+                    rate: sign * (1 << 26),
+                    ..seg
+                },
+            }
+        })
 }
 
 #[test]

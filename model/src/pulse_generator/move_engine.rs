@@ -2,15 +2,20 @@
 //! its head segment, and the running segment.
 
 use super::{Segment, SEGMENT_FIFO_DEPTH};
+use motionhdl_spec::pulse::{ACCEL_FRAC_BITS, LOAD_FRACTION, RAMP_BITS};
 
 /// A field of the segment being written (the SEG_* registers), in the
-/// order the RAM holds them: a slot is four words, field `k` at word `k`
-/// (the fourth is reserved).
+/// order the RAM holds them: a slot is four words, field `k` at word `k`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SegmentField {
     Steps,
     Rate,
     Accel,
+    Jerk,
+}
+
+impl SegmentField {
+    pub const ALL: [Self; 4] = [Self::Steps, Self::Rate, Self::Accel, Self::Jerk];
 }
 
 /// Clocks from the moment the head slot holds a segment to the moment its
@@ -21,7 +26,11 @@ pub const SEGMENT_FETCH_CLOCKS: usize = 4;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MoveEngineProbe {
     pub active: bool,
-    pub rate: u32,
+    /// The running rate and acceleration, with their fraction bits
+    /// (48 bits each), and the jerk.
+    pub rate: u64,
+    pub accel: u64,
+    pub jerk: u32,
     pub remaining: u32,
     pub done: bool,
     pub overflow: bool,
@@ -40,6 +49,11 @@ pub struct MoveEngineProbe {
 /// was last written into it, across resets too, so fields not written since
 /// the slot last held a segment carry that old value.
 ///
+/// SEG_JERK goes into a ring of its own, twice as deep (the tail then never
+/// reaches the running segment's jerk): entry (head + level) mod 128, where
+/// head counts loads mod 128, so a jerk not written is the one written two
+/// laps of the FIFO before, not the slot's.
+///
 /// The copy: once the head slot holds a segment and no copy is under way,
 /// its three fields are read in three clocks (each one clock behind its
 /// address), so the copy is complete `SEGMENT_FETCH_CLOCKS` clocks after
@@ -50,14 +64,19 @@ pub struct MoveEngineProbe {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MoveEngine {
     slots: Vec<Segment>,
+    jerks: Vec<i32>,
+    /// Loads, mod 2·SEGMENT_FIFO_DEPTH (the slot is this mod the depth).
     head: usize,
     count: usize,
     staged: Option<Segment>,
     fetch: usize,
     fetched: Segment,
     active: bool,
-    rate: i32,
-    accel: i32,
+    /// Rate and acceleration with their fraction bits, sign-extended from
+    /// RAMP_BITS.
+    rate: i64,
+    accel: i64,
+    jerk: i32,
     remaining: u32,
     done: bool,
     overflow: bool,
@@ -67,6 +86,7 @@ impl Default for MoveEngine {
     fn default() -> Self {
         Self {
             slots: vec![Segment::default(); SEGMENT_FIFO_DEPTH],
+            jerks: vec![0; JERK_RING],
             head: 0,
             count: 0,
             staged: None,
@@ -75,6 +95,7 @@ impl Default for MoveEngine {
             active: false,
             rate: 0,
             accel: 0,
+            jerk: 0,
             remaining: 0,
             done: false,
             overflow: false,
@@ -86,7 +107,7 @@ impl MoveEngine {
     /// The NCO rate: the running segment's, or 0.
     pub fn rate(&self) -> i32 {
         if self.active {
-            self.rate
+            (self.rate >> ACCEL_FRAC_BITS) as i32
         } else {
             0
         }
@@ -112,7 +133,9 @@ impl MoveEngine {
     pub fn probe(&self) -> MoveEngineProbe {
         MoveEngineProbe {
             active: self.active,
-            rate: self.rate as u32,
+            rate: self.rate as u64 & RAMP_MASK,
+            accel: self.accel as u64 & RAMP_MASK,
+            jerk: if self.active { self.jerk as u32 } else { 0 },
             remaining: self.remaining,
             done: self.done,
             overflow: self.overflow,
@@ -129,13 +152,15 @@ impl MoveEngine {
     /// keep their contents.
     pub fn reset(&mut self) {
         let slots = std::mem::take(&mut self.slots);
+        let jerks = std::mem::take(&mut self.jerks);
         *self = Self {
             slots,
+            jerks,
             ..Self::default()
         };
     }
 
-    /// One edge with a whole segment pushed at once (its three fields
+    /// One edge with a whole segment pushed at once (its four fields
     /// written into the tail slot and pushed in the same edge; the
     /// gateware's bus writes one field a clock).
     pub fn clock(&mut self, run: bool, commanded: bool, advancing: bool, push: Option<Segment>) {
@@ -144,6 +169,7 @@ impl MoveEngine {
                 (SegmentField::Steps, s.steps),
                 (SegmentField::Rate, s.rate as u32),
                 (SegmentField::Accel, s.accel as u32),
+                (SegmentField::Jerk, s.jerk as u32),
             ]
         });
         self.clock_bus(
@@ -170,7 +196,7 @@ impl MoveEngine {
         let mut popped = false;
         // The tail slot, from the state before this edge (a pop moves head
         // and count together, so it names the same slot after it).
-        let tail = (self.head + self.count) % SEGMENT_FIFO_DEPTH;
+        let tail = (self.head + self.count) % JERK_RING;
         // A segment loads from the copy as it was before this edge.
         let staged = self.staged;
         self.advance_fetch();
@@ -183,31 +209,34 @@ impl MoveEngine {
                 }
             }
             if advancing {
-                self.rate = self.rate.wrapping_add(self.accel);
+                self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
+                self.accel = ramp(self.accel + i64::from(self.jerk));
             }
         } else if let Some(seg) = staged.filter(|_| run) {
             popped = true;
             self.staged = None;
             self.active = seg.steps != 0;
             ended = seg.steps == 0;
-            self.rate = seg.rate;
-            self.accel = seg.accel;
+            self.rate = (i64::from(seg.rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+            self.accel = (i64::from(seg.accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+            self.jerk = self.jerks[self.head];
             self.remaining = seg.steps;
         }
         let count_after_pop = self.count - usize::from(popped);
         if popped {
-            self.head = (self.head + 1) % SEGMENT_FIFO_DEPTH;
+            self.head = (self.head + 1) % JERK_RING;
         }
         if ended && count_after_pop == 0 {
             self.done = true;
         }
         if count_after_pop < SEGMENT_FIFO_DEPTH {
-            let slot = &mut self.slots[tail];
+            let slot = &mut self.slots[tail % SEGMENT_FIFO_DEPTH];
             for &(field, v) in writes {
                 match field {
                     SegmentField::Steps => slot.steps = v,
                     SegmentField::Rate => slot.rate = v as i32,
                     SegmentField::Accel => slot.accel = v as i32,
+                    SegmentField::Jerk => self.jerks[tail] = v as i32,
                 }
             }
         }
@@ -225,7 +254,7 @@ impl MoveEngine {
     /// The head slot's copy, one field a clock, from the state before the
     /// edge: a read under way takes the field its address named last clock.
     fn advance_fetch(&mut self) {
-        let slot = self.slots[self.head];
+        let slot = self.slots[self.head % SEGMENT_FIFO_DEPTH];
         match self.fetch {
             0 if self.staged.is_none() && self.count > 0 => self.fetch = 1,
             0 => {}
@@ -244,4 +273,14 @@ impl MoveEngine {
             }
         }
     }
+}
+
+const RAMP_MASK: u64 = (1 << RAMP_BITS) - 1;
+/// Entries of the jerk ring.
+const JERK_RING: usize = 2 * SEGMENT_FIFO_DEPTH;
+
+/// `x` modulo 2^RAMP_BITS, sign-extended: the 48-bit registers wrap.
+fn ramp(x: i64) -> i64 {
+    let shift = 64 - RAMP_BITS;
+    (x << shift) >> shift
 }

@@ -131,9 +131,9 @@ impl PulseBank {
                         "FIFO_LOW_WATER" => self.low_water[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
                         // Write-only: they write the FIFO's tail slot
-                        // (reading them back would cost a 96-bit read-mux
+                        // (reading them back would cost a 128-bit read-mux
                         // leg per axis).
-                        "SEG_STEPS" | "SEG_RATE" | "SEG_ACCEL" | "SEG_PUSH" => 0,
+                        "SEG_STEPS" | "SEG_RATE" | "SEG_ACCEL" | "SEG_JERK" | "SEG_PUSH" => 0,
                         "STATUS" => {
                             let t = self.generators[i].timer.state();
                             let e = &self.engines[i];
@@ -193,6 +193,7 @@ impl PulseBank {
                 ("SEG_STEPS", SegmentField::Steps),
                 ("SEG_RATE", SegmentField::Rate),
                 ("SEG_ACCEL", SegmentField::Accel),
+                ("SEG_JERK", SegmentField::Jerk),
             ]
             .into_iter()
             .filter(|(name, _)| bus.we && self.is(bus.addr, name, i))

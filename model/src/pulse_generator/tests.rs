@@ -127,6 +127,49 @@ fn segment_writes_go_to_the_tail_slot_and_are_dropped_when_full() {
     assert_eq!(e.level(), 0);
 }
 
+/// The running rate by hand: SEG_ACCEL and SEG_JERK carry 16 fraction
+/// bits each, and the NCO's rate is the rate's floor (toward −∞).
+#[test]
+fn ramps_have_fraction_bits() {
+    let run = |seg: Segment, clocks: usize| {
+        let mut e = MoveEngine::default();
+        e.clock(true, false, false, Some(seg));
+        while !e.active() {
+            e.clock(true, false, false, None);
+        }
+        for _ in 0..clocks {
+            e.clock(true, false, true, None);
+        }
+        e.rate()
+    };
+    let seg = |rate, accel, jerk| Segment {
+        steps: 5,
+        rate,
+        accel,
+        jerk,
+    };
+    // A load holds half an LSB, so the floors round to nearest: a quarter
+    // rate LSB per clock gives 5.5, 5.75, 6.0.
+    assert_eq!(run(seg(5, 1 << 14, 0), 1), 5);
+    assert_eq!(run(seg(5, 1 << 14, 0), 2), 6);
+    // Half an LSB per clock (with the half from the acceleration's own
+    // load fraction, whose floor is 0): 5.5, 6.0.
+    assert_eq!(run(seg(5, 1 << 15, 0), 1), 6);
+    // Backwards the register is −5 + 0.5: −5.0 after one clock, −5.5 (so
+    // −6) after two.
+    assert_eq!(run(seg(-5, -(1 << 15), 0), 1), -5);
+    assert_eq!(run(seg(-5, -(1 << 15), 0), 2), -6);
+    // Jerk 3 accel LSBs per clock: the rate after k clocks is
+    // ⌊5.5 + 3·k(k−1)/2 / 2^16⌋, 6 first at k = 149 (148·147 < 21 846 <=
+    // 149·148).
+    assert_eq!(run(seg(5, 0, 3 << 16), 148), 5);
+    assert_eq!(run(seg(5, 0, 3 << 16), 149), 6);
+    // Half an accel LSB of jerk: the accel's whole parts are ⌊(i+1)/2⌋,
+    // summing to ⌊k²/4⌋ >= 2^15 first at k = 363.
+    assert_eq!(run(seg(5, 0, 1 << 15), 362), 5);
+    assert_eq!(run(seg(5, 0, 1 << 15), 363), 6);
+}
+
 /// A segment pushed into an empty FIFO is running after the fifth edge
 /// after its push: SEGMENT_FETCH_CLOCKS edges copy it out of the RAM (one
 /// read per field, each a clock behind its address), the next loads it.
@@ -135,7 +178,7 @@ fn a_segment_loads_four_clocks_after_it_reaches_the_head() {
     let seg = Segment {
         steps: 3,
         rate: 7,
-        accel: 0,
+        ..Default::default()
     };
     let mut e = MoveEngine::default();
     e.clock(true, false, false, Some(seg));
@@ -163,6 +206,7 @@ fn reset_keeps_the_segment_slots() {
             steps: 9,
             rate: 4,
             accel: 1,
+            jerk: 1,
         }),
     );
     e.reset();

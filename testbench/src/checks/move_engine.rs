@@ -9,6 +9,7 @@ use motionhdl_hdl::MoveEngine;
 use motionhdl_model::pulse_generator::{
     self as m, SegmentField, SEGMENT_FETCH_CLOCKS, SEGMENT_FIFO_DEPTH,
 };
+use motionhdl_model::pulse_generator::{ACCEL_FRAC_BITS, LOAD_FRACTION, RAMP_BITS};
 use motionhdl_model::regmap;
 use rust_hdl::prelude::Block;
 use std::collections::VecDeque;
@@ -37,8 +38,9 @@ pub struct EngineView {
     pub status_low: bool,
     /// The head copy is complete (a pop takes it).
     pub staged: bool,
-    /// The running segment's registers: (remaining, rate).
-    pub running: (u32, u32),
+    /// The running segment's registers: remaining, rate and acceleration
+    /// (48 bits with their fractions), jerk.
+    pub running: [u64; 4],
 }
 
 /// Random traffic in phases of 3000 clocks: fill (RUN low, segments pushed
@@ -72,11 +74,12 @@ pub fn engine_stimulus(clocks: usize, seed: u64) -> Vec<EngineInputs> {
         };
         let busy = if phase == 1 { 40 } else { 2 };
         if rng.below(busy) == 0 {
-            if field < 3 {
+            if field < 4 {
                 let (f, value) = match field {
                     0 => (SegmentField::Steps, rng.below(7) as u32),
                     1 => (SegmentField::Rate, rng.next_u64() as u32),
-                    _ => (SegmentField::Accel, rng.next_u64() as u32 >> 8),
+                    2 => (SegmentField::Accel, rng.next_u64() as u32),
+                    _ => (SegmentField::Jerk, rng.next_u64() as u32),
                 };
                 inp.write = Some((f, value));
                 // Now and then a field is left out: the slot's old word.
@@ -93,12 +96,12 @@ pub fn engine_stimulus(clocks: usize, seed: u64) -> Vec<EngineInputs> {
 }
 
 /// The contract, from inputs and views alone: a scoreboard of pushed
-/// segments (contents known when all three fields were written since the
+/// segments (contents known when all four fields were written since the
 /// last accepted push, while there was room), and coverage counts.
 #[derive(Debug, Default)]
 pub struct FifoContract {
-    queue: VecDeque<Option<(u32, u32)>>,
-    written: [Option<u32>; 3],
+    queue: VecDeque<Option<[u32; 4]>>,
+    written: [Option<u32>; 4],
     waiting: usize,
     pub pops: u64,
     pub checked_pops: u64,
@@ -136,7 +139,7 @@ impl FifoContract {
         }
         if inp.reset {
             self.queue.clear();
-            self.written = [None; 3];
+            self.written = [None; 4];
             self.waiting = 0;
             if *after
                 != (EngineView {
@@ -165,9 +168,15 @@ impl FifoContract {
                 None => bad.push("a segment loaded from an empty FIFO".into()),
                 Some(Some(want)) => {
                     self.checked_pops += 1;
-                    if after.running != want {
+                    // The jerk shows while the segment runs (a zero-step
+                    // one is over at once).
+                    let mut expected = loaded(want);
+                    if !after.active {
+                        expected[3] = 0;
+                    }
+                    if after.running != expected {
                         bad.push(format!(
-                            "loaded (steps, rate) {:?}, pushed {want:?}",
+                            "loaded (steps, rate, accel, jerk) {:?}, pushed {want:?}",
                             after.running
                         ));
                     }
@@ -192,10 +201,10 @@ impl FifoContract {
         }
         if inp.push {
             if room {
-                let [s, r, _] = self.written;
+                let [s, r, a, j] = self.written;
                 self.queue
-                    .push_back(s.zip(r).filter(|_| self.written[2].is_some()));
-                self.written = [None; 3];
+                    .push_back(s.zip(r).zip(a.zip(j)).map(|((s, r), (a, j))| [s, r, a, j]));
+                self.written = [None; 4];
             } else {
                 self.full_pushes += 1;
             }
@@ -225,6 +234,16 @@ impl FifoContract {
     }
 }
 
+/// The running registers a pushed segment loads as: the rate and the
+/// acceleration get 16 fraction bits holding half an LSB (48 bits, two's
+/// complement).
+pub fn loaded([steps, rate, accel, jerk]: [u32; 4]) -> [u64; 4] {
+    let wide = |x: u32| {
+        (((i64::from(x as i32) << ACCEL_FRAC_BITS) + LOAD_FRACTION) as u64) & ((1 << RAMP_BITS) - 1)
+    };
+    [steps.into(), wide(rate), wide(accel), jerk.into()]
+}
+
 fn apply(uut: &mut MoveEngine, inp: &EngineInputs) {
     let write = |f: SegmentField| inp.write.is_some_and(|(g, _)| g == f);
     uut.reset.next = inp.reset;
@@ -236,6 +255,7 @@ fn apply(uut: &mut MoveEngine, inp: &EngineInputs) {
     uut.write_steps.next = write(SegmentField::Steps);
     uut.write_rate.next = write(SegmentField::Rate);
     uut.write_accel.next = write(SegmentField::Accel);
+    uut.write_jerk.next = write(SegmentField::Jerk);
     uut.clear_overflow.next = inp.clear_overflow;
     uut.low_water.next = u64::from(inp.low_water).into();
 }
@@ -260,7 +280,7 @@ fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
         status_level: s >> level.0 & level.1,
         status_low: s >> low.0 & low.1 == 1,
         staged: p.staged,
-        running: (p.remaining, p.rate),
+        running: [p.remaining.into(), p.rate, p.accel, p.jerk.into()],
     }
 }
 

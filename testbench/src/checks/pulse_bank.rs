@@ -297,7 +297,7 @@ pub fn loopback(output: Output, seed: u64, segments: usize) -> (i64, i64, u64) {
 /// 2-axis bank in MOVES mode gets `segments` pushed (more than the FIFO
 /// holds, topped up as it drains, as firmware streams an S-curve), runs
 /// until STATUS shows DONE and not BUSY, and the position must be the sum
-/// of the segments' steps (signed by their rates). Returns the report, the
+/// of the segments' steps (signed by their direction). Returns the report, the
 /// final position and the expected one.
 pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i64, i64) {
     const N: usize = 2;
@@ -374,6 +374,7 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
                 w("SEG_ACCEL", seg.accel as u32),
                 &mut r,
             );
+            step(&mut uut, &mut model, w("SEG_JERK", seg.jerk as u32), &mut r);
             step(&mut uut, &mut model, w("SEG_PUSH", 0), &mut r);
             next += 1;
             continue;
@@ -402,7 +403,7 @@ pub fn move_rust(segments: &[m::Segment], timing: StepTiming) -> (CheckReport, i
     let position = model.generator(1).position as i32 as i64;
     let expected: i64 = segments
         .iter()
-        .map(|s| i64::from(s.steps) * if s.rate < 0 { -1 } else { 1 })
+        .map(|s| i64::from(s.steps) * motionhdl_firmware::segments::direction(s))
         .sum();
     r.expected = r.covered;
     (r, position, expected)

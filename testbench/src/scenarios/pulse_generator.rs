@@ -137,15 +137,18 @@ impl Script {
 }
 
 /// A move through the segment FIFO: accelerate (the rate grows by
-/// SEG_ACCEL every clock), cruise, decelerate, then STATUS.DONE.
+/// SEG_ACCEL, at its steepest, every clock), cruise, decelerate, then
+/// STATUS.DONE.
 pub fn acceleration(config: &Config) -> Trace {
     let mut s = Script::new("pulse_acceleration", config);
     s.setup(0b100);
-    let k = 1 << 24;
+    // f/256 up to about f/57 and back: the steepest SEG_ACCEL adds 2^15
+    // rate LSBs a clock (2^-17 steps/clock²).
+    let (k, steep) = (1 << 24, i32::MAX);
     // Push two, start (the first segment's copy out of the FIFO's RAM is
     // complete by then, so it loads at once), then push the third while
     // the first runs.
-    for (i, (steps, rate, accel)) in [(12, k, 1 << 22), (20, 48 * k, 0), (12, 48 * k, -(1 << 22))]
+    for (i, (steps, rate, accel)) in [(20, k, steep), (20, 72 << 20, 0), (19, 72 << 20, -steep)]
         .into_iter()
         .enumerate()
     {
@@ -155,13 +158,14 @@ pub fn acceleration(config: &Config) -> Trace {
         s.write("SEG_STEPS", steps);
         s.write("SEG_RATE", rate as u32);
         s.write("SEG_ACCEL", accel as u32);
+        s.write("SEG_JERK", 0);
         s.write("SEG_PUSH", 0);
     }
-    s.idle(700);
+    s.idle(5_500);
     let e = s.model.engine(0);
     assert!(
-        e.done() && !e.overflow() && s.model.generator(0).position == 44,
-        "pulse_acceleration: the move did not end on its 44 steps"
+        e.done() && !e.overflow() && s.model.generator(0).position == 59,
+        "pulse_acceleration: the move did not end on its 59 steps"
     );
     s.write("RUN", 0);
     s.idle(20);

@@ -97,17 +97,17 @@ pub fn loopback_ops(config: &Config) -> Vec<Op> {
 }
 
 /// Segments of [`moves_ops`]: accelerate, cruise, decelerate, and one
-/// back (steps, start rate, rate increment per clock).
+/// back (steps, start rate, SEG_ACCEL: 2^-16 rate LSBs per clock).
 pub const MOVE_SEGMENTS: [(u32, i32, i32); 4] = [
-    (30, 1 << 24, 1 << 20),
+    (30, 1 << 24, 1 << 30),
     (60, 1 << 28, 0),
-    (30, 1 << 28, -(1 << 18)),
+    (30, 1 << 28, -(1 << 28)),
     (25, -(1 << 27), 0),
 ];
 
 /// A position move through axis 0's segment FIFO (MOVES mode), counted by
 /// channel 0 in pulse+direction through the pin loopback: stream the four
-/// [`MOVE_SEGMENTS`] through the 2-deep FIFO around RUN, wait, then
+/// [`MOVE_SEGMENTS`] through the FIFO around RUN, wait, then
 /// STATUS (DONE, no OVERFLOW), SNAPSHOT, COUNT and POSITION.
 pub fn moves_ops(config: &Config) -> Vec<Op> {
     use motionhdl_model::regmap::mode;
@@ -133,11 +133,12 @@ pub fn moves_ops(config: &Config) -> Vec<Op> {
         ops.push(w(pulse.base + ax.address(0, "SEG_STEPS"), steps));
         ops.push(w(pulse.base + ax.address(0, "SEG_RATE"), rate as u32));
         ops.push(w(pulse.base + ax.address(0, "SEG_ACCEL"), accel as u32));
+        ops.push(w(pulse.base + ax.address(0, "SEG_JERK"), 0));
         ops.push(w(pulse.base + ax.address(0, "SEG_PUSH"), 0));
     };
-    // The FIFO holds two: fill it, start, and top it up as the firmware
-    // would. Segment 0 (about 480 clocks) has ended before the 4000-HCLK
-    // (1190-clock) wait is over, so the last push finds room.
+    // Push two, start, and push the rest as the firmware would stream
+    // them (the FIFO holds 64); the move (about 5300 clocks) is over well
+    // within the nine 4000-HCLK (1190-clock) waits.
     let [s0, s1, s2, s3] = MOVE_SEGMENTS;
     push(&mut ops, s0);
     push(&mut ops, s1);

@@ -218,6 +218,7 @@ pub fn plan(config: &Config) -> Plan {
             "SEG_STEPS",
             "SEG_RATE",
             "SEG_ACCEL",
+            "SEG_JERK",
         ]
         .iter()
         .enumerate()

@@ -302,6 +302,7 @@ impl<const N: usize> System<N> {
         self.write("PULSE", Some(axis), "SEG_STEPS", s.steps);
         self.write("PULSE", Some(axis), "SEG_RATE", s.rate as u32);
         self.write("PULSE", Some(axis), "SEG_ACCEL", s.accel as u32);
+        self.write("PULSE", Some(axis), "SEG_JERK", s.jerk as u32);
         self.write("PULSE", Some(axis), "SEG_PUSH", 0);
     }
 

@@ -66,7 +66,7 @@ mod class {
     pub const SMALL: u8 = 3;
     /// 0..=255 (SEG_STEPS).
     pub const STEPS: u8 = 4;
-    /// Signed, shifted right 20 (SEG_ACCEL).
+    /// Signed, shifted right 20 (SEG_ACCEL, SEG_JERK).
     pub const ACCEL: u8 = 5;
 }
 
@@ -147,7 +147,7 @@ impl TopStimulus {
                     ("PULSE", "STEP_TIMING" | "DIR_TIMING") => class::TIMING,
                     ("PULSE", "CTRL") => class::SMALL,
                     ("PULSE", "SEG_STEPS") => class::STEPS,
-                    ("PULSE", "SEG_ACCEL") => class::ACCEL,
+                    ("PULSE", "SEG_ACCEL" | "SEG_JERK") => class::ACCEL,
                     _ => class::RANDOM,
                 };
                 writes.push((word, c));
