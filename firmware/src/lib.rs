@@ -10,6 +10,7 @@
 //! | [`pid`] | TMS320C32 DSP card | incremental PID to a 16-bit DAC |
 //! | [`frames`] | dual-CPU STM32 card | master/slave "virtual memory" frames with CRC-16/MODBUS |
 //! | [`segments`] | (this project) | a sampled profile as segments for the FPGA pulse generator's move FIFO |
+//! | `scurve_segments` | STM32 + FPGA card | the 7-phase S-curve as at most 7 segments with a jerk, one per phase (`alloc`) |
 //!
 //! The algorithms use `core` only and no heap; where a `Vec` of output is
 //! the natural result, a separate `*_vec`-style helper builds it.
@@ -34,6 +35,8 @@ pub mod bspline;
 pub mod frames;
 pub mod pid;
 pub mod scurve;
+#[cfg(feature = "alloc")]
+pub mod scurve_segments;
 pub mod segments;
 pub mod trapezoid;
 

@@ -4,6 +4,8 @@
 //! encoders the counter bank counts, read back by the firmware.
 
 use motionhdl_firmware::scurve::{SCurve, SCurveParams};
+use motionhdl_firmware::scurve_segments::{self, EngineLimits};
+use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::system::{net_steps, plan_segments, System};
 
@@ -18,17 +20,41 @@ fn scurve_steps(distance: i64, tick_hz: u32, velocity: f64, accel: f64, jerk: f6
 
 #[test]
 fn an_s_curve_move_is_counted_back_exactly_on_target() {
-    let config = Config::default();
+    // Planned as one segment per phase (SEG_JERK carries the jerk), not one
+    // per servo tick.
+    let target = 1000;
+    let lim = EngineLimits::from_physical(2e6, 4e9, 8e13, f64::from(CLOCK_HZ));
+    let plan = scurve_segments::plan(target, lim).unwrap();
+    let segs = plan.segments.clone();
+    assert!(segs.len() <= 7, "{segs:?}");
+    assert!(segs.iter().any(|s| s.jerk != 0));
+    let sys = run_on_axis_0(&segs, target);
+    eprintln!(
+        "S-curve: {} segments, {} clocks planned, {} clocks simulated",
+        segs.len(),
+        plan.clocks,
+        sys.clocks
+    );
+}
+
+#[test]
+fn a_per_tick_s_curve_is_counted_back_exactly_on_target() {
     let tick_hz = 100_000;
     let target = 1000;
     let steps = scurve_steps(target, tick_hz, 2e6, 4e9, 8e13);
     assert_eq!(*steps.last().unwrap(), target, "the plan ends on target");
     let segs = plan_segments(&steps, CLOCK_HZ, tick_hz);
-    assert_eq!(net_steps(&segs), target);
-    let mut sys = System::<4>::new(&config);
+    run_on_axis_0(&segs, target);
+}
+
+/// Streams `segs` to axis 0 of the default 4-axis top and checks the
+/// shaft, COUNT and POSITION land on `target` while the others stay still.
+fn run_on_axis_0(segs: &[Segment], target: i64) -> System<4> {
+    assert_eq!(net_steps(segs), target);
+    let mut sys = System::<4>::new(&Config::default());
     sys.setup();
     let none = Vec::new();
-    sys.run_move(&[segs.clone(), none.clone(), none.clone(), none], 400_000)
+    sys.run_move(&[segs.to_vec(), none.clone(), none.clone(), none], 400_000)
         .unwrap();
     let p = sys.positions();
     assert_eq!(sys.drives[0].position as i64, target, "shaft");
@@ -36,12 +62,7 @@ fn an_s_curve_move_is_counted_back_exactly_on_target() {
     for (i, q) in p.iter().enumerate().skip(1) {
         assert_eq!(*q, (0, 0), "axis {i} stays still");
     }
-    eprintln!(
-        "S-curve: {} ticks, {} segments, {} clocks simulated",
-        steps.len(),
-        segs.len(),
-        sys.clocks
-    );
+    sys
 }
 
 #[test]
