@@ -14,10 +14,6 @@ pub enum SegmentField {
     Jerk,
 }
 
-impl SegmentField {
-    pub const ALL: [Self; 4] = [Self::Steps, Self::Rate, Self::Accel, Self::Jerk];
-}
-
 /// Clocks from the moment the head slot holds a segment to the moment its
 /// copy can load: one read per field, each one clock behind its address.
 pub const SEGMENT_FETCH_CLOCKS: usize = 4;
