@@ -4,7 +4,7 @@ use crate::ports::Port;
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
     MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
-    PulseModeSelectorRegistered, QuadratureCore,
+    PulseModeSelectorRegistered, QuadratureCore, SafetyIo,
 };
 use motionhdl_spec::{Config, CounterFeatures, IsaRam};
 use rust_hdl::prelude::Block;
@@ -174,6 +174,22 @@ pub fn pulse_generator() -> VerilogModule {
     )
 }
 
+/// The safety and I/O block of `axes` axes (1..=16): e-stop latch,
+/// watchdog, drive enables, interrupt causes and masks.
+pub fn safety_io(axes: u32) -> VerilogModule {
+    const SUMMARY: &str = "safety and I/O block: fail-safe e-stop latch, key-fed watchdog, drive \
+                           enables, interrupt causes, masks and IRQ pin (docs/safety_io.md)";
+    macro_rules! block {
+        ($($n:literal)+) => {
+            match axes {
+                $($n => module(SafetyIo::<$n>::new(), "safety_io", SUMMARY),)+
+                _ => panic!("axes = {axes} out of range 1..=16"),
+            }
+        };
+    }
+    block!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -191,5 +207,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         fsmc_bridge(),
         motion_controller(config),
         pulse_generator(),
+        safety_io(config.axes()),
     ]
 }

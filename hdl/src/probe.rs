@@ -81,3 +81,25 @@ pub struct MoveEngineRegisters {
     pub staged: bool,
     pub fetch: u32,
 }
+
+/// The safety block's interrupt state: causes, masks and the polarity
+/// (one bit per axis in the per-axis registers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SafetyRegisters {
+    pub cause: u32,
+    pub cause_mask: u32,
+    pub done_cause: u32,
+    pub done_mask: u32,
+    pub low_cause: u32,
+    pub low_mask: u32,
+    pub active_high: bool,
+}
+
+impl SafetyRegisters {
+    /// OR(cause AND mask) over every cause register.
+    pub fn irq_active(&self) -> bool {
+        self.cause & self.cause_mask != 0
+            || self.done_cause & self.done_mask != 0
+            || self.low_cause & self.low_mask != 0
+    }
+}

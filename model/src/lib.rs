@@ -15,5 +15,6 @@ pub mod ls688;
 pub mod motion_controller;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
+pub mod safety_io;
 
 pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

@@ -14,5 +14,6 @@ pub mod fsmc;
 pub mod isa;
 pub mod pulse;
 pub mod regmap;
+pub mod safety_io;
 
 pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

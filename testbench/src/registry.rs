@@ -5,7 +5,7 @@
 use crate::checks::{
     counter_bank, counter_channel, fsmc_bridge, input_filter, isa_bridge, ls153, ls688,
     motion_controller, move_engine, pulse_bank, pulse_generator, pulse_mode_selector,
-    quadrature_core,
+    quadrature_core, safety_io,
 };
 use crate::CheckReport;
 
@@ -19,7 +19,7 @@ pub struct Group {
 
 /// Every group, in the order `motionhdl verify` prints them. The netlist
 /// runs need the external tools, so they run only with `external`.
-pub const GROUPS: [Group; 9] = [
+pub const GROUPS: [Group; 10] = [
     Group {
         name: "selector",
         run: |external| [ls153::all(external), pulse_mode_selector::all(external)].concat(),
@@ -65,6 +65,10 @@ pub const GROUPS: [Group; 9] = [
             ]
             .concat()
         },
+    },
+    Group {
+        name: "safety_io",
+        run: safety_io::all,
     },
     Group {
         name: "netlist",
@@ -143,6 +147,7 @@ pub fn netlist_checks() -> Vec<CheckReport> {
     v.push(isa_bridge::collision_check(Some(t)));
     v.push(fsmc_bridge::sweep_verilog(t));
     v.push(fsmc_bridge::random_verilog(t));
+    v.push(safety_io::random_verilog(t, 20_000, 0x5afe_0004));
     for ram in [IsaRam::Internal, IsaRam::External] {
         v.push(motion_controller::check_verilog(
             t,

@@ -13,6 +13,7 @@ mod counter_bank;
 mod id;
 mod isa_bridge;
 mod pulse_bank;
+mod safety_io;
 #[cfg(test)]
 mod tests;
 
@@ -20,6 +21,7 @@ pub use counter_bank::{counter_bank, counter_bank_with, mode, ERR_COUNT_BITS};
 pub use id::{gateware_version, id_block, ID_MAGIC};
 pub use isa_bridge::{isa_bridge, ISA_ADDR_BITS, ISA_RAM_WORDS};
 pub use pulse_bank::pulse_bank;
+pub use safety_io::safety_io;
 
 /// Access type of a register or field, as firmware sees it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

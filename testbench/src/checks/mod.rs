@@ -15,3 +15,4 @@ pub mod pulse_bank;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod quadrature_core;
+pub mod safety_io;

@@ -1,0 +1,149 @@
+//! The SAFETY block: e-stop, watchdog, drive enables and the interrupt
+//! line's causes and masks (docs/safety_io.md).
+
+use super::{field, reg, Access, Block, EnumValue, Field};
+use crate::safety_io::WATCHDOG_KEY;
+
+fn with_reset(mut f: Field, reset: u32) -> Field {
+    f.reset = reset;
+    f
+}
+
+/// One bit per axis, `access`, with `description`.
+fn axes_field(axes: u32, access: Access, description: &'static str) -> Vec<Field> {
+    vec![field("AXES", 0, axes, access, description)]
+}
+
+/// The safety and I/O block of `axes` axes (1..=16).
+pub fn safety_io(axes: u32) -> Block {
+    use Access::*;
+    assert!(
+        (1..=16).contains(&axes),
+        "axes = {axes} out of range 1..=16"
+    );
+    let system_causes = |access: Access| {
+        vec![
+            field("ESTOP", 0, 1, access, "The e-stop latch was set."),
+            field("WATCHDOG", 1, 1, access, "The watchdog has bitten."),
+        ]
+    };
+    let mut polarity = field(
+        "ACTIVE_HIGH",
+        0,
+        1,
+        ReadWrite,
+        "IRQ pin polarity: 0 = active low (open-drain style, the reset value), 1 = active high.",
+    );
+    polarity.values = vec![
+        EnumValue {
+            name: "ACTIVE_LOW",
+            value: 0,
+            description: "The pin is low while an unmasked cause is set.",
+        },
+        EnumValue {
+            name: "ACTIVE_HIGH",
+            value: 1,
+            description: "The pin is high while an unmasked cause is set.",
+        },
+    ];
+    let mut info_axes = field("AXES", 0, 5, ReadOnly, "Number of axes.");
+    info_axes.reset = axes;
+    Block {
+        name: "SAFETY",
+        description: "E-stop, watchdog, drive enables and the interrupt line (docs/safety_io.md)",
+        base: 0,
+        address_bits: 7,
+        registers: vec![
+            reg("INFO", 0, ReadOnly, "Build parameters of the block.", "", vec![info_axes]),
+            reg(
+                "STATUS",
+                1,
+                ReadOnly,
+                "Live state of the e-stop, the watchdog and the IRQ line.",
+                "",
+                vec![
+                    with_reset(field("ESTOP_INPUT", 0, 1, ReadOnly, "The e-stop input, synchronised: 1 = it asks for a stop (low, or open)."), 1),
+                    with_reset(field("ESTOP", 1, 1, ReadOnly, "The e-stop latch: every axis halted, every ENABLE output low. Set at reset."), 1),
+                    field("BITTEN", 2, 1, ReadOnly, "Sticky: the watchdog has bitten (every axis halted, every ENABLE output low)."),
+                    field("ARMED", 3, 1, ReadOnly, "The watchdog is counting."),
+                    field("IRQ", 4, 1, ReadOnly, "An unmasked cause is set (the IRQ pin follows one clock later)."),
+                ],
+            ),
+            reg(
+                "CLEAR",
+                2,
+                WriteOnly,
+                "Release the latches.",
+                "ESTOP clears the e-stop latch only while STATUS.ESTOP_INPUT is 0; in the clock the input asks for a stop the latch stays set. BITTEN clears the bite flag unless the watchdog bites in the same clock.",
+                vec![
+                    field("ESTOP", 0, 1, WriteOnly, "Write 1 to clear the e-stop latch."),
+                    field("BITTEN", 1, 1, WriteOnly, "Write 1 to clear the watchdog's bite flag."),
+                ],
+            ),
+            reg(
+                "ENABLE",
+                3,
+                ReadWrite,
+                "Drive ENABLE output per axis.",
+                "Cleared, and writes ignored, while ESTOP or BITTEN is set: after a stop the drives stay off until firmware enables them again.",
+                axes_field(axes, ReadWrite, "One bit per axis; the pin is high while the bit is 1."),
+            ),
+            reg(
+                "WDT_TIMEOUT",
+                4,
+                ReadWrite,
+                "Watchdog timeout in clocks: the watchdog bites TIMEOUT + 1 clocks after the last arm or reload. 0 = off (the reset value).",
+                "A write arms the watchdog (or disarms it, with 0) and loads WDT_COUNT with the value.",
+                vec![field("VALUE", 0, 32, ReadWrite, "Clocks.")],
+            ),
+            reg(
+                "WDT_RELOAD",
+                5,
+                WriteOnly,
+                "Feed the watchdog.",
+                "Writing KEY while ARMED loads WDT_COUNT from WDT_TIMEOUT; any other value, or a write while not armed, does nothing.",
+                vec![field("KEY", 0, 32, WriteOnly, "The reload key.")],
+            ),
+            reg(
+                "WDT_COUNT",
+                6,
+                ReadOnly,
+                "Clocks left before the watchdog bites (it bites at the first edge where this is 0 and no reload is written).",
+                "",
+                vec![field("VALUE", 0, 32, ReadOnly, "Clocks.")],
+            ),
+            reg("IRQ_CTRL", 7, ReadWrite, "The IRQ pin.", "", vec![polarity]),
+            reg(
+                "CAUSE",
+                8,
+                WriteOneToClear,
+                "Sticky interrupt causes of the whole card, set at the edge of their event.",
+                "An event in the same clock as a write of 1 to its bit sets the bit.",
+                system_causes(WriteOneToClear),
+            ),
+            reg("CAUSE_MASK", 9, ReadWrite, "Which CAUSE bits drive the IRQ pin.", "", system_causes(ReadWrite)),
+            reg(
+                "DONE_CAUSE",
+                10,
+                WriteOneToClear,
+                "Sticky, per axis: the axis's move-done input rose.",
+                "An event in the same clock as a write of 1 to its bit sets the bit.",
+                axes_field(axes, WriteOneToClear, "One bit per axis."),
+            ),
+            reg("DONE_MASK", 11, ReadWrite, "Which DONE_CAUSE bits drive the IRQ pin.", "", axes_field(axes, ReadWrite, "One bit per axis.")),
+            reg(
+                "LOW_CAUSE",
+                12,
+                WriteOneToClear,
+                "Sticky, per axis: the axis's FIFO-low input rose (time to refill).",
+                "An event in the same clock as a write of 1 to its bit sets the bit.",
+                axes_field(axes, WriteOneToClear, "One bit per axis."),
+            ),
+            reg("LOW_MASK", 13, ReadWrite, "Which LOW_CAUSE bits drive the IRQ pin.", "", axes_field(axes, ReadWrite, "One bit per axis.")),
+        ],
+        arrays: vec![],
+    }
+}
+
+// WDT_RELOAD's description names the key by field; the docs give its value.
+const _: () = assert!(WATCHDOG_KEY != 0);

@@ -1,0 +1,162 @@
+//! The safety block's contract, stated from its pins, its bus and its
+//! interrupt registers alone (never from the model), checked over a run
+//! of the HDL. Each property counts the clocks where its antecedent held,
+//! and [`Breakage`] shows each one able to fail.
+
+use super::{Observed, AXES};
+use crate::harness::CheckReport;
+use motionhdl_model::regmap;
+use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY};
+
+/// The properties, in the order [`contract`] reports them.
+pub const PROPERTIES: [&str; 5] = [
+    "IRQ pin = OR(cause AND mask) with its polarity, IRQ_LATENCY later",
+    "no drive ENABLE while HALT",
+    "an e-stop input low halts every axis ESTOP_LATENCY edges later",
+    "HALT falls only at a CLEAR write",
+    "an armed watchdog left alone bites exactly TIMEOUT + 1 edges after the arm",
+];
+
+fn wrote(o: &Observed, offset: u32) -> bool {
+    o.vector.bus.we && o.vector.bus.addr & 0x7f == offset
+}
+
+/// Every property over `trace`: one report each, a case per antecedent.
+pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
+    let map = regmap::safety_io(AXES as u32);
+    let offset = |name: &str| map.register(name).offset;
+    let watchdog_bit = map.register("CAUSE").field("WATCHDOG").mask();
+    let mut r: Vec<CheckReport> = PROPERTIES
+        .iter()
+        .map(|p| CheckReport::new("safety_io", p, 0))
+        .collect();
+    let latency = IRQ_LATENCY as usize;
+    for k in latency..trace.len() {
+        if (k + 1 - latency..=k).any(|j| trace[j].vector.reset) {
+            continue;
+        }
+        let before = &trace[k - latency].registers;
+        let want = before.irq_active() == before.active_high;
+        r[0].case((trace[k].outputs.irq != want).then(|| {
+            format!(
+                "clock {k}: IRQ pin {}, registers before {before:?}",
+                trace[k].outputs.irq
+            )
+        }));
+    }
+    for (k, o) in trace.iter().enumerate() {
+        let out = o.outputs;
+        if out.halt {
+            r[1].case(
+                (out.drive_enable != 0)
+                    .then(|| format!("clock {k}: HALT, ENABLE {:#x}", out.drive_enable)),
+            );
+        }
+    }
+    let edges = ESTOP_LATENCY as usize;
+    for k in 0..trace.len().saturating_sub(edges) {
+        let window = &trace[k..k + edges];
+        if trace[k].vector.inputs.estop_ok || window.iter().any(|o| o.vector.reset) {
+            continue;
+        }
+        let halted = trace[k + edges - 1].outputs.halt;
+        r[2].case(
+            (!halted)
+                .then(|| format!("input low at clock {k}, no HALT at clock {}", k + edges - 1)),
+        );
+    }
+    let clear = offset("CLEAR");
+    for k in 1..trace.len() {
+        if trace[k - 1].outputs.halt && !trace[k].outputs.halt {
+            let ok = wrote(&trace[k], clear) && trace[k].vector.bus.wdata & 3 != 0;
+            r[3].case((!ok).then(|| format!("clock {k}: HALT fell at {:?}", trace[k].vector)));
+        }
+    }
+    let (timeout, reload, cause) = (offset("WDT_TIMEOUT"), offset("WDT_RELOAD"), offset("CAUSE"));
+    for e in 0..trace.len() {
+        let t = trace[e].vector.bus.wdata as usize;
+        if !wrote(&trace[e], timeout) || trace[e].vector.reset || t == 0 || e + t + 1 >= trace.len()
+        {
+            continue;
+        }
+        let window = &trace[e + 1..=e + t + 1];
+        let disturbed = window
+            .iter()
+            .any(|o| o.vector.reset || wrote(o, timeout) || wrote(o, reload) || wrote(o, cause));
+        if disturbed || trace[e].registers.cause & watchdog_bit != 0 {
+            continue;
+        }
+        let early = trace[e + t].registers.cause & watchdog_bit != 0;
+        let bit = trace[e + t + 1].registers.cause & watchdog_bit != 0;
+        let halted = trace[e + t + 1].outputs.halt;
+        r[4].case((early || !bit || !halted).then(|| {
+            format!("armed with {t} at clock {e}: cause early {early}, at {}: cause {bit}, HALT {halted}", e + t + 1)
+        }));
+    }
+    for report in &mut r {
+        report.expected = report.covered;
+    }
+    r
+}
+
+/// A deliberate fault in a good trace, one per property, to show each
+/// property can fail.
+#[derive(Clone, Copy, Debug)]
+pub enum Breakage {
+    /// The IRQ pin inverted at one clock.
+    IrqFlipped,
+    /// An ENABLE output high in a halted clock.
+    EnableWhileHalted,
+    /// HALT late after an e-stop input.
+    EstopLate,
+    /// HALT dropped for one clock in the middle of a halted stretch.
+    HaltGlitch,
+    /// The watchdog's cause one clock late.
+    BiteLate,
+}
+
+impl Breakage {
+    pub const ALL: [Breakage; 5] = [
+        Breakage::IrqFlipped,
+        Breakage::EnableWhileHalted,
+        Breakage::EstopLate,
+        Breakage::HaltGlitch,
+        Breakage::BiteLate,
+    ];
+
+    /// The property (index into [`PROPERTIES`]) this breakage must fail.
+    pub fn property(self) -> usize {
+        self as usize
+    }
+
+    /// `trace` with the fault, at the first place it applies.
+    pub fn apply(self, trace: &[Observed]) -> Vec<Observed> {
+        let mut t = trace.to_vec();
+        let halted = |o: &Observed| o.outputs.halt;
+        let stretch = (2..t.len() - 1)
+            .find(|&k| {
+                halted(&t[k - 1]) && halted(&t[k]) && halted(&t[k + 1]) && !t[k].vector.reset
+            })
+            .expect("a halted stretch");
+        match self {
+            Breakage::IrqFlipped => t[stretch].outputs.irq ^= true,
+            Breakage::EnableWhileHalted => t[stretch].outputs.drive_enable = 1,
+            Breakage::EstopLate => {
+                let edges = ESTOP_LATENCY as usize;
+                let k = (0..t.len() - edges)
+                    .find(|&k| !t[k].vector.inputs.estop_ok && !t[k].outputs.halt)
+                    .expect("an e-stop while running");
+                t[k + edges - 1].outputs.halt = false;
+            }
+            Breakage::HaltGlitch => t[stretch].outputs.halt = false,
+            Breakage::BiteLate => {
+                let bit = |o: &Observed| o.registers.cause & 2 != 0;
+                let k = (1..t.len())
+                    .find(|&k| bit(&t[k]) && !bit(&t[k - 1]))
+                    .expect("a bite");
+                t[k].registers.cause &= !2;
+            }
+        }
+        t
+    }
+}

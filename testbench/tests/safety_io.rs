@@ -1,0 +1,118 @@
+//! The safety and I/O block (docs/safety_io.md): against its model every
+//! clock in rust-hdl, Icarus, Verilator and the post-synthesis netlist,
+//! and its contract over a long run, each property shown able to fail.
+
+use motionhdl_testbench::checks::safety_io::contract::{contract, Breakage, PROPERTIES};
+use motionhdl_testbench::checks::safety_io::{random_rust, random_verilog, run_rust, stimulus};
+use motionhdl_testbench::verilog_sim::{Simulator, Target};
+
+#[test]
+fn block_against_model_in_rust_hdl() {
+    random_rust(100_000, 0x5afe_0001).assert_passed();
+}
+
+#[test]
+fn generated_verilog_against_model() {
+    random_verilog(Simulator::Icarus, 100_000, 0x5afe_0002).assert_passed();
+    random_verilog(Simulator::Verilator, 1_000_000, 0x5afe_0003).assert_passed();
+}
+
+#[test]
+fn netlist_against_model() {
+    random_verilog(Target::netlist(Simulator::Icarus), 20_000, 0x5afe_0004).assert_passed();
+    random_verilog(Target::netlist(Simulator::Verilator), 200_000, 0x5afe_0005).assert_passed();
+}
+
+/// Clocks of the contract run, and how often each property's antecedent
+/// must hold in it (so none passes by never being tested).
+const CONTRACT_CLOCKS: usize = 200_000;
+const MIN_COVERED: [u64; 5] = [100_000, 10_000, 500, 200, 100];
+
+#[test]
+fn contract_holds_with_every_antecedent_covered() {
+    let trace = run_rust(&stimulus(CONTRACT_CLOCKS, 0x5afe_0006));
+    for (report, min) in contract(&trace).iter().zip(MIN_COVERED) {
+        eprintln!("{}: {} cases", report.check, report.covered);
+        report.assert_passed();
+        assert!(
+            report.covered >= min,
+            "{}: antecedent held {} times, want at least {min}",
+            report.check,
+            report.covered
+        );
+    }
+}
+
+#[test]
+fn each_contract_property_can_fail() {
+    let trace = run_rust(&stimulus(20_000, 0x5afe_0007));
+    assert!(contract(&trace).iter().all(|r| r.passed()));
+    for b in Breakage::ALL {
+        let reports = contract(&b.apply(&trace));
+        assert!(
+            !reports[b.property()].passed(),
+            "{b:?} was not caught by `{}`",
+            PROPERTIES[b.property()]
+        );
+    }
+}
+
+/// The register table and the numbers in docs/safety_io.md are the map's
+/// and the spec's: acceptance testbenches are written from that page.
+#[test]
+fn the_docs_state_the_map_and_the_latencies() {
+    use motionhdl_model::regmap::{self, Access};
+    use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/safety_io.md");
+    let doc = std::fs::read_to_string(path).unwrap();
+    let table = doc.split("## Registers").nth(1).unwrap();
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .skip_while(|l| !l.starts_with("| offset"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .collect();
+    let map = regmap::safety_io(4);
+    assert_eq!(rows.len(), map.registers.len(), "one row per register");
+    for (row, r) in rows.iter().zip(&map.registers) {
+        let access = match r.access {
+            Access::ReadOnly => "read-only",
+            Access::WriteOnly => "write-only",
+            Access::ReadWrite => "read-write",
+            Access::WriteOneToClear => "write 1 to clear",
+        };
+        assert_eq!(row[..3], [&r.offset.to_string(), r.name, access], "{row:?}");
+        for f in &r.fields {
+            let bits = if f.width == 1 {
+                format!("{} [{}]", f.name, f.lsb)
+            } else if f.name == "AXES" && r.name != "INFO" {
+                "AXES [N-1:0]".to_string()
+            } else {
+                format!("{} [{}:{}]", f.name, f.lsb + f.width - 1, f.lsb)
+            };
+            assert!(
+                row[3].contains(&bits),
+                "{}: `{bits}` not in {row:?}",
+                r.name
+            );
+        }
+    }
+    assert!(rows[1][3].contains(&format!("reset value {:#x}", map.register("STATUS").reset)));
+    let flat = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+    for fact in [
+        format!("0x{WATCHDOG_KEY:X}"),
+        format!("`ESTOP_LATENCY` = {ESTOP_LATENCY} edges"),
+        format!("`IRQ_LATENCY` = {IRQ_LATENCY}"),
+    ] {
+        assert!(
+            flat.contains(&fact),
+            "docs/safety_io.md does not say {fact:?}"
+        );
+    }
+}
