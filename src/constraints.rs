@@ -329,6 +329,9 @@ fn group_title(group: &str) -> &'static str {
         "isa" => "PC: ISA bus",
         "enc" => "encoders",
         "sram" => "external dual-port SRAM, left port",
+        "estop" => "e-stop chain (high = released; pull the pin down on the board)",
+        "drive" => "drive ENABLE outputs",
+        "irq" => "IRQ to the MCU (active low after reset)",
         _ => "other ports",
     }
 }

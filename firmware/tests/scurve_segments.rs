@@ -46,6 +46,7 @@ fn run_model(plan: &Plan) -> Run {
     loop {
         let inputs = PulseInputs {
             enable: true,
+            halt: false,
             rate: eng.rate(),
             timing,
         };
@@ -83,6 +84,7 @@ fn run_model(plan: &Plan) -> Run {
     // Let the queued steps out.
     let idle = PulseInputs {
         enable: true,
+        halt: false,
         rate: 0,
         timing,
     };

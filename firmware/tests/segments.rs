@@ -185,6 +185,7 @@ fn run_move_engine(segs: &[Segment]) -> (u64, i64) {
     loop {
         let inputs = PulseInputs {
             enable: true,
+            halt: false,
             rate: eng.rate(),
             timing,
         };
@@ -211,6 +212,7 @@ fn run_move_engine(segs: &[Segment]) -> (u64, i64) {
         gen.clock(
             &PulseInputs {
                 enable: true,
+                halt: false,
                 rate: 0,
                 timing,
             },

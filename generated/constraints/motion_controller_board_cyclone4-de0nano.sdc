@@ -19,6 +19,6 @@ set_false_path -from [get_ports {fsmc_ne_n fsmc_noe_n fsmc_nwe_n fsmc_a[*] fsmc_
 
 # Outputs: bus data and strobes whose timing the bus protocols set (FSMC DATAST,
 # ISA command length), many clocks long; not timed against the clock.
-set_false_path -to [get_ports {fsmc_d[*] isa_sd[*] isa_iocs16_n pulse_f1[*] pulse_f2[*]}]
+set_false_path -to [get_ports {fsmc_d[*] isa_sd[*] isa_iocs16_n pulse_f1[*] pulse_f2[*] drive_enable[*] irq}]
 
 # reset is sampled synchronously: drive it from a source synchronous to clock.

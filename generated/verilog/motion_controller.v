@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2);
+module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, drive_enable, irq);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -29,10 +29,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     input wire [3:0] enc_z;
     output wire [3:0] pulse_f1;
     output wire [3:0] pulse_f2;
+    input wire estop_ok;
+    output wire [3:0] drive_enable;
+    output wire irq;
 
     localparam mcu_id_page = 6'b0;
     localparam mcu_counter_page = 2'b1;
     localparam mcu_pulse_page = 1'b1;
+    localparam mcu_safety_page = 3'b1;
     localparam mcu_counter_snapshot = 8'h1;
     localparam mcu_mcu_bus_src_ram = 2'b0;
     localparam mcu_mcu_bus_src_reg_low = 2'b1;
@@ -63,7 +67,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h99cd5929;
+    localparam mcu_identity_values_7 = 32'hf2867c36;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -499,6 +503,30 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_3_overflow_bit = 32'h80000;
     localparam mcu_pulses_engines_3_low_bit = 32'h8000000;
     localparam mcu_pulses_engines_3_level_shift = 32'h14;
+    localparam mcu_safety_addr_info = 7'b0;
+    localparam mcu_safety_addr_status = 7'b1;
+    localparam mcu_safety_addr_clear = 7'b10;
+    localparam mcu_safety_addr_enable = 7'b11;
+    localparam mcu_safety_addr_timeout = 7'b100;
+    localparam mcu_safety_addr_reload = 7'b101;
+    localparam mcu_safety_addr_count = 7'b110;
+    localparam mcu_safety_addr_irq_ctrl = 7'b111;
+    localparam mcu_safety_addr_cause = 7'b1000;
+    localparam mcu_safety_addr_cause_mask = 7'b1001;
+    localparam mcu_safety_addr_done_cause = 7'b1010;
+    localparam mcu_safety_addr_done_mask = 7'b1011;
+    localparam mcu_safety_addr_low_cause = 7'b1100;
+    localparam mcu_safety_addr_low_mask = 7'b1101;
+    localparam mcu_safety_info = 32'h4;
+    localparam mcu_safety_key = 32'h5afed06e;
+    localparam mcu_safety_one = 32'h1;
+    localparam mcu_safety_status_input = 32'h1;
+    localparam mcu_safety_status_estop = 32'h2;
+    localparam mcu_safety_status_bitten = 32'h4;
+    localparam mcu_safety_status_armed = 32'h8;
+    localparam mcu_safety_status_irq = 32'h10;
+    localparam mcu_safety_estop_cause = 2'b1;
+    localparam mcu_safety_watchdog_cause = 2'b10;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -528,6 +556,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_ram_rdata;
     reg [3:0] mcu_pulse_f1;
     reg [3:0] mcu_pulse_f2;
+    reg mcu_estop_ok;
+    reg [3:0] mcu_drive_enable;
+    reg mcu_irq;
     reg pc_bus_reset;
     reg [9:0] pc_bus_sa;
     reg [15:0] pc_bus_sd_in;
@@ -580,17 +611,35 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_re;
     reg [31:0] mcu_pulses_rdata;
     reg mcu_pulses_snapshot;
+    reg mcu_pulses_halt;
+    reg [3:0] mcu_pulses_done;
+    reg [3:0] mcu_pulses_low;
     reg [3:0] mcu_pulses_f1;
     reg [3:0] mcu_pulses_f2;
+    reg mcu_safety_reset;
+    reg [6:0] mcu_safety_addr;
+    reg [31:0] mcu_safety_wdata;
+    reg mcu_safety_we;
+    reg mcu_safety_re;
+    reg [31:0] mcu_safety_rdata;
+    reg mcu_safety_estop_ok;
+    reg [3:0] mcu_safety_done;
+    reg [3:0] mcu_safety_low;
+    reg mcu_safety_halt;
+    reg [3:0] mcu_safety_drive_enable;
+    reg mcu_safety_irq;
     reg mcu_read_from_id_d;
     reg mcu_read_from_id_q = 1'h0;
     reg mcu_read_from_counters_d;
     reg mcu_read_from_counters_q = 1'h0;
     reg mcu_read_from_pulses_d;
     reg mcu_read_from_pulses_q = 1'h0;
+    reg mcu_read_from_safety_d;
+    reg mcu_read_from_safety_q = 1'h0;
     reg mcu_select_id;
     reg mcu_select_counters;
     reg mcu_select_pulses;
+    reg mcu_select_safety;
     reg mcu_mcu_bus_ne_s1_d;
     reg mcu_mcu_bus_ne_s1_q = 1'h0;
     reg mcu_mcu_bus_noe_s1_d;
@@ -1311,6 +1360,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_channels_3_counter_load_lo;
     reg mcu_pulses_generators_0_reset;
     reg mcu_pulses_generators_0_enable;
+    reg mcu_pulses_generators_0_halt;
     reg [31:0] mcu_pulses_generators_0_rate;
     reg [31:0] mcu_pulses_generators_0_move_rate;
     reg mcu_pulses_generators_0_moves;
@@ -1326,6 +1376,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_0_status;
     reg mcu_pulses_generators_1_reset;
     reg mcu_pulses_generators_1_enable;
+    reg mcu_pulses_generators_1_halt;
     reg [31:0] mcu_pulses_generators_1_rate;
     reg [31:0] mcu_pulses_generators_1_move_rate;
     reg mcu_pulses_generators_1_moves;
@@ -1341,6 +1392,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_1_status;
     reg mcu_pulses_generators_2_reset;
     reg mcu_pulses_generators_2_enable;
+    reg mcu_pulses_generators_2_halt;
     reg [31:0] mcu_pulses_generators_2_rate;
     reg [31:0] mcu_pulses_generators_2_move_rate;
     reg mcu_pulses_generators_2_moves;
@@ -1356,6 +1408,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_generators_2_status;
     reg mcu_pulses_generators_3_reset;
     reg mcu_pulses_generators_3_enable;
+    reg mcu_pulses_generators_3_halt;
     reg [31:0] mcu_pulses_generators_3_rate;
     reg [31:0] mcu_pulses_generators_3_move_rate;
     reg mcu_pulses_generators_3_moves;
@@ -1380,6 +1433,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_write_accel;
     reg mcu_pulses_engines_0_write_jerk;
     reg mcu_pulses_engines_0_clear_overflow;
+    reg mcu_pulses_engines_0_flush;
     reg [31:0] mcu_pulses_engines_0_low_water;
     reg [31:0] mcu_pulses_engines_0_rate;
     reg [31:0] mcu_pulses_engines_0_status;
@@ -1394,6 +1448,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_write_accel;
     reg mcu_pulses_engines_1_write_jerk;
     reg mcu_pulses_engines_1_clear_overflow;
+    reg mcu_pulses_engines_1_flush;
     reg [31:0] mcu_pulses_engines_1_low_water;
     reg [31:0] mcu_pulses_engines_1_rate;
     reg [31:0] mcu_pulses_engines_1_status;
@@ -1408,6 +1463,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_write_accel;
     reg mcu_pulses_engines_2_write_jerk;
     reg mcu_pulses_engines_2_clear_overflow;
+    reg mcu_pulses_engines_2_flush;
     reg [31:0] mcu_pulses_engines_2_low_water;
     reg [31:0] mcu_pulses_engines_2_rate;
     reg [31:0] mcu_pulses_engines_2_status;
@@ -1422,6 +1478,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_write_accel;
     reg mcu_pulses_engines_3_write_jerk;
     reg mcu_pulses_engines_3_clear_overflow;
+    reg mcu_pulses_engines_3_flush;
     reg [31:0] mcu_pulses_engines_3_low_water;
     reg [31:0] mcu_pulses_engines_3_rate;
     reg [31:0] mcu_pulses_engines_3_status;
@@ -1540,9 +1597,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_read_value;
     reg [3:0] mcu_pulses_f1_bits;
     reg [3:0] mcu_pulses_f2_bits;
+    reg [3:0] mcu_pulses_done_bits;
+    reg [3:0] mcu_pulses_low_bits;
     reg mcu_pulses_generators_0_timer_reset;
     reg mcu_pulses_generators_0_timer_request_up;
     reg mcu_pulses_generators_0_timer_request_down;
+    reg mcu_pulses_generators_0_timer_flush;
     reg [15:0] mcu_pulses_generators_0_timer_step_len;
     reg [15:0] mcu_pulses_generators_0_timer_step_space;
     reg [15:0] mcu_pulses_generators_0_timer_dir_setup;
@@ -1615,6 +1675,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_1_timer_reset;
     reg mcu_pulses_generators_1_timer_request_up;
     reg mcu_pulses_generators_1_timer_request_down;
+    reg mcu_pulses_generators_1_timer_flush;
     reg [15:0] mcu_pulses_generators_1_timer_step_len;
     reg [15:0] mcu_pulses_generators_1_timer_step_space;
     reg [15:0] mcu_pulses_generators_1_timer_dir_setup;
@@ -1687,6 +1748,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_2_timer_reset;
     reg mcu_pulses_generators_2_timer_request_up;
     reg mcu_pulses_generators_2_timer_request_down;
+    reg mcu_pulses_generators_2_timer_flush;
     reg [15:0] mcu_pulses_generators_2_timer_step_len;
     reg [15:0] mcu_pulses_generators_2_timer_step_space;
     reg [15:0] mcu_pulses_generators_2_timer_dir_setup;
@@ -1759,6 +1821,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_generators_3_timer_reset;
     reg mcu_pulses_generators_3_timer_request_up;
     reg mcu_pulses_generators_3_timer_request_down;
+    reg mcu_pulses_generators_3_timer_flush;
     reg [15:0] mcu_pulses_generators_3_timer_step_len;
     reg [15:0] mcu_pulses_generators_3_timer_step_space;
     reg [15:0] mcu_pulses_generators_3_timer_dir_setup;
@@ -2136,6 +2199,60 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_selectors_3_selector_chip_c2_3;
     reg mcu_pulses_selectors_3_selector_chip_y1;
     reg mcu_pulses_selectors_3_selector_chip_y2;
+    reg mcu_safety_estop_meta_d;
+    reg mcu_safety_estop_meta_q = 1'h0;
+    reg mcu_safety_estop_sync_d;
+    reg mcu_safety_estop_sync_q = 1'h0;
+    reg mcu_safety_estop_latch_d;
+    reg mcu_safety_estop_latch_q = 1'h0;
+    reg mcu_safety_bitten_d;
+    reg mcu_safety_bitten_q = 1'h0;
+    reg mcu_safety_armed_d;
+    reg mcu_safety_armed_q = 1'h0;
+    reg [31:0] mcu_safety_timeout_d;
+    reg [31:0] mcu_safety_timeout_q = 32'h0;
+    reg [31:0] mcu_safety_count_d;
+    reg [31:0] mcu_safety_count_q = 32'h0;
+    reg [3:0] mcu_safety_enable_d;
+    reg [3:0] mcu_safety_enable_q = 4'h0;
+    reg mcu_safety_active_high_d;
+    reg mcu_safety_active_high_q = 1'h0;
+    reg [1:0] mcu_safety_cause_d;
+    reg [1:0] mcu_safety_cause_q = 2'h0;
+    reg [1:0] mcu_safety_cause_mask_d;
+    reg [1:0] mcu_safety_cause_mask_q = 2'h0;
+    reg [3:0] mcu_safety_done_cause_d;
+    reg [3:0] mcu_safety_done_cause_q = 4'h0;
+    reg [3:0] mcu_safety_done_mask_d;
+    reg [3:0] mcu_safety_done_mask_q = 4'h0;
+    reg [3:0] mcu_safety_low_cause_d;
+    reg [3:0] mcu_safety_low_cause_q = 4'h0;
+    reg [3:0] mcu_safety_low_mask_d;
+    reg [3:0] mcu_safety_low_mask_q = 4'h0;
+    reg [3:0] mcu_safety_done_before_d;
+    reg [3:0] mcu_safety_done_before_q = 4'h0;
+    reg [3:0] mcu_safety_low_before_d;
+    reg [3:0] mcu_safety_low_before_q = 4'h0;
+    reg mcu_safety_irq_low_d;
+    reg mcu_safety_irq_low_q = 1'h0;
+    reg mcu_safety_read_pending_d;
+    reg mcu_safety_read_pending_q = 1'h0;
+    reg [6:0] mcu_safety_read_addr_d;
+    reg [6:0] mcu_safety_read_addr_q = 7'h0;
+    reg [31:0] mcu_safety_read_data_d;
+    reg [31:0] mcu_safety_read_data_q = 32'h0;
+    reg mcu_safety_write_clear;
+    reg mcu_safety_write_timeout;
+    reg mcu_safety_reload;
+    reg mcu_safety_bite;
+    reg mcu_safety_latch_next;
+    reg mcu_safety_bitten_next;
+    reg [1:0] mcu_safety_system_events;
+    reg mcu_safety_irq_active;
+    reg [1:0] mcu_safety_cause_kept;
+    reg [3:0] mcu_safety_done_kept;
+    reg [3:0] mcu_safety_low_kept;
+    reg [31:0] mcu_safety_read_value;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -2234,6 +2351,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     assign isa_iocs16_n = pc_bus_iocs16_n;
     assign pulse_f1 = mcu_pulse_f1;
     assign pulse_f2 = mcu_pulse_f2;
+    assign drive_enable = mcu_drive_enable;
+    assign irq = mcu_irq;
 
     always @(*) begin
         mcu_reset = reset;
@@ -2246,6 +2365,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_enc_a = enc_a;
         mcu_enc_b = enc_b;
         mcu_enc_z = enc_z;
+        mcu_estop_ok = estop_ok;
         pc_bus_sa = isa_sa;
         pc_bus_sd_in = isa_sd_in;
         pc_bus_ior_n = isa_ior_n;
@@ -2263,6 +2383,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_read_from_id_d = mcu_read_from_id_q;
         mcu_read_from_counters_d = mcu_read_from_counters_q;
         mcu_read_from_pulses_d = mcu_read_from_pulses_q;
+        mcu_read_from_safety_d = mcu_read_from_safety_q;
+        mcu_safety_reset = mcu_reset;
         mcu_pulses_reset = mcu_reset;
         mcu_mcu_bus_reset = mcu_reset;
         mcu_identity_reset = mcu_reset;
@@ -2288,12 +2410,24 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_we = mcu_mcu_bus_reg_we & mcu_select_pulses;
         mcu_pulses_re = mcu_mcu_bus_reg_re & mcu_select_pulses;
         mcu_pulses_snapshot = mcu_mcu_bus_reg_we & mcu_select_counters & (mcu_mcu_bus_reg_addr[7:0] == mcu_counter_snapshot);
+        mcu_select_safety = mcu_mcu_bus_reg_addr[9:7] == mcu_safety_page;
+        mcu_safety_addr = mcu_mcu_bus_reg_addr[6:0];
+        mcu_safety_wdata = mcu_mcu_bus_reg_wdata;
+        mcu_safety_we = mcu_mcu_bus_reg_we & mcu_select_safety;
+        mcu_safety_re = mcu_mcu_bus_reg_re & mcu_select_safety;
+        mcu_safety_estop_ok = mcu_estop_ok;
+        mcu_safety_done = mcu_pulses_done;
+        mcu_safety_low = mcu_pulses_low;
+        mcu_pulses_halt = mcu_safety_halt;
+        mcu_drive_enable = mcu_safety_drive_enable;
+        mcu_irq = mcu_safety_irq;
         mcu_pulse_f1 = mcu_pulses_f1;
         mcu_pulse_f2 = mcu_pulses_f2;
         if (mcu_mcu_bus_reg_re) begin
             mcu_read_from_id_d = mcu_select_id;
             mcu_read_from_counters_d = mcu_select_counters;
             mcu_read_from_pulses_d = mcu_select_pulses;
+            mcu_read_from_safety_d = mcu_select_safety;
         end
         mcu_mcu_bus_reg_rdata = 32'h0;
         if (mcu_read_from_id_q) begin
@@ -2305,10 +2439,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_read_from_pulses_q) begin
             mcu_mcu_bus_reg_rdata = mcu_pulses_rdata;
         end
+        if (mcu_read_from_safety_q) begin
+            mcu_mcu_bus_reg_rdata = mcu_safety_rdata;
+        end
         if (mcu_reset) begin
             mcu_read_from_id_d = 1'b0;
             mcu_read_from_counters_d = 1'b0;
             mcu_read_from_pulses_d = 1'b0;
+            mcu_read_from_safety_d = 1'b0;
         end
         mcu_ram_addr = mcu_mcu_bus_ram_addr;
         mcu_ram_wdata = mcu_mcu_bus_ram_wdata;
@@ -4162,6 +4300,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_read_data_d = mcu_pulses_read_data_q;
         mcu_pulses_f1_bits = 4'h0;
         mcu_pulses_f2_bits = 4'h0;
+        mcu_pulses_done_bits = 4'h0;
+        mcu_pulses_low_bits = 4'h0;
         mcu_pulses_read_pending_d = mcu_pulses_re;
         if (mcu_pulses_re) begin
             mcu_pulses_read_addr_d = mcu_pulses_addr;
@@ -4175,6 +4315,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_run)) begin
             mcu_pulses_run_d = mcu_pulses_wdata[3:0];
+        end
+        if (mcu_pulses_halt) begin
+            mcu_pulses_run_d = 4'h0;
         end
         mcu_pulses_quadrature_a_0_d = mcu_pulses_generators_0_position[0] ^ mcu_pulses_generators_0_position[1];
         mcu_pulses_quadrature_b_0_d = mcu_pulses_generators_0_position[1];
@@ -4198,6 +4341,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_0);
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
         mcu_pulses_engines_0_low_water = mcu_pulses_low_water_0_q;
+        mcu_pulses_engines_0_flush = mcu_pulses_halt;
+        if (mcu_pulses_engines_0_status[18] & ~mcu_pulses_generators_0_status[16]) begin
+            mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_0;
+        end
+        if (mcu_pulses_engines_0_status[27]) begin
+            mcu_pulses_low_bits = mcu_pulses_low_bits | mcu_pulses_axis_bit_0;
+        end
         mcu_pulses_ctrl_0_d = mcu_pulses_ctrl_0_q;
         mcu_pulses_rate_0_d = mcu_pulses_rate_0_q;
         mcu_pulses_step_timing_0_d = mcu_pulses_step_timing_0_q;
@@ -4206,6 +4356,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
         mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
+        mcu_pulses_generators_0_halt = mcu_pulses_halt;
         mcu_pulses_generators_0_rate = mcu_pulses_rate_0_q;
         mcu_pulses_generators_0_move_rate = mcu_pulses_engines_0_rate;
         mcu_pulses_generators_0_moves = mcu_pulses_ctrl_0_q[2];
@@ -4309,6 +4460,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_1);
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
         mcu_pulses_engines_1_low_water = mcu_pulses_low_water_1_q;
+        mcu_pulses_engines_1_flush = mcu_pulses_halt;
+        if (mcu_pulses_engines_1_status[18] & ~mcu_pulses_generators_1_status[16]) begin
+            mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_1;
+        end
+        if (mcu_pulses_engines_1_status[27]) begin
+            mcu_pulses_low_bits = mcu_pulses_low_bits | mcu_pulses_axis_bit_1;
+        end
         mcu_pulses_ctrl_1_d = mcu_pulses_ctrl_1_q;
         mcu_pulses_rate_1_d = mcu_pulses_rate_1_q;
         mcu_pulses_step_timing_1_d = mcu_pulses_step_timing_1_q;
@@ -4317,6 +4475,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
         mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
+        mcu_pulses_generators_1_halt = mcu_pulses_halt;
         mcu_pulses_generators_1_rate = mcu_pulses_rate_1_q;
         mcu_pulses_generators_1_move_rate = mcu_pulses_engines_1_rate;
         mcu_pulses_generators_1_moves = mcu_pulses_ctrl_1_q[2];
@@ -4420,6 +4579,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_2);
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
         mcu_pulses_engines_2_low_water = mcu_pulses_low_water_2_q;
+        mcu_pulses_engines_2_flush = mcu_pulses_halt;
+        if (mcu_pulses_engines_2_status[18] & ~mcu_pulses_generators_2_status[16]) begin
+            mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_2;
+        end
+        if (mcu_pulses_engines_2_status[27]) begin
+            mcu_pulses_low_bits = mcu_pulses_low_bits | mcu_pulses_axis_bit_2;
+        end
         mcu_pulses_ctrl_2_d = mcu_pulses_ctrl_2_q;
         mcu_pulses_rate_2_d = mcu_pulses_rate_2_q;
         mcu_pulses_step_timing_2_d = mcu_pulses_step_timing_2_q;
@@ -4428,6 +4594,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
         mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
+        mcu_pulses_generators_2_halt = mcu_pulses_halt;
         mcu_pulses_generators_2_rate = mcu_pulses_rate_2_q;
         mcu_pulses_generators_2_move_rate = mcu_pulses_engines_2_rate;
         mcu_pulses_generators_2_moves = mcu_pulses_ctrl_2_q[2];
@@ -4531,6 +4698,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_3);
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
         mcu_pulses_engines_3_low_water = mcu_pulses_low_water_3_q;
+        mcu_pulses_engines_3_flush = mcu_pulses_halt;
+        if (mcu_pulses_engines_3_status[18] & ~mcu_pulses_generators_3_status[16]) begin
+            mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_3;
+        end
+        if (mcu_pulses_engines_3_status[27]) begin
+            mcu_pulses_low_bits = mcu_pulses_low_bits | mcu_pulses_axis_bit_3;
+        end
         mcu_pulses_ctrl_3_d = mcu_pulses_ctrl_3_q;
         mcu_pulses_rate_3_d = mcu_pulses_rate_3_q;
         mcu_pulses_step_timing_3_d = mcu_pulses_step_timing_3_q;
@@ -4539,6 +4713,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
         mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
+        mcu_pulses_generators_3_halt = mcu_pulses_halt;
         mcu_pulses_generators_3_rate = mcu_pulses_rate_3_q;
         mcu_pulses_generators_3_move_rate = mcu_pulses_engines_3_rate;
         mcu_pulses_generators_3_moves = mcu_pulses_ctrl_3_q[2];
@@ -4632,6 +4807,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_rdata = mcu_pulses_read_data_q;
         mcu_pulses_f1 = mcu_pulses_f1_bits;
         mcu_pulses_f2 = mcu_pulses_f2_bits;
+        mcu_pulses_done = mcu_pulses_done_bits;
+        mcu_pulses_low = mcu_pulses_low_bits;
     end
 
     always @(*) begin
@@ -4674,7 +4851,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_0_negative) begin
             mcu_pulses_generators_0_blocked = ~mcu_pulses_generators_0_timer_room_down;
         end
-        mcu_pulses_generators_0_advance = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_blocked;
+        mcu_pulses_generators_0_advance = mcu_pulses_generators_0_enable & ~mcu_pulses_generators_0_halt & ~mcu_pulses_generators_0_blocked;
+        mcu_pulses_generators_0_timer_flush = mcu_pulses_generators_0_halt;
         mcu_pulses_generators_0_request_up = mcu_pulses_generators_0_advance & mcu_pulses_generators_0_carry & ~mcu_pulses_generators_0_negative;
         mcu_pulses_generators_0_request_down = mcu_pulses_generators_0_advance & mcu_pulses_generators_0_carry & mcu_pulses_generators_0_negative;
         mcu_pulses_generators_0_command_up_d = mcu_pulses_generators_0_request_up;
@@ -4723,9 +4901,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_0_timer_emitted_d = mcu_pulses_generators_0_timer_emitted_q;
         mcu_pulses_generators_0_timer_nonzero_d = mcu_pulses_generators_0_timer_nonzero_q;
         mcu_pulses_generators_0_timer_want_negative = |(mcu_pulses_generators_0_timer_pending_q_q & mcu_pulses_generators_0_timer_sign_mask);
-        mcu_pulses_generators_0_timer_emit = ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q == mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_space_ok_q & mcu_pulses_generators_0_timer_setup_ok_q;
+        mcu_pulses_generators_0_timer_emit = ~mcu_pulses_generators_0_timer_flush & ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q == mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_space_ok_q & mcu_pulses_generators_0_timer_setup_ok_q;
         mcu_pulses_generators_0_timer_falls = mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_len_ok_q;
-        mcu_pulses_generators_0_timer_turns = ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q != mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_hold_ok_q;
+        mcu_pulses_generators_0_timer_turns = ~mcu_pulses_generators_0_timer_flush & ~mcu_pulses_generators_0_timer_step_q_q & mcu_pulses_generators_0_timer_nonzero_q & (mcu_pulses_generators_0_timer_dir_q_q != mcu_pulses_generators_0_timer_want_negative) & mcu_pulses_generators_0_timer_hold_ok_q;
         mcu_pulses_generators_0_timer_step_event = mcu_pulses_generators_0_timer_falls | mcu_pulses_generators_0_timer_emit;
         mcu_pulses_generators_0_timer_step_q_d = mcu_pulses_generators_0_timer_step_q_q ^ mcu_pulses_generators_0_timer_step_event;
         mcu_pulses_generators_0_timer_dir_q_d = mcu_pulses_generators_0_timer_dir_q_q ^ mcu_pulses_generators_0_timer_turns;
@@ -4780,6 +4958,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         mcu_pulses_generators_0_timer_pending_next = mcu_pulses_generators_0_timer_pending_q_q + mcu_pulses_generators_0_timer_delta;
+        if (mcu_pulses_generators_0_timer_flush) begin
+            mcu_pulses_generators_0_timer_pending_next = 16'h0;
+        end
         if (mcu_pulses_generators_0_timer_reset) begin
             mcu_pulses_generators_0_timer_pending_next = 16'h0;
             mcu_pulses_generators_0_timer_step_q_d = 1'b0;
@@ -4843,7 +5024,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_1_negative) begin
             mcu_pulses_generators_1_blocked = ~mcu_pulses_generators_1_timer_room_down;
         end
-        mcu_pulses_generators_1_advance = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_blocked;
+        mcu_pulses_generators_1_advance = mcu_pulses_generators_1_enable & ~mcu_pulses_generators_1_halt & ~mcu_pulses_generators_1_blocked;
+        mcu_pulses_generators_1_timer_flush = mcu_pulses_generators_1_halt;
         mcu_pulses_generators_1_request_up = mcu_pulses_generators_1_advance & mcu_pulses_generators_1_carry & ~mcu_pulses_generators_1_negative;
         mcu_pulses_generators_1_request_down = mcu_pulses_generators_1_advance & mcu_pulses_generators_1_carry & mcu_pulses_generators_1_negative;
         mcu_pulses_generators_1_command_up_d = mcu_pulses_generators_1_request_up;
@@ -4892,9 +5074,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_1_timer_emitted_d = mcu_pulses_generators_1_timer_emitted_q;
         mcu_pulses_generators_1_timer_nonzero_d = mcu_pulses_generators_1_timer_nonzero_q;
         mcu_pulses_generators_1_timer_want_negative = |(mcu_pulses_generators_1_timer_pending_q_q & mcu_pulses_generators_1_timer_sign_mask);
-        mcu_pulses_generators_1_timer_emit = ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q == mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_space_ok_q & mcu_pulses_generators_1_timer_setup_ok_q;
+        mcu_pulses_generators_1_timer_emit = ~mcu_pulses_generators_1_timer_flush & ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q == mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_space_ok_q & mcu_pulses_generators_1_timer_setup_ok_q;
         mcu_pulses_generators_1_timer_falls = mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_len_ok_q;
-        mcu_pulses_generators_1_timer_turns = ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q != mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_hold_ok_q;
+        mcu_pulses_generators_1_timer_turns = ~mcu_pulses_generators_1_timer_flush & ~mcu_pulses_generators_1_timer_step_q_q & mcu_pulses_generators_1_timer_nonzero_q & (mcu_pulses_generators_1_timer_dir_q_q != mcu_pulses_generators_1_timer_want_negative) & mcu_pulses_generators_1_timer_hold_ok_q;
         mcu_pulses_generators_1_timer_step_event = mcu_pulses_generators_1_timer_falls | mcu_pulses_generators_1_timer_emit;
         mcu_pulses_generators_1_timer_step_q_d = mcu_pulses_generators_1_timer_step_q_q ^ mcu_pulses_generators_1_timer_step_event;
         mcu_pulses_generators_1_timer_dir_q_d = mcu_pulses_generators_1_timer_dir_q_q ^ mcu_pulses_generators_1_timer_turns;
@@ -4949,6 +5131,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         mcu_pulses_generators_1_timer_pending_next = mcu_pulses_generators_1_timer_pending_q_q + mcu_pulses_generators_1_timer_delta;
+        if (mcu_pulses_generators_1_timer_flush) begin
+            mcu_pulses_generators_1_timer_pending_next = 16'h0;
+        end
         if (mcu_pulses_generators_1_timer_reset) begin
             mcu_pulses_generators_1_timer_pending_next = 16'h0;
             mcu_pulses_generators_1_timer_step_q_d = 1'b0;
@@ -5012,7 +5197,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_2_negative) begin
             mcu_pulses_generators_2_blocked = ~mcu_pulses_generators_2_timer_room_down;
         end
-        mcu_pulses_generators_2_advance = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_blocked;
+        mcu_pulses_generators_2_advance = mcu_pulses_generators_2_enable & ~mcu_pulses_generators_2_halt & ~mcu_pulses_generators_2_blocked;
+        mcu_pulses_generators_2_timer_flush = mcu_pulses_generators_2_halt;
         mcu_pulses_generators_2_request_up = mcu_pulses_generators_2_advance & mcu_pulses_generators_2_carry & ~mcu_pulses_generators_2_negative;
         mcu_pulses_generators_2_request_down = mcu_pulses_generators_2_advance & mcu_pulses_generators_2_carry & mcu_pulses_generators_2_negative;
         mcu_pulses_generators_2_command_up_d = mcu_pulses_generators_2_request_up;
@@ -5061,9 +5247,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_2_timer_emitted_d = mcu_pulses_generators_2_timer_emitted_q;
         mcu_pulses_generators_2_timer_nonzero_d = mcu_pulses_generators_2_timer_nonzero_q;
         mcu_pulses_generators_2_timer_want_negative = |(mcu_pulses_generators_2_timer_pending_q_q & mcu_pulses_generators_2_timer_sign_mask);
-        mcu_pulses_generators_2_timer_emit = ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q == mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_space_ok_q & mcu_pulses_generators_2_timer_setup_ok_q;
+        mcu_pulses_generators_2_timer_emit = ~mcu_pulses_generators_2_timer_flush & ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q == mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_space_ok_q & mcu_pulses_generators_2_timer_setup_ok_q;
         mcu_pulses_generators_2_timer_falls = mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_len_ok_q;
-        mcu_pulses_generators_2_timer_turns = ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q != mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_hold_ok_q;
+        mcu_pulses_generators_2_timer_turns = ~mcu_pulses_generators_2_timer_flush & ~mcu_pulses_generators_2_timer_step_q_q & mcu_pulses_generators_2_timer_nonzero_q & (mcu_pulses_generators_2_timer_dir_q_q != mcu_pulses_generators_2_timer_want_negative) & mcu_pulses_generators_2_timer_hold_ok_q;
         mcu_pulses_generators_2_timer_step_event = mcu_pulses_generators_2_timer_falls | mcu_pulses_generators_2_timer_emit;
         mcu_pulses_generators_2_timer_step_q_d = mcu_pulses_generators_2_timer_step_q_q ^ mcu_pulses_generators_2_timer_step_event;
         mcu_pulses_generators_2_timer_dir_q_d = mcu_pulses_generators_2_timer_dir_q_q ^ mcu_pulses_generators_2_timer_turns;
@@ -5118,6 +5304,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         mcu_pulses_generators_2_timer_pending_next = mcu_pulses_generators_2_timer_pending_q_q + mcu_pulses_generators_2_timer_delta;
+        if (mcu_pulses_generators_2_timer_flush) begin
+            mcu_pulses_generators_2_timer_pending_next = 16'h0;
+        end
         if (mcu_pulses_generators_2_timer_reset) begin
             mcu_pulses_generators_2_timer_pending_next = 16'h0;
             mcu_pulses_generators_2_timer_step_q_d = 1'b0;
@@ -5181,7 +5370,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_generators_3_negative) begin
             mcu_pulses_generators_3_blocked = ~mcu_pulses_generators_3_timer_room_down;
         end
-        mcu_pulses_generators_3_advance = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_blocked;
+        mcu_pulses_generators_3_advance = mcu_pulses_generators_3_enable & ~mcu_pulses_generators_3_halt & ~mcu_pulses_generators_3_blocked;
+        mcu_pulses_generators_3_timer_flush = mcu_pulses_generators_3_halt;
         mcu_pulses_generators_3_request_up = mcu_pulses_generators_3_advance & mcu_pulses_generators_3_carry & ~mcu_pulses_generators_3_negative;
         mcu_pulses_generators_3_request_down = mcu_pulses_generators_3_advance & mcu_pulses_generators_3_carry & mcu_pulses_generators_3_negative;
         mcu_pulses_generators_3_command_up_d = mcu_pulses_generators_3_request_up;
@@ -5230,9 +5420,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_generators_3_timer_emitted_d = mcu_pulses_generators_3_timer_emitted_q;
         mcu_pulses_generators_3_timer_nonzero_d = mcu_pulses_generators_3_timer_nonzero_q;
         mcu_pulses_generators_3_timer_want_negative = |(mcu_pulses_generators_3_timer_pending_q_q & mcu_pulses_generators_3_timer_sign_mask);
-        mcu_pulses_generators_3_timer_emit = ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q == mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_space_ok_q & mcu_pulses_generators_3_timer_setup_ok_q;
+        mcu_pulses_generators_3_timer_emit = ~mcu_pulses_generators_3_timer_flush & ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q == mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_space_ok_q & mcu_pulses_generators_3_timer_setup_ok_q;
         mcu_pulses_generators_3_timer_falls = mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_len_ok_q;
-        mcu_pulses_generators_3_timer_turns = ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q != mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_hold_ok_q;
+        mcu_pulses_generators_3_timer_turns = ~mcu_pulses_generators_3_timer_flush & ~mcu_pulses_generators_3_timer_step_q_q & mcu_pulses_generators_3_timer_nonzero_q & (mcu_pulses_generators_3_timer_dir_q_q != mcu_pulses_generators_3_timer_want_negative) & mcu_pulses_generators_3_timer_hold_ok_q;
         mcu_pulses_generators_3_timer_step_event = mcu_pulses_generators_3_timer_falls | mcu_pulses_generators_3_timer_emit;
         mcu_pulses_generators_3_timer_step_q_d = mcu_pulses_generators_3_timer_step_q_q ^ mcu_pulses_generators_3_timer_step_event;
         mcu_pulses_generators_3_timer_dir_q_d = mcu_pulses_generators_3_timer_dir_q_q ^ mcu_pulses_generators_3_timer_turns;
@@ -5287,6 +5477,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             end
         end
         mcu_pulses_generators_3_timer_pending_next = mcu_pulses_generators_3_timer_pending_q_q + mcu_pulses_generators_3_timer_delta;
+        if (mcu_pulses_generators_3_timer_flush) begin
+            mcu_pulses_generators_3_timer_pending_next = 16'h0;
+        end
         if (mcu_pulses_generators_3_timer_reset) begin
             mcu_pulses_generators_3_timer_pending_next = 16'h0;
             mcu_pulses_generators_3_timer_step_q_d = 1'b0;
@@ -5427,6 +5620,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_clear_overflow) begin
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_0_flush) begin
+            mcu_pulses_engines_0_active_q_d = 1'b0;
+            mcu_pulses_engines_0_commanded_q_d = 1'b0;
+            mcu_pulses_engines_0_last_q_d = 1'b0;
+            mcu_pulses_engines_0_done_q_d = 1'b0;
+            mcu_pulses_engines_0_count_d = 7'h0;
+            mcu_pulses_engines_0_staged_d = 1'b0;
+            mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         if (mcu_pulses_engines_0_reset) begin
             mcu_pulses_engines_0_active_q_d = 1'b0;
@@ -5582,6 +5784,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_clear_overflow) begin
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
         end
+        if (mcu_pulses_engines_1_flush) begin
+            mcu_pulses_engines_1_active_q_d = 1'b0;
+            mcu_pulses_engines_1_commanded_q_d = 1'b0;
+            mcu_pulses_engines_1_last_q_d = 1'b0;
+            mcu_pulses_engines_1_done_q_d = 1'b0;
+            mcu_pulses_engines_1_count_d = 7'h0;
+            mcu_pulses_engines_1_staged_d = 1'b0;
+            mcu_pulses_engines_1_fetch_d = 2'h0;
+        end
         if (mcu_pulses_engines_1_reset) begin
             mcu_pulses_engines_1_active_q_d = 1'b0;
             mcu_pulses_engines_1_rate_q_d = 48'h0;
@@ -5736,6 +5947,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_clear_overflow) begin
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
         end
+        if (mcu_pulses_engines_2_flush) begin
+            mcu_pulses_engines_2_active_q_d = 1'b0;
+            mcu_pulses_engines_2_commanded_q_d = 1'b0;
+            mcu_pulses_engines_2_last_q_d = 1'b0;
+            mcu_pulses_engines_2_done_q_d = 1'b0;
+            mcu_pulses_engines_2_count_d = 7'h0;
+            mcu_pulses_engines_2_staged_d = 1'b0;
+            mcu_pulses_engines_2_fetch_d = 2'h0;
+        end
         if (mcu_pulses_engines_2_reset) begin
             mcu_pulses_engines_2_active_q_d = 1'b0;
             mcu_pulses_engines_2_rate_q_d = 48'h0;
@@ -5889,6 +6109,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_clear_overflow) begin
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
+        end
+        if (mcu_pulses_engines_3_flush) begin
+            mcu_pulses_engines_3_active_q_d = 1'b0;
+            mcu_pulses_engines_3_commanded_q_d = 1'b0;
+            mcu_pulses_engines_3_last_q_d = 1'b0;
+            mcu_pulses_engines_3_done_q_d = 1'b0;
+            mcu_pulses_engines_3_count_d = 7'h0;
+            mcu_pulses_engines_3_staged_d = 1'b0;
+            mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         if (mcu_pulses_engines_3_reset) begin
             mcu_pulses_engines_3_active_q_d = 1'b0;
@@ -6140,6 +6369,185 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_selectors_3_selector_chip_y1 = mcu_pulses_selectors_3_selector_chip_c1_0 & ~mcu_pulses_selectors_3_selector_chip_g1_n;
             mcu_pulses_selectors_3_selector_chip_y2 = mcu_pulses_selectors_3_selector_chip_c2_0 & ~mcu_pulses_selectors_3_selector_chip_g2_n;
         end
+    end
+
+    always @(*) begin
+        mcu_safety_estop_meta_d = mcu_safety_estop_meta_q;
+        mcu_safety_estop_sync_d = mcu_safety_estop_sync_q;
+        mcu_safety_estop_latch_d = mcu_safety_estop_latch_q;
+        mcu_safety_bitten_d = mcu_safety_bitten_q;
+        mcu_safety_armed_d = mcu_safety_armed_q;
+        mcu_safety_timeout_d = mcu_safety_timeout_q;
+        mcu_safety_count_d = mcu_safety_count_q;
+        mcu_safety_enable_d = mcu_safety_enable_q;
+        mcu_safety_active_high_d = mcu_safety_active_high_q;
+        mcu_safety_cause_d = mcu_safety_cause_q;
+        mcu_safety_cause_mask_d = mcu_safety_cause_mask_q;
+        mcu_safety_done_cause_d = mcu_safety_done_cause_q;
+        mcu_safety_done_mask_d = mcu_safety_done_mask_q;
+        mcu_safety_low_cause_d = mcu_safety_low_cause_q;
+        mcu_safety_low_mask_d = mcu_safety_low_mask_q;
+        mcu_safety_done_before_d = mcu_safety_done_before_q;
+        mcu_safety_low_before_d = mcu_safety_low_before_q;
+        mcu_safety_irq_low_d = mcu_safety_irq_low_q;
+        mcu_safety_read_pending_d = mcu_safety_read_pending_q;
+        mcu_safety_read_addr_d = mcu_safety_read_addr_q;
+        mcu_safety_read_data_d = mcu_safety_read_data_q;
+        mcu_safety_write_clear = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_clear);
+        mcu_safety_write_timeout = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_timeout);
+        mcu_safety_estop_meta_d = ~mcu_safety_estop_ok;
+        mcu_safety_estop_sync_d = mcu_safety_estop_meta_q;
+        mcu_safety_latch_next = mcu_safety_estop_sync_q | (mcu_safety_estop_latch_q & ~(mcu_safety_write_clear & mcu_safety_wdata[0]));
+        mcu_safety_estop_latch_d = mcu_safety_latch_next;
+        mcu_safety_reload = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_reload) & (mcu_safety_wdata == mcu_safety_key) & mcu_safety_armed_q;
+        mcu_safety_bite = mcu_safety_armed_q & ~|mcu_safety_count_q & ~mcu_safety_reload & ~mcu_safety_write_timeout;
+        mcu_safety_bitten_next = mcu_safety_bite | (mcu_safety_bitten_q & ~(mcu_safety_write_clear & mcu_safety_wdata[1]));
+        mcu_safety_bitten_d = mcu_safety_bitten_next;
+        if (mcu_safety_write_timeout) begin
+            mcu_safety_timeout_d = mcu_safety_wdata;
+            mcu_safety_count_d = mcu_safety_wdata;
+            mcu_safety_armed_d = |mcu_safety_wdata;
+        end
+        else if (mcu_safety_reload) begin
+            mcu_safety_count_d = mcu_safety_timeout_q;
+        end
+        else if (mcu_safety_bite) begin
+            mcu_safety_armed_d = 1'b0;
+        end
+        else if (mcu_safety_armed_q) begin
+            mcu_safety_count_d = mcu_safety_count_q - mcu_safety_one;
+        end
+        if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_enable)) begin
+            mcu_safety_enable_d = mcu_safety_wdata[3:0];
+        end
+        if (mcu_safety_latch_next | mcu_safety_bitten_next) begin
+            mcu_safety_enable_d = 4'h0;
+        end
+        mcu_safety_system_events = 2'h0;
+        if (mcu_safety_estop_sync_q & ~mcu_safety_estop_latch_q) begin
+            mcu_safety_system_events = mcu_safety_estop_cause;
+        end
+        if (mcu_safety_bite) begin
+            mcu_safety_system_events = mcu_safety_system_events | mcu_safety_watchdog_cause;
+        end
+        mcu_safety_cause_kept = mcu_safety_cause_q;
+        if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_cause)) begin
+            mcu_safety_cause_kept = mcu_safety_cause_q & ~mcu_safety_wdata[1:0];
+        end
+        mcu_safety_done_kept = mcu_safety_done_cause_q;
+        if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_done_cause)) begin
+            mcu_safety_done_kept = mcu_safety_done_cause_q & ~mcu_safety_wdata[3:0];
+        end
+        mcu_safety_low_kept = mcu_safety_low_cause_q;
+        if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_low_cause)) begin
+            mcu_safety_low_kept = mcu_safety_low_cause_q & ~mcu_safety_wdata[3:0];
+        end
+        mcu_safety_cause_d = mcu_safety_cause_kept | mcu_safety_system_events;
+        mcu_safety_done_cause_d = mcu_safety_done_kept | (mcu_safety_done & ~mcu_safety_done_before_q);
+        mcu_safety_low_cause_d = mcu_safety_low_kept | (mcu_safety_low & ~mcu_safety_low_before_q);
+        mcu_safety_done_before_d = mcu_safety_done;
+        mcu_safety_low_before_d = mcu_safety_low;
+        if (mcu_safety_we) begin
+            if (mcu_safety_addr == mcu_safety_addr_cause_mask) begin
+                mcu_safety_cause_mask_d = mcu_safety_wdata[1:0];
+            end
+            if (mcu_safety_addr == mcu_safety_addr_done_mask) begin
+                mcu_safety_done_mask_d = mcu_safety_wdata[3:0];
+            end
+            if (mcu_safety_addr == mcu_safety_addr_low_mask) begin
+                mcu_safety_low_mask_d = mcu_safety_wdata[3:0];
+            end
+            if (mcu_safety_addr == mcu_safety_addr_irq_ctrl) begin
+                mcu_safety_active_high_d = mcu_safety_wdata[0];
+            end
+        end
+        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q);
+        mcu_safety_irq_low_d = mcu_safety_irq_active != mcu_safety_active_high_q;
+        mcu_safety_read_pending_d = mcu_safety_re;
+        if (mcu_safety_re) begin
+            mcu_safety_read_addr_d = mcu_safety_addr;
+        end
+        mcu_safety_read_value = 32'h0;
+        if (mcu_safety_read_addr_q == mcu_safety_addr_info) begin
+            mcu_safety_read_value = mcu_safety_info;
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_status) begin
+            if (mcu_safety_estop_sync_q) begin
+                mcu_safety_read_value = mcu_safety_status_input;
+            end
+            if (mcu_safety_estop_latch_q) begin
+                mcu_safety_read_value = mcu_safety_read_value | mcu_safety_status_estop;
+            end
+            if (mcu_safety_bitten_q) begin
+                mcu_safety_read_value = mcu_safety_read_value | mcu_safety_status_bitten;
+            end
+            if (mcu_safety_armed_q) begin
+                mcu_safety_read_value = mcu_safety_read_value | mcu_safety_status_armed;
+            end
+            if (mcu_safety_irq_active) begin
+                mcu_safety_read_value = mcu_safety_read_value | mcu_safety_status_irq;
+            end
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_enable) begin
+            mcu_safety_read_value = {28'h0, mcu_safety_enable_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_timeout) begin
+            mcu_safety_read_value = mcu_safety_timeout_q;
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_count) begin
+            mcu_safety_read_value = mcu_safety_count_q;
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_irq_ctrl) begin
+            mcu_safety_read_value = {31'h0, mcu_safety_active_high_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_cause) begin
+            mcu_safety_read_value = {30'h0, mcu_safety_cause_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_cause_mask) begin
+            mcu_safety_read_value = {30'h0, mcu_safety_cause_mask_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_done_cause) begin
+            mcu_safety_read_value = {28'h0, mcu_safety_done_cause_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_done_mask) begin
+            mcu_safety_read_value = {28'h0, mcu_safety_done_mask_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_low_cause) begin
+            mcu_safety_read_value = {28'h0, mcu_safety_low_cause_q};
+        end
+        if (mcu_safety_read_addr_q == mcu_safety_addr_low_mask) begin
+            mcu_safety_read_value = {28'h0, mcu_safety_low_mask_q};
+        end
+        if (mcu_safety_read_pending_q) begin
+            mcu_safety_read_data_d = mcu_safety_read_value;
+        end
+        if (mcu_safety_reset) begin
+            mcu_safety_estop_meta_d = 1'b1;
+            mcu_safety_estop_sync_d = 1'b1;
+            mcu_safety_estop_latch_d = 1'b1;
+            mcu_safety_bitten_d = 1'b0;
+            mcu_safety_armed_d = 1'b0;
+            mcu_safety_timeout_d = 32'h0;
+            mcu_safety_count_d = 32'h0;
+            mcu_safety_enable_d = 4'h0;
+            mcu_safety_active_high_d = 1'b0;
+            mcu_safety_cause_d = 2'h0;
+            mcu_safety_cause_mask_d = 2'h0;
+            mcu_safety_done_cause_d = 4'h0;
+            mcu_safety_done_mask_d = 4'h0;
+            mcu_safety_low_cause_d = 4'h0;
+            mcu_safety_low_mask_d = 4'h0;
+            mcu_safety_done_before_d = 4'h0;
+            mcu_safety_low_before_d = 4'h0;
+            mcu_safety_irq_low_d = 1'b0;
+            mcu_safety_read_pending_d = 1'b0;
+            mcu_safety_read_addr_d = 7'h0;
+            mcu_safety_read_data_d = 32'h0;
+        end
+        mcu_safety_halt = mcu_safety_estop_latch_q | mcu_safety_bitten_q;
+        mcu_safety_drive_enable = mcu_safety_enable_q;
+        mcu_safety_irq = ~mcu_safety_irq_low_q;
+        mcu_safety_rdata = mcu_safety_read_data_q;
     end
 
     always @(*) begin
@@ -6682,9 +7090,31 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_read_pending_q <= mcu_pulses_read_pending_d;
     always @(posedge clock) mcu_pulses_read_addr_q <= mcu_pulses_read_addr_d;
     always @(posedge clock) mcu_pulses_read_data_q <= mcu_pulses_read_data_d;
+    always @(posedge clock) mcu_safety_estop_meta_q <= mcu_safety_estop_meta_d;
+    always @(posedge clock) mcu_safety_estop_sync_q <= mcu_safety_estop_sync_d;
+    always @(posedge clock) mcu_safety_estop_latch_q <= mcu_safety_estop_latch_d;
+    always @(posedge clock) mcu_safety_bitten_q <= mcu_safety_bitten_d;
+    always @(posedge clock) mcu_safety_armed_q <= mcu_safety_armed_d;
+    always @(posedge clock) mcu_safety_timeout_q <= mcu_safety_timeout_d;
+    always @(posedge clock) mcu_safety_count_q <= mcu_safety_count_d;
+    always @(posedge clock) mcu_safety_enable_q <= mcu_safety_enable_d;
+    always @(posedge clock) mcu_safety_active_high_q <= mcu_safety_active_high_d;
+    always @(posedge clock) mcu_safety_cause_q <= mcu_safety_cause_d;
+    always @(posedge clock) mcu_safety_cause_mask_q <= mcu_safety_cause_mask_d;
+    always @(posedge clock) mcu_safety_done_cause_q <= mcu_safety_done_cause_d;
+    always @(posedge clock) mcu_safety_done_mask_q <= mcu_safety_done_mask_d;
+    always @(posedge clock) mcu_safety_low_cause_q <= mcu_safety_low_cause_d;
+    always @(posedge clock) mcu_safety_low_mask_q <= mcu_safety_low_mask_d;
+    always @(posedge clock) mcu_safety_done_before_q <= mcu_safety_done_before_d;
+    always @(posedge clock) mcu_safety_low_before_q <= mcu_safety_low_before_d;
+    always @(posedge clock) mcu_safety_irq_low_q <= mcu_safety_irq_low_d;
+    always @(posedge clock) mcu_safety_read_pending_q <= mcu_safety_read_pending_d;
+    always @(posedge clock) mcu_safety_read_addr_q <= mcu_safety_read_addr_d;
+    always @(posedge clock) mcu_safety_read_data_q <= mcu_safety_read_data_d;
     always @(posedge clock) mcu_read_from_id_q <= mcu_read_from_id_d;
     always @(posedge clock) mcu_read_from_counters_q <= mcu_read_from_counters_d;
     always @(posedge clock) mcu_read_from_pulses_q <= mcu_read_from_pulses_d;
+    always @(posedge clock) mcu_read_from_safety_q <= mcu_read_from_safety_d;
     always @(posedge clock) pc_bus_core_ior_s1_q <= pc_bus_core_ior_s1_d;
     always @(posedge clock) pc_bus_core_ior_s2_q <= pc_bus_core_ior_s2_d;
     always @(posedge clock) pc_bus_core_ior_s3_q <= pc_bus_core_ior_s3_d;

@@ -5,7 +5,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2);
+module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, drive_enable, irq);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -26,6 +26,9 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
     input wire [3:0] enc_z;
     output wire [3:0] pulse_f1;
     output wire [3:0] pulse_f2;
+    input wire estop_ok;
+    output wire [3:0] drive_enable;
+    output wire irq;
 
     wire [15:0] fsmc_d_out;
     wire fsmc_d_oe;
@@ -57,7 +60,10 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
         .enc_b(enc_b),
         .enc_z(enc_z),
         .pulse_f1(pulse_f1),
-        .pulse_f2(pulse_f2)
+        .pulse_f2(pulse_f2),
+        .estop_ok(estop_ok),
+        .drive_enable(drive_enable),
+        .irq(irq)
     );
 
     assign fsmc_d = fsmc_d_oe ? fsmc_d_out : 16'bz;

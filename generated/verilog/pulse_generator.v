@@ -4,10 +4,11 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, step_space, dir_setup, dir_hold, step, dir, position, commanded, advancing, status);
+module pulse_generator(clock, reset, enable, halt, rate, move_rate, moves, step_len, step_space, dir_setup, dir_hold, step, dir, position, commanded, advancing, status);
     input wire clock;
     input wire reset;
     input wire enable;
+    input wire halt;
     input wire [31:0] rate;
     input wire [31:0] move_rate;
     input wire moves;
@@ -43,6 +44,7 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
     reg timer_reset;
     reg timer_request_up;
     reg timer_request_down;
+    reg timer_flush;
     reg [15:0] timer_step_len;
     reg [15:0] timer_step_space;
     reg [15:0] timer_dir_setup;
@@ -160,7 +162,8 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
         if (negative) begin
             blocked = ~timer_room_down;
         end
-        advance = enable & ~blocked;
+        advance = enable & ~halt & ~blocked;
+        timer_flush = halt;
         request_up = advance & carry & ~negative;
         request_down = advance & carry & negative;
         command_up_d = request_up;
@@ -203,9 +206,9 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
         timer_emitted_d = timer_emitted_q;
         timer_nonzero_d = timer_nonzero_q;
         timer_want_negative = |(timer_pending_q_q & timer_sign_mask);
-        timer_emit = ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q == timer_want_negative) & timer_space_ok_q & timer_setup_ok_q;
+        timer_emit = ~timer_flush & ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q == timer_want_negative) & timer_space_ok_q & timer_setup_ok_q;
         timer_falls = timer_step_q_q & timer_len_ok_q;
-        timer_turns = ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q != timer_want_negative) & timer_hold_ok_q;
+        timer_turns = ~timer_flush & ~timer_step_q_q & timer_nonzero_q & (timer_dir_q_q != timer_want_negative) & timer_hold_ok_q;
         timer_step_event = timer_falls | timer_emit;
         timer_step_q_d = timer_step_q_q ^ timer_step_event;
         timer_dir_q_d = timer_dir_q_q ^ timer_turns;
@@ -260,6 +263,9 @@ module pulse_generator(clock, reset, enable, rate, move_rate, moves, step_len, s
             end
         end
         timer_pending_next = timer_pending_q_q + timer_delta;
+        if (timer_flush) begin
+            timer_pending_next = 16'h0;
+        end
         if (timer_reset) begin
             timer_pending_next = 16'h0;
             timer_step_q_d = 1'b0;

@@ -78,8 +78,8 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [3:0] done_before_q = 4'h0;
     reg [3:0] low_before_d;
     reg [3:0] low_before_q = 4'h0;
-    reg irq_pin_d;
-    reg irq_pin_q = 1'h0;
+    reg irq_low_d;
+    reg irq_low_q = 1'h0;
     reg read_pending_d;
     reg read_pending_q = 1'h0;
     reg [6:0] read_addr_d;
@@ -102,7 +102,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     assign rdata = read_data_q;
     assign halt = estop_latch_q | bitten_q;
     assign drive_enable = enable_q;
-    assign irq = irq_pin_q;
+    assign irq = ~irq_low_q;
 
     always @(*) begin
         estop_meta_d = estop_meta_q;
@@ -122,7 +122,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         low_mask_d = low_mask_q;
         done_before_d = done_before_q;
         low_before_d = low_before_q;
-        irq_pin_d = irq_pin_q;
+        irq_low_d = irq_low_q;
         read_pending_d = read_pending_q;
         read_addr_d = read_addr_q;
         read_data_d = read_data_q;
@@ -195,7 +195,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             end
         end
         irq_active = |(cause_q & cause_mask_q) | |(done_cause_q & done_mask_q) | |(low_cause_q & low_mask_q);
-        irq_pin_d = irq_active == active_high_q;
+        irq_low_d = irq_active != active_high_q;
         read_pending_d = re;
         if (re) begin
             read_addr_d = addr;
@@ -272,7 +272,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             low_mask_d = 4'h0;
             done_before_d = 4'h0;
             low_before_d = 4'h0;
-            irq_pin_d = 1'b1;
+            irq_low_d = 1'b0;
             read_pending_d = 1'b0;
             read_addr_d = 7'h0;
             read_data_d = 32'h0;
@@ -296,7 +296,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     always @(posedge clock) low_mask_q <= low_mask_d;
     always @(posedge clock) done_before_q <= done_before_d;
     always @(posedge clock) low_before_q <= low_before_d;
-    always @(posedge clock) irq_pin_q <= irq_pin_d;
+    always @(posedge clock) irq_low_q <= irq_low_d;
     always @(posedge clock) read_pending_q <= read_pending_d;
     always @(posedge clock) read_addr_q <= read_addr_d;
     always @(posedge clock) read_data_q <= read_data_d;

@@ -1,7 +1,7 @@
 //! The MCU's side of the top level: the FSMC bridge, its register decode,
 //! the identity block and the counter bank (docs/motion_controller.md).
 
-use crate::{CounterBank, FsmcBridge, IdBlock, PulseBank};
+use crate::{CounterBank, FsmcBridge, IdBlock, PulseBank, SafetyIo};
 use motionhdl_spec::regmap;
 use motionhdl_spec::Config;
 use rust_hdl::prelude::*;
@@ -29,21 +29,31 @@ fsmc_host_block! {
         pub pulse_f1: Signal<Out, Bits<N>>,
         /// Pulse generator outputs F2 per axis (direction, CCW or quadrature B).
         pub pulse_f2: Signal<Out, Bits<N>>,
+        /// The e-stop chain: high = released; low or open = stop (pull down).
+        pub estop_ok: Signal<In, Bit>,
+        /// Drive ENABLE per axis, high = enabled.
+        pub drive_enable: Signal<Out, Bits<N>>,
+        /// The IRQ pin to the MCU (active low after reset).
+        pub irq: Signal<Out, Bit>,
         mcu_bus: FsmcBridge,
         identity: IdBlock,
         counters: CounterBank<N>,
         pulses: PulseBank<N>,
+        safety: SafetyIo<N>,
         // Which block the last read went to, so its `rdata` reaches the bridge.
         read_from_id: DFF<Bit>,
         read_from_counters: DFF<Bit>,
         read_from_pulses: DFF<Bit>,
+        read_from_safety: DFF<Bit>,
         id_page: Constant<Bits<6>>,
         counter_page: Constant<Bits<2>>,
         pulse_page: Constant<Bits<1>>,
+        safety_page: Constant<Bits<3>>,
         counter_snapshot: Constant<Bits<8>>,
         select_id: Signal<Local, Bit>,
         select_counters: Signal<Local, Bit>,
         select_pulses: Signal<Local, Bit>,
+        select_safety: Signal<Local, Bit>,
     }
 }
 
@@ -60,13 +70,15 @@ impl<const N: usize> McuSide<N> {
         let id = map.block("ID");
         let counter = map.block("COUNTER");
         let pulse = map.block("PULSE");
+        let safety = map.block("SAFETY");
         // The decode below compares reg_addr[9:4] with the ID page,
-        // reg_addr[9:8] with the counter page and reg_addr[9] with the
-        // pulse page: the table must agree.
+        // reg_addr[9:8] with the counter page, reg_addr[9] with the pulse
+        // page and reg_addr[9:7] with the safety page: the table must agree.
         assert_eq!(id.address_bits, 4);
         assert_eq!(counter.address_bits, 8);
         assert_eq!(pulse.address_bits, 9);
-        assert_eq!(map.blocks.len(), 3, "a block the decode does not know");
+        assert_eq!(safety.address_bits, 7);
+        assert_eq!(map.blocks.len(), 4, "a block the decode does not know");
         assert_eq!(regmap::MCU_HALFWORD_ADDRESS_BITS, 12);
         // The bridge sends every A11 = 1 access to the RAM port.
         assert!(map.memories.len() <= 1);
@@ -89,6 +101,13 @@ impl<const N: usize> McuSide<N> {
                 config.counter_features(),
             ),
             pulses: PulseBank::new(config.counter_width()),
+            safety: SafetyIo::new(),
+            estop_ok: Default::default(),
+            drive_enable: Default::default(),
+            irq: Default::default(),
+            read_from_safety: Default::default(),
+            safety_page: Constant::new(((safety.base >> 7) as u64).into()),
+            select_safety: Default::default(),
             pulse_f1: Default::default(),
             pulse_f2: Default::default(),
             read_from_pulses: Default::default(),
@@ -102,6 +121,16 @@ impl<const N: usize> McuSide<N> {
             select_id: Default::default(),
             select_counters: Default::default(),
         })
+    }
+
+    /// The safety block's HALT, for the top's contract checks.
+    pub fn halt(&self) -> bool {
+        self.safety.halt.val()
+    }
+
+    /// The pulse bank, for the top's contract checks.
+    pub fn pulses(&self) -> &PulseBank<N> {
+        &self.pulses
     }
 
     /// The counter bank, for probing in traces.
@@ -118,8 +147,11 @@ impl<const N: usize> Logic for McuSide<N> {
             clock,
             read_from_id,
             read_from_counters,
-            read_from_pulses
+            read_from_pulses,
+            read_from_safety
         );
+        self.safety.clock.next = self.clock.val();
+        self.safety.reset.next = self.reset.val();
         self.pulses.clock.next = self.clock.val();
         self.pulses.reset.next = self.reset.val();
         self.mcu_bus.clock.next = self.clock.val();
@@ -157,12 +189,26 @@ impl<const N: usize> Logic for McuSide<N> {
         self.pulses.snapshot.next = self.mcu_bus.reg_we.val()
             & self.select_counters.val()
             & (self.mcu_bus.reg_addr.val().get_bits::<8>(0) == self.counter_snapshot.val());
+        self.select_safety.next =
+            self.mcu_bus.reg_addr.val().get_bits::<3>(7) == self.safety_page.val();
+        self.safety.addr.next = self.mcu_bus.reg_addr.val().get_bits::<7>(0);
+        self.safety.wdata.next = self.mcu_bus.reg_wdata.val();
+        self.safety.we.next = self.mcu_bus.reg_we.val() & self.select_safety.val();
+        self.safety.re.next = self.mcu_bus.reg_re.val() & self.select_safety.val();
+        // The machine side: HALT stops every axis; move events raise IRQ.
+        self.safety.estop_ok.next = self.estop_ok.val();
+        self.safety.done.next = self.pulses.done.val();
+        self.safety.low.next = self.pulses.low.val();
+        self.pulses.halt.next = self.safety.halt.val();
+        self.drive_enable.next = self.safety.drive_enable.val();
+        self.irq.next = self.safety.irq.val();
         self.pulse_f1.next = self.pulses.f1.val();
         self.pulse_f2.next = self.pulses.f2.val();
         if self.mcu_bus.reg_re.val() {
             self.read_from_id.d.next = self.select_id.val();
             self.read_from_counters.d.next = self.select_counters.val();
             self.read_from_pulses.d.next = self.select_pulses.val();
+            self.read_from_safety.d.next = self.select_safety.val();
         }
         self.mcu_bus.reg_rdata.next = 0.into();
         if self.read_from_id.q.val() {
@@ -174,10 +220,14 @@ impl<const N: usize> Logic for McuSide<N> {
         if self.read_from_pulses.q.val() {
             self.mcu_bus.reg_rdata.next = self.pulses.rdata.val();
         }
+        if self.read_from_safety.q.val() {
+            self.mcu_bus.reg_rdata.next = self.safety.rdata.val();
+        }
         if self.reset.val() {
             self.read_from_id.d.next = false;
             self.read_from_counters.d.next = false;
             self.read_from_pulses.d.next = false;
+            self.read_from_safety.d.next = false;
         }
         // The RAM window.
         self.ram_addr.next = self.mcu_bus.ram_addr.val();

@@ -68,6 +68,13 @@ macro_rules! top_level {
                 pub pulse_f1: Signal<Out, Bits<N>>,
                 /// Command pulse outputs F2 per axis (direction, CCW or quadrature B).
                 pub pulse_f2: Signal<Out, Bits<N>>,
+                /// The e-stop chain, asynchronous: high = released; low, or
+                /// an open wire pulled down on the board, = stop.
+                pub estop_ok: Signal<In, Bit>,
+                /// Drive ENABLE outputs per axis, high = enabled.
+                pub drive_enable: Signal<Out, Bits<N>>,
+                /// IRQ to the MCU (active low after reset; docs/safety_io.md).
+                pub irq: Signal<Out, Bit>,
                 $(
                     $(#[$port_attr])*
                     pub $port: $port_ty,
@@ -97,6 +104,9 @@ macro_rules! top_level {
                     enc_z: Default::default(),
                     pulse_f1: Default::default(),
                     pulse_f2: Default::default(),
+                    estop_ok: Default::default(),
+                    drive_enable: Default::default(),
+                    irq: Default::default(),
                     $( $port: Default::default(), )*
                     mcu: McuSide::new(config),
                     pc_bus: $bridge::new(),
@@ -129,6 +139,9 @@ macro_rules! top_level {
                 self.mcu.enc_z.next = self.enc_z.val();
                 self.pulse_f1.next = self.mcu.pulse_f1.val();
                 self.pulse_f2.next = self.mcu.pulse_f2.val();
+                self.mcu.estop_ok.next = self.estop_ok.val();
+                self.drive_enable.next = self.mcu.drive_enable.val();
+                self.irq.next = self.mcu.irq.val();
                 // PC side.
                 self.pc_bus.sa.next = self.isa_sa.val();
                 self.pc_bus.sd_in.next = self.isa_sd_in.val();

@@ -73,6 +73,10 @@ pub struct MoveEngine {
     pub write_jerk: Signal<In, Bit>,
     /// Clear the sticky overflow flag.
     pub clear_overflow: Signal<In, Bit>,
+    /// Drop the running segment and every queued one at this edge (the
+    /// safety block's HALT): the FIFO empties and DONE clears; the RAM,
+    /// the head pointer and OVERFLOW stay.
+    pub flush: Signal<In, Bit>,
     /// FIFO_LOW_WATER.LEVEL (upper bits 0).
     pub low_water: Signal<In, Bits<32>>,
     /// The NCO rate: the running segment's, or 0.
@@ -167,6 +171,7 @@ impl MoveEngine {
             write_accel: Default::default(),
             write_jerk: Default::default(),
             clear_overflow: Default::default(),
+            flush: Default::default(),
             low_water: Default::default(),
             rate: Default::default(),
             status: Default::default(),
@@ -400,6 +405,15 @@ impl Logic for MoveEngine {
         }
         if self.clear_overflow.val() {
             self.overflow_q.d.next = false;
+        }
+        if self.flush.val() {
+            self.active_q.d.next = false;
+            self.commanded_q.d.next = false;
+            self.last_q.d.next = false;
+            self.done_q.d.next = false;
+            self.count.d.next = 0.into();
+            self.staged.d.next = false;
+            self.fetch.d.next = 0.into();
         }
         if self.reset.val() {
             self.active_q.d.next = false;

@@ -28,6 +28,14 @@ pub struct PulseBank<const N: usize> {
     pub rdata: Signal<Out, Bits<32>>,
     /// The counter bank's SNAPSHOT strobe: POSITION captures in that clock.
     pub snapshot: Signal<In, Bit>,
+    /// The safety block's HALT: while high, RUN clears (writes to it are
+    /// ignored), every segment FIFO empties and every generator drops its
+    /// queued steps.
+    pub halt: Signal<In, Bit>,
+    /// Per axis: STATUS.DONE and not STATUS.BUSY (the move is out).
+    pub done: Signal<Out, Bits<N>>,
+    /// Per axis: STATUS.FIFO_LOW.
+    pub low: Signal<Out, Bits<N>>,
     /// F1 per axis (pulse, or CW pulses), registered.
     pub f1: Signal<Out, Bits<N>>,
     /// F2 per axis (direction, or CCW pulses), registered.
@@ -75,6 +83,8 @@ pub struct PulseBank<const N: usize> {
     axis_bit: Vec<Constant<Bits<N>>>,
     f1_bits: Signal<Local, Bits<N>>,
     f2_bits: Signal<Local, Bits<N>>,
+    done_bits: Signal<Local, Bits<N>>,
+    low_bits: Signal<Local, Bits<N>>,
 }
 
 impl<const N: usize> PulseBank<N> {
@@ -93,6 +103,9 @@ impl<const N: usize> PulseBank<N> {
         assert_eq!(ax.register("STATUS").field("MOVING").lsb, 17);
         assert_eq!(ax.register("CTRL").writable_mask(), 0b111);
         assert_eq!(ax.register("STATUS").field("PENDING").width, 16);
+        // `done` and `low` take STATUS bits 18 and 27 (see update).
+        assert_eq!(ax.register("STATUS").field("DONE").lsb, 18);
+        assert_eq!(ax.register("STATUS").field("FIFO_LOW").lsb, 27);
         Self {
             clock: Default::default(),
             reset: Default::default(),
@@ -102,6 +115,9 @@ impl<const N: usize> PulseBank<N> {
             re: Default::default(),
             rdata: Default::default(),
             snapshot: Default::default(),
+            halt: Default::default(),
+            done: Default::default(),
+            low: Default::default(),
             f1: Default::default(),
             f2: Default::default(),
             generators: (0..N).map(|_| PulseGenerator::new()).collect(),
@@ -149,6 +165,8 @@ impl<const N: usize> PulseBank<N> {
             axis_bit: (0..N).map(|i| Constant::new((1u64 << i).into())).collect(),
             f1_bits: Default::default(),
             f2_bits: Default::default(),
+            done_bits: Default::default(),
+            low_bits: Default::default(),
         }
     }
 
@@ -169,6 +187,8 @@ impl<const N: usize> Logic for PulseBank<N> {
         dff_setup!(self, clock, run, read_pending, read_addr, read_data);
         self.f1_bits.next = 0.into();
         self.f2_bits.next = 0.into();
+        self.done_bits.next = 0.into();
+        self.low_bits.next = 0.into();
         // Reads, stage 1: the address.
         self.read_pending.d.next = self.re.val();
         if self.re.val() {
@@ -184,6 +204,9 @@ impl<const N: usize> Logic for PulseBank<N> {
         }
         if self.we.val() & (self.addr.val() == self.addr_run.val()) {
             self.run.d.next = self.wdata.val().get_bits::<N>(0);
+        }
+        if self.halt.val() {
+            self.run.d.next = 0.into();
         }
         for i in 0..N {
             self.ctrl[i].clock.next = self.clock.val();
@@ -231,6 +254,15 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.engines[i].clear_overflow.next =
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
             self.engines[i].low_water.next = self.low_water[i].q.val();
+            self.engines[i].flush.next = self.halt.val();
+            if self.engines[i].status.val().get_bit(18)
+                & !self.generators[i].status.val().get_bit(16)
+            {
+                self.done_bits.next = self.done_bits.val() | self.axis_bit[i].val();
+            }
+            if self.engines[i].status.val().get_bit(27) {
+                self.low_bits.next = self.low_bits.val() | self.axis_bit[i].val();
+            }
             self.ctrl[i].d.next = self.ctrl[i].q.val();
             self.rate[i].d.next = self.rate[i].q.val();
             self.step_timing[i].d.next = self.step_timing[i].q.val();
@@ -240,6 +272,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.generators[i].clock.next = self.clock.val();
             self.generators[i].reset.next = self.reset.val();
             self.generators[i].enable.next = self.run.q.val().get_bit(i);
+            self.generators[i].halt.next = self.halt.val();
             self.generators[i].rate.next = self.rate[i].q.val();
             self.generators[i].move_rate.next = self.engines[i].rate.val();
             self.generators[i].moves.next = self.ctrl[i].q.val().get_bit(2);
@@ -338,5 +371,7 @@ impl<const N: usize> Logic for PulseBank<N> {
         self.rdata.next = self.read_data.q.val();
         self.f1.next = self.f1_bits.val();
         self.f2.next = self.f2_bits.val();
+        self.done.next = self.done_bits.val();
+        self.low.next = self.low_bits.val();
     }
 }

@@ -24,6 +24,9 @@ pub struct PulseGenerator {
     pub reset: Signal<In, Bit>,
     /// Run the NCO. Without it, queued steps still go out.
     pub enable: Signal<In, Bit>,
+    /// Stop now (the safety block's HALT): the NCO holds, queued steps are
+    /// dropped, and from this edge S1 starts no step and S2 does not turn.
+    pub halt: Signal<In, Bit>,
     /// Signed rate, two's complement: steps per clock = rate / 2^32.
     pub rate: Signal<In, Bits<32>>,
     /// The rate of the running segment, used instead of `rate` while
@@ -101,6 +104,7 @@ impl PulseGenerator {
             clock: Default::default(),
             reset: Default::default(),
             enable: Default::default(),
+            halt: Default::default(),
             rate: Default::default(),
             move_rate: Default::default(),
             moves: Default::default(),
@@ -214,7 +218,8 @@ impl Logic for PulseGenerator {
         if self.negative.val() {
             self.blocked.next = !self.timer.room_down.val();
         }
-        self.advance.next = self.enable.val() & !self.blocked.val();
+        self.advance.next = self.enable.val() & !self.halt.val() & !self.blocked.val();
+        self.timer.flush.next = self.halt.val();
         self.request_up.next = self.advance.val() & self.carry.val() & !self.negative.val();
         self.request_down.next = self.advance.val() & self.carry.val() & self.negative.val();
         // The command is registered: the queue adds it a clock later.

@@ -13,7 +13,8 @@ const A: usize = SAFETY_ADDRESS_BITS;
 /// `N` axes' stop, enable and interrupt logic. Bus contract as the counter
 /// bank's: a write acts at the edge where `we` is high; the edge where `re`
 /// is high takes the address, the next edge loads `rdata`, which then
-/// holds. Every output is a flip-flop.
+/// holds. Every output is a flip-flop (`irq` through an inverter, so it
+/// is high, inactive, before the first reset).
 #[derive(LogicBlock)]
 pub struct SafetyIo<const N: usize> {
     /// FPGA clock.
@@ -61,7 +62,7 @@ pub struct SafetyIo<const N: usize> {
     low_mask: DFF<Bits<N>>,
     done_before: DFF<Bits<N>>,
     low_before: DFF<Bits<N>>,
-    irq_pin: DFF<Bit>,
+    irq_low: DFF<Bit>,
     read_pending: DFF<Bit>,
     read_addr: DFF<Bits<A>>,
     read_data: DFF<Bits<32>>,
@@ -152,7 +153,7 @@ impl<const N: usize> SafetyIo<N> {
             low_mask: Default::default(),
             done_before: Default::default(),
             low_before: Default::default(),
-            irq_pin: Default::default(),
+            irq_low: Default::default(),
             read_pending: Default::default(),
             read_addr: Default::default(),
             read_data: Default::default(),
@@ -241,7 +242,7 @@ impl<const N: usize> Logic for SafetyIo<N> {
             low_mask,
             done_before,
             low_before,
-            irq_pin,
+            irq_low,
             read_pending,
             read_addr,
             read_data
@@ -328,10 +329,13 @@ impl<const N: usize> Logic for SafetyIo<N> {
             }
         }
         // The pin: one flip-flop after OR(cause AND mask) and the polarity.
+        // The flip-flop holds "pin low", so at power-up (flip-flops 0,
+        // before any reset) the pin is high: inactive for the default
+        // active-low polarity.
         self.irq_active.next = (self.cause.q.val() & self.cause_mask.q.val()).any()
             | (self.done_cause.q.val() & self.done_mask.q.val()).any()
             | (self.low_cause.q.val() & self.low_mask.q.val()).any();
-        self.irq_pin.d.next = self.irq_active.val() == self.active_high.q.val();
+        self.irq_low.d.next = self.irq_active.val() != self.active_high.q.val();
         // Reads: the address at the `re` edge, the value at the next.
         self.read_pending.d.next = self.re.val();
         if self.re.val() {
@@ -409,14 +413,14 @@ impl<const N: usize> Logic for SafetyIo<N> {
             self.low_mask.d.next = 0.into();
             self.done_before.d.next = 0.into();
             self.low_before.d.next = 0.into();
-            self.irq_pin.d.next = true;
+            self.irq_low.d.next = false;
             self.read_pending.d.next = false;
             self.read_addr.d.next = 0.into();
             self.read_data.d.next = 0.into();
         }
         self.halt.next = self.estop_latch.q.val() | self.bitten.q.val();
         self.drive_enable.next = self.enable.q.val();
-        self.irq.next = self.irq_pin.q.val();
+        self.irq.next = !self.irq_low.q.val();
         self.rdata.next = self.read_data.q.val();
     }
 }

@@ -22,6 +22,10 @@ pub struct StepTimer<const P: usize, const T: usize> {
     pub request_up: Signal<In, Bit>,
     /// Queue one step in the negative direction.
     pub request_down: Signal<In, Bit>,
+    /// Empty the queue at this edge (the request and the leaving step go
+    /// with it); no step starts and S2 does not turn. S1 already high
+    /// falls after its length as usual.
+    pub flush: Signal<In, Bit>,
     /// S1 high for at least this many clocks (0 counts as 1).
     pub step_len: Signal<In, Bits<T>>,
     /// S1 low for at least this many clocks between steps.
@@ -95,6 +99,7 @@ impl<const P: usize, const T: usize> StepTimer<P, T> {
             reset: Default::default(),
             request_up: Default::default(),
             request_down: Default::default(),
+            flush: Default::default(),
             step_len: Default::default(),
             step_space: Default::default(),
             dir_setup: Default::default(),
@@ -172,14 +177,16 @@ impl<const P: usize, const T: usize> Logic for StepTimer<P, T> {
             hold_ok, emitted, nonzero
         );
         self.want_negative.next = (self.pending_q.q.val() & self.sign_mask.val()).any();
-        self.emit.next = !self.step_q.q.val()
+        self.emit.next = !self.flush.val()
+            & !self.step_q.q.val()
             & self.nonzero.q.val()
             & (self.dir_q.q.val() == self.want_negative.val())
             & self.space_ok.q.val()
             & self.setup_ok.q.val();
         self.falls.next = self.step_q.q.val() & self.len_ok.q.val();
         // (A step can only start with S2 already right, so no `!emit`.)
-        self.turns.next = !self.step_q.q.val()
+        self.turns.next = !self.flush.val()
+            & !self.step_q.q.val()
             & self.nonzero.q.val()
             & (self.dir_q.q.val() != self.want_negative.val())
             & self.hold_ok.q.val();
@@ -242,6 +249,9 @@ impl<const P: usize, const T: usize> Logic for StepTimer<P, T> {
             }
         }
         self.pending_next.next = self.pending_q.q.val() + self.delta.val();
+        if self.flush.val() {
+            self.pending_next.next = 0.into();
+        }
         if self.reset.val() {
             self.pending_next.next = 0.into();
             self.step_q.d.next = false;

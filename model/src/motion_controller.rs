@@ -15,6 +15,7 @@ use crate::fsmc_bridge::{FsmcBridgeModel, FsmcOutputs, FsmcPins};
 use crate::isa_bridge::{IsaBridgeModel, IsaPins};
 use crate::pulse_generator::PulseBank;
 use crate::regmap::{self, ERR_COUNT_BITS};
+use crate::safety_io::{SafetyInputs, SafetyIo};
 use crate::{Config, IsaRam};
 
 /// Every input pin of the top at one rising edge (the clock aside).
@@ -41,10 +42,13 @@ pub struct TopInputs {
     pub enc_a: u16,
     pub enc_b: u16,
     pub enc_z: u16,
+    /// The e-stop chain: high = released.
+    pub estop_ok: bool,
 }
 
 impl TopInputs {
-    /// Both buses idle (strobes high, no chip select, no BALE), encoders low.
+    /// Both buses idle (strobes high, no chip select, no BALE), encoders
+    /// low, the e-stop chain closed (released).
     pub fn idle() -> Self {
         Self {
             reset: false,
@@ -63,6 +67,7 @@ impl TopInputs {
             enc_a: 0,
             enc_b: 0,
             enc_z: 0,
+            estop_ok: true,
         }
     }
 
@@ -94,11 +99,15 @@ pub struct TopOutputs {
     /// F1 and F2, bit i = axis i.
     pub pulse_f1: u16,
     pub pulse_f2: u16,
+    /// Drive ENABLE, bit i = axis i.
+    pub drive_enable: u16,
+    /// The IRQ pin.
+    pub irq: bool,
 }
 
 impl TopOutputs {
     /// (pin name, value) of every output, for messages and comparisons.
-    pub fn pins(&self) -> [(&'static str, u32); 7] {
+    pub fn pins(&self) -> [(&'static str, u32); 9] {
         [
             ("fsmc_d_out", u32::from(self.fsmc_d_out)),
             ("fsmc_d_oe", u32::from(self.fsmc_d_oe)),
@@ -107,6 +116,8 @@ impl TopOutputs {
             ("isa_iocs16_n", u32::from(self.isa_iocs16_n)),
             ("pulse_f1", u32::from(self.pulse_f1)),
             ("pulse_f2", u32::from(self.pulse_f2)),
+            ("drive_enable", u32::from(self.drive_enable)),
+            ("irq", u32::from(self.irq)),
         ]
     }
 }
@@ -160,6 +171,7 @@ struct Decode {
     select_id: bool,
     select_counters: bool,
     select_pulses: bool,
+    select_safety: bool,
     reg_rdata: u32,
 }
 
@@ -173,14 +185,17 @@ pub struct MotionControllerModel {
     id: IdBlockModel,
     counters: Bank,
     pulses: PulseBank,
+    safety: SafetyIo,
     isa: IsaBridgeModel,
     // Which block the last register read went to (McuSide's read mux).
     read_from_id: bool,
     read_from_counters: bool,
     read_from_pulses: bool,
+    read_from_safety: bool,
     id_page: u32,
     counter_page: u32,
     pulse_page: u32,
+    safety_page: u32,
     snapshot_offset: u32,
     axis_mask: u16,
     // Reused every clock: (a, b, z) per channel for the counter bank.
@@ -205,12 +220,14 @@ impl MotionControllerModel {
         let id = map.block("ID");
         let counter = map.block("COUNTER");
         let pulse = map.block("PULSE");
-        // The decode compares reg_addr[9:4], [9:8] and [9] with the pages,
-        // as McuSide does; the map must agree.
+        let safety = map.block("SAFETY");
+        // The decode compares reg_addr[9:4], [9:8], [9] and [9:7] with the
+        // pages, as McuSide does; the map must agree.
         assert_eq!(id.address_bits, 4);
         assert_eq!(counter.address_bits, 8);
         assert_eq!(pulse.address_bits, 9);
-        assert_eq!(map.blocks.len(), 3, "a block the decode does not know");
+        assert_eq!(safety.address_bits, 7);
+        assert_eq!(map.blocks.len(), 4, "a block the decode does not know");
         Self {
             fsmc: FsmcBridgeModel::new(),
             id: IdBlockModel::new(id),
@@ -220,13 +237,16 @@ impl MotionControllerModel {
                     .with_features(config.counter_features()),
             ),
             pulses: PulseBank::new(axes, config.counter_width()),
+            safety: SafetyIo::new(axes),
             isa: IsaBridgeModel::new(),
             read_from_id: false,
             read_from_counters: false,
             read_from_pulses: false,
+            read_from_safety: false,
             id_page: id.base >> 4,
             counter_page: counter.base >> 8,
             pulse_page: pulse.base >> 9,
+            safety_page: safety.base >> 7,
             snapshot_offset: counter.register("SNAPSHOT").offset,
             axis_mask: ((1u32 << axes) - 1) as u16,
             enc: vec![(false, false, false); axes as usize],
@@ -244,6 +264,9 @@ impl MotionControllerModel {
     }
     pub fn pulses(&self) -> &PulseBank {
         &self.pulses
+    }
+    pub fn safety(&self) -> &SafetyIo {
+        &self.safety
     }
     pub fn isa(&self) -> &IsaBridgeModel {
         &self.isa
@@ -264,11 +287,15 @@ impl MotionControllerModel {
         if self.read_from_pulses {
             reg_rdata = self.pulses.rdata();
         }
+        if self.read_from_safety {
+            reg_rdata = self.safety.rdata();
+        }
         Decode {
             bridge,
             select_id: (a >> 4) & 0x3f == self.id_page,
             select_counters: (a >> 8) & 3 == self.counter_page,
             select_pulses: (a >> 9) & 1 == self.pulse_page,
+            select_safety: (a >> 7) & 7 == self.safety_page,
             reg_rdata,
         }
     }
@@ -305,6 +332,8 @@ impl MotionControllerModel {
             isa_iocs16_n: isa.iocs16_n,
             pulse_f1: f1,
             pulse_f2: f2,
+            drive_enable: self.safety.drive_enable() as u16,
+            irq: self.safety.irq_pin(),
         }
     }
 
@@ -364,7 +393,25 @@ impl MotionControllerModel {
             we: b.reg_we && d.select_pulses,
             re: b.reg_re && d.select_pulses,
         };
-        self.pulses.clock(reset, &pulse_bus, snapshot);
+        // HALT, DONE and FIFO_LOW as they stand before the edge.
+        let halt = self.safety.halted();
+        let mut events = SafetyInputs {
+            estop_ok: inp.estop_ok,
+            done: 0,
+            low: 0,
+        };
+        for i in 0..self.axes() {
+            events.done |= u32::from(self.pulses.move_done(i)) << i;
+            events.low |= u32::from(self.pulses.fifo_low(i)) << i;
+        }
+        self.pulses.clock_halting(reset, &pulse_bus, snapshot, halt);
+        let safety_bus = BusCycle {
+            addr: addr & 0x7f,
+            wdata: b.reg_wdata,
+            we: b.reg_we && d.select_safety,
+            re: b.reg_re && d.select_safety,
+        };
+        self.safety.clock(reset, &safety_bus, &events);
 
         self.isa.clock(&isa_pins, reset);
 
@@ -372,11 +419,13 @@ impl MotionControllerModel {
             self.read_from_id = d.select_id;
             self.read_from_counters = d.select_counters;
             self.read_from_pulses = d.select_pulses;
+            self.read_from_safety = d.select_safety;
         }
         if reset {
             self.read_from_id = false;
             self.read_from_counters = false;
             self.read_from_pulses = false;
+            self.read_from_safety = false;
         }
     }
 

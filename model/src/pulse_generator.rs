@@ -43,6 +43,10 @@ pub struct PulseGenerator {
 pub struct PulseInputs {
     /// The NCO runs; without it, queued steps still go out.
     pub enable: bool,
+    /// Stop now (the safety block's HALT): the NCO holds, queued steps are
+    /// dropped, and from this edge S1 starts no step and S2 does not turn
+    /// (a step already high still ends after STEP_LEN).
+    pub halt: bool,
     /// Signed rate: steps per clock = rate / 2^32 (|rate| <= 2^31: f/2).
     pub rate: i32,
     pub timing: StepTiming,
@@ -80,7 +84,7 @@ impl PulseGenerator {
     /// The NCO's request at this edge, and whether the queue holds it back
     /// (then the phase does not advance either).
     pub fn request(&self, inp: &PulseInputs) -> (Request, bool) {
-        if !inp.enable {
+        if !inp.enable || inp.halt {
             return (Request::None, false);
         }
         let sum = u64::from(self.phase) + u64::from(inp.rate.unsigned_abs());
@@ -104,11 +108,12 @@ impl PulseGenerator {
             return;
         }
         let (request, blocked) = self.request(inp);
-        if inp.enable && !blocked {
+        if inp.enable && !inp.halt && !blocked {
             self.phase = self.phase.wrapping_add(inp.rate.unsigned_abs());
         }
         self.position = self.position.wrapping_add(self.timer.leaving() as u32);
-        self.timer.clock(self.command, &inp.timing);
+        self.timer
+            .clock_flushing(self.command, &inp.timing, inp.halt);
         self.command = request;
     }
 }

@@ -122,7 +122,8 @@ impl SafetyIo {
             || self.low_cause & self.low_mask != 0
     }
 
-    fn read_value(&self, addr: u32) -> u32 {
+    /// What a read of `addr` returns now (0 where nothing is decoded).
+    pub fn read_value(&self, addr: u32) -> u32 {
         let Some((_, r, _)) = self.map.decoded().into_iter().find(|d| d.0 == addr) else {
             return 0;
         };

@@ -48,8 +48,9 @@ fn the_plan_covers_the_map() {
     let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
     assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
     // PRESET, SNAPSHOT and CTRL/CMD of 4 channels; RUN and 10 registers of
-    // 4 pulse axes (CTRL, RATE, two timings, five SEG_*, FIFO_LOW_WATER).
-    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 10);
+    // 4 pulse axes (CTRL, RATE, two timings, five SEG_*, FIFO_LOW_WATER);
+    // 11 SAFETY registers (all but INFO, STATUS and WDT_COUNT).
+    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 10 + 11);
     // The ID block reads its table values after reset.
     let id = o.map().block("ID");
     assert_eq!(o.read32(id.base), regmap::ID_MAGIC);
@@ -59,6 +60,14 @@ fn the_plan_covers_the_map() {
     for r in &id.registers {
         assert_eq!(word(id.base + r.offset), r.reset, "ID.{}", r.name);
     }
+    // After reset the e-stop latch is set and, the chain closed, the
+    // input reads released: STATUS = ESTOP only.
+    let safety = o.map().block("SAFETY");
+    let status = safety.register("STATUS");
+    assert_eq!(
+        word(safety.base + status.offset),
+        status.field("ESTOP").mask()
+    );
     let counter = o.map().block("COUNTER");
     assert_eq!(
         word(counter.base + counter.register("INFO").offset),

@@ -156,3 +156,74 @@ fn six_axes_follow_a_master_at_their_ratios() {
         );
     }
 }
+
+/// An e-stop in the middle of four S-curves: every axis stops within the
+/// documented latency, no step reaches a drive after it, commanded and
+/// counted positions still agree, the drives are disabled, and nothing
+/// moves again until the chain is closed and firmware clears the latch.
+#[test]
+fn an_estop_in_the_middle_of_four_s_curves_stops_every_axis() {
+    let targets = [1000i64, -800, 600, 1200];
+    let lim = EngineLimits::from_physical(2e6, 4e9, 8e13, f64::from(CLOCK_HZ));
+    let plans: Vec<_> = targets
+        .iter()
+        .map(|&t| scurve_segments::plan(t, lim).unwrap())
+        .collect();
+    let mut sys = System::<4>::new(&Config::default());
+    sys.setup();
+    sys.write("SAFETY", None, "ENABLE", 0xf);
+    sys.write("SAFETY", None, "CAUSE_MASK", 1);
+    assert_eq!(sys.drive_enable(), 0xf);
+    for (i, p) in plans.iter().enumerate() {
+        for s in &p.segments {
+            sys.push(i as u32, s);
+        }
+    }
+    sys.write("PULSE", None, "RUN", 0xf);
+    let shortest = plans.iter().map(|p| p.clocks).min().unwrap();
+    sys.idle(shortest / 2);
+    let moving: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
+    for (i, (&p, &t)) in moving.iter().zip(&targets).enumerate() {
+        assert!(p != 0 && i64::from(p) != t, "axis {i} is mid-move at {p}");
+    }
+    sys.estop_ok = false;
+    // ESTOP_LATENCY + 2 edges to the pins (4 with QUADRATURE) and the
+    // drive's own latency: after that no shaft may move.
+    sys.idle(3 + 2 + 3);
+    let stopped: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
+    assert_eq!(sys.drive_enable(), 0, "drives disabled with HALT");
+    sys.idle(20_000);
+    let later: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
+    assert_eq!(later, stopped, "no step after the e-stop's latency");
+    assert!(
+        !sys.irq(),
+        "CAUSE.ESTOP unmasked: the active-low IRQ pin is low"
+    );
+    let status = sys.read("SAFETY", None, "STATUS");
+    assert_eq!(status & 0b11, 0b11, "input asks for a stop, latch set");
+    for (i, (count, position)) in sys.positions().into_iter().enumerate() {
+        assert_eq!(count, later[i], "axis {i}: COUNT = shaft");
+        assert_eq!(position, later[i], "axis {i}: POSITION = shaft");
+        let s = sys.read("PULSE", Some(i as u32), "STATUS");
+        assert_eq!(
+            s & (0xffff | 1 << 17),
+            0,
+            "axis {i}: queue empty, no segment: {s:#x}"
+        );
+        assert_eq!(s >> 20 & 0x7f, 0, "axis {i}: FIFO flushed");
+    }
+    assert_eq!(sys.read("PULSE", None, "RUN"), 0, "RUN cleared");
+    // A clear while the chain is still open does nothing; once it is
+    // closed (two clocks to pass the synchroniser) it releases the latch.
+    sys.write("SAFETY", None, "CLEAR", 1);
+    assert_eq!(sys.read("SAFETY", None, "STATUS") & 0b10, 0b10);
+    sys.estop_ok = true;
+    sys.idle(3);
+    sys.write("SAFETY", None, "CLEAR", 1);
+    assert_eq!(sys.read("SAFETY", None, "STATUS") & 0b11, 0);
+    assert_eq!(sys.drive_enable(), 0, "the drives stay off until enabled");
+    sys.write("PULSE", None, "RUN", 0xf);
+    sys.idle(5_000);
+    let after: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
+    assert_eq!(after, later, "the flushed moves do not resume");
+}

@@ -247,6 +247,17 @@ impl MoveEngine {
         }
     }
 
+    /// Drops the running segment and every queued one, at the edge just
+    /// clocked (the safety block's HALT): the FIFO empties, DONE clears;
+    /// the slots, the head and OVERFLOW stay.
+    pub fn flush(&mut self) {
+        self.active = false;
+        self.count = 0;
+        self.staged = None;
+        self.fetch = 0;
+        self.done = false;
+    }
+
     /// The head slot's copy, one field a clock, from the state before the
     /// edge: a read under way takes the field its address named last clock.
     fn advance_fetch(&mut self) {

@@ -89,9 +89,10 @@ impl PulseBank {
         self.ctrl[i] >> 2 & 1 == 1
     }
 
-    fn inputs(&self, i: usize) -> PulseInputs {
+    fn inputs(&self, i: usize, halt: bool) -> PulseInputs {
         PulseInputs {
             enable: self.run >> i & 1 == 1,
+            halt,
             rate: if self.moves(i) {
                 self.engines[i].rate()
             } else {
@@ -155,8 +156,26 @@ impl PulseBank {
         0
     }
 
+    /// STATUS.DONE and not STATUS.BUSY: axis `i`'s move is out (the
+    /// safety block's `done` input).
+    pub fn move_done(&self, i: usize) -> bool {
+        self.engines[i].done() && !self.generators[i].busy()
+    }
+
+    /// STATUS.FIFO_LOW of axis `i` (the safety block's `low` input).
+    pub fn fifo_low(&self, i: usize) -> bool {
+        self.engines[i].level() as u32 <= self.low_water[i]
+    }
+
     /// One rising clock edge.
     pub fn clock(&mut self, reset: bool, bus: &BusCycle, snapshot: bool) {
+        self.clock_halting(reset, bus, snapshot, false);
+    }
+
+    /// One edge with the safety block's HALT: while it is high RUN clears
+    /// (writes to it are ignored), every segment FIFO empties and every
+    /// generator drops its queued steps.
+    pub fn clock_halting(&mut self, reset: bool, bus: &BusCycle, snapshot: bool, halt: bool) {
         if reset {
             // The segment slots are block RAM: they keep their words.
             let mut engines = std::mem::take(&mut self.engines);
@@ -175,7 +194,7 @@ impl PulseBank {
             self.read_addr = bus.addr;
         }
         for i in 0..self.axes() {
-            let inputs = self.inputs(i);
+            let inputs = self.inputs(i, halt);
             self.out[i] = if self.ctrl[i] >> 1 & 1 == 1 {
                 self.quadrature[i]
             } else {
@@ -203,10 +222,13 @@ impl PulseBank {
             self.engines[i].clock_bus(
                 moves && inputs.enable,
                 moves && request != Request::None,
-                moves && inputs.enable && !blocked,
+                moves && inputs.enable && !halt && !blocked,
                 &writes,
                 push,
             );
+            if halt {
+                self.engines[i].flush();
+            }
             self.generators[i].clock(&inputs, false);
         }
         if bus.we {
@@ -227,6 +249,9 @@ impl PulseBank {
                     _ => {}
                 }
             }
+        }
+        if halt {
+            self.run = 0;
         }
     }
 }

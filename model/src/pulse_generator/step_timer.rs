@@ -171,6 +171,13 @@ impl StepTimer {
 
     /// One rising clock edge. `request` must be one [`StepTimer::accepts`].
     pub fn clock(&mut self, request: Request, timing: &StepTiming) {
+        self.clock_flushing(request, timing, false);
+    }
+
+    /// One edge; with `flush` the queue empties (the request and the
+    /// leaving step are dropped with it), no step starts and S2 does not
+    /// turn. S1 already high falls after STEP_LEN as usual.
+    pub fn clock_flushing(&mut self, request: Request, timing: &StepTiming, flush: bool) {
         assert!(
             self.accepts(request),
             "request {request:?} with pending {}",
@@ -179,9 +186,14 @@ impl StepTimer {
         let max = self.timer_max();
         let inc = |t: u32| if t < max { t + 1 } else { t };
         let s = self.state;
-        let emit = self.emits();
+        let emit = if flush { 0 } else { self.emits() };
         let falls = s.step && s.len_ok;
-        let turns = !s.step && emit == 0 && s.pending != 0 && s.dir != (s.pending < 0) && s.hold_ok;
+        let turns = !flush
+            && !s.step
+            && emit == 0
+            && s.pending != 0
+            && s.dir != (s.pending < 0)
+            && s.hold_ok;
         // The timers' values at the next clock, compared with this clock's
         // timing: the flags of the next clock.
         let step_now = if falls || emit != 0 { 1 } else { s.t_step };
@@ -192,7 +204,11 @@ impl StepTimer {
             Request::Down => -1,
         };
         self.state = StepTimerState {
-            pending: s.pending + commanded - self.leaving(),
+            pending: if flush {
+                0
+            } else {
+                s.pending + commanded - self.leaving()
+            },
             step: if s.step { !falls } else { emit != 0 },
             dir: s.dir != turns,
             t_step: inc(step_now),

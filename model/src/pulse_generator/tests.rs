@@ -16,6 +16,7 @@ fn half_clock_rate_gives_a_step_every_other_clock() {
     let mut g = PulseGenerator::new();
     let inp = PulseInputs {
         enable: true,
+        halt: false,
         rate: i32::MIN,
         timing: timing(1, 1, 1, 1),
     };
@@ -48,6 +49,7 @@ fn pulses_honour_the_timing() {
         g.clock(
             &PulseInputs {
                 enable: k < 3500,
+                halt: false,
                 rate,
                 timing: t,
             },

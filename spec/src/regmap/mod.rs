@@ -264,11 +264,13 @@ pub const MCU_ID_WORD_BASE: u32 = 0x000;
 pub const MCU_COUNTER_WORD_BASE: u32 = 0x100;
 /// Word address of the pulse generators on the MCU bus (byte 0x0800).
 pub const MCU_PULSE_WORD_BASE: u32 = 0x200;
+/// Word address of the safety block on the MCU bus (byte 0x0200).
+pub const MCU_SAFETY_WORD_BASE: u32 = 0x080;
 /// Byte offset of the shared RAM's MCU port (halfword address 0x800: pin A11).
 pub const MCU_RAM_BYTE_OFFSET: u32 = 0x1000;
 
-/// The MCU's view of the gateware for `config`: ID, COUNTER, PULSE and,
-/// with the internal RAM, the shared RAM window.
+/// The MCU's view of the gateware for `config`: ID, COUNTER, PULSE,
+/// SAFETY and, with the internal RAM, the shared RAM window.
 pub fn mcu_map(config: &crate::Config) -> BusMap {
     let build = |hash| {
         let mut counter = counter_bank_with(
@@ -279,6 +281,8 @@ pub fn mcu_map(config: &crate::Config) -> BusMap {
         counter.base = MCU_COUNTER_WORD_BASE;
         let mut pulse = pulse_bank(config.axes(), config.counter_width());
         pulse.base = MCU_PULSE_WORD_BASE;
+        let mut safety = safety_io(config.axes());
+        safety.base = MCU_SAFETY_WORD_BASE;
         let mut memories = Vec::new();
         if config.isa_ram() == crate::IsaRam::Internal {
             memories.push(isa_bridge::shared_ram());
@@ -287,7 +291,7 @@ pub fn mcu_map(config: &crate::Config) -> BusMap {
             name: "MOTIONHDL",
             description: "motionhdl motion-controller gateware, MCU bus (FSMC, 16-bit)",
             halfword_address_bits: MCU_HALFWORD_ADDRESS_BITS,
-            blocks: vec![id_block(config, hash), counter, pulse],
+            blocks: vec![id_block(config, hash), counter, pulse, safety],
             memories,
         }
     };

@@ -15,6 +15,8 @@ use rust_hdl::prelude::*;
 #[derive(Clone, Copy, Debug)]
 pub struct BankVector {
     pub reset: bool,
+    /// The safety block's HALT.
+    pub halt: bool,
     pub bus: BusCycle,
     pub snapshot: bool,
 }
@@ -29,12 +31,19 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
     let mut v = vec![
         BankVector {
             reset: true,
+            halt: false,
             bus: BusCycle::default(),
             snapshot: false
         };
         4
     ];
+    let mut halt_for = 0u64;
     while v.len() < clocks {
+        if halt_for == 0 && next().is_multiple_of(2000) {
+            halt_for = 1 + next() % 40;
+        }
+        let halt = halt_for > 0;
+        halt_for = halt_for.saturating_sub(1);
         let mut bus = BusCycle::default();
         match next() % 16 {
             0 | 1 => {
@@ -58,6 +67,7 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
             _ => {}
         }
         v.push(BankVector {
+            halt,
             reset: next().is_multiple_of(5000),
             bus,
             snapshot: next().is_multiple_of(64),
@@ -90,13 +100,21 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
         uut.we.next = v.bus.we;
         uut.re.next = v.bus.re;
         uut.snapshot.next = v.snapshot;
+        uut.halt.next = v.halt;
         settle(&mut uut);
         cycle(&mut uut, |u| &mut u.clock);
-        model.clock(v.reset, &v.bus, v.snapshot);
+        model.clock_halting(v.reset, &v.bus, v.snapshot, v.halt);
         let got_rdata = uut.rdata.val().index() as u32;
         let mut bad = (got_rdata != model.rdata())
             .then(|| format!("rdata HDL {got_rdata:#x}, model {:#x}", model.rdata()));
         for i in 0..N {
+            let events = (uut.done.val().get_bit(i), uut.low.val().get_bit(i));
+            let want_events = (model.move_done(i), model.fifo_low(i));
+            if events != want_events {
+                bad.get_or_insert(format!(
+                    "axis {i}: (done, low) HDL {events:?}, model {want_events:?}"
+                ));
+            }
             let f = (uut.f1.val().get_bit(i), uut.f2.val().get_bit(i));
             let g = state_map::generator(uut.generator(i).probe());
             let mg = model.generator(i);

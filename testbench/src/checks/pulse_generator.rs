@@ -21,22 +21,26 @@ pub const NARROW_T: usize = 3;
 /// Timing values the exhaustive check applies (each of the four).
 pub const NARROW_TIMINGS: u32 = 3;
 
-/// Every (request, timing) input of the exhaustive check.
-pub fn narrow_inputs() -> Vec<(Request, StepTiming)> {
+/// One input of the exhaustive check: a request, the timing, and whether
+/// the queue is flushed (the safety block's HALT).
+pub type NarrowInput = (Request, StepTiming, bool);
+
+/// Every (request, timing, flush) input of the exhaustive check.
+pub fn narrow_inputs() -> Vec<NarrowInput> {
     let mut v = Vec::new();
     let n = NARROW_TIMINGS;
-    for request in [Request::None, Request::Up, Request::Down] {
-        for code in 0..n.pow(4) {
-            let d = |k: u32| (code / n.pow(k)) % n;
-            v.push((
-                request,
-                StepTiming {
+    for flush in [false, true] {
+        for request in [Request::None, Request::Up, Request::Down] {
+            for code in 0..n.pow(4) {
+                let d = |k: u32| (code / n.pow(k)) % n;
+                let timing = StepTiming {
                     step_len: d(0),
                     step_space: d(1),
                     dir_setup: d(2),
                     dir_hold: d(3),
-                },
-            ));
+                };
+                v.push((request, timing, flush));
+            }
         }
     }
     v
@@ -44,7 +48,7 @@ pub fn narrow_inputs() -> Vec<(Request, StepTiming)> {
 
 /// The model's successor; a request the queue refuses becomes none (the
 /// NCO would hold).
-fn narrow_step(s: &StepTimerState, inp: &(Request, StepTiming)) -> StepTimerState {
+fn narrow_step(s: &StepTimerState, inp: &NarrowInput) -> StepTimerState {
     let mut t = ModelTimer::new(NARROW_P as u32, NARROW_T as u32);
     t.set_state(*s);
     let request = if t.accepts(inp.0) {
@@ -52,7 +56,7 @@ fn narrow_step(s: &StepTimerState, inp: &(Request, StepTiming)) -> StepTimerStat
     } else {
         Request::None
     };
-    t.clock(request, &inp.1);
+    t.clock_flushing(request, &inp.1, inp.2);
     t.state()
 }
 
@@ -68,7 +72,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
     let mut r = CheckReport::new(
         "pulse_generator",
         &format!(
-            "step timer P={NARROW_P} T={NARROW_T}, every reachable state x request x timing 0..={}: rust-hdl vs model",
+            "step timer P={NARROW_P} T={NARROW_T}, every reachable state x request x timing 0..={} x flush: rust-hdl vs model",
             NARROW_TIMINGS - 1
         ),
         pairs,
@@ -85,7 +89,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
     let mut visited = std::collections::BTreeSet::new();
     let mut at = 0usize;
     for (k, &i) in path.iter().enumerate() {
-        let (req, timing) = inputs[i];
+        let (req, timing, flush) = inputs[i];
         let request = if model.accepts(req) {
             req
         } else {
@@ -93,6 +97,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
         };
         uut.request_up.next = request == Request::Up;
         uut.request_down.next = request == Request::Down;
+        uut.flush.next = flush;
         uut.step_len.next = u64::from(timing.step_len).into();
         uut.step_space.next = u64::from(timing.step_space).into();
         uut.dir_setup.next = u64::from(timing.dir_setup).into();
@@ -107,7 +112,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
         );
         let want_comb = ((leave > 0, leave < 0), room);
         let before = model.state();
-        model.clock(request, &timing);
+        model.clock_flushing(request, &timing, flush);
         cycle(&mut uut, |u| &mut u.clock);
         let got = state_map::step_timer(uut.probe());
         let want = model.state();
@@ -122,7 +127,7 @@ pub fn exhaustive_timer() -> (CheckReport, u64) {
         if fresh {
             r.case(bad.then(|| {
                 format!(
-                    "from {before:?} with {request:?} {timing:?}: HDL {got:?} {got_comb:?}, model {want:?} {want_comb:?}"
+                    "from {before:?} with {request:?} {timing:?} flush {flush}: HDL {got:?} {got_comb:?}, model {want:?} {want_comb:?}"
                 )
             }));
         } else if bad {
@@ -156,6 +161,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
     ];
     let mut inputs = PulseInputs {
         enable: true,
+        halt: false,
         rate: 0,
         timing: StepTiming::default(),
     };
@@ -179,7 +185,14 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         }
         inputs.enable = !next().is_multiple_of(8);
         let reset = next().is_multiple_of(200);
+        // A HALT now and then, from one clock to a few, mid-motion.
+        let halt_for = if next().is_multiple_of(6) {
+            1 + next() % 8
+        } else {
+            0
+        };
         for k in 0..len {
+            inputs.halt = (k as u64) < halt_for;
             v.push(Vector {
                 reset: reset && k < 4,
                 inputs,
@@ -214,6 +227,7 @@ pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32, bool)> {
 fn drive(uut: &mut PulseGenerator, v: &Vector) {
     uut.reset.next = v.reset;
     uut.enable.next = v.inputs.enable;
+    uut.halt.next = v.inputs.halt;
     uut.rate.next = u64::from(v.inputs.rate as u32).into();
     uut.step_len.next = u64::from(v.inputs.timing.step_len).into();
     uut.step_space.next = u64::from(v.inputs.timing.step_space).into();
@@ -273,7 +287,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     let design = Design {
         top: module.name,
         source: &text,
-        inputs: ports_of(&module, &["reset", "enable", "rate", "move_rate", "moves", "step_len", "step_space", "dir_setup", "dir_hold"]),
+        inputs: ports_of(&module, &["reset", "enable", "halt", "rate", "move_rate", "moves", "step_len", "step_space", "dir_setup", "dir_hold"]),
         outputs: // `commanded` and `advancing` are combinational (they follow this
         // clock's inputs): connected, compared through `step`, `position`
         // and `pending` instead.
@@ -290,6 +304,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             vec![
                 u64::from(v.reset),
                 u64::from(i.enable),
+                u64::from(i.halt),
                 u64::from(i.rate as u32),
                 // Velocity mode: `move_rate` carries a decoy that must
                 // not leak through.
@@ -302,7 +317,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             ]
         })
         .collect();
-    rows.push(vec![0; 9]);
+    rows.push(vec![0; 10]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, &(s, d, p, q, busy)) in want.iter().enumerate() {
@@ -408,6 +423,7 @@ pub fn run_schedule(
                 &mut g,
                 PulseInputs {
                     enable: true,
+                    halt: false,
                     rate,
                     timing,
                 },
@@ -417,6 +433,7 @@ pub fn run_schedule(
     }
     let idle = PulseInputs {
         enable: false,
+        halt: false,
         rate: 0,
         timing,
     };

@@ -55,7 +55,12 @@ pub fn loopback_ops(config: &Config) -> Vec<Op> {
         a: (word * 2) as u16,
         data,
     };
-    let mut ops = vec![Op::Reset];
+    // Reset sets the e-stop latch; the chain is closed, so release it.
+    let safety = map.block("SAFETY");
+    let mut ops = vec![
+        Op::Reset,
+        w(safety.base + safety.register("CLEAR").offset, 1),
+    ];
     for i in 0..n {
         let (counter_mode, pulse_ctrl) = match i % 4 {
             0 | 1 => (mode::PULSE_DIR, 0),
@@ -122,8 +127,10 @@ pub fn moves_ops(config: &Config) -> Vec<Op> {
     let r = |word: u32| Op::Read32 {
         a: (word * 2) as u16,
     };
+    let safety = map.block("SAFETY");
     let mut ops = vec![
         Op::Reset,
+        w(safety.base + safety.register("CLEAR").offset, 1),
         w(counter.base + ch.address(0, "CTRL"), mode::PULSE_DIR),
         w(pulse.base + ax.address(0, "CTRL"), 0b100),
         w(pulse.base + ax.address(0, "STEP_TIMING"), 2 | 2 << 16),

@@ -49,6 +49,7 @@ macro_rules! mcu_top {
                 self.isa_ior_n.next = true;
                 self.isa_iow_n.next = true;
                 self.isa_aen.next = true;
+                self.estop_ok.next = true;
             }
             fn data(&self) -> (bool, u16) {
                 (self.fsmc_d_oe.val(), self.fsmc_d_out.val().index() as u16)
@@ -149,7 +150,7 @@ fn rig(target: Target, config: &Config, loopback: bool) -> Result<Rig, String> {
         ("isa_base", 0),
     ];
     let mut ties: Vec<(&str, u64)> = idle_pc.to_vec();
-    ties.push(("enc_z", 0));
+    ties.extend([("enc_z", 0), ("estop_ok", 1)]);
     if loopback {
         rig.loops = vec![
             ("enc_a".into(), "pulse_f1".into()),

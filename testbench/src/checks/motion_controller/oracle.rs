@@ -6,6 +6,7 @@ use crate::bfm::fsmc::Op;
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::pulse_generator::PulseBank;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
+use motionhdl_model::safety_io::{SafetyInputs, SafetyIo};
 use motionhdl_model::Config;
 
 /// Register word addresses the MCU bus decodes into (A[10:1]).
@@ -22,6 +23,7 @@ pub struct McuOracle {
     map: BusMap,
     bank: Bank,
     pulses: PulseBank,
+    safety: SafetyIo,
     axes: usize,
     ram: Vec<u16>,
 }
@@ -39,6 +41,7 @@ impl McuOracle {
             map,
             bank,
             pulses: PulseBank::new(config.axes(), config.counter_width()),
+            safety: SafetyIo::new(config.axes()),
             axes: config.axes() as usize,
             ram: vec![0; words],
         }
@@ -48,14 +51,26 @@ impl McuOracle {
         &self.map
     }
 
-    /// One clock of the counter bank (bus `bus`) and the pulse bank (bus
-    /// `pulse_bus`); the counter's SNAPSHOT also captures the pulses.
+    /// One clock of the counter bank (bus `bus`), the pulse bank (bus
+    /// `pulse_bus`) and the safety block (idle bus, the e-stop chain
+    /// closed); the counter's SNAPSHOT also captures the pulses.
     fn clock_both(&mut self, reset: bool, bus: &BusCycle, pulse_bus: &BusCycle) {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
         let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
+        let mut events = SafetyInputs {
+            estop_ok: true,
+            done: 0,
+            low: 0,
+        };
+        for i in 0..self.axes {
+            events.done |= u32::from(self.pulses.move_done(i)) << i;
+            events.low |= u32::from(self.pulses.fifo_low(i)) << i;
+        }
+        let halt = self.safety.halted();
         self.bank.clock(&pins, reset, bus);
-        self.pulses.clock(reset, pulse_bus, snapshot);
+        self.pulses.clock_halting(reset, pulse_bus, snapshot, halt);
+        self.safety.clock(reset, &BusCycle::default(), &events);
     }
 
     fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {
@@ -84,7 +99,7 @@ impl McuOracle {
     /// Whether a write to `word` may change what any read returns.
     pub fn writable(&self, word: u32) -> bool {
         match self.decode(word) {
-            Some((block @ ("COUNTER" | "PULSE"), offset)) => self
+            Some((block @ ("COUNTER" | "PULSE" | "SAFETY"), offset)) => self
                 .map
                 .block(block)
                 .decoded()
@@ -123,6 +138,7 @@ impl McuOracle {
                 .map_or(0, |r| r.reset),
             Some(("COUNTER", offset)) => self.bank.read_value(offset),
             Some(("PULSE", offset)) => self.pulses.read_value(offset),
+            Some(("SAFETY", offset)) => self.safety.read_value(offset),
             Some((other, _)) => panic!("oracle has no model of block {other}"),
             None => 0,
         }

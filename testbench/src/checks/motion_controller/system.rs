@@ -89,6 +89,8 @@ pub struct System<const N: usize> {
     /// Shaft positions at every clock, when recording.
     pub path: Option<Vec<Vec<i32>>>,
     probes: Option<Probes>,
+    /// The e-stop chain (high = released), as the board drives it.
+    pub estop_ok: bool,
 }
 
 impl<const N: usize> System<N> {
@@ -108,6 +110,7 @@ impl<const N: usize> System<N> {
             tracking: Vec::new(),
             path: None,
             probes: None,
+            estop_ok: true,
         }
     }
 
@@ -177,6 +180,7 @@ impl<const N: usize> System<N> {
         }
         u.enc_a.next = a.into();
         u.enc_b.next = b.into();
+        u.estop_ok.next = self.estop_ok;
     }
 
     /// One clock edge with these pins; then the drives see the outputs.
@@ -285,10 +289,12 @@ impl<const N: usize> System<N> {
         }
     }
 
-    /// Reset the FPGA and set every axis up: counters ×4, pulse generators
-    /// in segment moves with pulse+direction output.
+    /// Reset the FPGA and set every axis up: the e-stop latch (set by the
+    /// reset) released, counters ×4, pulse generators in segment moves with
+    /// pulse+direction output.
     pub fn setup(&mut self) {
         self.exec(Op::Reset);
+        self.write("SAFETY", None, "CLEAR", 1);
         for i in 0..N as u32 {
             self.write("COUNTER", Some(i), "CTRL", mode::X4);
             self.write("PULSE", Some(i), "CTRL", 0b100);
@@ -298,7 +304,19 @@ impl<const N: usize> System<N> {
         }
     }
 
-    fn push(&mut self, axis: u32, s: &Segment) {
+    /// The drive ENABLE pins, bit i = axis i.
+    pub fn drive_enable(&self) -> u32 {
+        self.uut.drive_enable.val().index() as u32
+    }
+
+    /// The IRQ pin.
+    pub fn irq(&self) -> bool {
+        self.uut.irq.val()
+    }
+
+    /// Pushes one segment to `axis`'s FIFO, as firmware does: the four
+    /// SEG_* words, then SEG_PUSH.
+    pub fn push(&mut self, axis: u32, s: &Segment) {
         self.write("PULSE", Some(axis), "SEG_STEPS", s.steps);
         self.write("PULSE", Some(axis), "SEG_RATE", s.rate as u32);
         self.write("PULSE", Some(axis), "SEG_ACCEL", s.accel as u32);

@@ -47,6 +47,7 @@ pub fn drive<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) {
     uut.enc_a.next = u64::from(p.enc_a).into();
     uut.enc_b.next = u64::from(p.enc_b).into();
     uut.enc_z.next = u64::from(p.enc_z).into();
+    uut.estop_ok.next = p.estop_ok;
 }
 
 /// The rust-hdl top's output pins.
@@ -59,6 +60,8 @@ pub fn outputs<const N: usize>(uut: &MotionController<N>) -> TopOutputs {
         isa_iocs16_n: uut.isa_iocs16_n.val(),
         pulse_f1: uut.pulse_f1.val().index() as u16,
         pulse_f2: uut.pulse_f2.val().index() as u16,
+        drive_enable: uut.drive_enable.val().index() as u16,
+        irq: uut.irq.val(),
     }
 }
 
@@ -99,6 +102,70 @@ pub fn bfm_clocks(ops: &[Op]) -> Vec<(FsmcPins, bool)> {
     out
 }
 
+/// One axis's generator outputs as the stop contract sees them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AxisOutputs {
+    /// S1, S2.
+    pub step: bool,
+    pub dir: bool,
+    /// Steps emitted.
+    pub position: u32,
+}
+
+/// The top's stop contract, from HALT and each axis's generator outputs
+/// (S1, S2, position) alone: once HALT has been high at one edge, S1 does
+/// not rise and S2 does not change at the later edges while it stays high,
+/// and from the edge after that `position` does not change (a step whose
+/// S1 rose at HALT's own edge still counts). The pins follow S1, S2 and
+/// the position through registers (docs/pulse_generator.md, "HALT"). Fed
+/// the samples after each edge, in order.
+#[derive(Clone, Debug, Default)]
+pub struct HaltWatch {
+    /// Samples in a row with HALT high.
+    run: u32,
+    /// Axis-samples the property applied to.
+    pub checked: u64,
+    /// (sample, axis) where an output moved although it must not.
+    pub violations: Vec<(u64, usize)>,
+}
+
+impl HaltWatch {
+    /// Sample `k`: HALT and the axes' outputs, and those of the sample
+    /// before.
+    pub fn observe(&mut self, k: u64, halt: bool, now: &[AxisOutputs], before: &[AxisOutputs]) {
+        self.run = if halt { self.run + 1 } else { 0 };
+        // HALT rose at edge h: sample h (run 1) may still show a step
+        // started at h; sample h + 1 (run 2) shows none; its position may
+        // still count the step of edge h.
+        if self.run < 2 {
+            return;
+        }
+        for (i, (n, b)) in now.iter().zip(before).enumerate() {
+            self.checked += 1;
+            let moved = (n.step && !b.step)
+                || n.dir != b.dir
+                || (self.run >= 3 && n.position != b.position);
+            if moved {
+                self.violations.push((k, i));
+            }
+        }
+    }
+}
+
+/// The generator outputs of every axis of the rust-hdl top.
+pub fn axis_outputs<const N: usize>(uut: &MotionController<N>) -> Vec<AxisOutputs> {
+    (0..N)
+        .map(|i| {
+            let g = uut.mcu().pulses().generator(i);
+            AxisOutputs {
+                step: g.step.val(),
+                dir: g.dir.val(),
+                position: g.position.val().index() as u32,
+            }
+        })
+        .collect()
+}
+
 /// What one comparison run saw besides mismatches.
 #[derive(Clone, Debug, Default)]
 pub struct RunStats {
@@ -109,6 +176,11 @@ pub struct RunStats {
     pub isa_reads: u64,
     /// Clocks in which some axis ran a segment (the model's move engines).
     pub move_clocks: u64,
+    /// The stop contract over the HDL's pins.
+    pub halt: HaltWatch,
+    /// Clocks where HALT rose while some axis had a step queued or running
+    /// (the contract's interesting case).
+    pub halts_while_busy: u64,
 }
 
 /// Where a comparison's per-clock pins come from.
@@ -154,6 +226,8 @@ pub fn compare<const N: usize>(
     let mut uut = MotionController::<N>::new(config);
     uut.connect_all();
     let mut last = TopOutputs::default();
+    let mut last_halt = false;
+    let mut last_axes = vec![AxisOutputs::default(); N];
     for k in 0..cycles {
         let mut p = stim.clock();
         if let Some(v) = bfm {
@@ -170,7 +244,14 @@ pub fn compare<const N: usize>(
             p.enc_a = last.pulse_f1;
             p.enc_b = last.pulse_f2;
         }
+        let busy = (0..N).any(|i| model.pulses().generator(i).busy());
         let got = step_rust(&mut uut, &p);
+        let halt = uut.mcu().halt();
+        stats.halts_while_busy += u64::from(halt && !last_halt && busy);
+        last_halt = halt;
+        let axes = axis_outputs(&uut);
+        stats.halt.observe(k, halt, &axes, &last_axes);
+        last_axes = axes;
         let mut want = model.step(&p);
         fault(k, &mut want);
         let bad: Vec<String> = got

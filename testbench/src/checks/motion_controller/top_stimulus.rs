@@ -148,6 +148,11 @@ impl TopStimulus {
                     ("PULSE", "CTRL") => class::SMALL,
                     ("PULSE", "SEG_STEPS") => class::STEPS,
                     ("PULSE", "SEG_ACCEL" | "SEG_JERK") => class::ACCEL,
+                    // Timeouts of 0..=7 clocks one time in eight (the
+                    // watchdog bites), else up to 2^19 (it rarely does);
+                    // CLEAR's bits.
+                    ("SAFETY", "WDT_TIMEOUT") => class::TIMING,
+                    ("SAFETY", "CLEAR") => class::SMALL,
                     _ => class::RANDOM,
                 };
                 writes.push((word, c));
@@ -411,6 +416,7 @@ impl Sums {
                 | b(o.isa_iocs16_n) << 18,
             u32::from(o.isa_sd_out),
             u32::from(o.pulse_f1) | u32::from(o.pulse_f2) << 16,
+            u32::from(o.drive_enable) | b(o.irq) << 16,
         ] {
             self.outputs = mix(self.outputs, v);
         }

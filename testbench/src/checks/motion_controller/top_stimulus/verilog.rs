@@ -239,6 +239,7 @@ module top_bench_tb;
     initial begin
         clock = 1'b0;
         isa_base = 8'd{base};
+        estop_ok = 1'b1;
         x = 32'd{seed};
         sum_stim = 32'd0;
         sum_out = 32'd0;
@@ -255,6 +256,7 @@ module top_bench_tb;
         sum_out = sum_out * 32'd31 + {{13'd0, isa_iocs16_n, isa_sd_oe, fsmc_d_oe, fsmc_d_out}};
         sum_out = sum_out * 32'd31 + {{16'd0, isa_sd_out}};
         sum_out = sum_out * 32'd31 + {{16'(pulse_f2), 16'(pulse_f1)}};
+        sum_out = sum_out * 32'd31 + {{15'd0, irq, 16'(drive_enable)}};
     end
     // (Icarus starts the clock at X: X -> 0 at time 0 is no clock.)
     always @(negedge clock) if ($time != 0) begin
