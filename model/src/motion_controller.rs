@@ -395,15 +395,7 @@ impl MotionControllerModel {
         };
         // HALT, DONE and FIFO_LOW as they stand before the edge.
         let halt = self.safety.halted();
-        let mut events = SafetyInputs {
-            estop_ok: inp.estop_ok,
-            done: 0,
-            low: 0,
-        };
-        for i in 0..self.axes() {
-            events.done |= u32::from(self.pulses.move_done(i)) << i;
-            events.low |= u32::from(self.pulses.fifo_low(i)) << i;
-        }
+        let events = SafetyInputs::from_pulses(inp.estop_ok, &self.pulses);
         self.pulses.clock_halting(reset, &pulse_bus, snapshot, halt);
         let safety_bus = BusCycle {
             addr: addr & 0x7f,

@@ -3,6 +3,7 @@
 //! (`regmap::safety_io`).
 
 use crate::counter::BusCycle;
+use crate::pulse_generator::PulseBank;
 use crate::regmap::{self, Block};
 use motionhdl_spec::bus::mask_bits;
 pub use motionhdl_spec::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
@@ -16,6 +17,23 @@ pub struct SafetyInputs {
     pub done: u32,
     /// Per axis: the segment FIFO is at or below its low-water mark.
     pub low: u32,
+}
+
+impl SafetyInputs {
+    /// The e-stop chain as given, and every axis's move-done and FIFO-low
+    /// as `pulses` shows them now (how the top wires the two blocks).
+    pub fn from_pulses(estop_ok: bool, pulses: &PulseBank) -> Self {
+        let mut inputs = Self {
+            estop_ok,
+            done: 0,
+            low: 0,
+        };
+        for i in 0..pulses.axes() {
+            inputs.done |= u32::from(pulses.move_done(i)) << i;
+            inputs.low |= u32::from(pulses.fifo_low(i)) << i;
+        }
+        inputs
+    }
 }
 
 /// The block's state: every flip-flop of the HDL twin, by meaning.
@@ -188,7 +206,7 @@ impl SafetyIo {
         if latch || bitten {
             self.enable = 0;
         } else if wrote("ENABLE") {
-            self.enable = bus.wdata & axes;
+            self.enable = bus.wdata & map.register("ENABLE").writable_mask();
         }
         // Causes: set by their event, cleared by a 1 written, event first.
         let w1c = |name: &str, cause: u32, events: u32| {
@@ -209,23 +227,22 @@ impl SafetyIo {
         let cause = w1c("CAUSE", self.cause, system_events);
         let done_cause = w1c("DONE_CAUSE", self.done_cause, done_events);
         let low_cause = w1c("LOW_CAUSE", self.low_cause, low_events);
-        let mask_write = |name: &str, old: u32, mask: u32| {
+        let mask_write = |name: &str, old: u32| {
             if wrote(name) {
-                bus.wdata & mask
+                bus.wdata & map.register(name).writable_mask()
             } else {
                 old
             }
         };
-        let system_mask = self.field_bit("CAUSE", "ESTOP") | self.field_bit("CAUSE", "WATCHDOG");
         // The pin: one flip-flop after this clock's causes, masks and
         // polarity.
         self.irq_pin = self.irq_active() == self.active_high;
         self.cause = cause;
         self.done_cause = done_cause;
         self.low_cause = low_cause;
-        self.cause_mask = mask_write("CAUSE_MASK", self.cause_mask, system_mask);
-        self.done_mask = mask_write("DONE_MASK", self.done_mask, axes);
-        self.low_mask = mask_write("LOW_MASK", self.low_mask, axes);
+        self.cause_mask = mask_write("CAUSE_MASK", self.cause_mask);
+        self.done_mask = mask_write("DONE_MASK", self.done_mask);
+        self.low_mask = mask_write("LOW_MASK", self.low_mask);
         if wrote("IRQ_CTRL") {
             self.active_high = bus.wdata & 1 == 1;
         }

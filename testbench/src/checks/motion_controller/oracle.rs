@@ -58,15 +58,7 @@ impl McuOracle {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
         let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
-        let mut events = SafetyInputs {
-            estop_ok: true,
-            done: 0,
-            low: 0,
-        };
-        for i in 0..self.axes {
-            events.done |= u32::from(self.pulses.move_done(i)) << i;
-            events.low |= u32::from(self.pulses.fifo_low(i)) << i;
-        }
+        let events = SafetyInputs::from_pulses(true, &self.pulses);
         let halt = self.safety.halted();
         self.bank.clock(&pins, reset, bus);
         self.pulses.clock_halting(reset, pulse_bus, snapshot, halt);
