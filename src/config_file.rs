@@ -11,6 +11,7 @@
 //! counter_index = true     # (docs/counter_bank.md, "Build options")
 //! counter_error = true
 //! counter_snapshot = true
+//! input_filter_us = 1000   # 1..=50000: limit, home and alarm input filter
 //! ```
 
 use crate::CliError;
@@ -32,7 +33,7 @@ enum Kind {
 }
 
 /// Every key, with what it accepts (messages name the allowed values).
-const KEYS: [(&str, Kind); 8] = [
+const KEYS: [(&str, Kind); 9] = [
     ("axes", Kind::Integer(Config::AXES)),
     ("counter_width", Kind::Integer(Config::COUNTER_WIDTH)),
     ("clock_hz", Kind::Integer(Config::CLOCK_HZ)),
@@ -41,6 +42,7 @@ const KEYS: [(&str, Kind); 8] = [
     (CounterFeatures::KEYS[1], Kind::Boolean),
     (CounterFeatures::KEYS[2], Kind::Boolean),
     (CounterFeatures::KEYS[3], Kind::Boolean),
+    ("input_filter_us", Kind::Integer(Config::INPUT_FILTER_US)),
 ];
 
 #[derive(Deserialize)]
@@ -54,6 +56,7 @@ struct RawConfig {
     counter_index: Option<Spanned<Value>>,
     counter_error: Option<Spanned<Value>>,
     counter_snapshot: Option<Spanned<Value>>,
+    input_filter_us: Option<Spanned<Value>>,
 }
 
 fn kind(key: &str) -> &'static Kind {
@@ -117,6 +120,11 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         d.counter_width().into(),
     )?;
     let clock = integer("clock_hz", &raw.clock_hz, d.clock_hz())?;
+    let filter_us = integer(
+        "input_filter_us",
+        &raw.input_filter_us,
+        d.input_filter_us().into(),
+    )?;
     let isa_ram = match &raw.isa_ram {
         None => d.isa_ram(),
         Some(v) => v
@@ -142,6 +150,7 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         snapshot: boolean(snapshot, &raw.counter_snapshot)?,
     };
     Config::new(axes, width, clock)
+        .and_then(|c| c.with_input_filter_us(filter_us))
         .map(|c| c.with_isa_ram(isa_ram).with_counter_features(features))
         .map_err(|e| CliError::input(format!("{origin}: {e}")))
 }
@@ -259,6 +268,14 @@ mod tests {
         );
         let e = parse("axes = -1", "c").unwrap_err();
         assert_eq!(e.message, "c: axes = -1 is out of range: allowed 1..=16");
+        let e = parse("input_filter_us = 50001", "c").unwrap_err();
+        assert_eq!(e.exit_code, 2);
+        assert_eq!(
+            e.message,
+            "c: input_filter_us = 50001 is out of range: allowed 1..=50000"
+        );
+        let c = parse("input_filter_us = 2\nclock_hz = 10_000_000", "c").unwrap();
+        assert_eq!((c.input_filter_us(), c.filter_tick_clocks()), (2, 5));
     }
 
     #[test]

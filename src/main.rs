@@ -42,7 +42,8 @@ enum Command {
         out: PathBuf,
         /// Configuration file (TOML): axes (1..=16), counter_width (8..=32),
         /// clock_hz (1000000..=400000000), isa_ram ("internal" or
-        /// "external"). Missing keys keep their defaults.
+        /// "external"), counter_* build options, input_filter_us
+        /// (1..=50000). Missing keys keep their defaults.
         #[arg(long)]
         config: Option<PathBuf>,
         /// Write even though the directory holds files motionhdl did not

@@ -78,9 +78,9 @@ fn designs(plan: &Plan, base: &Config, target: Target) -> Result<Vec<(String, De
         }
     }
     for &n in &plan.axes {
-        let config = Config::new(n.into(), base.counter_width().into(), base.clock_hz())
-            .map_err(|e| CliError::input(format!("--axes: {e}")))?
-            .with_isa_ram(base.isa_ram());
+        let config = base
+            .with_axes(n.into())
+            .map_err(|e| CliError::input(format!("--axes: {e}")))?;
         let name = format!("board top, {n} {}", if n == 1 { "axis" } else { "axes" });
         out.push((name, synth::board_design(&config, target)));
     }

@@ -532,7 +532,10 @@ pub fn all_blocks(config: &Config) -> Vec<Design> {
         block_design(catalog::fsmc_bridge()),
         block_design(catalog::isa_bridge(config.isa_ram())),
         block_design(catalog::pulse_generator()),
-        block_design(catalog::safety_io(config.axes())),
+        block_design(catalog::safety_io(
+            config.axes(),
+            config.filter_tick_clocks(),
+        )),
         block_design(catalog::motion_controller(config)),
     ]
 }

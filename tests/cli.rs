@@ -114,6 +114,14 @@ fn bad_config_exits_2_names_the_value_and_writes_nothing() {
             "clock_hz = 0\n",
             "clock_hz = 0 is out of range: allowed 1000000..=400000000",
         ),
+        (
+            "input_filter_us = 0\n",
+            "input_filter_us = 0 is out of range: allowed 1..=50000",
+        ),
+        (
+            "input_filter_us = 50001\n",
+            "input_filter_us = 50001 is out of range: allowed 1..=50000",
+        ),
         ("axis = 4\n", "axis"),
     ] {
         let cfg = t.path().join("bad.toml");

@@ -46,7 +46,11 @@ fn pins_of(name: &str, text: &str) -> BTreeMap<String, String> {
 fn committed_constraints_are_what_the_generator_writes() {
     let config = Config::default();
     let files = constraints::files(&config);
-    assert_eq!(files.len(), 4, "pcf, lpf, qsf and sdc for the default");
+    assert_eq!(
+        files.len(),
+        2,
+        "pcf and lpf for the default (the DE0-Nano holds 2 axes)"
+    );
     let dir = root().join("constraints");
     for f in &files {
         let committed = std::fs::read_to_string(dir.join(&f.name)).unwrap_or_else(|e| {
@@ -120,7 +124,9 @@ fn every_port_bit_has_exactly_one_pin_and_no_pin_is_shared() {
 
 #[test]
 fn inputs_only_pins_carry_inputs_only() {
-    let config = Config::default();
+    // Two axes: the most whose 94 pins fit the DE0-Nano's headers, DIP
+    // switches and LEDs (the default's 114 do not).
+    let config = Config::default().with_axes(2).unwrap();
     let ports = board::ports(&config);
     let a = constraints::assign(&constraints::CYCLONE4_DE0_NANO, &ports).unwrap();
     for x in a {
@@ -472,7 +478,8 @@ fn fusesoc_core_is_yaml_and_names_existing_generated_files() {
             }
         }
     }
-    assert!(files.len() >= 6, "{files:?}");
+    // Verilog and the iCE40 and ECP5 constraints (no DE0-Nano at 4 axes).
+    assert!(files.len() >= 4, "{files:?}");
     for f in &files {
         assert!(
             root().join("generated").join(f).is_file(),

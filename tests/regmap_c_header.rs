@@ -20,7 +20,7 @@ fn header_defines_every_number_of_the_table() {
     // 4 globals and 5 FSMC settings; ID: 2 + 9 registers x 2 + 13 fields x 4 + 2 enum values;
     // COUNTER: 2 + 3 x 2 + 8 fields x 4, CH: 2 + 5 x 2 + 23 fields x 4 +
     // 5 enum values; PULSE: 2 + 2 x 2 + 3 fields x 4, AX: 2 + 12 x 2 +
-    // 21 fields x 4 + 2 enum values; SAFETY: 2 + 14 x 2 + 21 fields x 4
+    // 21 fields x 4 + 2 enum values; SAFETY: 2 + 24 x 2 + 41 fields x 4
     // + 2 enum values; SHARED_RAM: 4.
     assert_eq!(
         n,
@@ -30,10 +30,10 @@ fn header_defines_every_number_of_the_table() {
             + (2 + 10 + 92 + 5)
             + (2 + 4 + 12)
             + (2 + 24 + 84 + 2)
-            + (2 + 28 + 84 + 2)
+            + (2 + 48 + 164 + 2)
             + 4
     );
-    assert_eq!(n, 482);
+    assert_eq!(n, 582);
     for c in other_configs() {
         check_header_numbers(&mcu_map(&c));
     }

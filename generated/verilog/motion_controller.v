@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, drive_enable, irq);
+module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -30,6 +30,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     output wire [3:0] pulse_f1;
     output wire [3:0] pulse_f2;
     input wire estop_ok;
+    input wire [3:0] limit_pos;
+    input wire [3:0] limit_neg;
+    input wire [3:0] home;
+    input wire [3:0] alarm;
     output wire [3:0] drive_enable;
     output wire irq;
 
@@ -67,7 +71,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'hf2867c36;
+    localparam mcu_identity_values_7 = 32'had46a66b;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -527,6 +531,40 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_status_irq = 32'h10;
     localparam mcu_safety_estop_cause = 2'b1;
     localparam mcu_safety_watchdog_cause = 2'b10;
+    localparam mcu_safety_machine_tick_reload = 24'h30d3;
+    localparam mcu_safety_machine_tick_one = 24'h1;
+    localparam mcu_safety_machine_ctrl_mask = 32'hf000f;
+    localparam mcu_safety_machine_shift = 5'b10000;
+    localparam mcu_safety_machine_axis_bit_0 = 4'h1;
+    localparam mcu_safety_machine_axis_bit_1 = 4'h2;
+    localparam mcu_safety_machine_axis_bit_2 = 4'h4;
+    localparam mcu_safety_machine_axis_bit_3 = 4'h8;
+    localparam mcu_safety_machine_addr_pos_ctrl = 7'b1110;
+    localparam mcu_safety_machine_addr_neg_ctrl = 7'b1111;
+    localparam mcu_safety_machine_addr_home_ctrl = 7'b10000;
+    localparam mcu_safety_machine_addr_alarm_ctrl = 7'b10001;
+    localparam mcu_safety_machine_addr_limit_inputs = 7'b10010;
+    localparam mcu_safety_machine_addr_home_alarm_inputs = 7'b10011;
+    localparam mcu_safety_machine_addr_limit_cause = 7'b10100;
+    localparam mcu_safety_machine_addr_limit_mask = 7'b10101;
+    localparam mcu_safety_machine_addr_home_alarm_cause = 7'b10110;
+    localparam mcu_safety_machine_addr_home_alarm_mask = 7'b10111;
+    localparam mcu_safety_machine_pos_filters_0_one = 2'b1;
+    localparam mcu_safety_machine_pos_filters_1_one = 2'b1;
+    localparam mcu_safety_machine_pos_filters_2_one = 2'b1;
+    localparam mcu_safety_machine_pos_filters_3_one = 2'b1;
+    localparam mcu_safety_machine_neg_filters_0_one = 2'b1;
+    localparam mcu_safety_machine_neg_filters_1_one = 2'b1;
+    localparam mcu_safety_machine_neg_filters_2_one = 2'b1;
+    localparam mcu_safety_machine_neg_filters_3_one = 2'b1;
+    localparam mcu_safety_machine_home_filters_0_one = 2'b1;
+    localparam mcu_safety_machine_home_filters_1_one = 2'b1;
+    localparam mcu_safety_machine_home_filters_2_one = 2'b1;
+    localparam mcu_safety_machine_home_filters_3_one = 2'b1;
+    localparam mcu_safety_machine_alarm_filters_0_one = 2'b1;
+    localparam mcu_safety_machine_alarm_filters_1_one = 2'b1;
+    localparam mcu_safety_machine_alarm_filters_2_one = 2'b1;
+    localparam mcu_safety_machine_alarm_filters_3_one = 2'b1;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -557,6 +595,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_pulse_f1;
     reg [3:0] mcu_pulse_f2;
     reg mcu_estop_ok;
+    reg [3:0] mcu_limit_pos;
+    reg [3:0] mcu_limit_neg;
+    reg [3:0] mcu_home;
+    reg [3:0] mcu_alarm;
     reg [3:0] mcu_drive_enable;
     reg mcu_irq;
     reg pc_bus_reset;
@@ -612,6 +654,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_rdata;
     reg mcu_pulses_snapshot;
     reg mcu_pulses_halt;
+    reg [3:0] mcu_pulses_stop_up;
+    reg [3:0] mcu_pulses_stop_down;
     reg [3:0] mcu_pulses_done;
     reg [3:0] mcu_pulses_low;
     reg [3:0] mcu_pulses_f1;
@@ -625,7 +669,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_estop_ok;
     reg [3:0] mcu_safety_done;
     reg [3:0] mcu_safety_low;
+    reg [3:0] mcu_safety_limit_pos;
+    reg [3:0] mcu_safety_limit_neg;
+    reg [3:0] mcu_safety_home;
+    reg [3:0] mcu_safety_alarm;
     reg mcu_safety_halt;
+    reg [3:0] mcu_safety_stop_up;
+    reg [3:0] mcu_safety_stop_down;
     reg [3:0] mcu_safety_drive_enable;
     reg mcu_safety_irq;
     reg mcu_read_from_id_d;
@@ -1599,6 +1649,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_pulses_f2_bits;
     reg [3:0] mcu_pulses_done_bits;
     reg [3:0] mcu_pulses_low_bits;
+    reg [3:0] mcu_pulses_run_next;
+    reg [3:0] mcu_pulses_stopped_bits;
+    reg [31:0] mcu_pulses_axis_rate;
+    reg [15:0] mcu_pulses_axis_pending;
+    reg mcu_pulses_heading_up;
+    reg mcu_pulses_heading_down;
+    reg mcu_pulses_axis_stopped;
     reg mcu_pulses_generators_0_timer_reset;
     reg mcu_pulses_generators_0_timer_request_up;
     reg mcu_pulses_generators_0_timer_request_down;
@@ -2199,6 +2256,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_selectors_3_selector_chip_c2_3;
     reg mcu_pulses_selectors_3_selector_chip_y1;
     reg mcu_pulses_selectors_3_selector_chip_y2;
+    reg mcu_safety_machine_reset;
+    reg [6:0] mcu_safety_machine_addr;
+    reg [31:0] mcu_safety_machine_wdata;
+    reg mcu_safety_machine_we;
+    reg [6:0] mcu_safety_machine_read_addr;
+    reg [3:0] mcu_safety_machine_limit_pos;
+    reg [3:0] mcu_safety_machine_limit_neg;
+    reg [3:0] mcu_safety_machine_home;
+    reg [3:0] mcu_safety_machine_alarm;
+    reg [31:0] mcu_safety_machine_read_value;
+    reg mcu_safety_machine_irq_active;
+    reg [3:0] mcu_safety_machine_stop_up;
+    reg [3:0] mcu_safety_machine_stop_down;
     reg mcu_safety_estop_meta_d;
     reg mcu_safety_estop_meta_q = 1'h0;
     reg mcu_safety_estop_sync_d;
@@ -2253,6 +2323,238 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_done_kept;
     reg [3:0] mcu_safety_low_kept;
     reg [31:0] mcu_safety_read_value;
+    reg mcu_safety_machine_pos_filters_0_reset;
+    reg mcu_safety_machine_pos_filters_0_pin;
+    reg mcu_safety_machine_pos_filters_0_tick;
+    reg mcu_safety_machine_pos_filters_0_level;
+    reg mcu_safety_machine_pos_filters_1_reset;
+    reg mcu_safety_machine_pos_filters_1_pin;
+    reg mcu_safety_machine_pos_filters_1_tick;
+    reg mcu_safety_machine_pos_filters_1_level;
+    reg mcu_safety_machine_pos_filters_2_reset;
+    reg mcu_safety_machine_pos_filters_2_pin;
+    reg mcu_safety_machine_pos_filters_2_tick;
+    reg mcu_safety_machine_pos_filters_2_level;
+    reg mcu_safety_machine_pos_filters_3_reset;
+    reg mcu_safety_machine_pos_filters_3_pin;
+    reg mcu_safety_machine_pos_filters_3_tick;
+    reg mcu_safety_machine_pos_filters_3_level;
+    reg mcu_safety_machine_neg_filters_0_reset;
+    reg mcu_safety_machine_neg_filters_0_pin;
+    reg mcu_safety_machine_neg_filters_0_tick;
+    reg mcu_safety_machine_neg_filters_0_level;
+    reg mcu_safety_machine_neg_filters_1_reset;
+    reg mcu_safety_machine_neg_filters_1_pin;
+    reg mcu_safety_machine_neg_filters_1_tick;
+    reg mcu_safety_machine_neg_filters_1_level;
+    reg mcu_safety_machine_neg_filters_2_reset;
+    reg mcu_safety_machine_neg_filters_2_pin;
+    reg mcu_safety_machine_neg_filters_2_tick;
+    reg mcu_safety_machine_neg_filters_2_level;
+    reg mcu_safety_machine_neg_filters_3_reset;
+    reg mcu_safety_machine_neg_filters_3_pin;
+    reg mcu_safety_machine_neg_filters_3_tick;
+    reg mcu_safety_machine_neg_filters_3_level;
+    reg mcu_safety_machine_home_filters_0_reset;
+    reg mcu_safety_machine_home_filters_0_pin;
+    reg mcu_safety_machine_home_filters_0_tick;
+    reg mcu_safety_machine_home_filters_0_level;
+    reg mcu_safety_machine_home_filters_1_reset;
+    reg mcu_safety_machine_home_filters_1_pin;
+    reg mcu_safety_machine_home_filters_1_tick;
+    reg mcu_safety_machine_home_filters_1_level;
+    reg mcu_safety_machine_home_filters_2_reset;
+    reg mcu_safety_machine_home_filters_2_pin;
+    reg mcu_safety_machine_home_filters_2_tick;
+    reg mcu_safety_machine_home_filters_2_level;
+    reg mcu_safety_machine_home_filters_3_reset;
+    reg mcu_safety_machine_home_filters_3_pin;
+    reg mcu_safety_machine_home_filters_3_tick;
+    reg mcu_safety_machine_home_filters_3_level;
+    reg mcu_safety_machine_alarm_filters_0_reset;
+    reg mcu_safety_machine_alarm_filters_0_pin;
+    reg mcu_safety_machine_alarm_filters_0_tick;
+    reg mcu_safety_machine_alarm_filters_0_level;
+    reg mcu_safety_machine_alarm_filters_1_reset;
+    reg mcu_safety_machine_alarm_filters_1_pin;
+    reg mcu_safety_machine_alarm_filters_1_tick;
+    reg mcu_safety_machine_alarm_filters_1_level;
+    reg mcu_safety_machine_alarm_filters_2_reset;
+    reg mcu_safety_machine_alarm_filters_2_pin;
+    reg mcu_safety_machine_alarm_filters_2_tick;
+    reg mcu_safety_machine_alarm_filters_2_level;
+    reg mcu_safety_machine_alarm_filters_3_reset;
+    reg mcu_safety_machine_alarm_filters_3_pin;
+    reg mcu_safety_machine_alarm_filters_3_tick;
+    reg mcu_safety_machine_alarm_filters_3_level;
+    reg [23:0] mcu_safety_machine_prescaler_d;
+    reg [23:0] mcu_safety_machine_prescaler_q = 24'h0;
+    reg [31:0] mcu_safety_machine_pos_ctrl_d;
+    reg [31:0] mcu_safety_machine_pos_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_machine_neg_ctrl_d;
+    reg [31:0] mcu_safety_machine_neg_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_machine_home_ctrl_d;
+    reg [31:0] mcu_safety_machine_home_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_machine_alarm_ctrl_d;
+    reg [31:0] mcu_safety_machine_alarm_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_machine_limit_cause_d;
+    reg [31:0] mcu_safety_machine_limit_cause_q = 32'h0;
+    reg [31:0] mcu_safety_machine_limit_mask_d;
+    reg [31:0] mcu_safety_machine_limit_mask_q = 32'h0;
+    reg [31:0] mcu_safety_machine_home_alarm_cause_d;
+    reg [31:0] mcu_safety_machine_home_alarm_cause_q = 32'h0;
+    reg [31:0] mcu_safety_machine_home_alarm_mask_d;
+    reg [31:0] mcu_safety_machine_home_alarm_mask_q = 32'h0;
+    reg [3:0] mcu_safety_machine_home_before_d;
+    reg [3:0] mcu_safety_machine_home_before_q = 4'h0;
+    reg mcu_safety_machine_tick;
+    reg [3:0] mcu_safety_machine_pos_level;
+    reg [3:0] mcu_safety_machine_neg_level;
+    reg [3:0] mcu_safety_machine_home_level;
+    reg [3:0] mcu_safety_machine_alarm_level;
+    reg [3:0] mcu_safety_machine_pos_active;
+    reg [3:0] mcu_safety_machine_neg_active;
+    reg [3:0] mcu_safety_machine_home_active;
+    reg [3:0] mcu_safety_machine_alarm_active;
+    reg [3:0] mcu_safety_machine_home_acting;
+    reg [3:0] mcu_safety_machine_pos_acting;
+    reg [3:0] mcu_safety_machine_neg_acting;
+    reg [3:0] mcu_safety_machine_alarm_acting;
+    reg [3:0] mcu_safety_machine_home_event;
+    reg [31:0] mcu_safety_machine_low_half;
+    reg [31:0] mcu_safety_machine_high_half;
+    reg [31:0] mcu_safety_machine_limit_events;
+    reg [31:0] mcu_safety_machine_limit_kept;
+    reg [31:0] mcu_safety_machine_home_alarm_kept;
+    reg [31:0] mcu_safety_machine_value;
+    reg mcu_safety_machine_pos_filters_0_meta_d;
+    reg mcu_safety_machine_pos_filters_0_meta_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_0_sync_d;
+    reg mcu_safety_machine_pos_filters_0_sync_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_0_held_d;
+    reg mcu_safety_machine_pos_filters_0_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_pos_filters_0_count_d;
+    reg [1:0] mcu_safety_machine_pos_filters_0_count_q = 2'h0;
+    reg mcu_safety_machine_pos_filters_1_meta_d;
+    reg mcu_safety_machine_pos_filters_1_meta_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_1_sync_d;
+    reg mcu_safety_machine_pos_filters_1_sync_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_1_held_d;
+    reg mcu_safety_machine_pos_filters_1_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_pos_filters_1_count_d;
+    reg [1:0] mcu_safety_machine_pos_filters_1_count_q = 2'h0;
+    reg mcu_safety_machine_pos_filters_2_meta_d;
+    reg mcu_safety_machine_pos_filters_2_meta_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_2_sync_d;
+    reg mcu_safety_machine_pos_filters_2_sync_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_2_held_d;
+    reg mcu_safety_machine_pos_filters_2_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_pos_filters_2_count_d;
+    reg [1:0] mcu_safety_machine_pos_filters_2_count_q = 2'h0;
+    reg mcu_safety_machine_pos_filters_3_meta_d;
+    reg mcu_safety_machine_pos_filters_3_meta_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_3_sync_d;
+    reg mcu_safety_machine_pos_filters_3_sync_q = 1'h0;
+    reg mcu_safety_machine_pos_filters_3_held_d;
+    reg mcu_safety_machine_pos_filters_3_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_pos_filters_3_count_d;
+    reg [1:0] mcu_safety_machine_pos_filters_3_count_q = 2'h0;
+    reg mcu_safety_machine_neg_filters_0_meta_d;
+    reg mcu_safety_machine_neg_filters_0_meta_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_0_sync_d;
+    reg mcu_safety_machine_neg_filters_0_sync_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_0_held_d;
+    reg mcu_safety_machine_neg_filters_0_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_neg_filters_0_count_d;
+    reg [1:0] mcu_safety_machine_neg_filters_0_count_q = 2'h0;
+    reg mcu_safety_machine_neg_filters_1_meta_d;
+    reg mcu_safety_machine_neg_filters_1_meta_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_1_sync_d;
+    reg mcu_safety_machine_neg_filters_1_sync_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_1_held_d;
+    reg mcu_safety_machine_neg_filters_1_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_neg_filters_1_count_d;
+    reg [1:0] mcu_safety_machine_neg_filters_1_count_q = 2'h0;
+    reg mcu_safety_machine_neg_filters_2_meta_d;
+    reg mcu_safety_machine_neg_filters_2_meta_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_2_sync_d;
+    reg mcu_safety_machine_neg_filters_2_sync_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_2_held_d;
+    reg mcu_safety_machine_neg_filters_2_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_neg_filters_2_count_d;
+    reg [1:0] mcu_safety_machine_neg_filters_2_count_q = 2'h0;
+    reg mcu_safety_machine_neg_filters_3_meta_d;
+    reg mcu_safety_machine_neg_filters_3_meta_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_3_sync_d;
+    reg mcu_safety_machine_neg_filters_3_sync_q = 1'h0;
+    reg mcu_safety_machine_neg_filters_3_held_d;
+    reg mcu_safety_machine_neg_filters_3_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_neg_filters_3_count_d;
+    reg [1:0] mcu_safety_machine_neg_filters_3_count_q = 2'h0;
+    reg mcu_safety_machine_home_filters_0_meta_d;
+    reg mcu_safety_machine_home_filters_0_meta_q = 1'h0;
+    reg mcu_safety_machine_home_filters_0_sync_d;
+    reg mcu_safety_machine_home_filters_0_sync_q = 1'h0;
+    reg mcu_safety_machine_home_filters_0_held_d;
+    reg mcu_safety_machine_home_filters_0_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_home_filters_0_count_d;
+    reg [1:0] mcu_safety_machine_home_filters_0_count_q = 2'h0;
+    reg mcu_safety_machine_home_filters_1_meta_d;
+    reg mcu_safety_machine_home_filters_1_meta_q = 1'h0;
+    reg mcu_safety_machine_home_filters_1_sync_d;
+    reg mcu_safety_machine_home_filters_1_sync_q = 1'h0;
+    reg mcu_safety_machine_home_filters_1_held_d;
+    reg mcu_safety_machine_home_filters_1_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_home_filters_1_count_d;
+    reg [1:0] mcu_safety_machine_home_filters_1_count_q = 2'h0;
+    reg mcu_safety_machine_home_filters_2_meta_d;
+    reg mcu_safety_machine_home_filters_2_meta_q = 1'h0;
+    reg mcu_safety_machine_home_filters_2_sync_d;
+    reg mcu_safety_machine_home_filters_2_sync_q = 1'h0;
+    reg mcu_safety_machine_home_filters_2_held_d;
+    reg mcu_safety_machine_home_filters_2_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_home_filters_2_count_d;
+    reg [1:0] mcu_safety_machine_home_filters_2_count_q = 2'h0;
+    reg mcu_safety_machine_home_filters_3_meta_d;
+    reg mcu_safety_machine_home_filters_3_meta_q = 1'h0;
+    reg mcu_safety_machine_home_filters_3_sync_d;
+    reg mcu_safety_machine_home_filters_3_sync_q = 1'h0;
+    reg mcu_safety_machine_home_filters_3_held_d;
+    reg mcu_safety_machine_home_filters_3_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_home_filters_3_count_d;
+    reg [1:0] mcu_safety_machine_home_filters_3_count_q = 2'h0;
+    reg mcu_safety_machine_alarm_filters_0_meta_d;
+    reg mcu_safety_machine_alarm_filters_0_meta_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_0_sync_d;
+    reg mcu_safety_machine_alarm_filters_0_sync_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_0_held_d;
+    reg mcu_safety_machine_alarm_filters_0_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_alarm_filters_0_count_d;
+    reg [1:0] mcu_safety_machine_alarm_filters_0_count_q = 2'h0;
+    reg mcu_safety_machine_alarm_filters_1_meta_d;
+    reg mcu_safety_machine_alarm_filters_1_meta_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_1_sync_d;
+    reg mcu_safety_machine_alarm_filters_1_sync_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_1_held_d;
+    reg mcu_safety_machine_alarm_filters_1_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_alarm_filters_1_count_d;
+    reg [1:0] mcu_safety_machine_alarm_filters_1_count_q = 2'h0;
+    reg mcu_safety_machine_alarm_filters_2_meta_d;
+    reg mcu_safety_machine_alarm_filters_2_meta_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_2_sync_d;
+    reg mcu_safety_machine_alarm_filters_2_sync_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_2_held_d;
+    reg mcu_safety_machine_alarm_filters_2_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_alarm_filters_2_count_d;
+    reg [1:0] mcu_safety_machine_alarm_filters_2_count_q = 2'h0;
+    reg mcu_safety_machine_alarm_filters_3_meta_d;
+    reg mcu_safety_machine_alarm_filters_3_meta_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_3_sync_d;
+    reg mcu_safety_machine_alarm_filters_3_sync_q = 1'h0;
+    reg mcu_safety_machine_alarm_filters_3_held_d;
+    reg mcu_safety_machine_alarm_filters_3_held_q = 1'h0;
+    reg [1:0] mcu_safety_machine_alarm_filters_3_count_d;
+    reg [1:0] mcu_safety_machine_alarm_filters_3_count_q = 2'h0;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -2366,6 +2668,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_enc_b = enc_b;
         mcu_enc_z = enc_z;
         mcu_estop_ok = estop_ok;
+        mcu_limit_pos = limit_pos;
+        mcu_limit_neg = limit_neg;
+        mcu_home = home;
+        mcu_alarm = alarm;
         pc_bus_sa = isa_sa;
         pc_bus_sd_in = isa_sd_in;
         pc_bus_ior_n = isa_ior_n;
@@ -2416,6 +2722,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_we = mcu_mcu_bus_reg_we & mcu_select_safety;
         mcu_safety_re = mcu_mcu_bus_reg_re & mcu_select_safety;
         mcu_safety_estop_ok = mcu_estop_ok;
+        mcu_safety_limit_pos = mcu_limit_pos;
+        mcu_safety_limit_neg = mcu_limit_neg;
+        mcu_safety_home = mcu_home;
+        mcu_safety_alarm = mcu_alarm;
+        mcu_pulses_stop_up = mcu_safety_stop_up;
+        mcu_pulses_stop_down = mcu_safety_stop_down;
         mcu_safety_done = mcu_pulses_done;
         mcu_safety_low = mcu_pulses_low;
         mcu_pulses_halt = mcu_safety_halt;
@@ -4313,11 +4625,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_run) begin
             mcu_pulses_read_value = {28'h0, mcu_pulses_run_q};
         end
+        mcu_pulses_run_next = mcu_pulses_run_q;
         if (mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_run)) begin
-            mcu_pulses_run_d = mcu_pulses_wdata[3:0];
+            mcu_pulses_run_next = mcu_pulses_wdata[3:0];
         end
-        if (mcu_pulses_halt) begin
-            mcu_pulses_run_d = 4'h0;
+        mcu_pulses_stopped_bits = 4'h0;
+        mcu_pulses_axis_rate = mcu_pulses_rate_0_q;
+        if (mcu_pulses_ctrl_0_q[2]) begin
+            mcu_pulses_axis_rate = mcu_pulses_engines_0_rate;
+        end
+        mcu_pulses_axis_pending = mcu_pulses_generators_0_status[15:0];
+        mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
+        mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
+        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[0] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[0] & mcu_pulses_heading_down);
+        if (mcu_pulses_axis_stopped) begin
+            mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_0;
         end
         mcu_pulses_quadrature_a_0_d = mcu_pulses_generators_0_position[0] ^ mcu_pulses_generators_0_position[1];
         mcu_pulses_quadrature_b_0_d = mcu_pulses_generators_0_position[1];
@@ -4341,7 +4663,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_0);
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
         mcu_pulses_engines_0_low_water = mcu_pulses_low_water_0_q;
-        mcu_pulses_engines_0_flush = mcu_pulses_halt;
+        mcu_pulses_engines_0_flush = mcu_pulses_axis_stopped;
         if (mcu_pulses_engines_0_status[18] & ~mcu_pulses_generators_0_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_0;
         end
@@ -4356,7 +4678,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
         mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
-        mcu_pulses_generators_0_halt = mcu_pulses_halt;
+        mcu_pulses_generators_0_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_0_rate = mcu_pulses_rate_0_q;
         mcu_pulses_generators_0_move_rate = mcu_pulses_engines_0_rate;
         mcu_pulses_generators_0_moves = mcu_pulses_ctrl_0_q[2];
@@ -4438,6 +4760,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_0_d = 32'h0;
             mcu_pulses_snap_0_d = 32'h0;
         end
+        mcu_pulses_axis_rate = mcu_pulses_rate_1_q;
+        if (mcu_pulses_ctrl_1_q[2]) begin
+            mcu_pulses_axis_rate = mcu_pulses_engines_1_rate;
+        end
+        mcu_pulses_axis_pending = mcu_pulses_generators_1_status[15:0];
+        mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
+        mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
+        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[1] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[1] & mcu_pulses_heading_down);
+        if (mcu_pulses_axis_stopped) begin
+            mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_1;
+        end
         mcu_pulses_quadrature_a_1_d = mcu_pulses_generators_1_position[0] ^ mcu_pulses_generators_1_position[1];
         mcu_pulses_quadrature_b_1_d = mcu_pulses_generators_1_position[1];
         if (mcu_pulses_ctrl_1_q[1]) begin
@@ -4460,7 +4793,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_1);
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
         mcu_pulses_engines_1_low_water = mcu_pulses_low_water_1_q;
-        mcu_pulses_engines_1_flush = mcu_pulses_halt;
+        mcu_pulses_engines_1_flush = mcu_pulses_axis_stopped;
         if (mcu_pulses_engines_1_status[18] & ~mcu_pulses_generators_1_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_1;
         end
@@ -4475,7 +4808,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
         mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
-        mcu_pulses_generators_1_halt = mcu_pulses_halt;
+        mcu_pulses_generators_1_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_1_rate = mcu_pulses_rate_1_q;
         mcu_pulses_generators_1_move_rate = mcu_pulses_engines_1_rate;
         mcu_pulses_generators_1_moves = mcu_pulses_ctrl_1_q[2];
@@ -4557,6 +4890,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_1_d = 32'h0;
             mcu_pulses_snap_1_d = 32'h0;
         end
+        mcu_pulses_axis_rate = mcu_pulses_rate_2_q;
+        if (mcu_pulses_ctrl_2_q[2]) begin
+            mcu_pulses_axis_rate = mcu_pulses_engines_2_rate;
+        end
+        mcu_pulses_axis_pending = mcu_pulses_generators_2_status[15:0];
+        mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
+        mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
+        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[2] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[2] & mcu_pulses_heading_down);
+        if (mcu_pulses_axis_stopped) begin
+            mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_2;
+        end
         mcu_pulses_quadrature_a_2_d = mcu_pulses_generators_2_position[0] ^ mcu_pulses_generators_2_position[1];
         mcu_pulses_quadrature_b_2_d = mcu_pulses_generators_2_position[1];
         if (mcu_pulses_ctrl_2_q[1]) begin
@@ -4579,7 +4923,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_2);
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
         mcu_pulses_engines_2_low_water = mcu_pulses_low_water_2_q;
-        mcu_pulses_engines_2_flush = mcu_pulses_halt;
+        mcu_pulses_engines_2_flush = mcu_pulses_axis_stopped;
         if (mcu_pulses_engines_2_status[18] & ~mcu_pulses_generators_2_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_2;
         end
@@ -4594,7 +4938,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
         mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
-        mcu_pulses_generators_2_halt = mcu_pulses_halt;
+        mcu_pulses_generators_2_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_2_rate = mcu_pulses_rate_2_q;
         mcu_pulses_generators_2_move_rate = mcu_pulses_engines_2_rate;
         mcu_pulses_generators_2_moves = mcu_pulses_ctrl_2_q[2];
@@ -4676,6 +5020,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_2_d = 32'h0;
             mcu_pulses_snap_2_d = 32'h0;
         end
+        mcu_pulses_axis_rate = mcu_pulses_rate_3_q;
+        if (mcu_pulses_ctrl_3_q[2]) begin
+            mcu_pulses_axis_rate = mcu_pulses_engines_3_rate;
+        end
+        mcu_pulses_axis_pending = mcu_pulses_generators_3_status[15:0];
+        mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
+        mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
+        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[3] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[3] & mcu_pulses_heading_down);
+        if (mcu_pulses_axis_stopped) begin
+            mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_3;
+        end
         mcu_pulses_quadrature_a_3_d = mcu_pulses_generators_3_position[0] ^ mcu_pulses_generators_3_position[1];
         mcu_pulses_quadrature_b_3_d = mcu_pulses_generators_3_position[1];
         if (mcu_pulses_ctrl_3_q[1]) begin
@@ -4698,7 +5053,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_write_jerk = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_jerk_3);
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
         mcu_pulses_engines_3_low_water = mcu_pulses_low_water_3_q;
-        mcu_pulses_engines_3_flush = mcu_pulses_halt;
+        mcu_pulses_engines_3_flush = mcu_pulses_axis_stopped;
         if (mcu_pulses_engines_3_status[18] & ~mcu_pulses_generators_3_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_3;
         end
@@ -4713,7 +5068,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
         mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
-        mcu_pulses_generators_3_halt = mcu_pulses_halt;
+        mcu_pulses_generators_3_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_3_rate = mcu_pulses_rate_3_q;
         mcu_pulses_generators_3_move_rate = mcu_pulses_engines_3_rate;
         mcu_pulses_generators_3_moves = mcu_pulses_ctrl_3_q[2];
@@ -4795,6 +5150,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_3_d = 32'h0;
             mcu_pulses_snap_3_d = 32'h0;
         end
+        mcu_pulses_run_d = mcu_pulses_run_next & ~mcu_pulses_stopped_bits;
         if (mcu_pulses_read_pending_q) begin
             mcu_pulses_read_data_d = mcu_pulses_read_value;
         end
@@ -6393,6 +6749,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_read_pending_d = mcu_safety_read_pending_q;
         mcu_safety_read_addr_d = mcu_safety_read_addr_q;
         mcu_safety_read_data_d = mcu_safety_read_data_q;
+        mcu_safety_machine_reset = mcu_safety_reset;
+        mcu_safety_machine_addr = mcu_safety_addr;
+        mcu_safety_machine_wdata = mcu_safety_wdata;
+        mcu_safety_machine_we = mcu_safety_we;
+        mcu_safety_machine_read_addr = mcu_safety_read_addr_q;
+        mcu_safety_machine_limit_pos = mcu_safety_limit_pos;
+        mcu_safety_machine_limit_neg = mcu_safety_limit_neg;
+        mcu_safety_machine_home = mcu_safety_home;
+        mcu_safety_machine_alarm = mcu_safety_alarm;
         mcu_safety_write_clear = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_clear);
         mcu_safety_write_timeout = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_timeout);
         mcu_safety_estop_meta_d = ~mcu_safety_estop_ok;
@@ -6461,13 +6826,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_safety_active_high_d = mcu_safety_wdata[0];
             end
         end
-        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q);
+        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q) | mcu_safety_machine_irq_active;
         mcu_safety_irq_low_d = mcu_safety_irq_active != mcu_safety_active_high_q;
         mcu_safety_read_pending_d = mcu_safety_re;
         if (mcu_safety_re) begin
             mcu_safety_read_addr_d = mcu_safety_addr;
         end
-        mcu_safety_read_value = 32'h0;
+        mcu_safety_read_value = mcu_safety_machine_read_value;
         if (mcu_safety_read_addr_q == mcu_safety_addr_info) begin
             mcu_safety_read_value = mcu_safety_info;
         end
@@ -6545,9 +6910,675 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_read_data_d = 32'h0;
         end
         mcu_safety_halt = mcu_safety_estop_latch_q | mcu_safety_bitten_q;
+        mcu_safety_stop_up = mcu_safety_machine_stop_up;
+        mcu_safety_stop_down = mcu_safety_machine_stop_down;
         mcu_safety_drive_enable = mcu_safety_enable_q;
         mcu_safety_irq = ~mcu_safety_irq_low_q;
         mcu_safety_rdata = mcu_safety_read_data_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_prescaler_d = mcu_safety_machine_prescaler_q;
+        mcu_safety_machine_pos_ctrl_d = mcu_safety_machine_pos_ctrl_q;
+        mcu_safety_machine_neg_ctrl_d = mcu_safety_machine_neg_ctrl_q;
+        mcu_safety_machine_home_ctrl_d = mcu_safety_machine_home_ctrl_q;
+        mcu_safety_machine_alarm_ctrl_d = mcu_safety_machine_alarm_ctrl_q;
+        mcu_safety_machine_limit_cause_d = mcu_safety_machine_limit_cause_q;
+        mcu_safety_machine_limit_mask_d = mcu_safety_machine_limit_mask_q;
+        mcu_safety_machine_home_alarm_cause_d = mcu_safety_machine_home_alarm_cause_q;
+        mcu_safety_machine_home_alarm_mask_d = mcu_safety_machine_home_alarm_mask_q;
+        mcu_safety_machine_home_before_d = mcu_safety_machine_home_before_q;
+        mcu_safety_machine_tick = ~|mcu_safety_machine_prescaler_q;
+        if (mcu_safety_machine_tick) begin
+            mcu_safety_machine_prescaler_d = mcu_safety_machine_tick_reload;
+        end
+        else begin
+            mcu_safety_machine_prescaler_d = mcu_safety_machine_prescaler_q - mcu_safety_machine_tick_one;
+        end
+        mcu_safety_machine_pos_level = 4'h0;
+        mcu_safety_machine_neg_level = 4'h0;
+        mcu_safety_machine_home_level = 4'h0;
+        mcu_safety_machine_alarm_level = 4'h0;
+        mcu_safety_machine_pos_filters_0_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_neg_filters_0_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_home_filters_0_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_alarm_filters_0_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_pos_filters_0_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_neg_filters_0_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_home_filters_0_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_alarm_filters_0_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_pos_filters_0_pin = mcu_safety_machine_limit_pos[0];
+        mcu_safety_machine_neg_filters_0_pin = mcu_safety_machine_limit_neg[0];
+        mcu_safety_machine_home_filters_0_pin = mcu_safety_machine_home[0];
+        mcu_safety_machine_alarm_filters_0_pin = mcu_safety_machine_alarm[0];
+        if (mcu_safety_machine_pos_filters_0_level) begin
+            mcu_safety_machine_pos_level = mcu_safety_machine_pos_level | mcu_safety_machine_axis_bit_0;
+        end
+        if (mcu_safety_machine_neg_filters_0_level) begin
+            mcu_safety_machine_neg_level = mcu_safety_machine_neg_level | mcu_safety_machine_axis_bit_0;
+        end
+        if (mcu_safety_machine_home_filters_0_level) begin
+            mcu_safety_machine_home_level = mcu_safety_machine_home_level | mcu_safety_machine_axis_bit_0;
+        end
+        if (mcu_safety_machine_alarm_filters_0_level) begin
+            mcu_safety_machine_alarm_level = mcu_safety_machine_alarm_level | mcu_safety_machine_axis_bit_0;
+        end
+        mcu_safety_machine_pos_filters_1_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_neg_filters_1_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_home_filters_1_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_alarm_filters_1_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_pos_filters_1_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_neg_filters_1_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_home_filters_1_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_alarm_filters_1_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_pos_filters_1_pin = mcu_safety_machine_limit_pos[1];
+        mcu_safety_machine_neg_filters_1_pin = mcu_safety_machine_limit_neg[1];
+        mcu_safety_machine_home_filters_1_pin = mcu_safety_machine_home[1];
+        mcu_safety_machine_alarm_filters_1_pin = mcu_safety_machine_alarm[1];
+        if (mcu_safety_machine_pos_filters_1_level) begin
+            mcu_safety_machine_pos_level = mcu_safety_machine_pos_level | mcu_safety_machine_axis_bit_1;
+        end
+        if (mcu_safety_machine_neg_filters_1_level) begin
+            mcu_safety_machine_neg_level = mcu_safety_machine_neg_level | mcu_safety_machine_axis_bit_1;
+        end
+        if (mcu_safety_machine_home_filters_1_level) begin
+            mcu_safety_machine_home_level = mcu_safety_machine_home_level | mcu_safety_machine_axis_bit_1;
+        end
+        if (mcu_safety_machine_alarm_filters_1_level) begin
+            mcu_safety_machine_alarm_level = mcu_safety_machine_alarm_level | mcu_safety_machine_axis_bit_1;
+        end
+        mcu_safety_machine_pos_filters_2_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_neg_filters_2_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_home_filters_2_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_alarm_filters_2_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_pos_filters_2_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_neg_filters_2_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_home_filters_2_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_alarm_filters_2_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_pos_filters_2_pin = mcu_safety_machine_limit_pos[2];
+        mcu_safety_machine_neg_filters_2_pin = mcu_safety_machine_limit_neg[2];
+        mcu_safety_machine_home_filters_2_pin = mcu_safety_machine_home[2];
+        mcu_safety_machine_alarm_filters_2_pin = mcu_safety_machine_alarm[2];
+        if (mcu_safety_machine_pos_filters_2_level) begin
+            mcu_safety_machine_pos_level = mcu_safety_machine_pos_level | mcu_safety_machine_axis_bit_2;
+        end
+        if (mcu_safety_machine_neg_filters_2_level) begin
+            mcu_safety_machine_neg_level = mcu_safety_machine_neg_level | mcu_safety_machine_axis_bit_2;
+        end
+        if (mcu_safety_machine_home_filters_2_level) begin
+            mcu_safety_machine_home_level = mcu_safety_machine_home_level | mcu_safety_machine_axis_bit_2;
+        end
+        if (mcu_safety_machine_alarm_filters_2_level) begin
+            mcu_safety_machine_alarm_level = mcu_safety_machine_alarm_level | mcu_safety_machine_axis_bit_2;
+        end
+        mcu_safety_machine_pos_filters_3_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_neg_filters_3_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_home_filters_3_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_alarm_filters_3_reset = mcu_safety_machine_reset;
+        mcu_safety_machine_pos_filters_3_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_neg_filters_3_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_home_filters_3_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_alarm_filters_3_tick = mcu_safety_machine_tick;
+        mcu_safety_machine_pos_filters_3_pin = mcu_safety_machine_limit_pos[3];
+        mcu_safety_machine_neg_filters_3_pin = mcu_safety_machine_limit_neg[3];
+        mcu_safety_machine_home_filters_3_pin = mcu_safety_machine_home[3];
+        mcu_safety_machine_alarm_filters_3_pin = mcu_safety_machine_alarm[3];
+        if (mcu_safety_machine_pos_filters_3_level) begin
+            mcu_safety_machine_pos_level = mcu_safety_machine_pos_level | mcu_safety_machine_axis_bit_3;
+        end
+        if (mcu_safety_machine_neg_filters_3_level) begin
+            mcu_safety_machine_neg_level = mcu_safety_machine_neg_level | mcu_safety_machine_axis_bit_3;
+        end
+        if (mcu_safety_machine_home_filters_3_level) begin
+            mcu_safety_machine_home_level = mcu_safety_machine_home_level | mcu_safety_machine_axis_bit_3;
+        end
+        if (mcu_safety_machine_alarm_filters_3_level) begin
+            mcu_safety_machine_alarm_level = mcu_safety_machine_alarm_level | mcu_safety_machine_axis_bit_3;
+        end
+        mcu_safety_machine_pos_active = mcu_safety_machine_pos_level ^ mcu_safety_machine_pos_ctrl_q[19:16];
+        mcu_safety_machine_neg_active = mcu_safety_machine_neg_level ^ mcu_safety_machine_neg_ctrl_q[19:16];
+        mcu_safety_machine_home_active = mcu_safety_machine_home_level ^ mcu_safety_machine_home_ctrl_q[19:16];
+        mcu_safety_machine_alarm_active = mcu_safety_machine_alarm_level ^ mcu_safety_machine_alarm_ctrl_q[19:16];
+        mcu_safety_machine_home_acting = mcu_safety_machine_home_active & mcu_safety_machine_home_ctrl_q[3:0];
+        mcu_safety_machine_limit_kept = mcu_safety_machine_limit_cause_q;
+        mcu_safety_machine_home_alarm_kept = mcu_safety_machine_home_alarm_cause_q;
+        if (mcu_safety_machine_we & (mcu_safety_machine_addr == mcu_safety_machine_addr_limit_cause)) begin
+            mcu_safety_machine_limit_kept = mcu_safety_machine_limit_cause_q & ~mcu_safety_machine_wdata;
+        end
+        if (mcu_safety_machine_we & (mcu_safety_machine_addr == mcu_safety_machine_addr_home_alarm_cause)) begin
+            mcu_safety_machine_home_alarm_kept = mcu_safety_machine_home_alarm_cause_q & ~mcu_safety_machine_wdata;
+        end
+        mcu_safety_machine_pos_acting = mcu_safety_machine_pos_active & mcu_safety_machine_pos_ctrl_q[3:0];
+        mcu_safety_machine_neg_acting = mcu_safety_machine_neg_active & mcu_safety_machine_neg_ctrl_q[3:0];
+        mcu_safety_machine_low_half = {28'h0, mcu_safety_machine_pos_acting};
+        mcu_safety_machine_high_half = {28'h0, mcu_safety_machine_neg_acting};
+        mcu_safety_machine_limit_events = mcu_safety_machine_low_half | (mcu_safety_machine_high_half << mcu_safety_machine_shift);
+        mcu_safety_machine_limit_cause_d = mcu_safety_machine_limit_kept | mcu_safety_machine_limit_events;
+        mcu_safety_machine_home_event = mcu_safety_machine_home_acting & ~mcu_safety_machine_home_before_q;
+        mcu_safety_machine_alarm_acting = mcu_safety_machine_alarm_active & mcu_safety_machine_alarm_ctrl_q[3:0];
+        mcu_safety_machine_low_half = {28'h0, mcu_safety_machine_home_event};
+        mcu_safety_machine_high_half = {28'h0, mcu_safety_machine_alarm_acting};
+        mcu_safety_machine_home_alarm_cause_d = mcu_safety_machine_home_alarm_kept | mcu_safety_machine_low_half | (mcu_safety_machine_high_half << mcu_safety_machine_shift);
+        mcu_safety_machine_home_before_d = mcu_safety_machine_home_acting;
+        if (mcu_safety_machine_we) begin
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_pos_ctrl) begin
+                mcu_safety_machine_pos_ctrl_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_neg_ctrl) begin
+                mcu_safety_machine_neg_ctrl_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_home_ctrl) begin
+                mcu_safety_machine_home_ctrl_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_alarm_ctrl) begin
+                mcu_safety_machine_alarm_ctrl_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_limit_mask) begin
+                mcu_safety_machine_limit_mask_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_home_alarm_mask) begin
+                mcu_safety_machine_home_alarm_mask_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
+            end
+        end
+        mcu_safety_machine_value = 32'h0;
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_pos_ctrl) begin
+            mcu_safety_machine_value = mcu_safety_machine_pos_ctrl_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_neg_ctrl) begin
+            mcu_safety_machine_value = mcu_safety_machine_neg_ctrl_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_ctrl) begin
+            mcu_safety_machine_value = mcu_safety_machine_home_ctrl_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_alarm_ctrl) begin
+            mcu_safety_machine_value = mcu_safety_machine_alarm_ctrl_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_limit_inputs) begin
+            mcu_safety_machine_low_half = {28'h0, mcu_safety_machine_pos_active};
+            mcu_safety_machine_high_half = {28'h0, mcu_safety_machine_neg_active};
+            mcu_safety_machine_value = mcu_safety_machine_low_half | (mcu_safety_machine_high_half << mcu_safety_machine_shift);
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_alarm_inputs) begin
+            mcu_safety_machine_low_half = {28'h0, mcu_safety_machine_home_active};
+            mcu_safety_machine_high_half = {28'h0, mcu_safety_machine_alarm_active};
+            mcu_safety_machine_value = mcu_safety_machine_low_half | (mcu_safety_machine_high_half << mcu_safety_machine_shift);
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_limit_cause) begin
+            mcu_safety_machine_value = mcu_safety_machine_limit_cause_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_limit_mask) begin
+            mcu_safety_machine_value = mcu_safety_machine_limit_mask_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_alarm_cause) begin
+            mcu_safety_machine_value = mcu_safety_machine_home_alarm_cause_q;
+        end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_alarm_mask) begin
+            mcu_safety_machine_value = mcu_safety_machine_home_alarm_mask_q;
+        end
+        if (mcu_safety_machine_reset) begin
+            mcu_safety_machine_prescaler_d = 24'h0;
+            mcu_safety_machine_pos_ctrl_d = 32'h0;
+            mcu_safety_machine_neg_ctrl_d = 32'h0;
+            mcu_safety_machine_home_ctrl_d = 32'h0;
+            mcu_safety_machine_alarm_ctrl_d = 32'h0;
+            mcu_safety_machine_limit_cause_d = 32'h0;
+            mcu_safety_machine_limit_mask_d = 32'h0;
+            mcu_safety_machine_home_alarm_cause_d = 32'h0;
+            mcu_safety_machine_home_alarm_mask_d = 32'h0;
+            mcu_safety_machine_home_before_d = 4'h0;
+        end
+        mcu_safety_machine_read_value = mcu_safety_machine_value;
+        mcu_safety_machine_irq_active = |(mcu_safety_machine_limit_cause_q & mcu_safety_machine_limit_mask_q) | |(mcu_safety_machine_home_alarm_cause_q & mcu_safety_machine_home_alarm_mask_q);
+        mcu_safety_machine_stop_up = mcu_safety_machine_limit_cause_q[3:0] | mcu_safety_machine_home_alarm_cause_q[19:16];
+        mcu_safety_machine_stop_down = mcu_safety_machine_limit_cause_q[19:16] | mcu_safety_machine_home_alarm_cause_q[19:16];
+    end
+
+    always @(*) begin
+        mcu_safety_machine_pos_filters_0_meta_d = mcu_safety_machine_pos_filters_0_meta_q;
+        mcu_safety_machine_pos_filters_0_sync_d = mcu_safety_machine_pos_filters_0_sync_q;
+        mcu_safety_machine_pos_filters_0_held_d = mcu_safety_machine_pos_filters_0_held_q;
+        mcu_safety_machine_pos_filters_0_count_d = mcu_safety_machine_pos_filters_0_count_q;
+        mcu_safety_machine_pos_filters_0_meta_d = mcu_safety_machine_pos_filters_0_pin;
+        mcu_safety_machine_pos_filters_0_sync_d = mcu_safety_machine_pos_filters_0_meta_q;
+        if (mcu_safety_machine_pos_filters_0_tick) begin
+            if (mcu_safety_machine_pos_filters_0_sync_q == mcu_safety_machine_pos_filters_0_held_q) begin
+                mcu_safety_machine_pos_filters_0_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_pos_filters_0_count_q) begin
+                mcu_safety_machine_pos_filters_0_held_d = mcu_safety_machine_pos_filters_0_sync_q;
+                mcu_safety_machine_pos_filters_0_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_pos_filters_0_count_d = mcu_safety_machine_pos_filters_0_count_q + mcu_safety_machine_pos_filters_0_one;
+            end
+        end
+        if (mcu_safety_machine_pos_filters_0_reset) begin
+            mcu_safety_machine_pos_filters_0_meta_d = 1'b0;
+            mcu_safety_machine_pos_filters_0_sync_d = 1'b0;
+            mcu_safety_machine_pos_filters_0_held_d = 1'b0;
+            mcu_safety_machine_pos_filters_0_count_d = 2'h0;
+        end
+        mcu_safety_machine_pos_filters_0_level = mcu_safety_machine_pos_filters_0_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_pos_filters_1_meta_d = mcu_safety_machine_pos_filters_1_meta_q;
+        mcu_safety_machine_pos_filters_1_sync_d = mcu_safety_machine_pos_filters_1_sync_q;
+        mcu_safety_machine_pos_filters_1_held_d = mcu_safety_machine_pos_filters_1_held_q;
+        mcu_safety_machine_pos_filters_1_count_d = mcu_safety_machine_pos_filters_1_count_q;
+        mcu_safety_machine_pos_filters_1_meta_d = mcu_safety_machine_pos_filters_1_pin;
+        mcu_safety_machine_pos_filters_1_sync_d = mcu_safety_machine_pos_filters_1_meta_q;
+        if (mcu_safety_machine_pos_filters_1_tick) begin
+            if (mcu_safety_machine_pos_filters_1_sync_q == mcu_safety_machine_pos_filters_1_held_q) begin
+                mcu_safety_machine_pos_filters_1_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_pos_filters_1_count_q) begin
+                mcu_safety_machine_pos_filters_1_held_d = mcu_safety_machine_pos_filters_1_sync_q;
+                mcu_safety_machine_pos_filters_1_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_pos_filters_1_count_d = mcu_safety_machine_pos_filters_1_count_q + mcu_safety_machine_pos_filters_1_one;
+            end
+        end
+        if (mcu_safety_machine_pos_filters_1_reset) begin
+            mcu_safety_machine_pos_filters_1_meta_d = 1'b0;
+            mcu_safety_machine_pos_filters_1_sync_d = 1'b0;
+            mcu_safety_machine_pos_filters_1_held_d = 1'b0;
+            mcu_safety_machine_pos_filters_1_count_d = 2'h0;
+        end
+        mcu_safety_machine_pos_filters_1_level = mcu_safety_machine_pos_filters_1_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_pos_filters_2_meta_d = mcu_safety_machine_pos_filters_2_meta_q;
+        mcu_safety_machine_pos_filters_2_sync_d = mcu_safety_machine_pos_filters_2_sync_q;
+        mcu_safety_machine_pos_filters_2_held_d = mcu_safety_machine_pos_filters_2_held_q;
+        mcu_safety_machine_pos_filters_2_count_d = mcu_safety_machine_pos_filters_2_count_q;
+        mcu_safety_machine_pos_filters_2_meta_d = mcu_safety_machine_pos_filters_2_pin;
+        mcu_safety_machine_pos_filters_2_sync_d = mcu_safety_machine_pos_filters_2_meta_q;
+        if (mcu_safety_machine_pos_filters_2_tick) begin
+            if (mcu_safety_machine_pos_filters_2_sync_q == mcu_safety_machine_pos_filters_2_held_q) begin
+                mcu_safety_machine_pos_filters_2_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_pos_filters_2_count_q) begin
+                mcu_safety_machine_pos_filters_2_held_d = mcu_safety_machine_pos_filters_2_sync_q;
+                mcu_safety_machine_pos_filters_2_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_pos_filters_2_count_d = mcu_safety_machine_pos_filters_2_count_q + mcu_safety_machine_pos_filters_2_one;
+            end
+        end
+        if (mcu_safety_machine_pos_filters_2_reset) begin
+            mcu_safety_machine_pos_filters_2_meta_d = 1'b0;
+            mcu_safety_machine_pos_filters_2_sync_d = 1'b0;
+            mcu_safety_machine_pos_filters_2_held_d = 1'b0;
+            mcu_safety_machine_pos_filters_2_count_d = 2'h0;
+        end
+        mcu_safety_machine_pos_filters_2_level = mcu_safety_machine_pos_filters_2_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_pos_filters_3_meta_d = mcu_safety_machine_pos_filters_3_meta_q;
+        mcu_safety_machine_pos_filters_3_sync_d = mcu_safety_machine_pos_filters_3_sync_q;
+        mcu_safety_machine_pos_filters_3_held_d = mcu_safety_machine_pos_filters_3_held_q;
+        mcu_safety_machine_pos_filters_3_count_d = mcu_safety_machine_pos_filters_3_count_q;
+        mcu_safety_machine_pos_filters_3_meta_d = mcu_safety_machine_pos_filters_3_pin;
+        mcu_safety_machine_pos_filters_3_sync_d = mcu_safety_machine_pos_filters_3_meta_q;
+        if (mcu_safety_machine_pos_filters_3_tick) begin
+            if (mcu_safety_machine_pos_filters_3_sync_q == mcu_safety_machine_pos_filters_3_held_q) begin
+                mcu_safety_machine_pos_filters_3_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_pos_filters_3_count_q) begin
+                mcu_safety_machine_pos_filters_3_held_d = mcu_safety_machine_pos_filters_3_sync_q;
+                mcu_safety_machine_pos_filters_3_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_pos_filters_3_count_d = mcu_safety_machine_pos_filters_3_count_q + mcu_safety_machine_pos_filters_3_one;
+            end
+        end
+        if (mcu_safety_machine_pos_filters_3_reset) begin
+            mcu_safety_machine_pos_filters_3_meta_d = 1'b0;
+            mcu_safety_machine_pos_filters_3_sync_d = 1'b0;
+            mcu_safety_machine_pos_filters_3_held_d = 1'b0;
+            mcu_safety_machine_pos_filters_3_count_d = 2'h0;
+        end
+        mcu_safety_machine_pos_filters_3_level = mcu_safety_machine_pos_filters_3_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_neg_filters_0_meta_d = mcu_safety_machine_neg_filters_0_meta_q;
+        mcu_safety_machine_neg_filters_0_sync_d = mcu_safety_machine_neg_filters_0_sync_q;
+        mcu_safety_machine_neg_filters_0_held_d = mcu_safety_machine_neg_filters_0_held_q;
+        mcu_safety_machine_neg_filters_0_count_d = mcu_safety_machine_neg_filters_0_count_q;
+        mcu_safety_machine_neg_filters_0_meta_d = mcu_safety_machine_neg_filters_0_pin;
+        mcu_safety_machine_neg_filters_0_sync_d = mcu_safety_machine_neg_filters_0_meta_q;
+        if (mcu_safety_machine_neg_filters_0_tick) begin
+            if (mcu_safety_machine_neg_filters_0_sync_q == mcu_safety_machine_neg_filters_0_held_q) begin
+                mcu_safety_machine_neg_filters_0_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_neg_filters_0_count_q) begin
+                mcu_safety_machine_neg_filters_0_held_d = mcu_safety_machine_neg_filters_0_sync_q;
+                mcu_safety_machine_neg_filters_0_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_neg_filters_0_count_d = mcu_safety_machine_neg_filters_0_count_q + mcu_safety_machine_neg_filters_0_one;
+            end
+        end
+        if (mcu_safety_machine_neg_filters_0_reset) begin
+            mcu_safety_machine_neg_filters_0_meta_d = 1'b0;
+            mcu_safety_machine_neg_filters_0_sync_d = 1'b0;
+            mcu_safety_machine_neg_filters_0_held_d = 1'b0;
+            mcu_safety_machine_neg_filters_0_count_d = 2'h0;
+        end
+        mcu_safety_machine_neg_filters_0_level = mcu_safety_machine_neg_filters_0_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_neg_filters_1_meta_d = mcu_safety_machine_neg_filters_1_meta_q;
+        mcu_safety_machine_neg_filters_1_sync_d = mcu_safety_machine_neg_filters_1_sync_q;
+        mcu_safety_machine_neg_filters_1_held_d = mcu_safety_machine_neg_filters_1_held_q;
+        mcu_safety_machine_neg_filters_1_count_d = mcu_safety_machine_neg_filters_1_count_q;
+        mcu_safety_machine_neg_filters_1_meta_d = mcu_safety_machine_neg_filters_1_pin;
+        mcu_safety_machine_neg_filters_1_sync_d = mcu_safety_machine_neg_filters_1_meta_q;
+        if (mcu_safety_machine_neg_filters_1_tick) begin
+            if (mcu_safety_machine_neg_filters_1_sync_q == mcu_safety_machine_neg_filters_1_held_q) begin
+                mcu_safety_machine_neg_filters_1_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_neg_filters_1_count_q) begin
+                mcu_safety_machine_neg_filters_1_held_d = mcu_safety_machine_neg_filters_1_sync_q;
+                mcu_safety_machine_neg_filters_1_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_neg_filters_1_count_d = mcu_safety_machine_neg_filters_1_count_q + mcu_safety_machine_neg_filters_1_one;
+            end
+        end
+        if (mcu_safety_machine_neg_filters_1_reset) begin
+            mcu_safety_machine_neg_filters_1_meta_d = 1'b0;
+            mcu_safety_machine_neg_filters_1_sync_d = 1'b0;
+            mcu_safety_machine_neg_filters_1_held_d = 1'b0;
+            mcu_safety_machine_neg_filters_1_count_d = 2'h0;
+        end
+        mcu_safety_machine_neg_filters_1_level = mcu_safety_machine_neg_filters_1_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_neg_filters_2_meta_d = mcu_safety_machine_neg_filters_2_meta_q;
+        mcu_safety_machine_neg_filters_2_sync_d = mcu_safety_machine_neg_filters_2_sync_q;
+        mcu_safety_machine_neg_filters_2_held_d = mcu_safety_machine_neg_filters_2_held_q;
+        mcu_safety_machine_neg_filters_2_count_d = mcu_safety_machine_neg_filters_2_count_q;
+        mcu_safety_machine_neg_filters_2_meta_d = mcu_safety_machine_neg_filters_2_pin;
+        mcu_safety_machine_neg_filters_2_sync_d = mcu_safety_machine_neg_filters_2_meta_q;
+        if (mcu_safety_machine_neg_filters_2_tick) begin
+            if (mcu_safety_machine_neg_filters_2_sync_q == mcu_safety_machine_neg_filters_2_held_q) begin
+                mcu_safety_machine_neg_filters_2_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_neg_filters_2_count_q) begin
+                mcu_safety_machine_neg_filters_2_held_d = mcu_safety_machine_neg_filters_2_sync_q;
+                mcu_safety_machine_neg_filters_2_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_neg_filters_2_count_d = mcu_safety_machine_neg_filters_2_count_q + mcu_safety_machine_neg_filters_2_one;
+            end
+        end
+        if (mcu_safety_machine_neg_filters_2_reset) begin
+            mcu_safety_machine_neg_filters_2_meta_d = 1'b0;
+            mcu_safety_machine_neg_filters_2_sync_d = 1'b0;
+            mcu_safety_machine_neg_filters_2_held_d = 1'b0;
+            mcu_safety_machine_neg_filters_2_count_d = 2'h0;
+        end
+        mcu_safety_machine_neg_filters_2_level = mcu_safety_machine_neg_filters_2_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_neg_filters_3_meta_d = mcu_safety_machine_neg_filters_3_meta_q;
+        mcu_safety_machine_neg_filters_3_sync_d = mcu_safety_machine_neg_filters_3_sync_q;
+        mcu_safety_machine_neg_filters_3_held_d = mcu_safety_machine_neg_filters_3_held_q;
+        mcu_safety_machine_neg_filters_3_count_d = mcu_safety_machine_neg_filters_3_count_q;
+        mcu_safety_machine_neg_filters_3_meta_d = mcu_safety_machine_neg_filters_3_pin;
+        mcu_safety_machine_neg_filters_3_sync_d = mcu_safety_machine_neg_filters_3_meta_q;
+        if (mcu_safety_machine_neg_filters_3_tick) begin
+            if (mcu_safety_machine_neg_filters_3_sync_q == mcu_safety_machine_neg_filters_3_held_q) begin
+                mcu_safety_machine_neg_filters_3_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_neg_filters_3_count_q) begin
+                mcu_safety_machine_neg_filters_3_held_d = mcu_safety_machine_neg_filters_3_sync_q;
+                mcu_safety_machine_neg_filters_3_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_neg_filters_3_count_d = mcu_safety_machine_neg_filters_3_count_q + mcu_safety_machine_neg_filters_3_one;
+            end
+        end
+        if (mcu_safety_machine_neg_filters_3_reset) begin
+            mcu_safety_machine_neg_filters_3_meta_d = 1'b0;
+            mcu_safety_machine_neg_filters_3_sync_d = 1'b0;
+            mcu_safety_machine_neg_filters_3_held_d = 1'b0;
+            mcu_safety_machine_neg_filters_3_count_d = 2'h0;
+        end
+        mcu_safety_machine_neg_filters_3_level = mcu_safety_machine_neg_filters_3_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_home_filters_0_meta_d = mcu_safety_machine_home_filters_0_meta_q;
+        mcu_safety_machine_home_filters_0_sync_d = mcu_safety_machine_home_filters_0_sync_q;
+        mcu_safety_machine_home_filters_0_held_d = mcu_safety_machine_home_filters_0_held_q;
+        mcu_safety_machine_home_filters_0_count_d = mcu_safety_machine_home_filters_0_count_q;
+        mcu_safety_machine_home_filters_0_meta_d = mcu_safety_machine_home_filters_0_pin;
+        mcu_safety_machine_home_filters_0_sync_d = mcu_safety_machine_home_filters_0_meta_q;
+        if (mcu_safety_machine_home_filters_0_tick) begin
+            if (mcu_safety_machine_home_filters_0_sync_q == mcu_safety_machine_home_filters_0_held_q) begin
+                mcu_safety_machine_home_filters_0_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_home_filters_0_count_q) begin
+                mcu_safety_machine_home_filters_0_held_d = mcu_safety_machine_home_filters_0_sync_q;
+                mcu_safety_machine_home_filters_0_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_home_filters_0_count_d = mcu_safety_machine_home_filters_0_count_q + mcu_safety_machine_home_filters_0_one;
+            end
+        end
+        if (mcu_safety_machine_home_filters_0_reset) begin
+            mcu_safety_machine_home_filters_0_meta_d = 1'b0;
+            mcu_safety_machine_home_filters_0_sync_d = 1'b0;
+            mcu_safety_machine_home_filters_0_held_d = 1'b0;
+            mcu_safety_machine_home_filters_0_count_d = 2'h0;
+        end
+        mcu_safety_machine_home_filters_0_level = mcu_safety_machine_home_filters_0_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_home_filters_1_meta_d = mcu_safety_machine_home_filters_1_meta_q;
+        mcu_safety_machine_home_filters_1_sync_d = mcu_safety_machine_home_filters_1_sync_q;
+        mcu_safety_machine_home_filters_1_held_d = mcu_safety_machine_home_filters_1_held_q;
+        mcu_safety_machine_home_filters_1_count_d = mcu_safety_machine_home_filters_1_count_q;
+        mcu_safety_machine_home_filters_1_meta_d = mcu_safety_machine_home_filters_1_pin;
+        mcu_safety_machine_home_filters_1_sync_d = mcu_safety_machine_home_filters_1_meta_q;
+        if (mcu_safety_machine_home_filters_1_tick) begin
+            if (mcu_safety_machine_home_filters_1_sync_q == mcu_safety_machine_home_filters_1_held_q) begin
+                mcu_safety_machine_home_filters_1_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_home_filters_1_count_q) begin
+                mcu_safety_machine_home_filters_1_held_d = mcu_safety_machine_home_filters_1_sync_q;
+                mcu_safety_machine_home_filters_1_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_home_filters_1_count_d = mcu_safety_machine_home_filters_1_count_q + mcu_safety_machine_home_filters_1_one;
+            end
+        end
+        if (mcu_safety_machine_home_filters_1_reset) begin
+            mcu_safety_machine_home_filters_1_meta_d = 1'b0;
+            mcu_safety_machine_home_filters_1_sync_d = 1'b0;
+            mcu_safety_machine_home_filters_1_held_d = 1'b0;
+            mcu_safety_machine_home_filters_1_count_d = 2'h0;
+        end
+        mcu_safety_machine_home_filters_1_level = mcu_safety_machine_home_filters_1_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_home_filters_2_meta_d = mcu_safety_machine_home_filters_2_meta_q;
+        mcu_safety_machine_home_filters_2_sync_d = mcu_safety_machine_home_filters_2_sync_q;
+        mcu_safety_machine_home_filters_2_held_d = mcu_safety_machine_home_filters_2_held_q;
+        mcu_safety_machine_home_filters_2_count_d = mcu_safety_machine_home_filters_2_count_q;
+        mcu_safety_machine_home_filters_2_meta_d = mcu_safety_machine_home_filters_2_pin;
+        mcu_safety_machine_home_filters_2_sync_d = mcu_safety_machine_home_filters_2_meta_q;
+        if (mcu_safety_machine_home_filters_2_tick) begin
+            if (mcu_safety_machine_home_filters_2_sync_q == mcu_safety_machine_home_filters_2_held_q) begin
+                mcu_safety_machine_home_filters_2_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_home_filters_2_count_q) begin
+                mcu_safety_machine_home_filters_2_held_d = mcu_safety_machine_home_filters_2_sync_q;
+                mcu_safety_machine_home_filters_2_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_home_filters_2_count_d = mcu_safety_machine_home_filters_2_count_q + mcu_safety_machine_home_filters_2_one;
+            end
+        end
+        if (mcu_safety_machine_home_filters_2_reset) begin
+            mcu_safety_machine_home_filters_2_meta_d = 1'b0;
+            mcu_safety_machine_home_filters_2_sync_d = 1'b0;
+            mcu_safety_machine_home_filters_2_held_d = 1'b0;
+            mcu_safety_machine_home_filters_2_count_d = 2'h0;
+        end
+        mcu_safety_machine_home_filters_2_level = mcu_safety_machine_home_filters_2_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_home_filters_3_meta_d = mcu_safety_machine_home_filters_3_meta_q;
+        mcu_safety_machine_home_filters_3_sync_d = mcu_safety_machine_home_filters_3_sync_q;
+        mcu_safety_machine_home_filters_3_held_d = mcu_safety_machine_home_filters_3_held_q;
+        mcu_safety_machine_home_filters_3_count_d = mcu_safety_machine_home_filters_3_count_q;
+        mcu_safety_machine_home_filters_3_meta_d = mcu_safety_machine_home_filters_3_pin;
+        mcu_safety_machine_home_filters_3_sync_d = mcu_safety_machine_home_filters_3_meta_q;
+        if (mcu_safety_machine_home_filters_3_tick) begin
+            if (mcu_safety_machine_home_filters_3_sync_q == mcu_safety_machine_home_filters_3_held_q) begin
+                mcu_safety_machine_home_filters_3_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_home_filters_3_count_q) begin
+                mcu_safety_machine_home_filters_3_held_d = mcu_safety_machine_home_filters_3_sync_q;
+                mcu_safety_machine_home_filters_3_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_home_filters_3_count_d = mcu_safety_machine_home_filters_3_count_q + mcu_safety_machine_home_filters_3_one;
+            end
+        end
+        if (mcu_safety_machine_home_filters_3_reset) begin
+            mcu_safety_machine_home_filters_3_meta_d = 1'b0;
+            mcu_safety_machine_home_filters_3_sync_d = 1'b0;
+            mcu_safety_machine_home_filters_3_held_d = 1'b0;
+            mcu_safety_machine_home_filters_3_count_d = 2'h0;
+        end
+        mcu_safety_machine_home_filters_3_level = mcu_safety_machine_home_filters_3_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_alarm_filters_0_meta_d = mcu_safety_machine_alarm_filters_0_meta_q;
+        mcu_safety_machine_alarm_filters_0_sync_d = mcu_safety_machine_alarm_filters_0_sync_q;
+        mcu_safety_machine_alarm_filters_0_held_d = mcu_safety_machine_alarm_filters_0_held_q;
+        mcu_safety_machine_alarm_filters_0_count_d = mcu_safety_machine_alarm_filters_0_count_q;
+        mcu_safety_machine_alarm_filters_0_meta_d = mcu_safety_machine_alarm_filters_0_pin;
+        mcu_safety_machine_alarm_filters_0_sync_d = mcu_safety_machine_alarm_filters_0_meta_q;
+        if (mcu_safety_machine_alarm_filters_0_tick) begin
+            if (mcu_safety_machine_alarm_filters_0_sync_q == mcu_safety_machine_alarm_filters_0_held_q) begin
+                mcu_safety_machine_alarm_filters_0_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_alarm_filters_0_count_q) begin
+                mcu_safety_machine_alarm_filters_0_held_d = mcu_safety_machine_alarm_filters_0_sync_q;
+                mcu_safety_machine_alarm_filters_0_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_alarm_filters_0_count_d = mcu_safety_machine_alarm_filters_0_count_q + mcu_safety_machine_alarm_filters_0_one;
+            end
+        end
+        if (mcu_safety_machine_alarm_filters_0_reset) begin
+            mcu_safety_machine_alarm_filters_0_meta_d = 1'b0;
+            mcu_safety_machine_alarm_filters_0_sync_d = 1'b0;
+            mcu_safety_machine_alarm_filters_0_held_d = 1'b0;
+            mcu_safety_machine_alarm_filters_0_count_d = 2'h0;
+        end
+        mcu_safety_machine_alarm_filters_0_level = mcu_safety_machine_alarm_filters_0_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_alarm_filters_1_meta_d = mcu_safety_machine_alarm_filters_1_meta_q;
+        mcu_safety_machine_alarm_filters_1_sync_d = mcu_safety_machine_alarm_filters_1_sync_q;
+        mcu_safety_machine_alarm_filters_1_held_d = mcu_safety_machine_alarm_filters_1_held_q;
+        mcu_safety_machine_alarm_filters_1_count_d = mcu_safety_machine_alarm_filters_1_count_q;
+        mcu_safety_machine_alarm_filters_1_meta_d = mcu_safety_machine_alarm_filters_1_pin;
+        mcu_safety_machine_alarm_filters_1_sync_d = mcu_safety_machine_alarm_filters_1_meta_q;
+        if (mcu_safety_machine_alarm_filters_1_tick) begin
+            if (mcu_safety_machine_alarm_filters_1_sync_q == mcu_safety_machine_alarm_filters_1_held_q) begin
+                mcu_safety_machine_alarm_filters_1_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_alarm_filters_1_count_q) begin
+                mcu_safety_machine_alarm_filters_1_held_d = mcu_safety_machine_alarm_filters_1_sync_q;
+                mcu_safety_machine_alarm_filters_1_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_alarm_filters_1_count_d = mcu_safety_machine_alarm_filters_1_count_q + mcu_safety_machine_alarm_filters_1_one;
+            end
+        end
+        if (mcu_safety_machine_alarm_filters_1_reset) begin
+            mcu_safety_machine_alarm_filters_1_meta_d = 1'b0;
+            mcu_safety_machine_alarm_filters_1_sync_d = 1'b0;
+            mcu_safety_machine_alarm_filters_1_held_d = 1'b0;
+            mcu_safety_machine_alarm_filters_1_count_d = 2'h0;
+        end
+        mcu_safety_machine_alarm_filters_1_level = mcu_safety_machine_alarm_filters_1_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_alarm_filters_2_meta_d = mcu_safety_machine_alarm_filters_2_meta_q;
+        mcu_safety_machine_alarm_filters_2_sync_d = mcu_safety_machine_alarm_filters_2_sync_q;
+        mcu_safety_machine_alarm_filters_2_held_d = mcu_safety_machine_alarm_filters_2_held_q;
+        mcu_safety_machine_alarm_filters_2_count_d = mcu_safety_machine_alarm_filters_2_count_q;
+        mcu_safety_machine_alarm_filters_2_meta_d = mcu_safety_machine_alarm_filters_2_pin;
+        mcu_safety_machine_alarm_filters_2_sync_d = mcu_safety_machine_alarm_filters_2_meta_q;
+        if (mcu_safety_machine_alarm_filters_2_tick) begin
+            if (mcu_safety_machine_alarm_filters_2_sync_q == mcu_safety_machine_alarm_filters_2_held_q) begin
+                mcu_safety_machine_alarm_filters_2_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_alarm_filters_2_count_q) begin
+                mcu_safety_machine_alarm_filters_2_held_d = mcu_safety_machine_alarm_filters_2_sync_q;
+                mcu_safety_machine_alarm_filters_2_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_alarm_filters_2_count_d = mcu_safety_machine_alarm_filters_2_count_q + mcu_safety_machine_alarm_filters_2_one;
+            end
+        end
+        if (mcu_safety_machine_alarm_filters_2_reset) begin
+            mcu_safety_machine_alarm_filters_2_meta_d = 1'b0;
+            mcu_safety_machine_alarm_filters_2_sync_d = 1'b0;
+            mcu_safety_machine_alarm_filters_2_held_d = 1'b0;
+            mcu_safety_machine_alarm_filters_2_count_d = 2'h0;
+        end
+        mcu_safety_machine_alarm_filters_2_level = mcu_safety_machine_alarm_filters_2_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_machine_alarm_filters_3_meta_d = mcu_safety_machine_alarm_filters_3_meta_q;
+        mcu_safety_machine_alarm_filters_3_sync_d = mcu_safety_machine_alarm_filters_3_sync_q;
+        mcu_safety_machine_alarm_filters_3_held_d = mcu_safety_machine_alarm_filters_3_held_q;
+        mcu_safety_machine_alarm_filters_3_count_d = mcu_safety_machine_alarm_filters_3_count_q;
+        mcu_safety_machine_alarm_filters_3_meta_d = mcu_safety_machine_alarm_filters_3_pin;
+        mcu_safety_machine_alarm_filters_3_sync_d = mcu_safety_machine_alarm_filters_3_meta_q;
+        if (mcu_safety_machine_alarm_filters_3_tick) begin
+            if (mcu_safety_machine_alarm_filters_3_sync_q == mcu_safety_machine_alarm_filters_3_held_q) begin
+                mcu_safety_machine_alarm_filters_3_count_d = 2'h0;
+            end
+            else if (&mcu_safety_machine_alarm_filters_3_count_q) begin
+                mcu_safety_machine_alarm_filters_3_held_d = mcu_safety_machine_alarm_filters_3_sync_q;
+                mcu_safety_machine_alarm_filters_3_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_machine_alarm_filters_3_count_d = mcu_safety_machine_alarm_filters_3_count_q + mcu_safety_machine_alarm_filters_3_one;
+            end
+        end
+        if (mcu_safety_machine_alarm_filters_3_reset) begin
+            mcu_safety_machine_alarm_filters_3_meta_d = 1'b0;
+            mcu_safety_machine_alarm_filters_3_sync_d = 1'b0;
+            mcu_safety_machine_alarm_filters_3_held_d = 1'b0;
+            mcu_safety_machine_alarm_filters_3_count_d = 2'h0;
+        end
+        mcu_safety_machine_alarm_filters_3_level = mcu_safety_machine_alarm_filters_3_held_q;
     end
 
     always @(*) begin
@@ -7090,6 +8121,80 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_read_pending_q <= mcu_pulses_read_pending_d;
     always @(posedge clock) mcu_pulses_read_addr_q <= mcu_pulses_read_addr_d;
     always @(posedge clock) mcu_pulses_read_data_q <= mcu_pulses_read_data_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_0_meta_q <= mcu_safety_machine_pos_filters_0_meta_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_0_sync_q <= mcu_safety_machine_pos_filters_0_sync_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_0_held_q <= mcu_safety_machine_pos_filters_0_held_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_0_count_q <= mcu_safety_machine_pos_filters_0_count_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_1_meta_q <= mcu_safety_machine_pos_filters_1_meta_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_1_sync_q <= mcu_safety_machine_pos_filters_1_sync_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_1_held_q <= mcu_safety_machine_pos_filters_1_held_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_1_count_q <= mcu_safety_machine_pos_filters_1_count_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_2_meta_q <= mcu_safety_machine_pos_filters_2_meta_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_2_sync_q <= mcu_safety_machine_pos_filters_2_sync_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_2_held_q <= mcu_safety_machine_pos_filters_2_held_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_2_count_q <= mcu_safety_machine_pos_filters_2_count_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_3_meta_q <= mcu_safety_machine_pos_filters_3_meta_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_3_sync_q <= mcu_safety_machine_pos_filters_3_sync_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_3_held_q <= mcu_safety_machine_pos_filters_3_held_d;
+    always @(posedge clock) mcu_safety_machine_pos_filters_3_count_q <= mcu_safety_machine_pos_filters_3_count_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_0_meta_q <= mcu_safety_machine_neg_filters_0_meta_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_0_sync_q <= mcu_safety_machine_neg_filters_0_sync_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_0_held_q <= mcu_safety_machine_neg_filters_0_held_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_0_count_q <= mcu_safety_machine_neg_filters_0_count_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_1_meta_q <= mcu_safety_machine_neg_filters_1_meta_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_1_sync_q <= mcu_safety_machine_neg_filters_1_sync_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_1_held_q <= mcu_safety_machine_neg_filters_1_held_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_1_count_q <= mcu_safety_machine_neg_filters_1_count_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_2_meta_q <= mcu_safety_machine_neg_filters_2_meta_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_2_sync_q <= mcu_safety_machine_neg_filters_2_sync_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_2_held_q <= mcu_safety_machine_neg_filters_2_held_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_2_count_q <= mcu_safety_machine_neg_filters_2_count_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_3_meta_q <= mcu_safety_machine_neg_filters_3_meta_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_3_sync_q <= mcu_safety_machine_neg_filters_3_sync_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_3_held_q <= mcu_safety_machine_neg_filters_3_held_d;
+    always @(posedge clock) mcu_safety_machine_neg_filters_3_count_q <= mcu_safety_machine_neg_filters_3_count_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_0_meta_q <= mcu_safety_machine_home_filters_0_meta_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_0_sync_q <= mcu_safety_machine_home_filters_0_sync_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_0_held_q <= mcu_safety_machine_home_filters_0_held_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_0_count_q <= mcu_safety_machine_home_filters_0_count_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_1_meta_q <= mcu_safety_machine_home_filters_1_meta_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_1_sync_q <= mcu_safety_machine_home_filters_1_sync_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_1_held_q <= mcu_safety_machine_home_filters_1_held_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_1_count_q <= mcu_safety_machine_home_filters_1_count_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_2_meta_q <= mcu_safety_machine_home_filters_2_meta_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_2_sync_q <= mcu_safety_machine_home_filters_2_sync_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_2_held_q <= mcu_safety_machine_home_filters_2_held_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_2_count_q <= mcu_safety_machine_home_filters_2_count_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_3_meta_q <= mcu_safety_machine_home_filters_3_meta_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_3_sync_q <= mcu_safety_machine_home_filters_3_sync_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_3_held_q <= mcu_safety_machine_home_filters_3_held_d;
+    always @(posedge clock) mcu_safety_machine_home_filters_3_count_q <= mcu_safety_machine_home_filters_3_count_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_0_meta_q <= mcu_safety_machine_alarm_filters_0_meta_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_0_sync_q <= mcu_safety_machine_alarm_filters_0_sync_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_0_held_q <= mcu_safety_machine_alarm_filters_0_held_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_0_count_q <= mcu_safety_machine_alarm_filters_0_count_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_1_meta_q <= mcu_safety_machine_alarm_filters_1_meta_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_1_sync_q <= mcu_safety_machine_alarm_filters_1_sync_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_1_held_q <= mcu_safety_machine_alarm_filters_1_held_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_1_count_q <= mcu_safety_machine_alarm_filters_1_count_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_2_meta_q <= mcu_safety_machine_alarm_filters_2_meta_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_2_sync_q <= mcu_safety_machine_alarm_filters_2_sync_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_2_held_q <= mcu_safety_machine_alarm_filters_2_held_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_2_count_q <= mcu_safety_machine_alarm_filters_2_count_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_3_meta_q <= mcu_safety_machine_alarm_filters_3_meta_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_3_sync_q <= mcu_safety_machine_alarm_filters_3_sync_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_3_held_q <= mcu_safety_machine_alarm_filters_3_held_d;
+    always @(posedge clock) mcu_safety_machine_alarm_filters_3_count_q <= mcu_safety_machine_alarm_filters_3_count_d;
+    always @(posedge clock) mcu_safety_machine_prescaler_q <= mcu_safety_machine_prescaler_d;
+    always @(posedge clock) mcu_safety_machine_pos_ctrl_q <= mcu_safety_machine_pos_ctrl_d;
+    always @(posedge clock) mcu_safety_machine_neg_ctrl_q <= mcu_safety_machine_neg_ctrl_d;
+    always @(posedge clock) mcu_safety_machine_home_ctrl_q <= mcu_safety_machine_home_ctrl_d;
+    always @(posedge clock) mcu_safety_machine_alarm_ctrl_q <= mcu_safety_machine_alarm_ctrl_d;
+    always @(posedge clock) mcu_safety_machine_limit_cause_q <= mcu_safety_machine_limit_cause_d;
+    always @(posedge clock) mcu_safety_machine_limit_mask_q <= mcu_safety_machine_limit_mask_d;
+    always @(posedge clock) mcu_safety_machine_home_alarm_cause_q <= mcu_safety_machine_home_alarm_cause_d;
+    always @(posedge clock) mcu_safety_machine_home_alarm_mask_q <= mcu_safety_machine_home_alarm_mask_d;
+    always @(posedge clock) mcu_safety_machine_home_before_q <= mcu_safety_machine_home_before_d;
     always @(posedge clock) mcu_safety_estop_meta_q <= mcu_safety_estop_meta_d;
     always @(posedge clock) mcu_safety_estop_sync_q <= mcu_safety_estop_sync_d;
     always @(posedge clock) mcu_safety_estop_latch_q <= mcu_safety_estop_latch_d;

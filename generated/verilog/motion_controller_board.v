@@ -5,7 +5,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, drive_enable, irq);
+module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -27,6 +27,10 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
     output wire [3:0] pulse_f1;
     output wire [3:0] pulse_f2;
     input wire estop_ok;
+    input wire [3:0] limit_pos;
+    input wire [3:0] limit_neg;
+    input wire [3:0] home;
+    input wire [3:0] alarm;
     output wire [3:0] drive_enable;
     output wire irq;
 
@@ -62,6 +66,10 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
         .pulse_f1(pulse_f1),
         .pulse_f2(pulse_f2),
         .estop_ok(estop_ok),
+        .limit_pos(limit_pos),
+        .limit_neg(limit_neg),
+        .home(home),
+        .alarm(alarm),
         .drive_enable(drive_enable),
         .irq(irq)
     );

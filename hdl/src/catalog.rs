@@ -174,15 +174,17 @@ pub fn pulse_generator() -> VerilogModule {
     )
 }
 
-/// The safety and I/O block of `axes` axes (1..=16): e-stop latch,
-/// watchdog, drive enables, interrupt causes and masks.
-pub fn safety_io(axes: u32) -> VerilogModule {
+/// The safety and I/O block of `axes` axes (1..=16) with its machine
+/// inputs' filter ticking every `tick_clocks` clocks: e-stop latch,
+/// watchdog, drive enables, limits, home, alarm, interrupt causes and masks.
+pub fn safety_io(axes: u32, tick_clocks: u32) -> VerilogModule {
     const SUMMARY: &str = "safety and I/O block: fail-safe e-stop latch, key-fed watchdog, drive \
-                           enables, interrupt causes, masks and IRQ pin (docs/safety_io.md)";
+                           enables, filtered limit/home/alarm inputs with per-direction stops, \
+                           interrupt causes, masks and IRQ pin (docs/safety_io.md)";
     macro_rules! block {
         ($($n:literal)+) => {
             match axes {
-                $($n => module(SafetyIo::<$n>::new(), "safety_io", SUMMARY),)+
+                $($n => module(SafetyIo::<$n>::new(tick_clocks), "safety_io", SUMMARY),)+
                 _ => panic!("axes = {axes} out of range 1..=16"),
             }
         };
@@ -207,6 +209,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         fsmc_bridge(),
         motion_controller(config),
         pulse_generator(),
-        safety_io(config.axes()),
+        safety_io(config.axes(), config.filter_tick_clocks()),
     ]
 }

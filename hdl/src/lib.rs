@@ -18,6 +18,7 @@ pub mod isa_bridge_external;
 pub mod isa_bus_core;
 pub mod ls153;
 pub mod ls688;
+pub mod machine_inputs;
 pub mod mcu_side;
 pub mod motion_controller;
 pub mod move_engine;

@@ -31,6 +31,14 @@ fsmc_host_block! {
         pub pulse_f2: Signal<Out, Bits<N>>,
         /// The e-stop chain: high = released; low or open = stop (pull down).
         pub estop_ok: Signal<In, Bit>,
+        /// LIMIT_POS pins per axis (asynchronous).
+        pub limit_pos: Signal<In, Bits<N>>,
+        /// LIMIT_NEG pins per axis.
+        pub limit_neg: Signal<In, Bits<N>>,
+        /// HOME pins per axis.
+        pub home: Signal<In, Bits<N>>,
+        /// Drive ALARM pins per axis.
+        pub alarm: Signal<In, Bits<N>>,
         /// Drive ENABLE per axis, high = enabled.
         pub drive_enable: Signal<Out, Bits<N>>,
         /// The IRQ pin to the MCU (active low after reset).
@@ -101,8 +109,12 @@ impl<const N: usize> McuSide<N> {
                 config.counter_features(),
             ),
             pulses: PulseBank::new(config.counter_width()),
-            safety: SafetyIo::new(),
+            safety: SafetyIo::new(config.filter_tick_clocks()),
             estop_ok: Default::default(),
+            limit_pos: Default::default(),
+            limit_neg: Default::default(),
+            home: Default::default(),
+            alarm: Default::default(),
             drive_enable: Default::default(),
             irq: Default::default(),
             read_from_safety: Default::default(),
@@ -121,6 +133,15 @@ impl<const N: usize> McuSide<N> {
             select_id: Default::default(),
             select_counters: Default::default(),
         })
+    }
+
+    /// The safety block's per-axis stops (up, down), for the top's
+    /// contract checks.
+    pub fn stops(&self) -> (u32, u32) {
+        (
+            self.safety.stop_up.val().index() as u32,
+            self.safety.stop_down.val().index() as u32,
+        )
     }
 
     /// The safety block's HALT, for the top's contract checks.
@@ -197,6 +218,12 @@ impl<const N: usize> Logic for McuSide<N> {
         self.safety.re.next = self.mcu_bus.reg_re.val() & self.select_safety.val();
         // The machine side: HALT stops every axis; move events raise IRQ.
         self.safety.estop_ok.next = self.estop_ok.val();
+        self.safety.limit_pos.next = self.limit_pos.val();
+        self.safety.limit_neg.next = self.limit_neg.val();
+        self.safety.home.next = self.home.val();
+        self.safety.alarm.next = self.alarm.val();
+        self.pulses.stop_up.next = self.safety.stop_up.val();
+        self.pulses.stop_down.next = self.safety.stop_down.val();
         self.safety.done.next = self.pulses.done.val();
         self.safety.low.next = self.pulses.low.val();
         self.pulses.halt.next = self.safety.halt.val();

@@ -71,6 +71,15 @@ macro_rules! top_level {
                 /// The e-stop chain, asynchronous: high = released; low, or
                 /// an open wire pulled down on the board, = stop.
                 pub estop_ok: Signal<In, Bit>,
+                /// Limit switches in the positive direction, one per axis
+                /// (asynchronous; polarity and enable in SAFETY).
+                pub limit_pos: Signal<In, Bits<N>>,
+                /// Limit switches in the negative direction.
+                pub limit_neg: Signal<In, Bits<N>>,
+                /// Home switches.
+                pub home: Signal<In, Bits<N>>,
+                /// Drive ALARM outputs.
+                pub alarm: Signal<In, Bits<N>>,
                 /// Drive ENABLE outputs per axis, high = enabled.
                 pub drive_enable: Signal<Out, Bits<N>>,
                 /// IRQ to the MCU (active low after reset; docs/safety_io.md).
@@ -105,6 +114,10 @@ macro_rules! top_level {
                     pulse_f1: Default::default(),
                     pulse_f2: Default::default(),
                     estop_ok: Default::default(),
+                    limit_pos: Default::default(),
+                    limit_neg: Default::default(),
+                    home: Default::default(),
+                    alarm: Default::default(),
                     drive_enable: Default::default(),
                     irq: Default::default(),
                     $( $port: Default::default(), )*
@@ -140,6 +153,10 @@ macro_rules! top_level {
                 self.pulse_f1.next = self.mcu.pulse_f1.val();
                 self.pulse_f2.next = self.mcu.pulse_f2.val();
                 self.mcu.estop_ok.next = self.estop_ok.val();
+                self.mcu.limit_pos.next = self.limit_pos.val();
+                self.mcu.limit_neg.next = self.limit_neg.val();
+                self.mcu.home.next = self.home.val();
+                self.mcu.alarm.next = self.alarm.val();
                 self.drive_enable.next = self.mcu.drive_enable.val();
                 self.irq.next = self.mcu.irq.val();
                 // PC side.

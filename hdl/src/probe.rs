@@ -93,6 +93,15 @@ pub struct SafetyRegisters {
     pub low_cause: u32,
     pub low_mask: u32,
     pub active_high: bool,
+    /// The machine inputs' filtered levels before polarity, in
+    /// `MACHINE_INPUTS` order (bit i = axis i).
+    pub levels: [u32; 4],
+    /// LIMIT_POS_CTRL, LIMIT_NEG_CTRL, HOME_CTRL, ALARM_CTRL.
+    pub input_ctrl: [u32; 4],
+    pub limit_cause: u32,
+    pub limit_mask: u32,
+    pub home_alarm_cause: u32,
+    pub home_alarm_mask: u32,
 }
 
 impl SafetyRegisters {
@@ -101,5 +110,7 @@ impl SafetyRegisters {
         self.cause & self.cause_mask != 0
             || self.done_cause & self.done_mask != 0
             || self.low_cause & self.low_mask != 0
+            || self.limit_cause & self.limit_mask != 0
+            || self.home_alarm_cause & self.home_alarm_mask != 0
     }
 }

@@ -32,6 +32,12 @@ pub struct PulseBank<const N: usize> {
     /// ignored), every segment FIFO empties and every generator drops its
     /// queued steps.
     pub halt: Signal<In, Bit>,
+    /// Per axis: no step in the positive direction. An axis heading that
+    /// way (its NCO rate positive, or steps up in its queue) stops as at
+    /// HALT.
+    pub stop_up: Signal<In, Bits<N>>,
+    /// Per axis: no step in the negative direction.
+    pub stop_down: Signal<In, Bits<N>>,
     /// Per axis: STATUS.DONE and not STATUS.BUSY (the move is out).
     pub done: Signal<Out, Bits<N>>,
     /// Per axis: STATUS.FIFO_LOW.
@@ -85,6 +91,13 @@ pub struct PulseBank<const N: usize> {
     f2_bits: Signal<Local, Bits<N>>,
     done_bits: Signal<Local, Bits<N>>,
     low_bits: Signal<Local, Bits<N>>,
+    run_next: Signal<Local, Bits<N>>,
+    stopped_bits: Signal<Local, Bits<N>>,
+    axis_rate: Signal<Local, Bits<32>>,
+    axis_pending: Signal<Local, Bits<16>>,
+    heading_up: Signal<Local, Bit>,
+    heading_down: Signal<Local, Bit>,
+    axis_stopped: Signal<Local, Bit>,
 }
 
 impl<const N: usize> PulseBank<N> {
@@ -103,7 +116,9 @@ impl<const N: usize> PulseBank<N> {
         assert_eq!(ax.register("STATUS").field("MOVING").lsb, 17);
         assert_eq!(ax.register("CTRL").writable_mask(), 0b111);
         assert_eq!(ax.register("STATUS").field("PENDING").width, 16);
-        // `done` and `low` take STATUS bits 18 and 27 (see update).
+        // `done` and `low` take STATUS bits 18 and 27 (see update), the
+        // heading PENDING's sign at bit 15.
+        assert_eq!(motionhdl_spec::pulse::PENDING_BITS, 16);
         assert_eq!(ax.register("STATUS").field("DONE").lsb, 18);
         assert_eq!(ax.register("STATUS").field("FIFO_LOW").lsb, 27);
         Self {
@@ -116,6 +131,8 @@ impl<const N: usize> PulseBank<N> {
             rdata: Default::default(),
             snapshot: Default::default(),
             halt: Default::default(),
+            stop_up: Default::default(),
+            stop_down: Default::default(),
             done: Default::default(),
             low: Default::default(),
             f1: Default::default(),
@@ -167,6 +184,13 @@ impl<const N: usize> PulseBank<N> {
             f2_bits: Default::default(),
             done_bits: Default::default(),
             low_bits: Default::default(),
+            run_next: Default::default(),
+            stopped_bits: Default::default(),
+            axis_rate: Default::default(),
+            axis_pending: Default::default(),
+            heading_up: Default::default(),
+            heading_down: Default::default(),
+            axis_stopped: Default::default(),
         }
     }
 
@@ -202,13 +226,29 @@ impl<const N: usize> Logic for PulseBank<N> {
         if self.read_addr.q.val() == self.addr_run.val() {
             self.read_value.next = bit_cast::<32, N>(self.run.q.val());
         }
+        self.run_next.next = self.run.q.val();
         if self.we.val() & (self.addr.val() == self.addr_run.val()) {
-            self.run.d.next = self.wdata.val().get_bits::<N>(0);
+            self.run_next.next = self.wdata.val().get_bits::<N>(0);
         }
-        if self.halt.val() {
-            self.run.d.next = 0.into();
-        }
+        self.stopped_bits.next = 0.into();
         for i in 0..N {
+            // The direction the axis heads: its NCO rate's sign, or the
+            // steps waiting in its queue (PENDING, signed). All flip-flops.
+            self.axis_rate.next = self.rate[i].q.val();
+            if self.ctrl[i].q.val().get_bit(2) {
+                self.axis_rate.next = self.engines[i].rate.val();
+            }
+            self.axis_pending.next = self.generators[i].status.val().get_bits::<16>(0);
+            self.heading_up.next = (self.axis_rate.val().any() & !self.axis_rate.val().get_bit(31))
+                | (self.axis_pending.val().any() & !self.axis_pending.val().get_bit(15));
+            self.heading_down.next =
+                self.axis_rate.val().get_bit(31) | self.axis_pending.val().get_bit(15);
+            self.axis_stopped.next = self.halt.val()
+                | (self.stop_up.val().get_bit(i) & self.heading_up.val())
+                | (self.stop_down.val().get_bit(i) & self.heading_down.val());
+            if self.axis_stopped.val() {
+                self.stopped_bits.next = self.stopped_bits.val() | self.axis_bit[i].val();
+            }
             self.ctrl[i].clock.next = self.clock.val();
             self.quadrature_a[i].clock.next = self.clock.val();
             self.quadrature_b[i].clock.next = self.clock.val();
@@ -254,7 +294,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.engines[i].clear_overflow.next =
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
             self.engines[i].low_water.next = self.low_water[i].q.val();
-            self.engines[i].flush.next = self.halt.val();
+            self.engines[i].flush.next = self.axis_stopped.val();
             if self.engines[i].status.val().get_bit(18)
                 & !self.generators[i].status.val().get_bit(16)
             {
@@ -272,7 +312,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.generators[i].clock.next = self.clock.val();
             self.generators[i].reset.next = self.reset.val();
             self.generators[i].enable.next = self.run.q.val().get_bit(i);
-            self.generators[i].halt.next = self.halt.val();
+            self.generators[i].halt.next = self.axis_stopped.val();
             self.generators[i].rate.next = self.rate[i].q.val();
             self.generators[i].move_rate.next = self.engines[i].rate.val();
             self.generators[i].moves.next = self.ctrl[i].q.val().get_bit(2);
@@ -359,6 +399,7 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.snap[i].d.next = 0.into();
             }
         }
+        self.run.d.next = self.run_next.val() & !self.stopped_bits.val();
         if self.read_pending.q.val() {
             self.read_data.d.next = self.read_value.val();
         }

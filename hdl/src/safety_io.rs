@@ -2,6 +2,7 @@
 //! interrupt line's causes and masks, behind the register bus
 //! (docs/safety_io.md).
 
+use crate::machine_inputs::MachineStops;
 use motionhdl_spec::regmap;
 use motionhdl_spec::safety_io::WATCHDOG_KEY;
 use rust_hdl::prelude::*;
@@ -39,12 +40,25 @@ pub struct SafetyIo<const N: usize> {
     /// Per axis: the segment FIFO is at or below its low-water mark (its
     /// rise sets LOW_CAUSE).
     pub low: Signal<In, Bits<N>>,
+    /// LIMIT_POS pins (asynchronous), bit i = axis i.
+    pub limit_pos: Signal<In, Bits<N>>,
+    /// LIMIT_NEG pins.
+    pub limit_neg: Signal<In, Bits<N>>,
+    /// HOME pins.
+    pub home: Signal<In, Bits<N>>,
+    /// Drive ALARM pins.
+    pub alarm: Signal<In, Bits<N>>,
     /// Stop every axis now: the e-stop latch or the bite flag is set.
     pub halt: Signal<Out, Bit>,
+    /// Per axis: no step in the positive direction (a limit or an alarm).
+    pub stop_up: Signal<Out, Bits<N>>,
+    /// Per axis: no step in the negative direction.
+    pub stop_down: Signal<Out, Bits<N>>,
     /// Drive ENABLE pins, high = enabled.
     pub drive_enable: Signal<Out, Bits<N>>,
     /// The IRQ pin (polarity from IRQ_CTRL; active low after reset).
     pub irq: Signal<Out, Bit>,
+    machine: MachineStops<N>,
     estop_meta: DFF<Bit>,
     estop_sync: DFF<Bit>,
     estop_latch: DFF<Bit>,
@@ -105,8 +119,9 @@ pub struct SafetyIo<const N: usize> {
 }
 
 impl<const N: usize> SafetyIo<N> {
-    /// The block of `N` axes (1..=16).
-    pub fn new() -> Self {
+    /// The block of `N` axes (1..=16), its machine inputs' filter ticking
+    /// every `tick_clocks` clocks (`Config::filter_tick_clocks`).
+    pub fn new(tick_clocks: u32) -> Self {
         assert!((1..=16).contains(&N), "axes = {N} out of range 1..=16");
         let map = regmap::safety_io(N as u32);
         assert_eq!(map.address_bits as usize, A);
@@ -133,7 +148,14 @@ impl<const N: usize> SafetyIo<N> {
             estop_ok: Default::default(),
             done: Default::default(),
             low: Default::default(),
+            limit_pos: Default::default(),
+            limit_neg: Default::default(),
+            home: Default::default(),
+            alarm: Default::default(),
             halt: Default::default(),
+            stop_up: Default::default(),
+            stop_down: Default::default(),
+            machine: MachineStops::new(tick_clocks),
             drive_enable: Default::default(),
             irq: Default::default(),
             estop_meta: Default::default(),
@@ -201,7 +223,15 @@ impl<const N: usize> SafetyIo<N> {
     /// The interrupt state, for the contract checks.
     pub fn probe(&self) -> crate::probe::SafetyRegisters {
         let word = |b: u64| b as u32;
+        let (levels, input_ctrl, [limit_cause, limit_mask, home_alarm_cause, home_alarm_mask]) =
+            self.machine.probe();
         crate::probe::SafetyRegisters {
+            levels,
+            input_ctrl,
+            limit_cause,
+            limit_mask,
+            home_alarm_cause,
+            home_alarm_mask,
             cause: word(self.cause.q.val().index() as u64),
             cause_mask: word(self.cause_mask.q.val().index() as u64),
             done_cause: word(self.done_cause.q.val().index() as u64),
@@ -210,12 +240,6 @@ impl<const N: usize> SafetyIo<N> {
             low_mask: word(self.low_mask.q.val().index() as u64),
             active_high: self.active_high.q.val(),
         }
-    }
-}
-
-impl<const N: usize> Default for SafetyIo<N> {
-    fn default() -> Self {
-        Self::new()
     }
 }
 
@@ -247,6 +271,16 @@ impl<const N: usize> Logic for SafetyIo<N> {
             read_addr,
             read_data
         );
+        self.machine.clock.next = self.clock.val();
+        self.machine.reset.next = self.reset.val();
+        self.machine.addr.next = self.addr.val();
+        self.machine.wdata.next = self.wdata.val();
+        self.machine.we.next = self.we.val();
+        self.machine.read_addr.next = self.read_addr.q.val();
+        self.machine.limit_pos.next = self.limit_pos.val();
+        self.machine.limit_neg.next = self.limit_neg.val();
+        self.machine.home.next = self.home.val();
+        self.machine.alarm.next = self.alarm.val();
         self.write_clear.next = self.we.val() & (self.addr.val() == self.addr_clear.val());
         self.write_timeout.next = self.we.val() & (self.addr.val() == self.addr_timeout.val());
         // E-stop: two synchroniser stages, then the latch; a clear request
@@ -334,14 +368,15 @@ impl<const N: usize> Logic for SafetyIo<N> {
         // active-low polarity.
         self.irq_active.next = (self.cause.q.val() & self.cause_mask.q.val()).any()
             | (self.done_cause.q.val() & self.done_mask.q.val()).any()
-            | (self.low_cause.q.val() & self.low_mask.q.val()).any();
+            | (self.low_cause.q.val() & self.low_mask.q.val()).any()
+            | self.machine.irq_active.val();
         self.irq_low.d.next = self.irq_active.val() != self.active_high.q.val();
         // Reads: the address at the `re` edge, the value at the next.
         self.read_pending.d.next = self.re.val();
         if self.re.val() {
             self.read_addr.d.next = self.addr.val();
         }
-        self.read_value.next = 0.into();
+        self.read_value.next = self.machine.read_value.val();
         if self.read_addr.q.val() == self.addr_info.val() {
             self.read_value.next = self.info.val();
         }
@@ -419,6 +454,8 @@ impl<const N: usize> Logic for SafetyIo<N> {
             self.read_data.d.next = 0.into();
         }
         self.halt.next = self.estop_latch.q.val() | self.bitten.q.val();
+        self.stop_up.next = self.machine.stop_up.val();
+        self.stop_down.next = self.machine.stop_down.val();
         self.drive_enable.next = self.enable.q.val();
         self.irq.next = !self.irq_low.q.val();
         self.rdata.next = self.read_data.q.val();

@@ -12,6 +12,7 @@ pub mod fsmc_bridge;
 pub mod isa_bridge;
 pub mod ls153;
 pub mod ls688;
+pub mod machine_inputs;
 pub mod motion_controller;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;

@@ -13,6 +13,7 @@
 use crate::counter::{Bank, BusCycle, CounterParams};
 use crate::fsmc_bridge::{FsmcBridgeModel, FsmcOutputs, FsmcPins};
 use crate::isa_bridge::{IsaBridgeModel, IsaPins};
+use crate::machine_inputs::MachinePins;
 use crate::pulse_generator::PulseBank;
 use crate::regmap::{self, ERR_COUNT_BITS};
 use crate::safety_io::{SafetyInputs, SafetyIo};
@@ -44,6 +45,8 @@ pub struct TopInputs {
     pub enc_z: u16,
     /// The e-stop chain: high = released.
     pub estop_ok: bool,
+    /// LIMIT_POS, LIMIT_NEG, HOME and ALARM pins, bit i = axis i.
+    pub machine: MachinePins,
 }
 
 impl TopInputs {
@@ -68,6 +71,7 @@ impl TopInputs {
             enc_b: 0,
             enc_z: 0,
             estop_ok: true,
+            machine: MachinePins::default(),
         }
     }
 
@@ -237,7 +241,7 @@ impl MotionControllerModel {
                     .with_features(config.counter_features()),
             ),
             pulses: PulseBank::new(axes, config.counter_width()),
-            safety: SafetyIo::new(axes),
+            safety: SafetyIo::new(axes, config.filter_tick_clocks()),
             isa: IsaBridgeModel::new(),
             read_from_id: false,
             read_from_counters: false,
@@ -394,9 +398,10 @@ impl MotionControllerModel {
             re: b.reg_re && d.select_pulses,
         };
         // HALT, DONE and FIFO_LOW as they stand before the edge.
-        let halt = self.safety.halted();
-        let events = SafetyInputs::from_pulses(inp.estop_ok, &self.pulses);
-        self.pulses.clock_halting(reset, &pulse_bus, snapshot, halt);
+        let stops = self.safety.stops();
+        let events = SafetyInputs::from_pulses(inp.estop_ok, inp.machine, &self.pulses);
+        self.pulses
+            .clock_stopping(reset, &pulse_bus, snapshot, &stops);
         let safety_bus = BusCycle {
             addr: addr & 0x7f,
             wdata: b.reg_wdata,

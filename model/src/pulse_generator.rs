@@ -21,7 +21,7 @@ pub use motionhdl_spec::pulse::{
     SEGMENT_FIFO_DEPTH, TIMER_BITS,
 };
 pub use move_engine::{MoveEngine, MoveEngineProbe, SegmentField, SEGMENT_FETCH_CLOCKS};
-pub use pulse_bank::{quadrature, PulseBank};
+pub use pulse_bank::{quadrature, PulseBank, Stops};
 pub use step_timer::{Request, StepTimer, StepTimerState, StepTiming};
 
 /// The whole axis: NCO, step timer and position.

@@ -3,7 +3,8 @@
 //! (`regmap::safety_io`).
 
 use crate::counter::BusCycle;
-use crate::pulse_generator::PulseBank;
+use crate::machine_inputs::{MachinePins, MachineStops};
+use crate::pulse_generator::{PulseBank, Stops};
 use crate::regmap::{self, Block};
 use motionhdl_spec::bus::mask_bits;
 pub use motionhdl_spec::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
@@ -17,16 +18,20 @@ pub struct SafetyInputs {
     pub done: u32,
     /// Per axis: the segment FIFO is at or below its low-water mark.
     pub low: u32,
+    /// The limit, home and alarm pins.
+    pub machine: MachinePins,
 }
 
 impl SafetyInputs {
-    /// The e-stop chain as given, and every axis's move-done and FIFO-low
-    /// as `pulses` shows them now (how the top wires the two blocks).
-    pub fn from_pulses(estop_ok: bool, pulses: &PulseBank) -> Self {
+    /// The e-stop chain and machine pins as given, and every axis's
+    /// move-done and FIFO-low as `pulses` shows them now (how the top wires
+    /// the two blocks).
+    pub fn from_pulses(estop_ok: bool, machine: MachinePins, pulses: &PulseBank) -> Self {
         let mut inputs = Self {
             estop_ok,
             done: 0,
             low: 0,
+            machine,
         };
         for i in 0..pulses.axes() {
             inputs.done |= u32::from(pulses.move_done(i)) << i;
@@ -41,6 +46,7 @@ impl SafetyInputs {
 pub struct SafetyIo {
     map: Block,
     axes: u32,
+    machine: MachineStops,
     /// The synchroniser's two stages of "the input asks for a stop".
     estop_meta: bool,
     estop_sync: bool,
@@ -66,11 +72,13 @@ pub struct SafetyIo {
 }
 
 impl SafetyIo {
-    /// The block of `axes` axes, as after reset.
-    pub fn new(axes: u32) -> Self {
+    /// The block of `axes` axes with a machine-input filter tick every
+    /// `tick_clocks` clocks, as after reset.
+    pub fn new(axes: u32, tick_clocks: u32) -> Self {
         Self {
             map: regmap::safety_io(axes),
             axes,
+            machine: MachineStops::new(axes, tick_clocks),
             estop_meta: true,
             estop_sync: true,
             estop_latch: true,
@@ -102,6 +110,25 @@ impl SafetyIo {
     /// Every axis halted: the e-stop latch or the bite flag is set.
     pub fn halted(&self) -> bool {
         self.estop_latch || self.bitten
+    }
+
+    /// What the block asks of the pulse bank in this clock.
+    pub fn stops(&self) -> Stops {
+        Stops {
+            halt: self.halted(),
+            up: self.stop_up(),
+            down: self.stop_down(),
+        }
+    }
+
+    /// Per axis: no step in the positive direction (a limit or an alarm).
+    pub fn stop_up(&self) -> u32 {
+        self.machine.stop_up()
+    }
+
+    /// Per axis: no step in the negative direction (a limit or an alarm).
+    pub fn stop_down(&self) -> u32 {
+        self.machine.stop_down()
     }
 
     /// The drive ENABLE pins.
@@ -138,6 +165,7 @@ impl SafetyIo {
         self.cause & self.cause_mask != 0
             || self.done_cause & self.done_mask != 0
             || self.low_cause & self.low_mask != 0
+            || self.machine.irq_active()
     }
 
     /// What a read of `addr` returns now (0 where nothing is decoded).
@@ -145,6 +173,9 @@ impl SafetyIo {
         let Some((_, r, _)) = self.map.decoded().into_iter().find(|d| d.0 == addr) else {
             return 0;
         };
+        if let Some(value) = self.machine.read(r.name) {
+            return value;
+        }
         match r.name {
             "INFO" => r.reset,
             "STATUS" => self.status(),
@@ -166,7 +197,7 @@ impl SafetyIo {
     /// One rising clock edge.
     pub fn clock(&mut self, reset: bool, bus: &BusCycle, inputs: &SafetyInputs) {
         if reset {
-            *self = Self::new(self.axes);
+            *self = Self::new(self.axes, self.machine.tick_clocks());
             return;
         }
         let addr = bus.addr & mask_bits(self.map.address_bits);
@@ -237,6 +268,7 @@ impl SafetyIo {
         // The pin: one flip-flop after this clock's causes, masks and
         // polarity.
         self.irq_pin = self.irq_active() == self.active_high;
+        self.machine.clock(&self.map, bus, &inputs.machine);
         self.cause = cause;
         self.done_cause = done_cause;
         self.low_cause = low_cause;
@@ -273,7 +305,7 @@ mod tests {
 
     #[test]
     fn the_estop_latch_needs_the_input_released_and_a_clear() {
-        let mut b = SafetyIo::new(2);
+        let mut b = SafetyIo::new(2, 1);
         assert!(b.halted(), "reset sets the latch");
         // Released, but the synchroniser still reads the reset's stop.
         run(&mut b, write("CLEAR", 1), true);
@@ -301,7 +333,7 @@ mod tests {
 
     #[test]
     fn the_watchdog_bites_timeout_plus_one_edges_after_its_last_reload() {
-        let mut b = SafetyIo::new(1);
+        let mut b = SafetyIo::new(1, 1);
         for bus in [BusCycle::default(), write("CLEAR", 1)] {
             run(&mut b, bus, true);
             run(&mut b, bus, true);
@@ -328,12 +360,12 @@ mod tests {
 
     #[test]
     fn the_irq_pin_follows_an_unmasked_cause_one_edge_later() {
-        let mut b = SafetyIo::new(2);
+        let mut b = SafetyIo::new(2, 1);
         let done = |b: &mut SafetyIo, done: u32, bus: BusCycle| {
             let inputs = SafetyInputs {
                 estop_ok: true,
                 done,
-                low: 0,
+                ..Default::default()
             };
             b.clock(false, &bus, &inputs);
         };

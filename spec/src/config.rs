@@ -1,5 +1,6 @@
 //! Build-time configuration of the gateware: axis count, counter width, clock.
 
+use crate::safety_io::{filter_tick_clocks, DEFAULT_INPUT_FILTER_US, INPUT_FILTER_US};
 use std::fmt;
 use std::ops::RangeInclusive;
 
@@ -13,6 +14,7 @@ pub struct Config {
     clock_hz: u64,
     isa_ram: IsaRam,
     counter_features: CounterFeatures,
+    input_filter_us: u32,
 }
 
 /// The counter channel's optional features (docs/counter_bank.md, "Build
@@ -118,6 +120,8 @@ impl Config {
     pub const COUNTER_WIDTH: RangeInclusive<u64> = 8..=32;
     /// FPGA clock frequencies in Hz that the timing constraints cover.
     pub const CLOCK_HZ: RangeInclusive<u64> = 1_000_000..=400_000_000;
+    /// Filter times of the machine inputs (limits, home, alarm), in µs.
+    pub const INPUT_FILTER_US: RangeInclusive<u64> = INPUT_FILTER_US;
 
     /// Checks every value against its allowed range.
     pub fn new(axes: u64, counter_width: u64, clock_hz: u64) -> Result<Self, ConfigError> {
@@ -130,6 +134,37 @@ impl Config {
             clock_hz,
             isa_ram: IsaRam::default(),
             counter_features: CounterFeatures::ALL,
+            input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
+        })
+    }
+
+    /// The same configuration with the machine inputs' filter time set to
+    /// `us` microseconds (checked against [`Self::INPUT_FILTER_US`]).
+    pub fn with_input_filter_us(self, us: u64) -> Result<Self, ConfigError> {
+        check("input_filter_us", us, Self::INPUT_FILTER_US)?;
+        Ok(Self {
+            input_filter_us: us as u32,
+            ..self
+        })
+    }
+
+    /// The machine inputs' filter time in microseconds.
+    pub fn input_filter_us(&self) -> u32 {
+        self.input_filter_us
+    }
+
+    /// The machine inputs' filter tick in clocks (docs/safety_io.md).
+    pub fn filter_tick_clocks(&self) -> u32 {
+        filter_tick_clocks(u64::from(self.input_filter_us), self.clock_hz)
+    }
+
+    /// The same configuration with `axes` axes (checked), every other
+    /// setting kept.
+    pub fn with_axes(self, axes: u64) -> Result<Self, ConfigError> {
+        check("axes", axes, Self::AXES)?;
+        Ok(Self {
+            axes: axes as u32,
+            ..self
         })
     }
 
@@ -177,6 +212,7 @@ impl Default for Config {
             clock_hz: 50_000_000,
             isa_ram: IsaRam::Internal,
             counter_features: CounterFeatures::ALL,
+            input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
         }
     }
 }
@@ -249,6 +285,15 @@ mod tests {
         }
         assert!(Config::new(1, 8, 1_000_000).is_ok());
         assert!(Config::new(16, 32, 400_000_000).is_ok());
+        let d = Config::default();
+        for us in [0, 50_001] {
+            let msg = d.with_input_filter_us(us).unwrap_err().to_string();
+            assert_eq!(
+                msg,
+                format!("input_filter_us = {us} is out of range: allowed 1..=50000")
+            );
+        }
+        assert_eq!(d.with_input_filter_us(1).unwrap().input_filter_us(), 1);
     }
 
     #[test]

@@ -16,3 +16,62 @@ pub const ESTOP_LATENCY: u32 = 3;
 /// the IRQ pin following it: the pin is one flip-flop after OR(cause AND
 /// mask).
 pub const IRQ_LATENCY: u32 = 1;
+
+/// The machine inputs per axis, in the order the registers and the
+/// firmware index them.
+pub const MACHINE_INPUTS: [&str; 4] = ["LIMIT_POS", "LIMIT_NEG", "HOME", "ALARM"];
+
+/// Ticks of the filter's prescaler at which a machine input must read a new
+/// level in a row before the filtered level takes it (a tick where it reads
+/// the old level again starts the count over).
+pub const FILTER_TICKS: u32 = 4;
+
+/// Bits of the filter's prescaler: enough for the longest filter time at
+/// the fastest clock (50 ms at 400 MHz is a tick every 5 000 000 clocks).
+pub const FILTER_PRESCALER_BITS: u32 = 24;
+
+/// Filter times the configuration accepts (`input_filter_us`), in
+/// microseconds: from a noisy optical switch to a bouncing mechanical one.
+pub const INPUT_FILTER_US: std::ops::RangeInclusive<u64> = 1..=50_000;
+
+/// The built-in filter time: 1 ms covers the bounce of the mechanical
+/// limit and home switches machines use.
+pub const DEFAULT_INPUT_FILTER_US: u64 = 1_000;
+
+/// The filter's tick period P in clocks for a filter time of `us`
+/// microseconds at `clock_hz`: the smallest P with FILTER_TICKS × P clocks
+/// at least the filter time. A level held FILTER_TICKS × P clocks always
+/// passes; one held fewer than (FILTER_TICKS − 1) × P + 1 never does.
+pub fn filter_tick_clocks(us: u64, clock_hz: u64) -> u32 {
+    let clocks = (us * clock_hz).div_ceil(1_000_000);
+    let p = clocks.div_ceil(u64::from(FILTER_TICKS)).max(1);
+    assert!(
+        p < 1 << FILTER_PRESCALER_BITS,
+        "filter tick of {p} clocks does not fit the prescaler"
+    );
+    p as u32
+}
+
+/// Clock edges from the edge where a filtered limit (or alarm) level turns
+/// active to the edge from which the axis starts no step in the stopped
+/// direction: the cause flip-flop, then the generator's halt. The filtered
+/// level itself follows the pin by two synchroniser edges and the filter.
+pub const LIMIT_LATENCY: u32 = 2;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_filter_tick_covers_the_filter_time() {
+        // 1 ms at 50 MHz: 50 000 clocks, four ticks of 12 500.
+        assert_eq!(filter_tick_clocks(1_000, 50_000_000), 12_500);
+        // 1 µs at 1 MHz: one clock, rounded up to a tick of one clock.
+        assert_eq!(filter_tick_clocks(1, 1_000_000), 1);
+        // 1 µs at 50 MHz: 50 clocks, ticks of 13 (52 clocks).
+        assert_eq!(filter_tick_clocks(1, 50_000_000), 13);
+        let longest = filter_tick_clocks(*INPUT_FILTER_US.end(), 400_000_000);
+        assert_eq!(longest, 5_000_000);
+        assert!(longest < 1 << FILTER_PRESCALER_BITS);
+    }
+}

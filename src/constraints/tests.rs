@@ -19,14 +19,24 @@ fn pools_have_no_duplicates_and_exclude_the_clock() {
 }
 
 #[test]
-fn default_config_fits_every_board() {
-    let ports = board::ports(&Config::default());
-    for b in BOARDS {
+fn default_config_fits_the_ice40_and_ecp5_boards_and_two_axes_every_board() {
+    // The DE0-Nano's 100 pins hold two axes, not the default's four.
+    let two = Config::default().with_axes(2).unwrap();
+    for (config, boards) in [(Config::default(), &BOARDS[..2]), (two, &BOARDS[..])] {
+        fits(&config, boards);
+    }
+    assert_eq!(files(&Config::default()).len(), 2);
+    assert_eq!(files(&two).len(), 4);
+    assert!(assign(&CYCLONE4_DE0_NANO, &board::ports(&Config::default())).is_err());
+}
+
+fn fits(config: &Config, boards: &[&Board]) {
+    let ports = board::ports(config);
+    for b in boards {
         let a = assign(b, &ports).unwrap();
         let bits: usize = ports.iter().map(|p| p.bits().len()).sum();
         assert_eq!(a.len(), bits, "{}", b.name);
         let pins: HashSet<_> = a.iter().map(|a| a.pin).collect();
         assert_eq!(pins.len(), a.len(), "{}: a pin used twice", b.name);
     }
-    assert_eq!(files(&Config::default()).len(), 4);
 }

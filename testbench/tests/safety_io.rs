@@ -12,6 +12,15 @@ fn block_against_model_in_rust_hdl() {
 }
 
 #[test]
+fn one_axis_stop_logic_every_reachable_state_and_input() {
+    let r = motionhdl_testbench::checks::safety_io::tour::stops_exhaustive();
+    eprintln!("{}: {} of {} pairs", r.check, r.covered, r.expected);
+    r.assert_passed();
+    assert_eq!(r.covered, r.expected, "every pair visited");
+    assert!(r.expected > 10_000, "{} pairs", r.expected);
+}
+
+#[test]
 fn generated_verilog_against_model() {
     random_verilog(Simulator::Icarus, 100_000, 0x5afe_0002).assert_passed();
     random_verilog(Simulator::Verilator, 1_000_000, 0x5afe_0003).assert_passed();
@@ -26,7 +35,7 @@ fn netlist_against_model() {
 /// Clocks of the contract run, and how often each property's antecedent
 /// must hold in it (so none passes by never being tested).
 const CONTRACT_CLOCKS: usize = 200_000;
-const MIN_COVERED: [u64; 5] = [100_000, 10_000, 500, 200, 100];
+const MIN_COVERED: [u64; 8] = [100_000, 10_000, 500, 200, 100, 1_000, 100_000, 1_000];
 
 #[test]
 fn contract_holds_with_every_antecedent_covered() {
@@ -61,6 +70,7 @@ fn each_contract_property_can_fail() {
 /// and the spec's: acceptance testbenches are written from that page.
 #[test]
 fn the_docs_state_the_map_and_the_latencies() {
+    use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
     use motionhdl_model::regmap::{self, Access};
     use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/safety_io.md");
@@ -91,8 +101,10 @@ fn the_docs_state_the_map_and_the_latencies() {
         for f in &r.fields {
             let bits = if f.width == 1 {
                 format!("{} [{}]", f.name, f.lsb)
-            } else if f.name == "AXES" && r.name != "INFO" {
-                "AXES [N-1:0]".to_string()
+            } else if f.name == "AXES" && r.name != "INFO" || f.width == 4 && f.lsb == 0 {
+                format!("{} [N-1:0]", f.name)
+            } else if f.width == 4 && r.name != "INFO" {
+                format!("{} [N+{}:{}]", f.name, f.lsb - 1, f.lsb)
             } else {
                 format!("{} [{}:{}]", f.name, f.lsb + f.width - 1, f.lsb)
             };
@@ -109,6 +121,8 @@ fn the_docs_state_the_map_and_the_latencies() {
         format!("0x{WATCHDOG_KEY:X}"),
         format!("`ESTOP_LATENCY` = {ESTOP_LATENCY} edges"),
         format!("`IRQ_LATENCY` = {IRQ_LATENCY}"),
+        format!("`FILTER_TICKS` = {FILTER_TICKS} ticks"),
+        format!("`LIMIT_LATENCY` = {LIMIT_LATENCY} edges"),
     ] {
         assert!(
             flat.contains(&fact),

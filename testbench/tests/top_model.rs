@@ -19,13 +19,15 @@ use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 /// Clocks of the generated-stimulus run: past the reset every 65536 clocks.
 const GENERATED_CLOCKS: u64 = 150_000;
 
+/// The default top with a 1 µs input filter, so the stimulus's limit,
+/// home and alarm levels pass it and stop axes.
 fn config() -> Config {
-    Config::default()
+    Config::default().with_input_filter_us(1).unwrap()
 }
 
 #[test]
 fn every_pin_every_clock_under_generated_stimulus() {
-    let (r, stats) = compare::<4>(&config(), Pins::Generated(7), GENERATED_CLOCKS, |_, _| {});
+    let (r, stats) = compare::<4>(&config(), Pins::Generated(8), GENERATED_CLOCKS, |_, _| {});
     r.assert_passed();
     assert_eq!(r.covered, GENERATED_CLOCKS, "clocks compared");
     // The stimulus reached every part of the top.
@@ -47,7 +49,16 @@ fn every_pin_every_clock_under_generated_stimulus() {
         stats.halt
     );
     assert!(stats.halt.checked > 10_000, "{:?}", stats.halt);
-    assert!(stats.halts_while_busy >= 1, "{}", stats.halts_while_busy);
+    assert!(stats.halts_while_busy >= 1, "{stats:?}");
+    // The direction-stop contract held with axes stopped, and some of
+    // them backing off their stops.
+    assert!(
+        stats.stops.violations.is_empty(),
+        "steps into a stop: {:?}",
+        stats.stops
+    );
+    assert!(stats.stops.checked > 10_000, "{:?}", stats.stops);
+    assert!(stats.stops.moving > 0, "{:?}", stats.stops);
     eprintln!("{} clocks: {stats:?}", r.covered);
 }
 
@@ -185,9 +196,40 @@ fn the_stop_contract_catches_a_step_after_halt() {
         let mut last = vec![quiet];
         for k in 1..=at {
             let now = vec![if k == at { moved } else { quiet }];
-            w.observe(u64::from(k), true, &now, &last);
+            w.observe(u64::from(k), (false, true), &now, &last);
             last = now;
         }
         assert_eq!(!w.violations.is_empty(), caught, "{moved:?} in sample {at}");
+    }
+}
+
+#[test]
+fn the_direction_stop_contract_catches_a_step_into_a_stop() {
+    use top_model::{AxisOutputs, StopWatch};
+    // (stop_up, stop_down, the sample with a step, its direction, caught)
+    let cases = [
+        (1u32, 0u32, 3u32, 1i32, true),
+        (1, 0, 2, 1, false),
+        (1, 0, 3, -1, false),
+        (0, 1, 3, -1, true),
+        (0, 1, 5, 1, false),
+        (0, 0, 4, 1, false),
+    ];
+    for (up, down, at, dir, caught) in cases {
+        let mut w = StopWatch::default();
+        let mut last = vec![AxisOutputs::default()];
+        for k in 1..=at {
+            let mut now = last.clone();
+            if k == at {
+                now[0].position = now[0].position.wrapping_add(dir as u32);
+            }
+            w.observe(u64::from(k), (false, up, down), &now, &last);
+            last = now;
+        }
+        assert_eq!(
+            !w.violations.is_empty(),
+            caught,
+            "up {up} down {down}: step {dir} in sample {at}"
+        );
     }
 }

@@ -12,6 +12,28 @@ pub fn quadrature(position: u32) -> (bool, bool) {
     (p == 1 || p == 2, p == 2 || p == 3)
 }
 
+/// What the safety block asks of the bank in one clock.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stops {
+    /// HALT: every axis stops.
+    pub halt: bool,
+    /// Per axis: no step in the positive direction; an axis heading that
+    /// way stops.
+    pub up: u32,
+    /// Per axis: no step in the negative direction.
+    pub down: u32,
+}
+
+impl Stops {
+    /// HALT alone.
+    pub fn halt(halt: bool) -> Self {
+        Self {
+            halt,
+            ..Self::default()
+        }
+    }
+}
+
 /// The bank of pulse generators behind the register bus
 /// (`regmap::pulse_bank`), each feeding a registered pulse-mode selector.
 /// Bus contract as the counter bank's: a write acts at the edge where `we`
@@ -169,13 +191,29 @@ impl PulseBank {
 
     /// One rising clock edge.
     pub fn clock(&mut self, reset: bool, bus: &BusCycle, snapshot: bool) {
-        self.clock_halting(reset, bus, snapshot, false);
+        self.clock_stopping(reset, bus, snapshot, &Stops::default());
     }
 
-    /// One edge with the safety block's HALT: while it is high RUN clears
-    /// (writes to it are ignored), every segment FIFO empties and every
-    /// generator drops its queued steps.
-    pub fn clock_halting(&mut self, reset: bool, bus: &BusCycle, snapshot: bool, halt: bool) {
+    /// Axis `i` heads up (down): its NCO rate is positive (negative), or
+    /// steps up (down) wait in its queue.
+    fn heading(&self, i: usize) -> (bool, bool) {
+        let rate = self.inputs(i, false).rate;
+        let pending = self.generators[i].timer.state().pending;
+        (rate > 0 || pending > 0, rate < 0 || pending < 0)
+    }
+
+    /// Whether axis `i` stops at this edge: HALT, or a stop in the
+    /// direction it heads.
+    fn stopped(&self, i: usize, stops: &Stops) -> bool {
+        let (up, down) = self.heading(i);
+        stops.halt || (up && stops.up >> i & 1 == 1) || (down && stops.down >> i & 1 == 1)
+    }
+
+    /// One edge with the safety block's stops. A stopped axis (HALT, or a
+    /// stop in the direction it heads) has its RUN bit cleared (a write of
+    /// it is ignored), its segment FIFO emptied and its queued steps
+    /// dropped.
+    pub fn clock_stopping(&mut self, reset: bool, bus: &BusCycle, snapshot: bool, stops: &Stops) {
         if reset {
             // The segment slots are block RAM: they keep their words.
             let mut engines = std::mem::take(&mut self.engines);
@@ -193,7 +231,8 @@ impl PulseBank {
         if bus.re {
             self.read_addr = bus.addr;
         }
-        for i in 0..self.axes() {
+        let stopped: Vec<bool> = (0..self.axes()).map(|i| self.stopped(i, stops)).collect();
+        for (i, &halt) in stopped.iter().enumerate() {
             let inputs = self.inputs(i, halt);
             self.out[i] = if self.ctrl[i] >> 1 & 1 == 1 {
                 self.quadrature[i]
@@ -250,8 +289,10 @@ impl PulseBank {
                 }
             }
         }
-        if halt {
-            self.run = 0;
+        for (i, &halt) in stopped.iter().enumerate() {
+            if halt {
+                self.run &= !(1 << i);
+            }
         }
     }
 }

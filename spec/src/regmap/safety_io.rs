@@ -140,9 +140,88 @@ pub fn safety_io(axes: u32) -> Block {
                 axes_field(axes, WriteOneToClear, "One bit per axis."),
             ),
             reg("LOW_MASK", 13, ReadWrite, "Which LOW_CAUSE bits drive the IRQ pin.", "", axes_field(axes, ReadWrite, "One bit per axis.")),
-        ],
+        ]
+        .into_iter()
+        .chain(machine_registers(axes))
+        .collect(),
         arrays: vec![],
     }
+}
+
+/// Two per-axis fields: `low` at bit 0 and `high` at bit 16.
+fn pair(
+    axes: u32,
+    access: Access,
+    low: (&'static str, &'static str),
+    high: (&'static str, &'static str),
+) -> Vec<Field> {
+    vec![
+        field(low.0, 0, axes, access, low.1),
+        field(high.0, 16, axes, access, high.1),
+    ]
+}
+
+/// The machine inputs' registers (LIMIT_POS, LIMIT_NEG, HOME, ALARM per
+/// axis): their control, filtered levels, causes and masks.
+fn machine_registers(axes: u32) -> Vec<super::Register> {
+    use Access::*;
+    let ctrl = |name, offset, what: &'static str| {
+        reg(
+            name,
+            offset,
+            ReadWrite,
+            what,
+            "Both fields are 0 after reset: every input off and active high. The filters run whether an input is on or not, so its level is known before it is turned on.",
+            pair(
+                axes,
+                ReadWrite,
+                ("ENABLE", "Per axis: 1 = the input acts (sets its cause and, for limits and alarms, stops the axis)."),
+                ("ACTIVE_LOW", "Per axis: 1 = the input is active while the pin is low (normally-closed switch to ground)."),
+            ),
+        )
+    };
+    let w1c_note =
+        "An active input in the same clock as a write of 1 to its bit keeps the bit set.";
+    vec![
+        ctrl("LIMIT_POS_CTRL", 14, "The positive-direction limit inputs."),
+        ctrl("LIMIT_NEG_CTRL", 15, "The negative-direction limit inputs."),
+        ctrl("HOME_CTRL", 16, "The home switch inputs."),
+        ctrl("ALARM_CTRL", 17, "The drive alarm inputs."),
+        reg(
+            "LIMIT_INPUTS",
+            18,
+            ReadOnly,
+            "The limit inputs after synchroniser, filter and polarity: 1 = active (on or off).",
+            "",
+            pair(axes, ReadOnly, ("POS", "Per axis: LIMIT_POS active."), ("NEG", "Per axis: LIMIT_NEG active.")),
+        ),
+        reg(
+            "HOME_ALARM_INPUTS",
+            19,
+            ReadOnly,
+            "The home and alarm inputs after synchroniser, filter and polarity: 1 = active (on or off).",
+            "",
+            pair(axes, ReadOnly, ("HOME", "Per axis: HOME active."), ("ALARM", "Per axis: ALARM active.")),
+        ),
+        reg(
+            "LIMIT_CAUSE",
+            20,
+            WriteOneToClear,
+            "Sticky, per axis and direction: an enabled limit was active. While a bit is set the axis starts no step in that direction (it stops if it was heading that way); steps the other way stay allowed, so it can back off.",
+            w1c_note,
+            pair(axes, WriteOneToClear, ("POS", "Per axis: stopped at LIMIT_POS."), ("NEG", "Per axis: stopped at LIMIT_NEG.")),
+        ),
+        reg("LIMIT_MASK", 21, ReadWrite, "Which LIMIT_CAUSE bits drive the IRQ pin.", "", pair(axes, ReadWrite, ("POS", "Per axis."), ("NEG", "Per axis."))),
+        reg(
+            "HOME_ALARM_CAUSE",
+            22,
+            WriteOneToClear,
+            "Sticky, per axis: HOME turned active (an edge), or an enabled ALARM was active (a level). While ALARM's bit is set the axis starts no step in either direction.",
+            w1c_note,
+            pair(axes, WriteOneToClear, ("HOME", "Per axis: the enabled HOME input turned active."), ("ALARM", "Per axis: stopped by the drive's alarm.")),
+        ),
+        reg("HOME_ALARM_MASK", 23, ReadWrite, "Which HOME_ALARM_CAUSE bits drive the IRQ pin.", "", pair(axes, ReadWrite, ("HOME", "Per axis."), ("ALARM", "Per axis."))),
+    ]
 }
 
 // WDT_RELOAD's description names the key by field; the docs give its value.

@@ -15,8 +15,8 @@ use rust_hdl::prelude::*;
 #[derive(Clone, Copy, Debug)]
 pub struct BankVector {
     pub reset: bool,
-    /// The safety block's HALT.
-    pub halt: bool,
+    /// The safety block's HALT and per-direction stops.
+    pub stops: m::Stops,
     pub bus: BusCycle,
     pub snapshot: bool,
 }
@@ -31,19 +31,27 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
     let mut v = vec![
         BankVector {
             reset: true,
-            halt: false,
+            stops: m::Stops::default(),
             bus: BusCycle::default(),
             snapshot: false
         };
         4
     ];
     let mut halt_for = 0u64;
+    let (mut up, mut down) = (0u32, 0u32);
     while v.len() < clocks {
         if halt_for == 0 && next().is_multiple_of(2000) {
             halt_for = 1 + next() % 40;
         }
         let halt = halt_for > 0;
         halt_for = halt_for.saturating_sub(1);
+        // Direction stops come and go per axis, as limits and alarms do.
+        if next().is_multiple_of(200) {
+            up ^= 1 << (next() % u64::from(axes));
+        }
+        if next().is_multiple_of(200) {
+            down ^= 1 << (next() % u64::from(axes));
+        }
         let mut bus = BusCycle::default();
         match next() % 16 {
             0 | 1 => {
@@ -67,7 +75,7 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
             _ => {}
         }
         v.push(BankVector {
-            halt,
+            stops: m::Stops { halt, up, down },
             reset: next().is_multiple_of(5000),
             bus,
             snapshot: next().is_multiple_of(64),
@@ -100,10 +108,12 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
         uut.we.next = v.bus.we;
         uut.re.next = v.bus.re;
         uut.snapshot.next = v.snapshot;
-        uut.halt.next = v.halt;
+        uut.halt.next = v.stops.halt;
+        uut.stop_up.next = u64::from(v.stops.up).into();
+        uut.stop_down.next = u64::from(v.stops.down).into();
         settle(&mut uut);
         cycle(&mut uut, |u| &mut u.clock);
-        model.clock_halting(v.reset, &v.bus, v.snapshot, v.halt);
+        model.clock_stopping(v.reset, &v.bus, v.snapshot, &v.stops);
         let got_rdata = uut.rdata.val().index() as u32;
         let mut bad = (got_rdata != model.rdata())
             .then(|| format!("rdata HDL {got_rdata:#x}, model {:#x}", model.rdata()));

@@ -150,7 +150,14 @@ fn rig(target: Target, config: &Config, loopback: bool) -> Result<Rig, String> {
         ("isa_base", 0),
     ];
     let mut ties: Vec<(&str, u64)> = idle_pc.to_vec();
-    ties.extend([("enc_z", 0), ("estop_ok", 1)]);
+    ties.extend([
+        ("enc_z", 0),
+        ("estop_ok", 1),
+        ("limit_pos", 0),
+        ("limit_neg", 0),
+        ("home", 0),
+        ("alarm", 0),
+    ]);
     if loopback {
         rig.loops = vec![
             ("enc_a".into(), "pulse_f1".into()),

@@ -41,7 +41,7 @@ impl McuOracle {
             map,
             bank,
             pulses: PulseBank::new(config.axes(), config.counter_width()),
-            safety: SafetyIo::new(config.axes()),
+            safety: SafetyIo::new(config.axes(), config.filter_tick_clocks()),
             axes: config.axes() as usize,
             ram: vec![0; words],
         }
@@ -58,10 +58,11 @@ impl McuOracle {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
         let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
-        let events = SafetyInputs::from_pulses(true, &self.pulses);
-        let halt = self.safety.halted();
+        let events = SafetyInputs::from_pulses(true, Default::default(), &self.pulses);
+        let stops = self.safety.stops();
         self.bank.clock(&pins, reset, bus);
-        self.pulses.clock_halting(reset, pulse_bus, snapshot, halt);
+        self.pulses
+            .clock_stopping(reset, pulse_bus, snapshot, &stops);
         self.safety.clock(reset, &BusCycle::default(), &events);
     }
 

@@ -91,6 +91,11 @@ pub struct System<const N: usize> {
     probes: Option<Probes>,
     /// The e-stop chain (high = released), as the board drives it.
     pub estop_ok: bool,
+    /// Per axis, where a LIMIT_POS switch sits on the shaft: its pin is
+    /// high (active high) while the shaft is at or beyond it.
+    pub limit_pos_at: Vec<Option<i32>>,
+    /// Per axis, a LIMIT_NEG switch: high at or below it.
+    pub limit_neg_at: Vec<Option<i32>>,
 }
 
 impl<const N: usize> System<N> {
@@ -111,6 +116,8 @@ impl<const N: usize> System<N> {
             path: None,
             probes: None,
             estop_ok: true,
+            limit_pos_at: vec![None; N],
+            limit_neg_at: vec![None; N],
         }
     }
 
@@ -181,6 +188,13 @@ impl<const N: usize> System<N> {
         u.enc_a.next = a.into();
         u.enc_b.next = b.into();
         u.estop_ok.next = self.estop_ok;
+        let (mut pos, mut neg) = (0u64, 0u64);
+        for (i, d) in self.drives.iter().enumerate() {
+            pos |= u64::from(self.limit_pos_at[i].is_some_and(|at| d.position >= at)) << i;
+            neg |= u64::from(self.limit_neg_at[i].is_some_and(|at| d.position <= at)) << i;
+        }
+        u.limit_pos.next = pos.into();
+        u.limit_neg.next = neg.into();
     }
 
     /// One clock edge with these pins; then the drives see the outputs.

@@ -48,6 +48,10 @@ pub fn drive<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) {
     uut.enc_b.next = u64::from(p.enc_b).into();
     uut.enc_z.next = u64::from(p.enc_z).into();
     uut.estop_ok.next = p.estop_ok;
+    uut.limit_pos.next = u64::from(p.machine.limit_pos).into();
+    uut.limit_neg.next = u64::from(p.machine.limit_neg).into();
+    uut.home.next = u64::from(p.machine.home).into();
+    uut.alarm.next = u64::from(p.machine.alarm).into();
 }
 
 /// The rust-hdl top's output pins.
@@ -132,8 +136,15 @@ pub struct HaltWatch {
 impl HaltWatch {
     /// Sample `k`: HALT and the axes' outputs, and those of the sample
     /// before.
-    pub fn observe(&mut self, k: u64, halt: bool, now: &[AxisOutputs], before: &[AxisOutputs]) {
-        self.run = if halt { self.run + 1 } else { 0 };
+    pub fn observe(
+        &mut self,
+        k: u64,
+        (reset, halt): (bool, bool),
+        now: &[AxisOutputs],
+        before: &[AxisOutputs],
+    ) {
+        // A reset edge zeroes the positions: the runs start over.
+        self.run = if halt && !reset { self.run + 1 } else { 0 };
         // HALT rose at edge h: sample h (run 1) may still show a step
         // started at h; sample h + 1 (run 2) shows none; its position may
         // still count the step of edge h.
@@ -147,6 +158,60 @@ impl HaltWatch {
                 || (self.run >= 3 && n.position != b.position);
             if moved {
                 self.violations.push((k, i));
+            }
+        }
+    }
+}
+
+/// The top's direction-stop contract, from the safety block's per-axis
+/// stops and each axis's `position` alone: once `stop_up[i]` has been high
+/// at three edges in a row, axis i's position does not rise at the later
+/// edges while it stays high (a step whose S1 rose at the edge before the
+/// stop acted still counts), and the same downwards for `stop_down[i]`
+/// (docs/pulse_generator.md, "Direction stops").
+#[derive(Clone, Debug, Default)]
+pub struct StopWatch {
+    /// Per axis, samples in a row with stop_up / stop_down high.
+    runs: Vec<(u32, u32)>,
+    /// Axis-samples the property applied to.
+    pub checked: u64,
+    /// Of those, samples where the axis's position changed (it backed off).
+    pub moving: u64,
+    /// (sample, axis) where the position moved into a stop.
+    pub violations: Vec<(u64, usize)>,
+}
+
+impl StopWatch {
+    /// Sample `k`: the stops and the axes' outputs, and those before.
+    pub fn observe(
+        &mut self,
+        k: u64,
+        (reset, up, down): (bool, u32, u32),
+        now: &[AxisOutputs],
+        before: &[AxisOutputs],
+    ) {
+        self.runs.resize(now.len(), (0, 0));
+        for (i, (n, b)) in now.iter().zip(before).enumerate() {
+            let run = &mut self.runs[i];
+            run.0 = if up >> i & 1 == 1 && !reset {
+                run.0 + 1
+            } else {
+                0
+            };
+            run.1 = if down >> i & 1 == 1 && !reset {
+                run.1 + 1
+            } else {
+                0
+            };
+            let step = n.position.wrapping_sub(b.position) as i32;
+            for (run, into) in [(run.0, step > 0), (run.1, step < 0)] {
+                if run >= 3 {
+                    self.checked += 1;
+                    self.moving += u64::from(step != 0);
+                    if into {
+                        self.violations.push((k, i));
+                    }
+                }
             }
         }
     }
@@ -181,6 +246,8 @@ pub struct RunStats {
     /// Clocks where HALT rose while some axis had a step queued or running
     /// (the contract's interesting case).
     pub halts_while_busy: u64,
+    /// The direction-stop contract over the HDL's axes.
+    pub stops: StopWatch,
 }
 
 /// Where a comparison's per-clock pins come from.
@@ -250,7 +317,11 @@ pub fn compare<const N: usize>(
         stats.halts_while_busy += u64::from(halt && !last_halt && busy);
         last_halt = halt;
         let axes = axis_outputs(&uut);
-        stats.halt.observe(k, halt, &axes, &last_axes);
+        stats.halt.observe(k, (p.reset, halt), &axes, &last_axes);
+        let (up, down) = uut.mcu().stops();
+        stats
+            .stops
+            .observe(k, (p.reset, up, down), &axes, &last_axes);
         last_axes = axes;
         let mut want = model.step(&p);
         fault(k, &mut want);

@@ -28,6 +28,7 @@ mod verilog;
 pub use verilog::verilog_testbench;
 
 use crate::checks::isa_bridge::TEST_BASE;
+use motionhdl_model::machine_inputs::MachinePins;
 use motionhdl_model::motion_controller::{TopInputs, TopOutputs};
 use motionhdl_model::regmap::{self, Access};
 use motionhdl_model::Config;
@@ -38,6 +39,9 @@ pub const RESET_CLOCKS: u64 = 4;
 pub const RERESET_AT: u64 = 32768;
 /// The ISA base switches (the card answers on base*4..base*4+3).
 pub const ISA_BASE: u8 = TEST_BASE;
+
+/// Clocks between changes of the limit, home and alarm pins.
+pub const MACHINE_EVERY: u64 = 1024;
 
 /// Is clock `cycle` in reset?
 pub fn reset_at(cycle: u64) -> bool {
@@ -153,6 +157,12 @@ impl TopStimulus {
                     // CLEAR's bits.
                     ("SAFETY", "WDT_TIMEOUT") => class::TIMING,
                     ("SAFETY", "CLEAR") => class::SMALL,
+                    // Inputs of axes 0..=2 on, active high: axis 3 never
+                    // stops at a limit.
+                    (
+                        "SAFETY",
+                        "LIMIT_POS_CTRL" | "LIMIT_NEG_CTRL" | "HOME_CTRL" | "ALARM_CTRL",
+                    ) => class::SMALL,
                     _ => class::RANDOM,
                 };
                 writes.push((word, c));
@@ -210,6 +220,19 @@ impl TopStimulus {
         p.enc_a = a;
         p.enc_b = b;
         p.enc_z = z;
+        // Limit, home and alarm pins: random levels held MACHINE_EVERY
+        // clocks, long enough to pass a short filter; limits active one
+        // time in four, alarms one in sixteen, home one in two.
+        if self.cycle.is_multiple_of(MACHINE_EVERY) {
+            let mask = (1u32 << self.phase.len()) - 1;
+            let sparse = r3 & r2;
+            p.machine = MachinePins {
+                limit_pos: sparse & mask,
+                limit_neg: sparse >> 16 & mask,
+                home: (r3 ^ r2) & mask,
+                alarm: (sparse & sparse >> 4) >> 8 & mask,
+            };
+        }
 
         self.fsmc_clock(r1, r3);
         self.isa_clock(r2, r3);
@@ -406,6 +429,8 @@ impl Sums {
                 | u32::from(p.isa_sd_in) << 16,
             u32::from(p.enc_a) | u32::from(p.enc_b) << 16,
             u32::from(p.enc_z),
+            p.machine.limit_pos | p.machine.limit_neg << 16,
+            p.machine.home | p.machine.alarm << 16,
         ] {
             self.stimulus = mix(self.stimulus, v);
         }

@@ -3,19 +3,27 @@
 //! of the HDL. Each property counts the clocks where its antecedent held,
 //! and [`Breakage`] shows each one able to fail.
 
-use super::{Observed, AXES};
+use super::{Observed, AXES, TICK_CLOCKS};
 use crate::harness::CheckReport;
+use motionhdl_model::machine_inputs::FILTER_TICKS;
 use motionhdl_model::regmap;
 use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY};
 
 /// The properties, in the order [`contract`] reports them.
-pub const PROPERTIES: [&str; 5] = [
+pub const PROPERTIES: [&str; 8] = [
     "IRQ pin = OR(cause AND mask) with its polarity, IRQ_LATENCY later",
     "no drive ENABLE while HALT",
     "an e-stop input low halts every axis ESTOP_LATENCY edges later",
     "HALT falls only at a CLEAR write",
     "an armed watchdog left alone bites exactly TIMEOUT + 1 edges after the arm",
+    "a filtered input changes only after its pin read the new level at FILTER_TICKS ticks",
+    "a pin held FILTER_TICKS x P + 2 clocks has passed its filter",
+    "nothing latches from a disabled input",
 ];
+
+/// Clocks from a pin sample to the filter tick that uses it (the two
+/// synchroniser flip-flops).
+const SYNC: usize = 2;
 
 fn wrote(o: &Observed, offset: u32) -> bool {
     o.vector.bus.we && o.vector.bus.addr & 0x7f == offset
@@ -93,10 +101,74 @@ pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
             format!("armed with {t} at clock {e}: cause early {early}, at {}: cause {bit}, HALT {halted}", e + t + 1)
         }));
     }
+    machine_properties(trace, &mut r[5..]);
     for report in &mut r {
         report.expected = report.covered;
     }
     r
+}
+
+/// Pin `kind` of axis `i` in vector `k`, and its filtered level after edge k.
+fn pin(trace: &[Observed], k: usize, kind: usize, i: usize) -> bool {
+    trace[k].vector.inputs.machine.kinds()[kind] >> i & 1 == 1
+}
+
+fn level(trace: &[Observed], k: usize, kind: usize, i: usize) -> bool {
+    trace[k].registers.levels[kind] >> i & 1 == 1
+}
+
+/// The filter and enable properties, reports 5..=7.
+fn machine_properties(trace: &[Observed], r: &mut [CheckReport]) {
+    let p = TICK_CLOCKS as usize;
+    let ticks = FILTER_TICKS as usize;
+    let hold = ticks * p + SYNC;
+    for k in hold..trace.len() {
+        if trace[k - hold..=k].iter().any(|o| o.vector.reset) {
+            continue;
+        }
+        for kind in 0..4 {
+            for i in 0..AXES {
+                let now = level(trace, k, kind, i);
+                if now != level(trace, k - 1, kind, i) {
+                    let samples: Vec<usize> = (0..ticks).map(|m| k - SYNC - m * p).collect();
+                    let read = samples.iter().all(|&j| pin(trace, j, kind, i) == now);
+                    r[0].case((!read).then(|| {
+                        format!("clock {k}: input {kind} axis {i} became {now} without the pin at {samples:?}")
+                    }));
+                }
+                let held = pin(trace, k, kind, i);
+                if (k + 1 - hold..=k).all(|j| pin(trace, j, kind, i) == held) {
+                    r[1].case((now != held).then(|| {
+                        format!("clock {k}: input {kind} axis {i} pin {held} for {hold} clocks, level {now}")
+                    }));
+                }
+            }
+        }
+    }
+    // A cause bit rising must come from an enabled input: LIMIT_CAUSE's
+    // halves from LIMIT_POS/NEG, HOME_ALARM_CAUSE's from HOME/ALARM.
+    for k in 1..trace.len() {
+        if trace[k].vector.reset || trace[k - 1].vector.reset {
+            continue;
+        }
+        let (before, after) = (&trace[k - 1].registers, &trace[k].registers);
+        let risen = [
+            after.limit_cause & !before.limit_cause,
+            after.home_alarm_cause & !before.home_alarm_cause,
+        ];
+        for (cause, rose) in risen.into_iter().enumerate() {
+            for half in 0..2 {
+                let bits = rose >> (16 * half) & 0xffff;
+                if bits == 0 {
+                    continue;
+                }
+                let enable = before.input_ctrl[2 * cause + half] & 0xffff;
+                r[2].case((bits & !enable != 0).then(|| {
+                    format!("clock {k}: cause {cause} half {half} rose {bits:#x} with ENABLE {enable:#x}")
+                }));
+            }
+        }
+    }
 }
 
 /// A deliberate fault in a good trace, one per property, to show each
@@ -113,15 +185,24 @@ pub enum Breakage {
     HaltGlitch,
     /// The watchdog's cause one clock late.
     BiteLate,
+    /// A filtered level flipped with no pin behind it.
+    LevelFromNothing,
+    /// A filtered level that stays behind its pin.
+    LevelStuck,
+    /// A limit cause rising while its input was disabled.
+    CauseWhileDisabled,
 }
 
 impl Breakage {
-    pub const ALL: [Breakage; 5] = [
+    pub const ALL: [Breakage; 8] = [
         Breakage::IrqFlipped,
         Breakage::EnableWhileHalted,
         Breakage::EstopLate,
         Breakage::HaltGlitch,
         Breakage::BiteLate,
+        Breakage::LevelFromNothing,
+        Breakage::LevelStuck,
+        Breakage::CauseWhileDisabled,
     ];
 
     /// The property (index into [`PROPERTIES`]) this breakage must fail.
@@ -155,6 +236,24 @@ impl Breakage {
                     .find(|&k| bit(&t[k]) && !bit(&t[k - 1]))
                     .expect("a bite");
                 t[k].registers.cause &= !2;
+            }
+            Breakage::LevelFromNothing => {
+                // Axis 0's LIMIT_POS level flipped for the rest of the run.
+                let k = t.len() / 2;
+                t[k..].iter_mut().for_each(|o| o.registers.levels[0] ^= 1);
+            }
+            Breakage::LevelStuck => {
+                // A level that never follows its pin: held at 0.
+                t.iter_mut().for_each(|o| o.registers.levels[1] &= !1);
+            }
+            Breakage::CauseWhileDisabled => {
+                let rose = |t: &[Observed], k: usize| {
+                    t[k].registers.limit_cause & !t[k - 1].registers.limit_cause & 0xffff != 0
+                };
+                let k = (2..t.len())
+                    .find(|&k| rose(&t, k) && !t[k].vector.reset && !t[k - 1].vector.reset)
+                    .expect("a limit cause rising");
+                t[k - 1].registers.input_ctrl[0] &= !0xffff;
             }
         }
         t

@@ -4,18 +4,24 @@
 //! from the model (docs/safety_io.md).
 
 pub mod contract;
+pub mod tour;
 
 use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::verilog_sim::{ports_of, run_vectors, sim_failure, Design, Target};
 use motionhdl_hdl::probe::SafetyRegisters;
 use motionhdl_hdl::{catalog, SafetyIo};
 use motionhdl_model::counter::BusCycle;
+use motionhdl_model::machine_inputs::MachinePins;
 use motionhdl_model::regmap;
 use motionhdl_model::safety_io::{SafetyInputs, SafetyIo as Model, WATCHDOG_KEY};
 use rust_hdl::prelude::*;
 
 /// Axes of the instance the checks run.
 pub const AXES: usize = 4;
+
+/// The machine inputs' filter tick of the instance the checks run: short,
+/// so random pins pass the filter and glitches of a few clocks do not.
+pub const TICK_CLOCKS: u32 = 2;
 
 /// One clock of the block's inputs.
 #[derive(Clone, Copy, Debug, Default)]
@@ -32,6 +38,8 @@ pub struct Outputs {
     pub halt: bool,
     pub drive_enable: u32,
     pub irq: bool,
+    pub stop_up: u32,
+    pub stop_down: u32,
 }
 
 fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
@@ -64,11 +72,33 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
     ];
     let mut inputs = SafetyInputs {
         estop_ok: true,
-        done: 0,
-        low: 0,
+        ..Default::default()
     };
     let mut estop_low_for = 0;
+    // Machine pins: levels that hold for a few hundred clocks, and
+    // glitches of one to eight clocks on top of them.
+    let mut levels = [0u32; 4];
+    let mut glitch = [0u32; 4];
+    let mut glitch_for = 0;
     while v.len() < clocks {
+        if next().is_multiple_of(16) {
+            levels[(next() % 4) as usize] ^= 1 << (next() % AXES as u64);
+        }
+        if glitch_for == 0 && next().is_multiple_of(64) {
+            glitch_for = 1 + next() % 8;
+            glitch = [0; 4];
+            glitch[(next() % 4) as usize] = 1 << (next() % AXES as u64);
+        }
+        let pins: Vec<u32> = (0..4)
+            .map(|k| levels[k] ^ if glitch_for > 0 { glitch[k] } else { 0 })
+            .collect();
+        glitch_for = glitch_for.saturating_sub(1);
+        inputs.machine = MachinePins {
+            limit_pos: pins[0],
+            limit_neg: pins[1],
+            home: pins[2],
+            alarm: pins[3],
+        };
         if estop_low_for == 0 && next().is_multiple_of(300) {
             estop_low_for = 1 + next() % 20;
         }
@@ -101,7 +131,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
 
 /// What the model says the outputs are after each vector's edge.
 pub fn model_outputs(vectors: &[Vector]) -> Vec<Outputs> {
-    let mut model = Model::new(AXES as u32);
+    let mut model = Model::new(AXES as u32, TICK_CLOCKS);
     vectors
         .iter()
         .map(|v| {
@@ -111,6 +141,8 @@ pub fn model_outputs(vectors: &[Vector]) -> Vec<Outputs> {
                 halt: model.halted(),
                 drive_enable: model.drive_enable(),
                 irq: model.irq_pin(),
+                stop_up: model.stop_up(),
+                stop_down: model.stop_down(),
             }
         })
         .collect()
@@ -127,7 +159,7 @@ pub struct Observed {
 
 /// The rust-hdl block, stepped directly: one [`Observed`] per vector.
 pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
-    let mut uut = SafetyIo::<AXES>::new();
+    let mut uut = SafetyIo::<AXES>::new(TICK_CLOCKS);
     uut.connect_all();
     vectors
         .iter()
@@ -140,6 +172,11 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
             uut.estop_ok.next = v.inputs.estop_ok;
             uut.done.next = u64::from(v.inputs.done).into();
             uut.low.next = u64::from(v.inputs.low).into();
+            let m = v.inputs.machine;
+            uut.limit_pos.next = u64::from(m.limit_pos).into();
+            uut.limit_neg.next = u64::from(m.limit_neg).into();
+            uut.home.next = u64::from(m.home).into();
+            uut.alarm.next = u64::from(m.alarm).into();
             settle(&mut uut);
             cycle(&mut uut, |u| &mut u.clock);
             Observed {
@@ -149,6 +186,8 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
                     halt: uut.halt.val(),
                     drive_enable: uut.drive_enable.val().index() as u32,
                     irq: uut.irq.val(),
+                    stop_up: uut.stop_up.val().index() as u32,
+                    stop_down: uut.stop_down.val().index() as u32,
                 },
                 registers: uut.probe(),
             }
@@ -189,7 +228,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     );
     let vectors = stimulus(clocks, seed);
     let want = model_outputs(&vectors);
-    let module = catalog::safety_io(AXES as u32);
+    let module = catalog::safety_io(AXES as u32, TICK_CLOCKS);
     let text = match target.text(&module) {
         Ok(text) => text,
         Err(e) => return sim_failure(r, target, e),
@@ -200,10 +239,31 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
         inputs: ports_of(
             &module,
             &[
-                "reset", "addr", "wdata", "we", "re", "estop_ok", "done", "low",
+                "reset",
+                "addr",
+                "wdata",
+                "we",
+                "re",
+                "estop_ok",
+                "done",
+                "low",
+                "limit_pos",
+                "limit_neg",
+                "home",
+                "alarm",
             ],
         ),
-        outputs: ports_of(&module, &["rdata", "halt", "drive_enable", "irq"]),
+        outputs: ports_of(
+            &module,
+            &[
+                "rdata",
+                "halt",
+                "drive_enable",
+                "irq",
+                "stop_up",
+                "stop_down",
+            ],
+        ),
         clock: Some("clock"),
     };
     let mut rows: Vec<Vec<u64>> = vectors
@@ -219,9 +279,12 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 u64::from(v.inputs.done),
                 u64::from(v.inputs.low),
             ]
+            .into_iter()
+            .chain(v.inputs.machine.kinds().map(u64::from))
+            .collect()
         })
         .collect();
-    rows.push(vec![0; 8]);
+    rows.push(vec![0; 12]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, w) in want.iter().enumerate() {
@@ -231,6 +294,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                     u64::from(w.halt),
                     u64::from(w.drive_enable),
                     u64::from(w.irq),
+                    u64::from(w.stop_up),
+                    u64::from(w.stop_down),
                 ];
                 r.case((got[..] != expect[..]).then(|| {
                     format!(
@@ -250,7 +315,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
 /// Verilog in Icarus and Verilator.
 pub fn all(external: bool) -> Vec<CheckReport> {
     use crate::verilog_sim::Simulator;
-    let mut v = vec![random_rust(100_000, 0x5afe_0001)];
+    let mut v = vec![random_rust(100_000, 0x5afe_0001), tour::stops_exhaustive()];
     v.extend(contract::contract(&run_rust(&stimulus(
         100_000,
         0x5afe_0006,

@@ -41,7 +41,8 @@ module top_bench_tb;
 {dut}    reg [31:0] x, r0, r1, r2, r3, sum_stim, sum_out, idx, shift, m;
     reg [63:0] cycle;
     reg [1:0] phase [0:{top}];
-    reg [15:0] a16, b16, z16, hd;
+    reg [15:0] a16, b16, z16, hd, lp16, ln16, hm16, al16;
+    reg [31:0] sp, sq;
     reg moving, jump;
     integer i;
     // FSMC generator
@@ -225,12 +226,20 @@ module top_bench_tb;
                 z16[i] = phase[i] == 2'd0 && r0[29];
             end
             enc_a = a16[{top}:0]; enc_b = b16[{top}:0]; enc_z = z16[{top}:0];
+            if ((cycle % 64'd{machine_every}) == 64'd0) begin
+                sp = r3 & r2; sq = (sp & (sp >> 4)) >> 8;
+                lp16 = sp[15:0] & 16'd{machine_mask}; ln16 = sp[31:16] & 16'd{machine_mask};
+                hm16 = (r3[15:0] ^ r2[15:0]) & 16'd{machine_mask}; al16 = sq[15:0] & 16'd{machine_mask};
+            end
+            limit_pos = lp16[{top}:0]; limit_neg = ln16[{top}:0]; home = hm16[{top}:0]; alarm = al16[{top}:0];
             fsmc_clock;
             isa_clock;
             sum_stim = sum_stim * 32'd31 + {{fsmc_d_in, fsmc_a, reset, fsmc_nwe_n, fsmc_noe_n, fsmc_ne_n}};
             sum_stim = sum_stim * 32'd31 + {{isa_sd_in, 2'd0, isa_bale, isa_aen, isa_iow_n, isa_ior_n, isa_sa}};
             sum_stim = sum_stim * 32'd31 + {{b16, a16}};
             sum_stim = sum_stim * 32'd31 + {{16'd0, z16}};
+            sum_stim = sum_stim * 32'd31 + {{ln16, lp16}};
+            sum_stim = sum_stim * 32'd31 + {{al16, hm16}};
             cycle = cycle + 64'd1;
         end
     endtask
@@ -240,6 +249,7 @@ module top_bench_tb;
         clock = 1'b0;
         isa_base = 8'd{base};
         estop_ok = 1'b1;
+        lp16 = 16'd0; ln16 = 16'd0; hm16 = 16'd0; al16 = 16'd0;
         x = 32'd{seed};
         sum_stim = 32'd0;
         sum_out = 32'd0;
@@ -295,5 +305,7 @@ endmodule
         wait_ = WAIT,
         cmd = CMD,
         isa_hold = ISA_HOLD,
+        machine_every = super::MACHINE_EVERY,
+        machine_mask = (1u32 << n) - 1,
     )
 }

@@ -1,0 +1,140 @@
+//! The whole controller runs into a limit switch (docs/safety_io.md,
+//! "Direction stops"): the axis stops within the documented latency with
+//! its count exact, the other axis finishes its move, a move further into
+//! the switch is refused, a move away from it runs, and after a clear the
+//! axis moves both ways again.
+
+use motionhdl_firmware::scurve_segments::{self, EngineLimits};
+use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
+use motionhdl_model::pulse_generator::Segment;
+use motionhdl_model::Config;
+use motionhdl_testbench::checks::motion_controller::system::System;
+
+const CLOCK_HZ: u32 = 50_000_000;
+/// Steps per second at the top of every move here.
+const VELOCITY: f64 = 2e6;
+
+/// An S-curve's segments and clocks.
+fn plan(target: i64) -> (Vec<Segment>, u64) {
+    let lim = EngineLimits::from_physical(VELOCITY, 4e9, 8e13, f64::from(CLOCK_HZ));
+    let p = scurve_segments::plan(target, lim).unwrap();
+    (p.segments, p.clocks)
+}
+
+/// A move of `steps` at one step per 100 clocks, as firmware backs off a
+/// switch: one constant-rate segment. (An S-curve's last segment can end
+/// with its rate just past zero when the NCO's phase was not 0 at the
+/// start, as after a stop; with the switch's stop still set that is a
+/// step toward the switch, and the axis stops there.)
+fn creep(steps: i64) -> (Vec<Segment>, u64) {
+    let rate = (1i64 << 32) / 100 * steps.signum();
+    let segment = Segment {
+        steps: steps.unsigned_abs() as u32,
+        rate: rate as i32,
+        accel: 0,
+        jerk: 0,
+    };
+    (vec![segment], 100 * steps.unsigned_abs())
+}
+
+/// Pushes a move to `axis`, sets RUN for it and idles the move's length
+/// and a margin.
+fn run(sys: &mut System<2>, axis: u32, (segments, clocks): &(Vec<Segment>, u64)) {
+    for s in segments {
+        sys.push(axis, s);
+    }
+    sys.write("PULSE", None, "RUN", 1 << axis);
+    sys.idle(clocks + 2_000);
+}
+
+fn shaft(sys: &System<2>, axis: usize) -> i32 {
+    sys.drives[axis].position
+}
+
+/// COUNT and POSITION of every axis equal its shaft.
+fn counts_are_exact(sys: &mut System<2>) {
+    let shafts: Vec<i32> = (0..2).map(|i| shaft(sys, i)).collect();
+    for (i, (count, position)) in sys.positions().into_iter().enumerate() {
+        assert_eq!((count, position), (shafts[i], shafts[i]), "axis {i}");
+    }
+}
+
+#[test]
+fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
+    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
+        .unwrap()
+        .with_input_filter_us(1)
+        .unwrap();
+    let tick = config.filter_tick_clocks();
+    let mut sys = System::<2>::new(&config);
+    sys.setup();
+    let switch = 500;
+    sys.limit_pos_at[0] = Some(switch);
+    // Axis 0's limits on, active high; LIMIT_CAUSE.POS of axis 0 on IRQ.
+    sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
+    sys.write("SAFETY", None, "LIMIT_NEG_CTRL", 1);
+    sys.write("SAFETY", None, "LIMIT_MASK", 1);
+    sys.idle(u64::from(FILTER_TICKS * tick) + 10);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 0);
+    assert!(sys.irq(), "nothing yet: the active-low IRQ pin is high");
+
+    let (far, other) = (plan(1000), plan(600));
+    for s in &other.0 {
+        sys.push(1, s);
+    }
+    run(&mut sys, 0, &far);
+    // From the shaft reaching the switch: 2 synchroniser edges, at most
+    // FILTER_TICKS ticks, LIMIT_LATENCY, 2 pin registers and the drive's
+    // 3-clock pipeline; at most VELOCITY steps per second meanwhile.
+    let latency = 2 + FILTER_TICKS * tick + LIMIT_LATENCY + 2 + 3;
+    let overshoot = (f64::from(latency) * VELOCITY / f64::from(CLOCK_HZ)).ceil() as i32 + 1;
+    let stopped = shaft(&sys, 0);
+    assert!(
+        (switch..=switch + overshoot).contains(&stopped),
+        "stopped at {stopped}, switch at {switch}, overshoot bound {overshoot}"
+    );
+    assert_eq!(
+        shaft(&sys, 1),
+        0,
+        "axis 1 has not started (RUN was for axis 0)"
+    );
+    counts_are_exact(&mut sys);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 1, "POS of axis 0");
+    assert_eq!(
+        sys.read("SAFETY", None, "LIMIT_INPUTS"),
+        1,
+        "the switch is closed"
+    );
+    assert!(!sys.irq(), "the unmasked limit cause pulls IRQ low");
+    assert_eq!(sys.read("PULSE", None, "RUN") & 1, 0, "RUN cleared");
+
+    // Axis 1 runs while axis 0 sits on its switch.
+    sys.write("PULSE", None, "RUN", 2);
+    sys.idle(other.1 + 2_000);
+    assert_eq!(shaft(&sys, 1), 600);
+
+    // Further into the switch: refused, not a step.
+    run(&mut sys, 0, &plan(100));
+    run(&mut sys, 0, &creep(100));
+    assert_eq!(shaft(&sys, 0), stopped, "no step into the switch");
+    assert_eq!(sys.read("PULSE", None, "RUN") & 1, 0);
+    // A clear while the switch is still closed does not release it.
+    sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 1);
+
+    // Away from it: runs in full.
+    run(&mut sys, 0, &creep(-200));
+    assert_eq!(shaft(&sys, 0), stopped - 200);
+    counts_are_exact(&mut sys);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_INPUTS"), 0, "switch open");
+    sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 0);
+    assert!(sys.irq(), "cause cleared: IRQ released");
+    run(&mut sys, 0, &creep(100));
+    assert_eq!(
+        shaft(&sys, 0),
+        stopped - 100,
+        "forward again after the clear"
+    );
+    counts_are_exact(&mut sys);
+}
