@@ -8,6 +8,7 @@ use motionhdl_firmware::scurve_segments::{self, EngineLimits};
 use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
+use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, run};
 use motionhdl_testbench::checks::motion_controller::system::System;
 
 const CLOCK_HZ: u32 = 50_000_000;
@@ -19,32 +20,6 @@ fn plan(target: i64) -> (Vec<Segment>, u64) {
     let lim = EngineLimits::from_physical(VELOCITY, 4e9, 8e13, f64::from(CLOCK_HZ));
     let p = scurve_segments::plan(target, lim).unwrap();
     (p.segments, p.clocks)
-}
-
-/// A move of `steps` at one step per 100 clocks, as firmware backs off a
-/// switch: one constant-rate segment. (An S-curve's last segment can end
-/// with its rate just past zero when the NCO's phase was not 0 at the
-/// start, as after a stop; with the switch's stop still set that is a
-/// step toward the switch, and the axis stops there.)
-fn creep(steps: i64) -> (Vec<Segment>, u64) {
-    let rate = (1i64 << 32) / 100 * steps.signum();
-    let segment = Segment {
-        steps: steps.unsigned_abs() as u32,
-        rate: rate as i32,
-        accel: 0,
-        jerk: 0,
-    };
-    (vec![segment], 100 * steps.unsigned_abs())
-}
-
-/// Pushes a move to `axis`, sets RUN for it and idles the move's length
-/// and a margin.
-fn run(sys: &mut System<2>, axis: u32, (segments, clocks): &(Vec<Segment>, u64)) {
-    for s in segments {
-        sys.push(axis, s);
-    }
-    sys.write("PULSE", None, "RUN", 1 << axis);
-    sys.idle(clocks + 2_000);
 }
 
 fn shaft(sys: &System<2>, axis: usize) -> i32 {

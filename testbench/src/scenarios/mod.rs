@@ -96,6 +96,12 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::checks::motion_controller::system::trace,
     },
     Scenario {
+        name: "limit_stop",
+        summary: "the whole controller: axis 0 creeps into a LIMIT_POS switch (1 us filter), stops \
+                  on it with IRQ low, a move further in is refused, it backs off, the cause is cleared",
+        build: crate::checks::motion_controller::limit_stop::trace,
+    },
+    Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
         build: |_| isa_bridge::block_write_trace(),

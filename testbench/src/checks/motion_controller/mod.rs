@@ -15,6 +15,7 @@ use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
+pub mod limit_stop;
 mod loopback;
 mod oracle;
 pub mod system;

@@ -72,8 +72,8 @@ impl Drive {
 struct Probes {
     trace: Trace,
     half_ns: u64,
-    bus: [SignalId; 4],
-    axes: Vec<[SignalId; 5]>,
+    bus: [SignalId; 5],
+    axes: Vec<[SignalId; 7]>,
 }
 
 /// The MCU and the board around the rust-hdl top: the firmware's bus
@@ -129,6 +129,7 @@ impl<const N: usize> System<N> {
             trace.signal(&["fsmc"], "ne_n", 1),
             trace.signal(&["fsmc"], "a", 12),
             trace.signal(&["fsmc"], "d_in", 16),
+            trace.signal(&["mcu"], "irq", 1),
         ];
         let axes = (0..N)
             .map(|i| {
@@ -140,6 +141,8 @@ impl<const N: usize> System<N> {
                     trace.signal(&s, "enc_a", 1),
                     trace.signal(&s, "enc_b", 1),
                     trace.signal(&s, "shaft_position", 32),
+                    trace.signal(&s, "limit_pos", 1),
+                    trace.signal(&s, "limit_neg", 1),
                 ]
             })
             .collect();
@@ -224,6 +227,9 @@ impl<const N: usize> System<N> {
             p.trace.set(t, p.bus[1], u64::from(pins.ne_n));
             p.trace.set(t, p.bus[2], u64::from(pins.a & 0xfff));
             p.trace.set(t, p.bus[3], u64::from(pins.d_in));
+            p.trace.set(t, p.bus[4], u64::from(self.uut.irq.val()));
+            let limit_pos = self.uut.limit_pos.val().index() as u64;
+            let limit_neg = self.uut.limit_neg.val().index() as u64;
             for (i, d) in self.drives.iter().enumerate() {
                 let (ea, eb) = d.encoder();
                 let ids = p.axes[i];
@@ -232,6 +238,8 @@ impl<const N: usize> System<N> {
                 p.trace.set(t, ids[2], u64::from(ea));
                 p.trace.set(t, ids[3], u64::from(eb));
                 p.trace.set(t, ids[4], u64::from(d.position as u32));
+                p.trace.set(t, ids[5], limit_pos >> i & 1);
+                p.trace.set(t, ids[6], limit_neg >> i & 1);
             }
         }
         self.clocks += 1;

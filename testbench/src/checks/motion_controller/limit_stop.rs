@@ -1,0 +1,83 @@
+//! A limit switch in the whole controller (docs/safety_io.md, "Direction
+//! stops"): the moves firmware uses around one, and `motionhdl trace
+//! limit_stop`.
+
+use super::system::System;
+use crate::trace::Trace;
+use motionhdl_model::pulse_generator::Segment;
+use motionhdl_model::Config;
+
+/// A move of `steps` at one step per 100 clocks, as firmware backs off a
+/// switch: one constant-rate segment, and its length in clocks. (An
+/// S-curve's last segment can end with its rate just past zero when the
+/// NCO's phase was not 0 at its start, as after a stop; with the switch's
+/// stop still set that is a step toward the switch, and the axis stops.)
+pub fn creep(steps: i64) -> (Vec<Segment>, u64) {
+    let rate = (1i64 << 32) / 100 * steps.signum();
+    let segment = Segment {
+        steps: steps.unsigned_abs() as u32,
+        rate: rate as i32,
+        accel: 0,
+        jerk: 0,
+    };
+    (vec![segment], 100 * steps.unsigned_abs())
+}
+
+/// Pushes a move to `axis`, sets RUN for it alone and idles the move's
+/// length and a margin.
+pub fn run<const N: usize>(
+    sys: &mut System<N>,
+    axis: u32,
+    (segments, clocks): &(Vec<Segment>, u64),
+) {
+    for s in segments {
+        sys.push(axis, s);
+    }
+    sys.write("PULSE", None, "RUN", 1 << axis);
+    sys.idle(clocks + 2_000);
+}
+
+/// Where the trace's switch sits on axis 0's shaft.
+pub const TRACE_SWITCH: i32 = 20;
+
+/// `motionhdl trace limit_stop`: axis 0 creeps toward a LIMIT_POS switch
+/// at shaft position 20 (two axes, the configuration's width and clock, a
+/// 1 µs input filter so the stop shows within a few steps), stops on it
+/// with LIMIT_CAUSE.POS and the IRQ pin low, a move further in is refused,
+/// it backs off 10 steps, firmware clears the cause and IRQ rises again.
+pub fn trace(config: &Config) -> Trace {
+    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
+        .and_then(|c| c.with_input_filter_us(1))
+        .expect("2 axes of a valid configuration");
+    let mut sys = System::<2>::new(&two);
+    sys.setup();
+    sys.limit_pos_at[0] = Some(TRACE_SWITCH);
+    sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
+    sys.write("SAFETY", None, "LIMIT_MASK", 1);
+    sys.idle(100);
+    sys.record_trace(
+        format!(
+            "{} | scenario limit_stop | clock {} Hz",
+            motionhdl_hdl::banner_ascii(),
+            config.clock_hz()
+        ),
+        crate::trace::half_period_ns(config),
+    );
+    run(&mut sys, 0, &creep(40));
+    let stopped = sys.drives[0].position;
+    assert!(
+        (TRACE_SWITCH..TRACE_SWITCH + 3).contains(&stopped),
+        "limit trace: stopped at {stopped}"
+    );
+    assert!(!sys.irq(), "limit trace: IRQ low");
+    run(&mut sys, 0, &creep(5));
+    assert_eq!(sys.drives[0].position, stopped, "limit trace: refused");
+    run(&mut sys, 0, &creep(-10));
+    sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
+    sys.idle(200);
+    assert!(sys.irq(), "limit trace: cause cleared, IRQ released");
+    let p = sys.positions();
+    let back = stopped - 10;
+    assert_eq!(p[0], (back, back), "limit trace: counted back");
+    sys.take_trace().expect("recording")
+}
