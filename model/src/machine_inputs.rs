@@ -144,11 +144,10 @@ impl MachineStops {
 
     /// What a read of register `name` returns, if it is one of the block's.
     pub fn read(&self, name: &str) -> Option<u32> {
+        if let Some(kind) = CTRL.iter().position(|c| *c == name) {
+            return Some(self.ctrl[kind]);
+        }
         Some(match name {
-            "LIMIT_POS_CTRL" => self.ctrl[0],
-            "LIMIT_NEG_CTRL" => self.ctrl[1],
-            "HOME_CTRL" => self.ctrl[2],
-            "ALARM_CTRL" => self.ctrl[3],
             "LIMIT_INPUTS" => self.active(0) | self.active(1) << 16,
             "HOME_ALARM_INPUTS" => self.active(2) | self.active(3) << 16,
             "LIMIT_CAUSE" => self.limit_cause,

@@ -16,7 +16,7 @@ use crate::isa_bridge::{IsaBridgeModel, IsaPins};
 use crate::machine_inputs::MachinePins;
 use crate::pulse_generator::PulseBank;
 use crate::regmap::{self, ERR_COUNT_BITS};
-use crate::safety_io::{SafetyInputs, SafetyIo};
+use crate::safety_io::SafetyIo;
 use crate::{Config, IsaRam};
 
 /// Every input pin of the top at one rising edge (the clock aside).
@@ -397,18 +397,19 @@ impl MotionControllerModel {
             we: b.reg_we && d.select_pulses,
             re: b.reg_re && d.select_pulses,
         };
-        // HALT, DONE and FIFO_LOW as they stand before the edge.
-        let stops = self.safety.stops();
-        let events = SafetyInputs::from_pulses(inp.estop_ok, inp.machine, &self.pulses);
-        self.pulses
-            .clock_stopping(reset, &pulse_bus, snapshot, &stops);
         let safety_bus = BusCycle {
             addr: addr & 0x7f,
             wdata: b.reg_wdata,
             we: b.reg_we && d.select_safety,
             re: b.reg_re && d.select_safety,
         };
-        self.safety.clock(reset, &safety_bus, &events);
+        self.safety.clock_with_pulses(
+            &mut self.pulses,
+            reset,
+            (&pulse_bus, snapshot),
+            &safety_bus,
+            (inp.estop_ok, inp.machine),
+        );
 
         self.isa.clock(&isa_pins, reset);
 

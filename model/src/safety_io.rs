@@ -194,6 +194,23 @@ impl SafetyIo {
         }
     }
 
+    /// One edge of `pulses` and this block wired as in the top: the bank
+    /// takes this block's stops, this block the bank's move-done and
+    /// FIFO-low and `pins` (the e-stop chain, the machine inputs), all as
+    /// they stand before the edge.
+    pub fn clock_with_pulses(
+        &mut self,
+        pulses: &mut PulseBank,
+        reset: bool,
+        (pulse_bus, snapshot): (&BusCycle, bool),
+        bus: &BusCycle,
+        (estop_ok, machine): (bool, MachinePins),
+    ) {
+        let inputs = SafetyInputs::from_pulses(estop_ok, machine, pulses);
+        pulses.clock_stopping(reset, pulse_bus, snapshot, &self.stops());
+        self.clock(reset, bus, &inputs);
+    }
+
     /// One rising clock edge.
     pub fn clock(&mut self, reset: bool, bus: &BusCycle, inputs: &SafetyInputs) {
         if reset {

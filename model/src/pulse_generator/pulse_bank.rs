@@ -24,16 +24,6 @@ pub struct Stops {
     pub down: u32,
 }
 
-impl Stops {
-    /// HALT alone.
-    pub fn halt(halt: bool) -> Self {
-        Self {
-            halt,
-            ..Self::default()
-        }
-    }
-}
-
 /// The bank of pulse generators behind the register bus
 /// (`regmap::pulse_bank`), each feeding a registered pulse-mode selector.
 /// Bus contract as the counter bank's: a write acts at the edge where `we`
@@ -231,8 +221,11 @@ impl PulseBank {
         if bus.re {
             self.read_addr = bus.addr;
         }
-        let stopped: Vec<bool> = (0..self.axes()).map(|i| self.stopped(i, stops)).collect();
-        for (i, &halt) in stopped.iter().enumerate() {
+        let stopped = (0..self.axes())
+            .filter(|&i| self.stopped(i, stops))
+            .fold(0u32, |mask, i| mask | 1 << i);
+        for i in 0..self.axes() {
+            let halt = stopped >> i & 1 == 1;
             let inputs = self.inputs(i, halt);
             self.out[i] = if self.ctrl[i] >> 1 & 1 == 1 {
                 self.quadrature[i]
@@ -289,10 +282,6 @@ impl PulseBank {
                 }
             }
         }
-        for (i, &halt) in stopped.iter().enumerate() {
-            if halt {
-                self.run &= !(1 << i);
-            }
-        }
+        self.run &= !stopped;
     }
 }

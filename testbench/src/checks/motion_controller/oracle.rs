@@ -6,7 +6,7 @@ use crate::bfm::fsmc::Op;
 use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::pulse_generator::PulseBank;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
-use motionhdl_model::safety_io::{SafetyInputs, SafetyIo};
+use motionhdl_model::safety_io::SafetyIo;
 use motionhdl_model::Config;
 
 /// Register word addresses the MCU bus decodes into (A[10:1]).
@@ -58,12 +58,14 @@ impl McuOracle {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
         let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
-        let events = SafetyInputs::from_pulses(true, Default::default(), &self.pulses);
-        let stops = self.safety.stops();
         self.bank.clock(&pins, reset, bus);
-        self.pulses
-            .clock_stopping(reset, pulse_bus, snapshot, &stops);
-        self.safety.clock(reset, &BusCycle::default(), &events);
+        self.safety.clock_with_pulses(
+            &mut self.pulses,
+            reset,
+            (pulse_bus, snapshot),
+            &BusCycle::default(),
+            (true, Default::default()),
+        );
     }
 
     fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {

@@ -26,7 +26,7 @@ pub const PROPERTIES: [&str; 8] = [
 const SYNC: usize = 2;
 
 fn wrote(o: &Observed, offset: u32) -> bool {
-    o.vector.bus.we && o.vector.bus.addr & 0x7f == offset
+    o.vector.bus.we && super::word_address(o.vector.bus.addr) == offset
 }
 
 /// Every property over `trace`: one report each, a case per antecedent.
@@ -231,11 +231,15 @@ impl Breakage {
             }
             Breakage::HaltGlitch => t[stretch].outputs.halt = false,
             Breakage::BiteLate => {
-                let bit = |o: &Observed| o.registers.cause & 2 != 0;
+                let watchdog = regmap::safety_io(AXES as u32)
+                    .register("CAUSE")
+                    .field("WATCHDOG")
+                    .mask();
+                let bit = |o: &Observed| o.registers.cause & watchdog != 0;
                 let k = (1..t.len())
                     .find(|&k| bit(&t[k]) && !bit(&t[k - 1]))
                     .expect("a bite");
-                t[k].registers.cause &= !2;
+                t[k].registers.cause &= !watchdog;
             }
             Breakage::LevelFromNothing => {
                 // Axis 0's LIMIT_POS level flipped for the rest of the run.

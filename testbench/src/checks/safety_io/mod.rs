@@ -23,6 +23,11 @@ pub const AXES: usize = 4;
 /// so random pins pass the filter and glitches of a few clocks do not.
 pub const TICK_CLOCKS: u32 = 2;
 
+/// `addr` as the block decodes it: its word address bits.
+pub fn word_address(addr: u32) -> u32 {
+    addr & ((1 << motionhdl_hdl::safety_io::SAFETY_ADDRESS_BITS) - 1)
+}
+
 /// One clock of the block's inputs.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Vector {
@@ -165,7 +170,7 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
         .iter()
         .map(|v| {
             uut.reset.next = v.reset;
-            uut.addr.next = u64::from(v.bus.addr & 0x7f).into();
+            uut.addr.next = u64::from(word_address(v.bus.addr)).into();
             uut.wdata.next = u64::from(v.bus.wdata).into();
             uut.we.next = v.bus.we;
             uut.re.next = v.bus.re;
@@ -271,7 +276,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
         .map(|v| {
             vec![
                 u64::from(v.reset),
-                u64::from(v.bus.addr & 0x7f),
+                u64::from(word_address(v.bus.addr)),
                 u64::from(v.bus.wdata),
                 u64::from(v.bus.we),
                 u64::from(v.bus.re),

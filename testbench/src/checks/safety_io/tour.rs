@@ -68,7 +68,7 @@ fn model_outputs(m: &MachineStops) -> (u32, u32, bool, u32, u32) {
 
 fn clock_hdl(h: &mut Hdl<1>, bus: &BusCycle, input: &Input) {
     let p = pins(input);
-    h.addr.next = u64::from(bus.addr & 0x7f).into();
+    h.addr.next = u64::from(super::word_address(bus.addr)).into();
     h.wdata.next = u64::from(bus.wdata).into();
     h.we.next = bus.we;
     h.limit_pos.next = u64::from(p.limit_pos).into();
