@@ -95,10 +95,13 @@ fn run_model(plan: &Plan) -> Run {
     run
 }
 
-/// The continuous S-curve's duration for the limits, clocks.
+/// The continuous S-curve's duration for the limits, clocks, at the
+/// steepest jerk a ramp from rest can end on a step before passing the
+/// acceleration limit, (A³/6)^(1/2) (the planner's bound; a steeper jerk
+/// would reach A before the first step).
 fn ideal_clocks(d: f64, lim: &EngineLimits) -> f64 {
-    let j = f64::from(lim.jerk) * 2f64.powi(-64);
     let a = f64::from(lim.accel) * 2f64.powi(-48);
+    let j = (f64::from(lim.jerk) * 2f64.powi(-64)).min((a * a * a / 6.0).sqrt());
     let v = f64::from(lim.rate) * 2f64.powi(-32);
     let mut t1 = (a / j).min((v / j).sqrt());
     let mut t2 = (v / (j * t1) - t1).max(0.0);
