@@ -57,9 +57,10 @@ pub fn all(config: &Config) -> Vec<Artifact> {
 pub fn fpga_flow(config: &Config, top: &[crate::board::CorePort]) -> Vec<Artifact> {
     let mut out = vec![Artifact {
         path: PathBuf::from("verilog").join(format!("{}.v", crate::board::MODULE)),
-        contents: crate::board::wrapper_for(top).into_bytes(),
+        contents: crate::board::wrapper_for(top, config).into_bytes(),
     }];
-    let constraints = crate::constraints::files_for(config, &crate::board::board_ports(top));
+    let constraints =
+        crate::constraints::files_for(config, &crate::board::board_ports(top, config));
     for f in &constraints {
         out.push(Artifact {
             path: PathBuf::from("constraints").join(&f.name),

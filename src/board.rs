@@ -1,6 +1,8 @@
 //! The board-level wrapper `motion_controller_board`: the top level with its
 //! split tri-state ports (`X_in`, `X_out`, `X_oe`) joined into `inout X`
-//! pins and the open-collector `isa_iocs16_n` driven low or released.
+//! pins, output pairs with an enable per bit (`X_out`, `X_oe`) joined into
+//! tri-state `output X` pins, and the open-collector `isa_iocs16_n` driven
+//! low or released.
 //!
 //! The port list is the exporter's own (`VerilogModule::ports`, read from
 //! the rust-hdl block), so the wrapper's and the constraints' names cannot
@@ -33,6 +35,9 @@ pub enum PinKind {
     Inout,
     /// An open-collector output (drive low or float).
     OpenCollector,
+    /// An output that drives or floats bit by bit: `X_out`, `X_oe` of the
+    /// top level, one enable per bit (push-pull or open-drain by register).
+    TriState,
 }
 
 impl PinKind {
@@ -71,10 +76,37 @@ impl BoardPort {
     }
 }
 
+/// Board ports that bring only the first few bits of a core port to pins,
+/// as many as the configuration says: the core's other inputs read 0, its
+/// other outputs go nowhere.
+type PinsFor = fn(&Config) -> u32;
+const NARROWED: [(&str, PinsFor); 2] =
+    [("gpi", Config::gpio_inputs), ("gpo", Config::gpio_outputs)];
+
+/// The bits of board port `name` on pins for `config` (`width`, the core's,
+/// unless narrowed).
+fn pins_of(name: &str, width: u32, config: &Config) -> u32 {
+    NARROWED
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(width, |(_, pins)| pins(config).min(width))
+}
+
 /// The board ports for a top level with `core` ports, in the core's order:
 /// every `X_in`/`X_out`/`X_oe` triple becomes one `inout X` at the position
-/// of `X_in`; [`OPEN_COLLECTOR`] outputs become open-collector pins.
-pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
+/// of `X_in`; every `X_out`/`X_oe` pair with an enable per bit one tri-state
+/// `output X`; [`OPEN_COLLECTOR`] outputs become open-collector pins. The
+/// general-purpose I/O has as many pins as `config` asks (none: no port).
+pub fn board_ports(core: &[CorePort], config: &Config) -> Vec<BoardPort> {
+    let mut ports = all_board_ports(core);
+    for p in &mut ports {
+        p.width = pins_of(&p.name, p.width, config);
+    }
+    ports.retain(|p| p.width > 0);
+    ports
+}
+
+fn all_board_ports(core: &[CorePort]) -> Vec<BoardPort> {
     let find = |name: &str| core.iter().find(|p| p.name == name);
     let mut out = Vec::new();
     for p in core {
@@ -95,12 +127,27 @@ pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
                 continue;
             }
         }
-        let part_of_triple = ["_out", "_oe"].iter().any(|s| {
-            p.name
-                .strip_suffix(s)
-                .is_some_and(|base| find(&format!("{base}_in")).is_some())
+        if let Some(base) = p.name.strip_suffix("_out") {
+            if let (None, Some(oe)) = (find(&format!("{base}_in")), find(&format!("{base}_oe"))) {
+                assert!(
+                    p.dir == Dir::Output && oe.dir == Dir::Output && oe.width == p.width,
+                    "tri-state pair {base}_out/_oe needs two outputs of one width"
+                );
+                out.push(BoardPort {
+                    name: base.to_string(),
+                    kind: PinKind::TriState,
+                    width: p.width,
+                });
+                continue;
+            }
+        }
+        let part_of_group = ["_out", "_oe"].iter().any(|s| {
+            p.name.strip_suffix(s).is_some_and(|base| {
+                find(&format!("{base}_in")).is_some()
+                    || (*s == "_oe" && find(&format!("{base}_out")).is_some())
+            })
         });
-        if part_of_triple {
+        if part_of_group {
             continue;
         }
         let kind = match p.dir {
@@ -124,7 +171,34 @@ pub fn board_ports(core: &[CorePort]) -> Vec<BoardPort> {
 /// The board ports of the top level generated for `config` (elaborates
 /// it; [`board_ports`] takes ports already at hand).
 pub fn ports(config: &Config) -> Vec<BoardPort> {
-    board_ports(&catalog::motion_controller(config).ports)
+    board_ports(&catalog::motion_controller(config).ports, config)
+}
+
+/// Checks that `config`'s board ports fit `board`'s pins: `Err` says how
+/// many it needs and has, and how many axes would fit.
+pub fn check_fit(board: &crate::constraints::Board, config: &Config) -> Result<(), String> {
+    let needed = |c: &Config| -> u32 { ports(c).iter().map(|p| p.width).sum() };
+    let ports = ports(config);
+    let Err(why) = crate::constraints::assign(board, &ports) else {
+        return Ok(());
+    };
+    let total = needed(config);
+    let one = config.with_axes(1).expect("1 axis is allowed");
+    let fixed_and_one = needed(&one);
+    let per_axis = needed(&one.with_axes(2).expect("2 axes are allowed")) - fixed_and_one;
+    let fixed = fixed_and_one - per_axis;
+    let room = (board.pool.len() as u32).saturating_sub(fixed) / per_axis;
+    Err(format!(
+        "board = \"{}\" has {} user pins; this configuration needs {total} \
+         ({per_axis} per axis for axes = {}, {fixed} for the rest: clock, reset, FSMC, ISA, \
+         e-stop, IRQ and gpio_inputs = {}, gpio_outputs = {}); at most {room} axes fit \
+         with these settings ({why})",
+        board.name,
+        board.pool.len(),
+        config.axes(),
+        config.gpio_inputs(),
+        config.gpio_outputs(),
+    ))
 }
 
 fn range(width: u32) -> String {
@@ -135,9 +209,11 @@ fn range(width: u32) -> String {
     }
 }
 
-/// The wrapper's Verilog for a top level with ports `core`.
-pub fn wrapper_for(core: &[CorePort]) -> String {
-    let board = board_ports(core);
+/// The wrapper's Verilog for a top level with ports `core`, built for
+/// `config`.
+pub fn wrapper_for(core: &[CorePort], config: &Config) -> String {
+    let board = board_ports(core, config);
+    let core_width = |name: String| core.iter().find(|c| c.name == name).map_or(1, |c| c.width);
     let mut s = String::new();
     s.push_str(&format!("// {}\n", banner()));
     s.push_str(&format!(
@@ -151,7 +227,7 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
     for p in &board {
         let decl = match p.kind {
             PinKind::Input => "input wire",
-            PinKind::Output | PinKind::OpenCollector => "output wire",
+            PinKind::Output | PinKind::OpenCollector | PinKind::TriState => "output wire",
             PinKind::Inout => "inout wire",
         };
         s.push_str(&format!("    {decl} {}{};\n", range(p.width), p.name));
@@ -163,6 +239,11 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
                 s.push_str(&format!("    wire {}{}_out;\n", range(p.width), p.name));
                 s.push_str(&format!("    wire {}_oe;\n", p.name));
             }
+            PinKind::TriState => {
+                let w = range(core_width(format!("{}_out", p.name)));
+                s.push_str(&format!("    wire {w}{}_out;\n", p.name));
+                s.push_str(&format!("    wire {w}{}_oe;\n", p.name));
+            }
             PinKind::OpenCollector => {
                 s.push_str(&format!("    wire {}_drive;\n", p.name));
             }
@@ -173,21 +254,29 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
     let conns: Vec<String> = core
         .iter()
         .map(|c| {
-            let b = board
-                .iter()
-                .find(|b| {
-                    b.name == c.name
-                        || (b.kind == PinKind::Inout
-                            && ["_in", "_out", "_oe"]
-                                .iter()
-                                .any(|s| c.name == format!("{}{s}", b.name)))
-                })
-                .expect("every core port maps to a board port");
+            let found = board.iter().find(|b| {
+                b.name == c.name
+                    || (matches!(b.kind, PinKind::Inout | PinKind::TriState)
+                        && ["_in", "_out", "_oe"]
+                            .iter()
+                            .any(|s| c.name == format!("{}{s}", b.name)))
+            });
+            let Some(b) = found else {
+                // A narrowed port with no pins at all.
+                let signal = match c.dir {
+                    Dir::Input => format!("{}'d0", c.width),
+                    _ => String::new(),
+                };
+                return format!("        .{}({signal})", c.name);
+            };
             let signal = match b.kind {
+                PinKind::Input if b.width < c.width => {
+                    format!("{{{}'d0, {}}}", c.width - b.width, b.name)
+                }
                 PinKind::Input | PinKind::Output => b.name.clone(),
                 PinKind::OpenCollector => format!("{}_drive", b.name),
                 PinKind::Inout if c.name.ends_with("_in") => b.name.clone(),
-                PinKind::Inout => c.name.clone(),
+                PinKind::Inout | PinKind::TriState => c.name.clone(),
             };
             format!("        .{}({signal})", c.name)
         })
@@ -205,6 +294,19 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
                 "    assign {n} = {n}_drive ? 1'bz : 1'b0;\n",
                 n = p.name
             )),
+            PinKind::TriState => {
+                for i in 0..p.width {
+                    let b = if p.width == 1 {
+                        String::new()
+                    } else {
+                        format!("[{i}]")
+                    };
+                    s.push_str(&format!(
+                        "    assign {n}{b} = {n}_oe{b} ? {n}_out{b} : 1'bz;\n",
+                        n = p.name
+                    ));
+                }
+            }
             _ => {}
         }
     }
@@ -214,7 +316,7 @@ pub fn wrapper_for(core: &[CorePort]) -> String {
 
 /// The wrapper's Verilog for `config`.
 pub fn wrapper(config: &Config) -> String {
-    wrapper_for(&catalog::motion_controller(config).ports)
+    wrapper_for(&catalog::motion_controller(config).ports, config)
 }
 
 #[cfg(test)]
@@ -288,9 +390,9 @@ mod tests {
     }
 
     #[test]
-    fn triples_join_and_open_collector_is_kept() {
-        let v = "    input wire clock;\n    input wire [15:0] d_in;\n    output reg [15:0] d_out;\n    output reg d_oe;\n    output reg isa_iocs16_n;\n";
-        let b = board_ports(&parse_ports(v));
+    fn triples_and_pairs_join_and_open_collector_is_kept() {
+        let v = "    input wire clock;\n    input wire [15:0] d_in;\n    output reg [15:0] d_out;\n    output reg d_oe;\n    output reg isa_iocs16_n;\n    output reg [3:0] gpo_out;\n    output reg [3:0] gpo_oe;\n";
+        let b = board_ports(&parse_ports(v), &Config::default());
         assert_eq!(
             b,
             vec![
@@ -309,8 +411,20 @@ mod tests {
                     kind: PinKind::OpenCollector,
                     width: 1
                 },
+                BoardPort {
+                    name: "gpo".into(),
+                    kind: PinKind::TriState,
+                    width: 4
+                },
             ]
         );
+        let wrapper = wrapper_for(&parse_ports(v), &Config::default());
+        assert!(
+            wrapper.contains("    output wire [3:0] gpo;\n"),
+            "{wrapper}"
+        );
+        assert!(wrapper.contains("    assign gpo[3] = gpo_oe[3] ? gpo_out[3] : 1'bz;\n"));
+        assert!(wrapper.contains("        .gpo_oe(gpo_oe)"), "{wrapper}");
     }
 
     #[test]

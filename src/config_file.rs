@@ -12,6 +12,9 @@
 //! counter_error = true
 //! counter_snapshot = true
 //! input_filter_us = 1000   # 1..=50000: limit, home and alarm input filter
+//! gpio_inputs = 16         # 0..=16 general-purpose inputs on the board's pins
+//! gpio_outputs = 16        # 0..=16 general-purpose outputs on the board's pins
+//! board = "ice40-hx8k"     # optional: the board must take every pin (else exit 2)
 //! ```
 
 use crate::CliError;
@@ -33,7 +36,7 @@ enum Kind {
 }
 
 /// Every key, with what it accepts (messages name the allowed values).
-const KEYS: [(&str, Kind); 9] = [
+const KEYS: [(&str, Kind); 12] = [
     ("axes", Kind::Integer(Config::AXES)),
     ("counter_width", Kind::Integer(Config::COUNTER_WIDTH)),
     ("clock_hz", Kind::Integer(Config::CLOCK_HZ)),
@@ -43,6 +46,9 @@ const KEYS: [(&str, Kind); 9] = [
     (CounterFeatures::KEYS[2], Kind::Boolean),
     (CounterFeatures::KEYS[3], Kind::Boolean),
     ("input_filter_us", Kind::Integer(Config::INPUT_FILTER_US)),
+    ("gpio_inputs", Kind::Integer(Config::GPIO_INPUT_PINS)),
+    ("gpio_outputs", Kind::Integer(Config::GPIO_OUTPUT_PINS)),
+    ("board", Kind::Choice(&crate::constraints::BOARD_NAMES)),
 ];
 
 #[derive(Deserialize)]
@@ -57,6 +63,9 @@ struct RawConfig {
     counter_error: Option<Spanned<Value>>,
     counter_snapshot: Option<Spanned<Value>>,
     input_filter_us: Option<Spanned<Value>>,
+    gpio_inputs: Option<Spanned<Value>>,
+    gpio_outputs: Option<Spanned<Value>>,
+    board: Option<Spanned<Value>>,
 }
 
 fn kind(key: &str) -> &'static Kind {
@@ -125,6 +134,17 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         &raw.input_filter_us,
         d.input_filter_us().into(),
     )?;
+    let gpio_inputs = integer("gpio_inputs", &raw.gpio_inputs, d.gpio_inputs().into())?;
+    let gpio_outputs = integer("gpio_outputs", &raw.gpio_outputs, d.gpio_outputs().into())?;
+    let board = match &raw.board {
+        None => None,
+        Some(v) => Some(
+            crate::constraints::BOARDS
+                .into_iter()
+                .find(|b| Some(b.name) == v.get_ref().as_str())
+                .ok_or_else(|| refusal(origin, "board", &written(v)))?,
+        ),
+    };
     let isa_ram = match &raw.isa_ram {
         None => d.isa_ram(),
         Some(v) => v
@@ -149,10 +169,16 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         error: boolean(error, &raw.counter_error)?,
         snapshot: boolean(snapshot, &raw.counter_snapshot)?,
     };
-    Config::new(axes, width, clock)
+    let config = Config::new(axes, width, clock)
         .and_then(|c| c.with_input_filter_us(filter_us))
+        .and_then(|c| c.with_gpio_pins(gpio_inputs, gpio_outputs))
         .map(|c| c.with_isa_ram(isa_ram).with_counter_features(features))
-        .map_err(|e| CliError::input(format!("{origin}: {e}")))
+        .map_err(|e| CliError::input(format!("{origin}: {e}")))?;
+    if let Some(b) = board {
+        crate::board::check_fit(b, &config)
+            .map_err(|why| CliError::input(format!("{origin}: {why}")))?;
+    }
+    Ok(config)
 }
 
 /// A TOML error as the `toml` crate reports it (line, column, the text);
@@ -276,6 +302,39 @@ mod tests {
         );
         let c = parse("input_filter_us = 2\nclock_hz = 10_000_000", "c").unwrap();
         assert_eq!((c.input_filter_us(), c.filter_tick_clocks()), (2, 5));
+    }
+
+    #[test]
+    fn a_board_too_small_for_the_pins_is_refused_with_the_numbers() {
+        let e = parse("board = \"cyclone4-de0nano\"\naxes = 2", "c").unwrap_err();
+        assert_eq!(e.exit_code, 2);
+        assert!(
+            e.message.starts_with(
+                "c: board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 126 (10 per axis for axes = 2, 106 for the rest"
+            ),
+            "{}",
+            e.message
+        );
+        assert!(e.message.contains("at most 0 axes fit"), "{}", e.message);
+        // Without the general-purpose I/O two axes fit; the HX8K takes the default.
+        parse(
+            "board = \"cyclone4-de0nano\"\naxes = 2\ngpio_inputs = 0\ngpio_outputs = 0",
+            "c",
+        )
+        .unwrap();
+        parse("board = \"ice40-hx8k\"", "c").unwrap();
+        let e = parse("board = \"de0\"", "c").unwrap_err();
+        assert!(
+            e.message
+                .contains("\"ice40-hx8k\", \"ecp5-25k\", \"cyclone4-de0nano\""),
+            "{}",
+            e.message
+        );
+        let e = parse("gpio_outputs = 17", "c").unwrap_err();
+        assert_eq!(
+            e.message,
+            "c: gpio_outputs = 17 is out of range: allowed 0..=16"
+        );
     }
 
     #[test]

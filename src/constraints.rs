@@ -257,6 +257,9 @@ pub const CYCLONE4_DE0_NANO: Board = Board {
 /// Every board with a constraint generator.
 pub const BOARDS: [&Board; 3] = [&ICE40_HX8K, &ECP5_25K, &CYCLONE4_DE0_NANO];
 
+/// The boards' names, as the configuration's `board` key takes them.
+pub const BOARD_NAMES: [&str; 3] = [ICE40_HX8K.name, ECP5_25K.name, CYCLONE4_DE0_NANO.name];
+
 /// One pin assignment: a port bit and its pin.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Assignment {

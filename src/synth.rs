@@ -142,7 +142,7 @@ pub struct Design {
 /// target's pool has room for them.
 pub fn board_design(config: &Config, target: Target) -> Design {
     let top = catalog::motion_controller(config);
-    let ports = board::board_ports(&top.ports);
+    let ports = board::board_ports(&top.ports, config);
     let pins = constraints::assign(target.board(), &ports)
         .ok()
         .map(|a| match target {
@@ -155,7 +155,7 @@ pub fn board_design(config: &Config, target: Target) -> Design {
             (format!("{}.v", top.name), top.text),
             (
                 format!("{}.v", board::MODULE),
-                board::wrapper_for(&top.ports),
+                board::wrapper_for(&top.ports, config),
             ),
         ],
         pins,

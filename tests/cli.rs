@@ -122,6 +122,14 @@ fn bad_config_exits_2_names_the_value_and_writes_nothing() {
             "input_filter_us = 50001\n",
             "input_filter_us = 50001 is out of range: allowed 1..=50000",
         ),
+        (
+            "gpio_inputs = 17\n",
+            "gpio_inputs = 17 is out of range: allowed 0..=16",
+        ),
+        (
+            "board = \"cyclone4-de0nano\"\n",
+            "board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 146",
+        ),
         ("axis = 4\n", "axis"),
     ] {
         let cfg = t.path().join("bad.toml");

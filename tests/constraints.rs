@@ -49,7 +49,7 @@ fn committed_constraints_are_what_the_generator_writes() {
     assert_eq!(
         files.len(),
         2,
-        "pcf and lpf for the default (the DE0-Nano holds 2 axes)"
+        "pcf and lpf for the default (the DE0-Nano holds 2 axes without GPIO)"
     );
     let dir = root().join("constraints");
     for f in &files {
@@ -124,9 +124,13 @@ fn every_port_bit_has_exactly_one_pin_and_no_pin_is_shared() {
 
 #[test]
 fn inputs_only_pins_carry_inputs_only() {
-    // Two axes: the most whose 94 pins fit the DE0-Nano's headers, DIP
-    // switches and LEDs (the default's 114 do not).
-    let config = Config::default().with_axes(2).unwrap();
+    // Two axes without the general-purpose I/O: the most whose 94 pins fit
+    // the DE0-Nano's headers, DIP switches and LEDs (the default's 146 do
+    // not).
+    let config = Config::default()
+        .with_axes(2)
+        .and_then(|c| c.with_gpio_pins(0, 0))
+        .unwrap();
     let ports = board::ports(&config);
     let a = constraints::assign(&constraints::CYCLONE4_DE0_NANO, &ports).unwrap();
     for x in a {
@@ -308,10 +312,16 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
         .unwrap();
     let tristate_bits: usize = board::ports(&config)
         .iter()
-        .filter(|p| matches!(p.kind, PinKind::Inout | PinKind::OpenCollector))
+        .filter(|p| {
+            matches!(
+                p.kind,
+                PinKind::Inout | PinKind::OpenCollector | PinKind::TriState
+            )
+        })
         .map(|p| p.width as usize)
         .sum();
-    assert_eq!(tristate_bits, 33);
+    // FSMC and ISA data, IOCS16# and the 16 general-purpose outputs.
+    assert_eq!(tristate_bits, 49);
     let tbufs = cells.values().filter(|c| c["type"] == "$_TBUF_").count();
     let sb_io = cells.values().filter(|c| c["type"] == "SB_IO").count();
     assert!(
@@ -350,7 +360,7 @@ fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrai
         }
         ios += 1;
         let pin_type = c["parameters"]["PIN_TYPE"].as_str().unwrap_or("");
-        let is_tri = ["fsmc_d[", "isa_sd[", "isa_iocs16_n"]
+        let is_tri = ["fsmc_d[", "isa_sd[", "isa_iocs16_n", "gpo["]
             .iter()
             .any(|p| name.starts_with(p));
         if is_tri {

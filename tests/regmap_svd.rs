@@ -200,11 +200,11 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
 #[test]
 fn svd_parses_back_to_the_table() {
     let (regs, fields) = check_svd(&default_map());
-    // 106 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 23,
+    // 113 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 23,
     // PULSE 3 + 4 x 21, SAFETY 21 + 20 (the machine inputs' 10 registers
-    // of two fields each).
-    assert_eq!(regs, 106 + 1024);
-    assert_eq!(fields, 13 + 8 + 4 * 23 + 3 + 4 * 21 + 21 + 20);
+    // of two fields each) + 8 (the general-purpose I/O's 7 registers).
+    assert_eq!(regs, 113 + 1024);
+    assert_eq!(fields, 13 + 8 + 4 * 23 + 3 + 4 * 21 + 21 + 20 + 8);
     for c in other_configs() {
         check_svd(&mcu_map(&c));
     }
@@ -235,7 +235,7 @@ fn svd_parses_back_to_the_table() {
 
 #[test]
 fn svd_marks_write_one_to_clear() {
-    // SAFETY's cause registers are W1C (5 registers, 8 fields: 13 marks);
+    // SAFETY's cause registers are W1C (6 registers, 9 fields: 15 marks);
     // the ISA block's STATUS too (2 more), checked through a map holding
     // that block as well.
     let mut map = default_map();
@@ -246,7 +246,7 @@ fn svd_marks_write_one_to_clear() {
     assert_eq!(
         text.matches("<modifiedWriteValues>oneToClear</modifiedWriteValues>")
             .count(),
-        13 + 2
+        15 + 2
     );
     check_svd(&map);
     check_header_numbers(&map);

@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq);
+module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -36,6 +36,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     input wire [3:0] alarm;
     output wire [3:0] drive_enable;
     output wire irq;
+    input wire [15:0] gpi;
+    output wire [15:0] gpo_out;
+    output wire [15:0] gpo_oe;
 
     localparam mcu_id_page = 6'b0;
     localparam mcu_counter_page = 2'b1;
@@ -71,7 +74,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'had46a66b;
+    localparam mcu_identity_values_7 = 32'hf787018c;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -531,6 +534,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_status_irq = 32'h10;
     localparam mcu_safety_estop_cause = 2'b1;
     localparam mcu_safety_watchdog_cause = 2'b10;
+    localparam mcu_safety_machine_single = 1'b0;
     localparam mcu_safety_machine_tick_reload = 24'h30d3;
     localparam mcu_safety_machine_tick_one = 24'h1;
     localparam mcu_safety_machine_ctrl_mask = 32'hf000f;
@@ -565,6 +569,45 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_machine_alarm_filters_1_one = 2'b1;
     localparam mcu_safety_machine_alarm_filters_2_one = 2'b1;
     localparam mcu_safety_machine_alarm_filters_3_one = 2'b1;
+    localparam mcu_safety_gpio_input_bit_0 = 16'h1;
+    localparam mcu_safety_gpio_input_bit_1 = 16'h2;
+    localparam mcu_safety_gpio_input_bit_2 = 16'h4;
+    localparam mcu_safety_gpio_input_bit_3 = 16'h8;
+    localparam mcu_safety_gpio_input_bit_4 = 16'h10;
+    localparam mcu_safety_gpio_input_bit_5 = 16'h20;
+    localparam mcu_safety_gpio_input_bit_6 = 16'h40;
+    localparam mcu_safety_gpio_input_bit_7 = 16'h80;
+    localparam mcu_safety_gpio_input_bit_8 = 16'h100;
+    localparam mcu_safety_gpio_input_bit_9 = 16'h200;
+    localparam mcu_safety_gpio_input_bit_10 = 16'h400;
+    localparam mcu_safety_gpio_input_bit_11 = 16'h800;
+    localparam mcu_safety_gpio_input_bit_12 = 16'h1000;
+    localparam mcu_safety_gpio_input_bit_13 = 16'h2000;
+    localparam mcu_safety_gpio_input_bit_14 = 16'h4000;
+    localparam mcu_safety_gpio_input_bit_15 = 16'h8000;
+    localparam mcu_safety_gpio_addr_level = 7'b11000;
+    localparam mcu_safety_gpio_addr_edge_ctrl = 7'b11001;
+    localparam mcu_safety_gpio_addr_cause = 7'b11010;
+    localparam mcu_safety_gpio_addr_mask = 7'b11011;
+    localparam mcu_safety_gpio_addr_value = 7'b11100;
+    localparam mcu_safety_gpio_addr_safe = 7'b11101;
+    localparam mcu_safety_gpio_addr_open_drain = 7'b11110;
+    localparam mcu_safety_gpio_filters_0_one = 2'b1;
+    localparam mcu_safety_gpio_filters_1_one = 2'b1;
+    localparam mcu_safety_gpio_filters_2_one = 2'b1;
+    localparam mcu_safety_gpio_filters_3_one = 2'b1;
+    localparam mcu_safety_gpio_filters_4_one = 2'b1;
+    localparam mcu_safety_gpio_filters_5_one = 2'b1;
+    localparam mcu_safety_gpio_filters_6_one = 2'b1;
+    localparam mcu_safety_gpio_filters_7_one = 2'b1;
+    localparam mcu_safety_gpio_filters_8_one = 2'b1;
+    localparam mcu_safety_gpio_filters_9_one = 2'b1;
+    localparam mcu_safety_gpio_filters_10_one = 2'b1;
+    localparam mcu_safety_gpio_filters_11_one = 2'b1;
+    localparam mcu_safety_gpio_filters_12_one = 2'b1;
+    localparam mcu_safety_gpio_filters_13_one = 2'b1;
+    localparam mcu_safety_gpio_filters_14_one = 2'b1;
+    localparam mcu_safety_gpio_filters_15_one = 2'b1;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -601,6 +644,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_alarm;
     reg [3:0] mcu_drive_enable;
     reg mcu_irq;
+    reg [15:0] mcu_gpi;
+    reg [15:0] mcu_gpo_out;
+    reg [15:0] mcu_gpo_oe;
     reg pc_bus_reset;
     reg [9:0] pc_bus_sa;
     reg [15:0] pc_bus_sd_in;
@@ -678,6 +724,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_stop_down;
     reg [3:0] mcu_safety_drive_enable;
     reg mcu_safety_irq;
+    reg [15:0] mcu_safety_gpi;
+    reg [15:0] mcu_safety_gpo_out;
+    reg [15:0] mcu_safety_gpo_oe;
     reg mcu_read_from_id_d;
     reg mcu_read_from_id_q = 1'h0;
     reg mcu_read_from_counters_d;
@@ -2269,6 +2318,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_machine_irq_active;
     reg [3:0] mcu_safety_machine_stop_up;
     reg [3:0] mcu_safety_machine_stop_down;
+    reg mcu_safety_machine_tick;
+    reg mcu_safety_gpio_reset;
+    reg [6:0] mcu_safety_gpio_addr;
+    reg [31:0] mcu_safety_gpio_wdata;
+    reg mcu_safety_gpio_we;
+    reg [6:0] mcu_safety_gpio_read_addr;
+    reg mcu_safety_gpio_tick;
+    reg mcu_safety_gpio_halting;
+    reg [15:0] mcu_safety_gpio_gpi;
+    reg [15:0] mcu_safety_gpio_gpo_out;
+    reg [15:0] mcu_safety_gpio_gpo_oe;
+    reg [31:0] mcu_safety_gpio_read_value;
+    reg mcu_safety_gpio_irq_active;
     reg mcu_safety_estop_meta_d;
     reg mcu_safety_estop_meta_q = 1'h0;
     reg mcu_safety_estop_sync_d;
@@ -2407,7 +2469,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_safety_machine_home_alarm_mask_q = 32'h0;
     reg [3:0] mcu_safety_machine_home_before_d;
     reg [3:0] mcu_safety_machine_home_before_q = 4'h0;
-    reg mcu_safety_machine_tick;
+    reg mcu_safety_machine_ticking_d;
+    reg mcu_safety_machine_ticking_q = 1'h0;
     reg [3:0] mcu_safety_machine_pos_level;
     reg [3:0] mcu_safety_machine_neg_level;
     reg [3:0] mcu_safety_machine_home_level;
@@ -2555,6 +2618,217 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_machine_alarm_filters_3_held_q = 1'h0;
     reg [1:0] mcu_safety_machine_alarm_filters_3_count_d;
     reg [1:0] mcu_safety_machine_alarm_filters_3_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_0_reset;
+    reg mcu_safety_gpio_filters_0_pin;
+    reg mcu_safety_gpio_filters_0_tick;
+    reg mcu_safety_gpio_filters_0_level;
+    reg mcu_safety_gpio_filters_1_reset;
+    reg mcu_safety_gpio_filters_1_pin;
+    reg mcu_safety_gpio_filters_1_tick;
+    reg mcu_safety_gpio_filters_1_level;
+    reg mcu_safety_gpio_filters_2_reset;
+    reg mcu_safety_gpio_filters_2_pin;
+    reg mcu_safety_gpio_filters_2_tick;
+    reg mcu_safety_gpio_filters_2_level;
+    reg mcu_safety_gpio_filters_3_reset;
+    reg mcu_safety_gpio_filters_3_pin;
+    reg mcu_safety_gpio_filters_3_tick;
+    reg mcu_safety_gpio_filters_3_level;
+    reg mcu_safety_gpio_filters_4_reset;
+    reg mcu_safety_gpio_filters_4_pin;
+    reg mcu_safety_gpio_filters_4_tick;
+    reg mcu_safety_gpio_filters_4_level;
+    reg mcu_safety_gpio_filters_5_reset;
+    reg mcu_safety_gpio_filters_5_pin;
+    reg mcu_safety_gpio_filters_5_tick;
+    reg mcu_safety_gpio_filters_5_level;
+    reg mcu_safety_gpio_filters_6_reset;
+    reg mcu_safety_gpio_filters_6_pin;
+    reg mcu_safety_gpio_filters_6_tick;
+    reg mcu_safety_gpio_filters_6_level;
+    reg mcu_safety_gpio_filters_7_reset;
+    reg mcu_safety_gpio_filters_7_pin;
+    reg mcu_safety_gpio_filters_7_tick;
+    reg mcu_safety_gpio_filters_7_level;
+    reg mcu_safety_gpio_filters_8_reset;
+    reg mcu_safety_gpio_filters_8_pin;
+    reg mcu_safety_gpio_filters_8_tick;
+    reg mcu_safety_gpio_filters_8_level;
+    reg mcu_safety_gpio_filters_9_reset;
+    reg mcu_safety_gpio_filters_9_pin;
+    reg mcu_safety_gpio_filters_9_tick;
+    reg mcu_safety_gpio_filters_9_level;
+    reg mcu_safety_gpio_filters_10_reset;
+    reg mcu_safety_gpio_filters_10_pin;
+    reg mcu_safety_gpio_filters_10_tick;
+    reg mcu_safety_gpio_filters_10_level;
+    reg mcu_safety_gpio_filters_11_reset;
+    reg mcu_safety_gpio_filters_11_pin;
+    reg mcu_safety_gpio_filters_11_tick;
+    reg mcu_safety_gpio_filters_11_level;
+    reg mcu_safety_gpio_filters_12_reset;
+    reg mcu_safety_gpio_filters_12_pin;
+    reg mcu_safety_gpio_filters_12_tick;
+    reg mcu_safety_gpio_filters_12_level;
+    reg mcu_safety_gpio_filters_13_reset;
+    reg mcu_safety_gpio_filters_13_pin;
+    reg mcu_safety_gpio_filters_13_tick;
+    reg mcu_safety_gpio_filters_13_level;
+    reg mcu_safety_gpio_filters_14_reset;
+    reg mcu_safety_gpio_filters_14_pin;
+    reg mcu_safety_gpio_filters_14_tick;
+    reg mcu_safety_gpio_filters_14_level;
+    reg mcu_safety_gpio_filters_15_reset;
+    reg mcu_safety_gpio_filters_15_pin;
+    reg mcu_safety_gpio_filters_15_tick;
+    reg mcu_safety_gpio_filters_15_level;
+    reg [31:0] mcu_safety_gpio_edge_ctrl_d;
+    reg [31:0] mcu_safety_gpio_edge_ctrl_q = 32'h0;
+    reg [15:0] mcu_safety_gpio_cause_d;
+    reg [15:0] mcu_safety_gpio_cause_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_mask_d;
+    reg [15:0] mcu_safety_gpio_mask_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_value_d;
+    reg [15:0] mcu_safety_gpio_value_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_safe_d;
+    reg [15:0] mcu_safety_gpio_safe_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_open_drain_d;
+    reg [15:0] mcu_safety_gpio_open_drain_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_before_d;
+    reg [15:0] mcu_safety_gpio_before_q = 16'h0;
+    reg [15:0] mcu_safety_gpio_levels;
+    reg [15:0] mcu_safety_gpio_events;
+    reg [15:0] mcu_safety_gpio_kept;
+    reg [15:0] mcu_safety_gpio_value_next;
+    reg [31:0] mcu_safety_gpio_word;
+    reg mcu_safety_gpio_filters_0_meta_d;
+    reg mcu_safety_gpio_filters_0_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_0_sync_d;
+    reg mcu_safety_gpio_filters_0_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_0_held_d;
+    reg mcu_safety_gpio_filters_0_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_0_count_d;
+    reg [1:0] mcu_safety_gpio_filters_0_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_1_meta_d;
+    reg mcu_safety_gpio_filters_1_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_1_sync_d;
+    reg mcu_safety_gpio_filters_1_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_1_held_d;
+    reg mcu_safety_gpio_filters_1_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_1_count_d;
+    reg [1:0] mcu_safety_gpio_filters_1_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_2_meta_d;
+    reg mcu_safety_gpio_filters_2_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_2_sync_d;
+    reg mcu_safety_gpio_filters_2_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_2_held_d;
+    reg mcu_safety_gpio_filters_2_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_2_count_d;
+    reg [1:0] mcu_safety_gpio_filters_2_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_3_meta_d;
+    reg mcu_safety_gpio_filters_3_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_3_sync_d;
+    reg mcu_safety_gpio_filters_3_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_3_held_d;
+    reg mcu_safety_gpio_filters_3_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_3_count_d;
+    reg [1:0] mcu_safety_gpio_filters_3_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_4_meta_d;
+    reg mcu_safety_gpio_filters_4_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_4_sync_d;
+    reg mcu_safety_gpio_filters_4_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_4_held_d;
+    reg mcu_safety_gpio_filters_4_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_4_count_d;
+    reg [1:0] mcu_safety_gpio_filters_4_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_5_meta_d;
+    reg mcu_safety_gpio_filters_5_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_5_sync_d;
+    reg mcu_safety_gpio_filters_5_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_5_held_d;
+    reg mcu_safety_gpio_filters_5_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_5_count_d;
+    reg [1:0] mcu_safety_gpio_filters_5_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_6_meta_d;
+    reg mcu_safety_gpio_filters_6_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_6_sync_d;
+    reg mcu_safety_gpio_filters_6_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_6_held_d;
+    reg mcu_safety_gpio_filters_6_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_6_count_d;
+    reg [1:0] mcu_safety_gpio_filters_6_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_7_meta_d;
+    reg mcu_safety_gpio_filters_7_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_7_sync_d;
+    reg mcu_safety_gpio_filters_7_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_7_held_d;
+    reg mcu_safety_gpio_filters_7_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_7_count_d;
+    reg [1:0] mcu_safety_gpio_filters_7_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_8_meta_d;
+    reg mcu_safety_gpio_filters_8_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_8_sync_d;
+    reg mcu_safety_gpio_filters_8_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_8_held_d;
+    reg mcu_safety_gpio_filters_8_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_8_count_d;
+    reg [1:0] mcu_safety_gpio_filters_8_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_9_meta_d;
+    reg mcu_safety_gpio_filters_9_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_9_sync_d;
+    reg mcu_safety_gpio_filters_9_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_9_held_d;
+    reg mcu_safety_gpio_filters_9_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_9_count_d;
+    reg [1:0] mcu_safety_gpio_filters_9_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_10_meta_d;
+    reg mcu_safety_gpio_filters_10_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_10_sync_d;
+    reg mcu_safety_gpio_filters_10_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_10_held_d;
+    reg mcu_safety_gpio_filters_10_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_10_count_d;
+    reg [1:0] mcu_safety_gpio_filters_10_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_11_meta_d;
+    reg mcu_safety_gpio_filters_11_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_11_sync_d;
+    reg mcu_safety_gpio_filters_11_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_11_held_d;
+    reg mcu_safety_gpio_filters_11_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_11_count_d;
+    reg [1:0] mcu_safety_gpio_filters_11_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_12_meta_d;
+    reg mcu_safety_gpio_filters_12_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_12_sync_d;
+    reg mcu_safety_gpio_filters_12_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_12_held_d;
+    reg mcu_safety_gpio_filters_12_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_12_count_d;
+    reg [1:0] mcu_safety_gpio_filters_12_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_13_meta_d;
+    reg mcu_safety_gpio_filters_13_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_13_sync_d;
+    reg mcu_safety_gpio_filters_13_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_13_held_d;
+    reg mcu_safety_gpio_filters_13_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_13_count_d;
+    reg [1:0] mcu_safety_gpio_filters_13_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_14_meta_d;
+    reg mcu_safety_gpio_filters_14_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_14_sync_d;
+    reg mcu_safety_gpio_filters_14_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_14_held_d;
+    reg mcu_safety_gpio_filters_14_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_14_count_d;
+    reg [1:0] mcu_safety_gpio_filters_14_count_q = 2'h0;
+    reg mcu_safety_gpio_filters_15_meta_d;
+    reg mcu_safety_gpio_filters_15_meta_q = 1'h0;
+    reg mcu_safety_gpio_filters_15_sync_d;
+    reg mcu_safety_gpio_filters_15_sync_q = 1'h0;
+    reg mcu_safety_gpio_filters_15_held_d;
+    reg mcu_safety_gpio_filters_15_held_q = 1'h0;
+    reg [1:0] mcu_safety_gpio_filters_15_count_d;
+    reg [1:0] mcu_safety_gpio_filters_15_count_q = 2'h0;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -2655,6 +2929,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     assign pulse_f2 = mcu_pulse_f2;
     assign drive_enable = mcu_drive_enable;
     assign irq = mcu_irq;
+    assign gpo_out = mcu_gpo_out;
+    assign gpo_oe = mcu_gpo_oe;
 
     always @(*) begin
         mcu_reset = reset;
@@ -2672,6 +2948,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_limit_neg = limit_neg;
         mcu_home = home;
         mcu_alarm = alarm;
+        mcu_gpi = gpi;
         pc_bus_sa = isa_sa;
         pc_bus_sd_in = isa_sd_in;
         pc_bus_ior_n = isa_ior_n;
@@ -2733,6 +3010,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_halt = mcu_safety_halt;
         mcu_drive_enable = mcu_safety_drive_enable;
         mcu_irq = mcu_safety_irq;
+        mcu_safety_gpi = mcu_gpi;
+        mcu_gpo_out = mcu_safety_gpo_out;
+        mcu_gpo_oe = mcu_safety_gpo_oe;
         mcu_pulse_f1 = mcu_pulses_f1;
         mcu_pulse_f2 = mcu_pulses_f2;
         if (mcu_mcu_bus_reg_re) begin
@@ -6758,6 +7038,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_machine_limit_neg = mcu_safety_limit_neg;
         mcu_safety_machine_home = mcu_safety_home;
         mcu_safety_machine_alarm = mcu_safety_alarm;
+        mcu_safety_gpio_reset = mcu_safety_reset;
+        mcu_safety_gpio_addr = mcu_safety_addr;
+        mcu_safety_gpio_wdata = mcu_safety_wdata;
+        mcu_safety_gpio_we = mcu_safety_we;
+        mcu_safety_gpio_read_addr = mcu_safety_read_addr_q;
+        mcu_safety_gpio_tick = mcu_safety_machine_tick;
+        mcu_safety_gpio_gpi = mcu_safety_gpi;
         mcu_safety_write_clear = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_clear);
         mcu_safety_write_timeout = mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_timeout);
         mcu_safety_estop_meta_d = ~mcu_safety_estop_ok;
@@ -6788,6 +7075,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_safety_latch_next | mcu_safety_bitten_next) begin
             mcu_safety_enable_d = 4'h0;
         end
+        mcu_safety_gpio_halting = mcu_safety_latch_next | mcu_safety_bitten_next;
         mcu_safety_system_events = 2'h0;
         if (mcu_safety_estop_sync_q & ~mcu_safety_estop_latch_q) begin
             mcu_safety_system_events = mcu_safety_estop_cause;
@@ -6826,13 +7114,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_safety_active_high_d = mcu_safety_wdata[0];
             end
         end
-        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q) | mcu_safety_machine_irq_active;
+        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q) | mcu_safety_machine_irq_active | mcu_safety_gpio_irq_active;
         mcu_safety_irq_low_d = mcu_safety_irq_active != mcu_safety_active_high_q;
         mcu_safety_read_pending_d = mcu_safety_re;
         if (mcu_safety_re) begin
             mcu_safety_read_addr_d = mcu_safety_addr;
         end
-        mcu_safety_read_value = mcu_safety_machine_read_value;
+        mcu_safety_read_value = mcu_safety_machine_read_value | mcu_safety_gpio_read_value;
         if (mcu_safety_read_addr_q == mcu_safety_addr_info) begin
             mcu_safety_read_value = mcu_safety_info;
         end
@@ -6913,12 +7201,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_stop_up = mcu_safety_machine_stop_up;
         mcu_safety_stop_down = mcu_safety_machine_stop_down;
         mcu_safety_drive_enable = mcu_safety_enable_q;
+        mcu_safety_gpo_out = mcu_safety_gpio_gpo_out;
+        mcu_safety_gpo_oe = mcu_safety_gpio_gpo_oe;
         mcu_safety_irq = ~mcu_safety_irq_low_q;
         mcu_safety_rdata = mcu_safety_read_data_q;
     end
 
     always @(*) begin
         mcu_safety_machine_prescaler_d = mcu_safety_machine_prescaler_q;
+        mcu_safety_machine_ticking_d = mcu_safety_machine_ticking_q;
         mcu_safety_machine_pos_ctrl_d = mcu_safety_machine_pos_ctrl_q;
         mcu_safety_machine_neg_ctrl_d = mcu_safety_machine_neg_ctrl_q;
         mcu_safety_machine_home_ctrl_d = mcu_safety_machine_home_ctrl_q;
@@ -6928,12 +7219,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_machine_home_alarm_cause_d = mcu_safety_machine_home_alarm_cause_q;
         mcu_safety_machine_home_alarm_mask_d = mcu_safety_machine_home_alarm_mask_q;
         mcu_safety_machine_home_before_d = mcu_safety_machine_home_before_q;
-        mcu_safety_machine_tick = ~|mcu_safety_machine_prescaler_q;
-        if (mcu_safety_machine_tick) begin
+        mcu_safety_machine_tick = mcu_safety_machine_ticking_q;
+        if (mcu_safety_machine_ticking_q) begin
             mcu_safety_machine_prescaler_d = mcu_safety_machine_tick_reload;
+            mcu_safety_machine_ticking_d = mcu_safety_machine_single;
         end
         else begin
             mcu_safety_machine_prescaler_d = mcu_safety_machine_prescaler_q - mcu_safety_machine_tick_one;
+            mcu_safety_machine_ticking_d = mcu_safety_machine_prescaler_q == mcu_safety_machine_tick_one;
         end
         mcu_safety_machine_pos_level = 4'h0;
         mcu_safety_machine_neg_level = 4'h0;
@@ -7117,6 +7410,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_safety_machine_reset) begin
             mcu_safety_machine_prescaler_d = 24'h0;
+            mcu_safety_machine_ticking_d = 1'b1;
             mcu_safety_machine_pos_ctrl_d = 32'h0;
             mcu_safety_machine_neg_ctrl_d = 32'h0;
             mcu_safety_machine_home_ctrl_d = 32'h0;
@@ -7579,6 +7873,625 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_machine_alarm_filters_3_count_d = 2'h0;
         end
         mcu_safety_machine_alarm_filters_3_level = mcu_safety_machine_alarm_filters_3_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_edge_ctrl_d = mcu_safety_gpio_edge_ctrl_q;
+        mcu_safety_gpio_cause_d = mcu_safety_gpio_cause_q;
+        mcu_safety_gpio_mask_d = mcu_safety_gpio_mask_q;
+        mcu_safety_gpio_value_d = mcu_safety_gpio_value_q;
+        mcu_safety_gpio_safe_d = mcu_safety_gpio_safe_q;
+        mcu_safety_gpio_open_drain_d = mcu_safety_gpio_open_drain_q;
+        mcu_safety_gpio_before_d = mcu_safety_gpio_before_q;
+        mcu_safety_gpio_levels = 16'h0;
+        mcu_safety_gpio_filters_0_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_0_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_0_pin = mcu_safety_gpio_gpi[0];
+        if (mcu_safety_gpio_filters_0_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_0;
+        end
+        mcu_safety_gpio_filters_1_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_1_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_1_pin = mcu_safety_gpio_gpi[1];
+        if (mcu_safety_gpio_filters_1_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_1;
+        end
+        mcu_safety_gpio_filters_2_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_2_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_2_pin = mcu_safety_gpio_gpi[2];
+        if (mcu_safety_gpio_filters_2_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_2;
+        end
+        mcu_safety_gpio_filters_3_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_3_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_3_pin = mcu_safety_gpio_gpi[3];
+        if (mcu_safety_gpio_filters_3_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_3;
+        end
+        mcu_safety_gpio_filters_4_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_4_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_4_pin = mcu_safety_gpio_gpi[4];
+        if (mcu_safety_gpio_filters_4_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_4;
+        end
+        mcu_safety_gpio_filters_5_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_5_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_5_pin = mcu_safety_gpio_gpi[5];
+        if (mcu_safety_gpio_filters_5_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_5;
+        end
+        mcu_safety_gpio_filters_6_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_6_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_6_pin = mcu_safety_gpio_gpi[6];
+        if (mcu_safety_gpio_filters_6_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_6;
+        end
+        mcu_safety_gpio_filters_7_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_7_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_7_pin = mcu_safety_gpio_gpi[7];
+        if (mcu_safety_gpio_filters_7_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_7;
+        end
+        mcu_safety_gpio_filters_8_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_8_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_8_pin = mcu_safety_gpio_gpi[8];
+        if (mcu_safety_gpio_filters_8_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_8;
+        end
+        mcu_safety_gpio_filters_9_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_9_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_9_pin = mcu_safety_gpio_gpi[9];
+        if (mcu_safety_gpio_filters_9_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_9;
+        end
+        mcu_safety_gpio_filters_10_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_10_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_10_pin = mcu_safety_gpio_gpi[10];
+        if (mcu_safety_gpio_filters_10_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_10;
+        end
+        mcu_safety_gpio_filters_11_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_11_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_11_pin = mcu_safety_gpio_gpi[11];
+        if (mcu_safety_gpio_filters_11_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_11;
+        end
+        mcu_safety_gpio_filters_12_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_12_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_12_pin = mcu_safety_gpio_gpi[12];
+        if (mcu_safety_gpio_filters_12_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_12;
+        end
+        mcu_safety_gpio_filters_13_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_13_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_13_pin = mcu_safety_gpio_gpi[13];
+        if (mcu_safety_gpio_filters_13_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_13;
+        end
+        mcu_safety_gpio_filters_14_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_14_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_14_pin = mcu_safety_gpio_gpi[14];
+        if (mcu_safety_gpio_filters_14_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_14;
+        end
+        mcu_safety_gpio_filters_15_reset = mcu_safety_gpio_reset;
+        mcu_safety_gpio_filters_15_tick = mcu_safety_gpio_tick;
+        mcu_safety_gpio_filters_15_pin = mcu_safety_gpio_gpi[15];
+        if (mcu_safety_gpio_filters_15_level) begin
+            mcu_safety_gpio_levels = mcu_safety_gpio_levels | mcu_safety_gpio_input_bit_15;
+        end
+        mcu_safety_gpio_events = (mcu_safety_gpio_levels & ~mcu_safety_gpio_before_q & mcu_safety_gpio_edge_ctrl_q[15:0]) | (~mcu_safety_gpio_levels & mcu_safety_gpio_before_q & mcu_safety_gpio_edge_ctrl_q[31:16]);
+        mcu_safety_gpio_kept = mcu_safety_gpio_cause_q;
+        if (mcu_safety_gpio_we & (mcu_safety_gpio_addr == mcu_safety_gpio_addr_cause)) begin
+            mcu_safety_gpio_kept = mcu_safety_gpio_cause_q & ~mcu_safety_gpio_wdata[15:0];
+        end
+        mcu_safety_gpio_cause_d = mcu_safety_gpio_kept | mcu_safety_gpio_events;
+        mcu_safety_gpio_before_d = mcu_safety_gpio_levels;
+        mcu_safety_gpio_value_next = mcu_safety_gpio_value_q;
+        if (mcu_safety_gpio_we) begin
+            if (mcu_safety_gpio_addr == mcu_safety_gpio_addr_edge_ctrl) begin
+                mcu_safety_gpio_edge_ctrl_d = mcu_safety_gpio_wdata;
+            end
+            if (mcu_safety_gpio_addr == mcu_safety_gpio_addr_mask) begin
+                mcu_safety_gpio_mask_d = mcu_safety_gpio_wdata[15:0];
+            end
+            if (mcu_safety_gpio_addr == mcu_safety_gpio_addr_value) begin
+                mcu_safety_gpio_value_next = mcu_safety_gpio_wdata[15:0];
+            end
+            if (mcu_safety_gpio_addr == mcu_safety_gpio_addr_safe) begin
+                mcu_safety_gpio_safe_d = mcu_safety_gpio_wdata[15:0];
+            end
+            if (mcu_safety_gpio_addr == mcu_safety_gpio_addr_open_drain) begin
+                mcu_safety_gpio_open_drain_d = mcu_safety_gpio_wdata[15:0];
+            end
+        end
+        if (mcu_safety_gpio_halting) begin
+            mcu_safety_gpio_value_next = mcu_safety_gpio_safe_q;
+        end
+        mcu_safety_gpio_value_d = mcu_safety_gpio_value_next;
+        mcu_safety_gpio_word = 32'h0;
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_level) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_levels};
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_edge_ctrl) begin
+            mcu_safety_gpio_word = mcu_safety_gpio_edge_ctrl_q;
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_cause) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_cause_q};
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_mask) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_mask_q};
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_value) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_value_q};
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_safe) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_safe_q};
+        end
+        if (mcu_safety_gpio_read_addr == mcu_safety_gpio_addr_open_drain) begin
+            mcu_safety_gpio_word = {16'h0, mcu_safety_gpio_open_drain_q};
+        end
+        if (mcu_safety_gpio_reset) begin
+            mcu_safety_gpio_edge_ctrl_d = 32'h0;
+            mcu_safety_gpio_cause_d = 16'h0;
+            mcu_safety_gpio_mask_d = 16'h0;
+            mcu_safety_gpio_value_d = 16'h0;
+            mcu_safety_gpio_safe_d = 16'h0;
+            mcu_safety_gpio_open_drain_d = 16'h0;
+            mcu_safety_gpio_before_d = 16'h0;
+        end
+        mcu_safety_gpio_read_value = mcu_safety_gpio_word;
+        mcu_safety_gpio_irq_active = |(mcu_safety_gpio_cause_q & mcu_safety_gpio_mask_q);
+        mcu_safety_gpio_gpo_out = mcu_safety_gpio_value_q & ~mcu_safety_gpio_open_drain_q;
+        mcu_safety_gpio_gpo_oe = ~mcu_safety_gpio_open_drain_q | ~mcu_safety_gpio_value_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_0_meta_d = mcu_safety_gpio_filters_0_meta_q;
+        mcu_safety_gpio_filters_0_sync_d = mcu_safety_gpio_filters_0_sync_q;
+        mcu_safety_gpio_filters_0_held_d = mcu_safety_gpio_filters_0_held_q;
+        mcu_safety_gpio_filters_0_count_d = mcu_safety_gpio_filters_0_count_q;
+        mcu_safety_gpio_filters_0_meta_d = mcu_safety_gpio_filters_0_pin;
+        mcu_safety_gpio_filters_0_sync_d = mcu_safety_gpio_filters_0_meta_q;
+        if (mcu_safety_gpio_filters_0_tick) begin
+            if (mcu_safety_gpio_filters_0_sync_q == mcu_safety_gpio_filters_0_held_q) begin
+                mcu_safety_gpio_filters_0_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_0_count_q) begin
+                mcu_safety_gpio_filters_0_held_d = mcu_safety_gpio_filters_0_sync_q;
+                mcu_safety_gpio_filters_0_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_0_count_d = mcu_safety_gpio_filters_0_count_q + mcu_safety_gpio_filters_0_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_0_reset) begin
+            mcu_safety_gpio_filters_0_meta_d = 1'b0;
+            mcu_safety_gpio_filters_0_sync_d = 1'b0;
+            mcu_safety_gpio_filters_0_held_d = 1'b0;
+            mcu_safety_gpio_filters_0_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_0_level = mcu_safety_gpio_filters_0_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_1_meta_d = mcu_safety_gpio_filters_1_meta_q;
+        mcu_safety_gpio_filters_1_sync_d = mcu_safety_gpio_filters_1_sync_q;
+        mcu_safety_gpio_filters_1_held_d = mcu_safety_gpio_filters_1_held_q;
+        mcu_safety_gpio_filters_1_count_d = mcu_safety_gpio_filters_1_count_q;
+        mcu_safety_gpio_filters_1_meta_d = mcu_safety_gpio_filters_1_pin;
+        mcu_safety_gpio_filters_1_sync_d = mcu_safety_gpio_filters_1_meta_q;
+        if (mcu_safety_gpio_filters_1_tick) begin
+            if (mcu_safety_gpio_filters_1_sync_q == mcu_safety_gpio_filters_1_held_q) begin
+                mcu_safety_gpio_filters_1_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_1_count_q) begin
+                mcu_safety_gpio_filters_1_held_d = mcu_safety_gpio_filters_1_sync_q;
+                mcu_safety_gpio_filters_1_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_1_count_d = mcu_safety_gpio_filters_1_count_q + mcu_safety_gpio_filters_1_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_1_reset) begin
+            mcu_safety_gpio_filters_1_meta_d = 1'b0;
+            mcu_safety_gpio_filters_1_sync_d = 1'b0;
+            mcu_safety_gpio_filters_1_held_d = 1'b0;
+            mcu_safety_gpio_filters_1_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_1_level = mcu_safety_gpio_filters_1_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_2_meta_d = mcu_safety_gpio_filters_2_meta_q;
+        mcu_safety_gpio_filters_2_sync_d = mcu_safety_gpio_filters_2_sync_q;
+        mcu_safety_gpio_filters_2_held_d = mcu_safety_gpio_filters_2_held_q;
+        mcu_safety_gpio_filters_2_count_d = mcu_safety_gpio_filters_2_count_q;
+        mcu_safety_gpio_filters_2_meta_d = mcu_safety_gpio_filters_2_pin;
+        mcu_safety_gpio_filters_2_sync_d = mcu_safety_gpio_filters_2_meta_q;
+        if (mcu_safety_gpio_filters_2_tick) begin
+            if (mcu_safety_gpio_filters_2_sync_q == mcu_safety_gpio_filters_2_held_q) begin
+                mcu_safety_gpio_filters_2_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_2_count_q) begin
+                mcu_safety_gpio_filters_2_held_d = mcu_safety_gpio_filters_2_sync_q;
+                mcu_safety_gpio_filters_2_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_2_count_d = mcu_safety_gpio_filters_2_count_q + mcu_safety_gpio_filters_2_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_2_reset) begin
+            mcu_safety_gpio_filters_2_meta_d = 1'b0;
+            mcu_safety_gpio_filters_2_sync_d = 1'b0;
+            mcu_safety_gpio_filters_2_held_d = 1'b0;
+            mcu_safety_gpio_filters_2_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_2_level = mcu_safety_gpio_filters_2_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_3_meta_d = mcu_safety_gpio_filters_3_meta_q;
+        mcu_safety_gpio_filters_3_sync_d = mcu_safety_gpio_filters_3_sync_q;
+        mcu_safety_gpio_filters_3_held_d = mcu_safety_gpio_filters_3_held_q;
+        mcu_safety_gpio_filters_3_count_d = mcu_safety_gpio_filters_3_count_q;
+        mcu_safety_gpio_filters_3_meta_d = mcu_safety_gpio_filters_3_pin;
+        mcu_safety_gpio_filters_3_sync_d = mcu_safety_gpio_filters_3_meta_q;
+        if (mcu_safety_gpio_filters_3_tick) begin
+            if (mcu_safety_gpio_filters_3_sync_q == mcu_safety_gpio_filters_3_held_q) begin
+                mcu_safety_gpio_filters_3_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_3_count_q) begin
+                mcu_safety_gpio_filters_3_held_d = mcu_safety_gpio_filters_3_sync_q;
+                mcu_safety_gpio_filters_3_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_3_count_d = mcu_safety_gpio_filters_3_count_q + mcu_safety_gpio_filters_3_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_3_reset) begin
+            mcu_safety_gpio_filters_3_meta_d = 1'b0;
+            mcu_safety_gpio_filters_3_sync_d = 1'b0;
+            mcu_safety_gpio_filters_3_held_d = 1'b0;
+            mcu_safety_gpio_filters_3_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_3_level = mcu_safety_gpio_filters_3_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_4_meta_d = mcu_safety_gpio_filters_4_meta_q;
+        mcu_safety_gpio_filters_4_sync_d = mcu_safety_gpio_filters_4_sync_q;
+        mcu_safety_gpio_filters_4_held_d = mcu_safety_gpio_filters_4_held_q;
+        mcu_safety_gpio_filters_4_count_d = mcu_safety_gpio_filters_4_count_q;
+        mcu_safety_gpio_filters_4_meta_d = mcu_safety_gpio_filters_4_pin;
+        mcu_safety_gpio_filters_4_sync_d = mcu_safety_gpio_filters_4_meta_q;
+        if (mcu_safety_gpio_filters_4_tick) begin
+            if (mcu_safety_gpio_filters_4_sync_q == mcu_safety_gpio_filters_4_held_q) begin
+                mcu_safety_gpio_filters_4_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_4_count_q) begin
+                mcu_safety_gpio_filters_4_held_d = mcu_safety_gpio_filters_4_sync_q;
+                mcu_safety_gpio_filters_4_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_4_count_d = mcu_safety_gpio_filters_4_count_q + mcu_safety_gpio_filters_4_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_4_reset) begin
+            mcu_safety_gpio_filters_4_meta_d = 1'b0;
+            mcu_safety_gpio_filters_4_sync_d = 1'b0;
+            mcu_safety_gpio_filters_4_held_d = 1'b0;
+            mcu_safety_gpio_filters_4_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_4_level = mcu_safety_gpio_filters_4_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_5_meta_d = mcu_safety_gpio_filters_5_meta_q;
+        mcu_safety_gpio_filters_5_sync_d = mcu_safety_gpio_filters_5_sync_q;
+        mcu_safety_gpio_filters_5_held_d = mcu_safety_gpio_filters_5_held_q;
+        mcu_safety_gpio_filters_5_count_d = mcu_safety_gpio_filters_5_count_q;
+        mcu_safety_gpio_filters_5_meta_d = mcu_safety_gpio_filters_5_pin;
+        mcu_safety_gpio_filters_5_sync_d = mcu_safety_gpio_filters_5_meta_q;
+        if (mcu_safety_gpio_filters_5_tick) begin
+            if (mcu_safety_gpio_filters_5_sync_q == mcu_safety_gpio_filters_5_held_q) begin
+                mcu_safety_gpio_filters_5_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_5_count_q) begin
+                mcu_safety_gpio_filters_5_held_d = mcu_safety_gpio_filters_5_sync_q;
+                mcu_safety_gpio_filters_5_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_5_count_d = mcu_safety_gpio_filters_5_count_q + mcu_safety_gpio_filters_5_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_5_reset) begin
+            mcu_safety_gpio_filters_5_meta_d = 1'b0;
+            mcu_safety_gpio_filters_5_sync_d = 1'b0;
+            mcu_safety_gpio_filters_5_held_d = 1'b0;
+            mcu_safety_gpio_filters_5_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_5_level = mcu_safety_gpio_filters_5_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_6_meta_d = mcu_safety_gpio_filters_6_meta_q;
+        mcu_safety_gpio_filters_6_sync_d = mcu_safety_gpio_filters_6_sync_q;
+        mcu_safety_gpio_filters_6_held_d = mcu_safety_gpio_filters_6_held_q;
+        mcu_safety_gpio_filters_6_count_d = mcu_safety_gpio_filters_6_count_q;
+        mcu_safety_gpio_filters_6_meta_d = mcu_safety_gpio_filters_6_pin;
+        mcu_safety_gpio_filters_6_sync_d = mcu_safety_gpio_filters_6_meta_q;
+        if (mcu_safety_gpio_filters_6_tick) begin
+            if (mcu_safety_gpio_filters_6_sync_q == mcu_safety_gpio_filters_6_held_q) begin
+                mcu_safety_gpio_filters_6_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_6_count_q) begin
+                mcu_safety_gpio_filters_6_held_d = mcu_safety_gpio_filters_6_sync_q;
+                mcu_safety_gpio_filters_6_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_6_count_d = mcu_safety_gpio_filters_6_count_q + mcu_safety_gpio_filters_6_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_6_reset) begin
+            mcu_safety_gpio_filters_6_meta_d = 1'b0;
+            mcu_safety_gpio_filters_6_sync_d = 1'b0;
+            mcu_safety_gpio_filters_6_held_d = 1'b0;
+            mcu_safety_gpio_filters_6_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_6_level = mcu_safety_gpio_filters_6_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_7_meta_d = mcu_safety_gpio_filters_7_meta_q;
+        mcu_safety_gpio_filters_7_sync_d = mcu_safety_gpio_filters_7_sync_q;
+        mcu_safety_gpio_filters_7_held_d = mcu_safety_gpio_filters_7_held_q;
+        mcu_safety_gpio_filters_7_count_d = mcu_safety_gpio_filters_7_count_q;
+        mcu_safety_gpio_filters_7_meta_d = mcu_safety_gpio_filters_7_pin;
+        mcu_safety_gpio_filters_7_sync_d = mcu_safety_gpio_filters_7_meta_q;
+        if (mcu_safety_gpio_filters_7_tick) begin
+            if (mcu_safety_gpio_filters_7_sync_q == mcu_safety_gpio_filters_7_held_q) begin
+                mcu_safety_gpio_filters_7_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_7_count_q) begin
+                mcu_safety_gpio_filters_7_held_d = mcu_safety_gpio_filters_7_sync_q;
+                mcu_safety_gpio_filters_7_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_7_count_d = mcu_safety_gpio_filters_7_count_q + mcu_safety_gpio_filters_7_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_7_reset) begin
+            mcu_safety_gpio_filters_7_meta_d = 1'b0;
+            mcu_safety_gpio_filters_7_sync_d = 1'b0;
+            mcu_safety_gpio_filters_7_held_d = 1'b0;
+            mcu_safety_gpio_filters_7_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_7_level = mcu_safety_gpio_filters_7_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_8_meta_d = mcu_safety_gpio_filters_8_meta_q;
+        mcu_safety_gpio_filters_8_sync_d = mcu_safety_gpio_filters_8_sync_q;
+        mcu_safety_gpio_filters_8_held_d = mcu_safety_gpio_filters_8_held_q;
+        mcu_safety_gpio_filters_8_count_d = mcu_safety_gpio_filters_8_count_q;
+        mcu_safety_gpio_filters_8_meta_d = mcu_safety_gpio_filters_8_pin;
+        mcu_safety_gpio_filters_8_sync_d = mcu_safety_gpio_filters_8_meta_q;
+        if (mcu_safety_gpio_filters_8_tick) begin
+            if (mcu_safety_gpio_filters_8_sync_q == mcu_safety_gpio_filters_8_held_q) begin
+                mcu_safety_gpio_filters_8_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_8_count_q) begin
+                mcu_safety_gpio_filters_8_held_d = mcu_safety_gpio_filters_8_sync_q;
+                mcu_safety_gpio_filters_8_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_8_count_d = mcu_safety_gpio_filters_8_count_q + mcu_safety_gpio_filters_8_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_8_reset) begin
+            mcu_safety_gpio_filters_8_meta_d = 1'b0;
+            mcu_safety_gpio_filters_8_sync_d = 1'b0;
+            mcu_safety_gpio_filters_8_held_d = 1'b0;
+            mcu_safety_gpio_filters_8_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_8_level = mcu_safety_gpio_filters_8_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_9_meta_d = mcu_safety_gpio_filters_9_meta_q;
+        mcu_safety_gpio_filters_9_sync_d = mcu_safety_gpio_filters_9_sync_q;
+        mcu_safety_gpio_filters_9_held_d = mcu_safety_gpio_filters_9_held_q;
+        mcu_safety_gpio_filters_9_count_d = mcu_safety_gpio_filters_9_count_q;
+        mcu_safety_gpio_filters_9_meta_d = mcu_safety_gpio_filters_9_pin;
+        mcu_safety_gpio_filters_9_sync_d = mcu_safety_gpio_filters_9_meta_q;
+        if (mcu_safety_gpio_filters_9_tick) begin
+            if (mcu_safety_gpio_filters_9_sync_q == mcu_safety_gpio_filters_9_held_q) begin
+                mcu_safety_gpio_filters_9_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_9_count_q) begin
+                mcu_safety_gpio_filters_9_held_d = mcu_safety_gpio_filters_9_sync_q;
+                mcu_safety_gpio_filters_9_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_9_count_d = mcu_safety_gpio_filters_9_count_q + mcu_safety_gpio_filters_9_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_9_reset) begin
+            mcu_safety_gpio_filters_9_meta_d = 1'b0;
+            mcu_safety_gpio_filters_9_sync_d = 1'b0;
+            mcu_safety_gpio_filters_9_held_d = 1'b0;
+            mcu_safety_gpio_filters_9_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_9_level = mcu_safety_gpio_filters_9_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_10_meta_d = mcu_safety_gpio_filters_10_meta_q;
+        mcu_safety_gpio_filters_10_sync_d = mcu_safety_gpio_filters_10_sync_q;
+        mcu_safety_gpio_filters_10_held_d = mcu_safety_gpio_filters_10_held_q;
+        mcu_safety_gpio_filters_10_count_d = mcu_safety_gpio_filters_10_count_q;
+        mcu_safety_gpio_filters_10_meta_d = mcu_safety_gpio_filters_10_pin;
+        mcu_safety_gpio_filters_10_sync_d = mcu_safety_gpio_filters_10_meta_q;
+        if (mcu_safety_gpio_filters_10_tick) begin
+            if (mcu_safety_gpio_filters_10_sync_q == mcu_safety_gpio_filters_10_held_q) begin
+                mcu_safety_gpio_filters_10_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_10_count_q) begin
+                mcu_safety_gpio_filters_10_held_d = mcu_safety_gpio_filters_10_sync_q;
+                mcu_safety_gpio_filters_10_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_10_count_d = mcu_safety_gpio_filters_10_count_q + mcu_safety_gpio_filters_10_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_10_reset) begin
+            mcu_safety_gpio_filters_10_meta_d = 1'b0;
+            mcu_safety_gpio_filters_10_sync_d = 1'b0;
+            mcu_safety_gpio_filters_10_held_d = 1'b0;
+            mcu_safety_gpio_filters_10_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_10_level = mcu_safety_gpio_filters_10_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_11_meta_d = mcu_safety_gpio_filters_11_meta_q;
+        mcu_safety_gpio_filters_11_sync_d = mcu_safety_gpio_filters_11_sync_q;
+        mcu_safety_gpio_filters_11_held_d = mcu_safety_gpio_filters_11_held_q;
+        mcu_safety_gpio_filters_11_count_d = mcu_safety_gpio_filters_11_count_q;
+        mcu_safety_gpio_filters_11_meta_d = mcu_safety_gpio_filters_11_pin;
+        mcu_safety_gpio_filters_11_sync_d = mcu_safety_gpio_filters_11_meta_q;
+        if (mcu_safety_gpio_filters_11_tick) begin
+            if (mcu_safety_gpio_filters_11_sync_q == mcu_safety_gpio_filters_11_held_q) begin
+                mcu_safety_gpio_filters_11_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_11_count_q) begin
+                mcu_safety_gpio_filters_11_held_d = mcu_safety_gpio_filters_11_sync_q;
+                mcu_safety_gpio_filters_11_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_11_count_d = mcu_safety_gpio_filters_11_count_q + mcu_safety_gpio_filters_11_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_11_reset) begin
+            mcu_safety_gpio_filters_11_meta_d = 1'b0;
+            mcu_safety_gpio_filters_11_sync_d = 1'b0;
+            mcu_safety_gpio_filters_11_held_d = 1'b0;
+            mcu_safety_gpio_filters_11_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_11_level = mcu_safety_gpio_filters_11_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_12_meta_d = mcu_safety_gpio_filters_12_meta_q;
+        mcu_safety_gpio_filters_12_sync_d = mcu_safety_gpio_filters_12_sync_q;
+        mcu_safety_gpio_filters_12_held_d = mcu_safety_gpio_filters_12_held_q;
+        mcu_safety_gpio_filters_12_count_d = mcu_safety_gpio_filters_12_count_q;
+        mcu_safety_gpio_filters_12_meta_d = mcu_safety_gpio_filters_12_pin;
+        mcu_safety_gpio_filters_12_sync_d = mcu_safety_gpio_filters_12_meta_q;
+        if (mcu_safety_gpio_filters_12_tick) begin
+            if (mcu_safety_gpio_filters_12_sync_q == mcu_safety_gpio_filters_12_held_q) begin
+                mcu_safety_gpio_filters_12_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_12_count_q) begin
+                mcu_safety_gpio_filters_12_held_d = mcu_safety_gpio_filters_12_sync_q;
+                mcu_safety_gpio_filters_12_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_12_count_d = mcu_safety_gpio_filters_12_count_q + mcu_safety_gpio_filters_12_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_12_reset) begin
+            mcu_safety_gpio_filters_12_meta_d = 1'b0;
+            mcu_safety_gpio_filters_12_sync_d = 1'b0;
+            mcu_safety_gpio_filters_12_held_d = 1'b0;
+            mcu_safety_gpio_filters_12_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_12_level = mcu_safety_gpio_filters_12_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_13_meta_d = mcu_safety_gpio_filters_13_meta_q;
+        mcu_safety_gpio_filters_13_sync_d = mcu_safety_gpio_filters_13_sync_q;
+        mcu_safety_gpio_filters_13_held_d = mcu_safety_gpio_filters_13_held_q;
+        mcu_safety_gpio_filters_13_count_d = mcu_safety_gpio_filters_13_count_q;
+        mcu_safety_gpio_filters_13_meta_d = mcu_safety_gpio_filters_13_pin;
+        mcu_safety_gpio_filters_13_sync_d = mcu_safety_gpio_filters_13_meta_q;
+        if (mcu_safety_gpio_filters_13_tick) begin
+            if (mcu_safety_gpio_filters_13_sync_q == mcu_safety_gpio_filters_13_held_q) begin
+                mcu_safety_gpio_filters_13_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_13_count_q) begin
+                mcu_safety_gpio_filters_13_held_d = mcu_safety_gpio_filters_13_sync_q;
+                mcu_safety_gpio_filters_13_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_13_count_d = mcu_safety_gpio_filters_13_count_q + mcu_safety_gpio_filters_13_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_13_reset) begin
+            mcu_safety_gpio_filters_13_meta_d = 1'b0;
+            mcu_safety_gpio_filters_13_sync_d = 1'b0;
+            mcu_safety_gpio_filters_13_held_d = 1'b0;
+            mcu_safety_gpio_filters_13_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_13_level = mcu_safety_gpio_filters_13_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_14_meta_d = mcu_safety_gpio_filters_14_meta_q;
+        mcu_safety_gpio_filters_14_sync_d = mcu_safety_gpio_filters_14_sync_q;
+        mcu_safety_gpio_filters_14_held_d = mcu_safety_gpio_filters_14_held_q;
+        mcu_safety_gpio_filters_14_count_d = mcu_safety_gpio_filters_14_count_q;
+        mcu_safety_gpio_filters_14_meta_d = mcu_safety_gpio_filters_14_pin;
+        mcu_safety_gpio_filters_14_sync_d = mcu_safety_gpio_filters_14_meta_q;
+        if (mcu_safety_gpio_filters_14_tick) begin
+            if (mcu_safety_gpio_filters_14_sync_q == mcu_safety_gpio_filters_14_held_q) begin
+                mcu_safety_gpio_filters_14_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_14_count_q) begin
+                mcu_safety_gpio_filters_14_held_d = mcu_safety_gpio_filters_14_sync_q;
+                mcu_safety_gpio_filters_14_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_14_count_d = mcu_safety_gpio_filters_14_count_q + mcu_safety_gpio_filters_14_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_14_reset) begin
+            mcu_safety_gpio_filters_14_meta_d = 1'b0;
+            mcu_safety_gpio_filters_14_sync_d = 1'b0;
+            mcu_safety_gpio_filters_14_held_d = 1'b0;
+            mcu_safety_gpio_filters_14_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_14_level = mcu_safety_gpio_filters_14_held_q;
+    end
+
+    always @(*) begin
+        mcu_safety_gpio_filters_15_meta_d = mcu_safety_gpio_filters_15_meta_q;
+        mcu_safety_gpio_filters_15_sync_d = mcu_safety_gpio_filters_15_sync_q;
+        mcu_safety_gpio_filters_15_held_d = mcu_safety_gpio_filters_15_held_q;
+        mcu_safety_gpio_filters_15_count_d = mcu_safety_gpio_filters_15_count_q;
+        mcu_safety_gpio_filters_15_meta_d = mcu_safety_gpio_filters_15_pin;
+        mcu_safety_gpio_filters_15_sync_d = mcu_safety_gpio_filters_15_meta_q;
+        if (mcu_safety_gpio_filters_15_tick) begin
+            if (mcu_safety_gpio_filters_15_sync_q == mcu_safety_gpio_filters_15_held_q) begin
+                mcu_safety_gpio_filters_15_count_d = 2'h0;
+            end
+            else if (&mcu_safety_gpio_filters_15_count_q) begin
+                mcu_safety_gpio_filters_15_held_d = mcu_safety_gpio_filters_15_sync_q;
+                mcu_safety_gpio_filters_15_count_d = 2'h0;
+            end
+            else begin
+                mcu_safety_gpio_filters_15_count_d = mcu_safety_gpio_filters_15_count_q + mcu_safety_gpio_filters_15_one;
+            end
+        end
+        if (mcu_safety_gpio_filters_15_reset) begin
+            mcu_safety_gpio_filters_15_meta_d = 1'b0;
+            mcu_safety_gpio_filters_15_sync_d = 1'b0;
+            mcu_safety_gpio_filters_15_held_d = 1'b0;
+            mcu_safety_gpio_filters_15_count_d = 2'h0;
+        end
+        mcu_safety_gpio_filters_15_level = mcu_safety_gpio_filters_15_held_q;
     end
 
     always @(*) begin
@@ -8195,6 +9108,78 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_safety_machine_home_alarm_cause_q <= mcu_safety_machine_home_alarm_cause_d;
     always @(posedge clock) mcu_safety_machine_home_alarm_mask_q <= mcu_safety_machine_home_alarm_mask_d;
     always @(posedge clock) mcu_safety_machine_home_before_q <= mcu_safety_machine_home_before_d;
+    always @(posedge clock) mcu_safety_machine_ticking_q <= mcu_safety_machine_ticking_d;
+    always @(posedge clock) mcu_safety_gpio_filters_0_meta_q <= mcu_safety_gpio_filters_0_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_0_sync_q <= mcu_safety_gpio_filters_0_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_0_held_q <= mcu_safety_gpio_filters_0_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_0_count_q <= mcu_safety_gpio_filters_0_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_1_meta_q <= mcu_safety_gpio_filters_1_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_1_sync_q <= mcu_safety_gpio_filters_1_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_1_held_q <= mcu_safety_gpio_filters_1_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_1_count_q <= mcu_safety_gpio_filters_1_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_2_meta_q <= mcu_safety_gpio_filters_2_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_2_sync_q <= mcu_safety_gpio_filters_2_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_2_held_q <= mcu_safety_gpio_filters_2_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_2_count_q <= mcu_safety_gpio_filters_2_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_3_meta_q <= mcu_safety_gpio_filters_3_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_3_sync_q <= mcu_safety_gpio_filters_3_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_3_held_q <= mcu_safety_gpio_filters_3_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_3_count_q <= mcu_safety_gpio_filters_3_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_4_meta_q <= mcu_safety_gpio_filters_4_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_4_sync_q <= mcu_safety_gpio_filters_4_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_4_held_q <= mcu_safety_gpio_filters_4_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_4_count_q <= mcu_safety_gpio_filters_4_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_5_meta_q <= mcu_safety_gpio_filters_5_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_5_sync_q <= mcu_safety_gpio_filters_5_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_5_held_q <= mcu_safety_gpio_filters_5_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_5_count_q <= mcu_safety_gpio_filters_5_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_6_meta_q <= mcu_safety_gpio_filters_6_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_6_sync_q <= mcu_safety_gpio_filters_6_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_6_held_q <= mcu_safety_gpio_filters_6_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_6_count_q <= mcu_safety_gpio_filters_6_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_7_meta_q <= mcu_safety_gpio_filters_7_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_7_sync_q <= mcu_safety_gpio_filters_7_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_7_held_q <= mcu_safety_gpio_filters_7_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_7_count_q <= mcu_safety_gpio_filters_7_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_8_meta_q <= mcu_safety_gpio_filters_8_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_8_sync_q <= mcu_safety_gpio_filters_8_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_8_held_q <= mcu_safety_gpio_filters_8_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_8_count_q <= mcu_safety_gpio_filters_8_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_9_meta_q <= mcu_safety_gpio_filters_9_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_9_sync_q <= mcu_safety_gpio_filters_9_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_9_held_q <= mcu_safety_gpio_filters_9_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_9_count_q <= mcu_safety_gpio_filters_9_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_10_meta_q <= mcu_safety_gpio_filters_10_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_10_sync_q <= mcu_safety_gpio_filters_10_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_10_held_q <= mcu_safety_gpio_filters_10_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_10_count_q <= mcu_safety_gpio_filters_10_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_11_meta_q <= mcu_safety_gpio_filters_11_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_11_sync_q <= mcu_safety_gpio_filters_11_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_11_held_q <= mcu_safety_gpio_filters_11_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_11_count_q <= mcu_safety_gpio_filters_11_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_12_meta_q <= mcu_safety_gpio_filters_12_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_12_sync_q <= mcu_safety_gpio_filters_12_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_12_held_q <= mcu_safety_gpio_filters_12_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_12_count_q <= mcu_safety_gpio_filters_12_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_13_meta_q <= mcu_safety_gpio_filters_13_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_13_sync_q <= mcu_safety_gpio_filters_13_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_13_held_q <= mcu_safety_gpio_filters_13_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_13_count_q <= mcu_safety_gpio_filters_13_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_14_meta_q <= mcu_safety_gpio_filters_14_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_14_sync_q <= mcu_safety_gpio_filters_14_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_14_held_q <= mcu_safety_gpio_filters_14_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_14_count_q <= mcu_safety_gpio_filters_14_count_d;
+    always @(posedge clock) mcu_safety_gpio_filters_15_meta_q <= mcu_safety_gpio_filters_15_meta_d;
+    always @(posedge clock) mcu_safety_gpio_filters_15_sync_q <= mcu_safety_gpio_filters_15_sync_d;
+    always @(posedge clock) mcu_safety_gpio_filters_15_held_q <= mcu_safety_gpio_filters_15_held_d;
+    always @(posedge clock) mcu_safety_gpio_filters_15_count_q <= mcu_safety_gpio_filters_15_count_d;
+    always @(posedge clock) mcu_safety_gpio_edge_ctrl_q <= mcu_safety_gpio_edge_ctrl_d;
+    always @(posedge clock) mcu_safety_gpio_cause_q <= mcu_safety_gpio_cause_d;
+    always @(posedge clock) mcu_safety_gpio_mask_q <= mcu_safety_gpio_mask_d;
+    always @(posedge clock) mcu_safety_gpio_value_q <= mcu_safety_gpio_value_d;
+    always @(posedge clock) mcu_safety_gpio_safe_q <= mcu_safety_gpio_safe_d;
+    always @(posedge clock) mcu_safety_gpio_open_drain_q <= mcu_safety_gpio_open_drain_d;
+    always @(posedge clock) mcu_safety_gpio_before_q <= mcu_safety_gpio_before_d;
     always @(posedge clock) mcu_safety_estop_meta_q <= mcu_safety_estop_meta_d;
     always @(posedge clock) mcu_safety_estop_sync_q <= mcu_safety_estop_sync_d;
     always @(posedge clock) mcu_safety_estop_latch_q <= mcu_safety_estop_latch_d;

@@ -5,7 +5,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq);
+module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -33,12 +33,16 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
     input wire [3:0] alarm;
     output wire [3:0] drive_enable;
     output wire irq;
+    input wire [15:0] gpi;
+    output wire [15:0] gpo;
 
     wire [15:0] fsmc_d_out;
     wire fsmc_d_oe;
     wire [15:0] isa_sd_out;
     wire isa_sd_oe;
     wire isa_iocs16_n_drive;
+    wire [15:0] gpo_out;
+    wire [15:0] gpo_oe;
 
     motion_controller core(
         .clock(clock),
@@ -71,12 +75,31 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
         .home(home),
         .alarm(alarm),
         .drive_enable(drive_enable),
-        .irq(irq)
+        .irq(irq),
+        .gpi(gpi),
+        .gpo_out(gpo_out),
+        .gpo_oe(gpo_oe)
     );
 
     assign fsmc_d = fsmc_d_oe ? fsmc_d_out : 16'bz;
     assign isa_sd = isa_sd_oe ? isa_sd_out : 16'bz;
     assign isa_iocs16_n = isa_iocs16_n_drive ? 1'bz : 1'b0;
+    assign gpo[0] = gpo_oe[0] ? gpo_out[0] : 1'bz;
+    assign gpo[1] = gpo_oe[1] ? gpo_out[1] : 1'bz;
+    assign gpo[2] = gpo_oe[2] ? gpo_out[2] : 1'bz;
+    assign gpo[3] = gpo_oe[3] ? gpo_out[3] : 1'bz;
+    assign gpo[4] = gpo_oe[4] ? gpo_out[4] : 1'bz;
+    assign gpo[5] = gpo_oe[5] ? gpo_out[5] : 1'bz;
+    assign gpo[6] = gpo_oe[6] ? gpo_out[6] : 1'bz;
+    assign gpo[7] = gpo_oe[7] ? gpo_out[7] : 1'bz;
+    assign gpo[8] = gpo_oe[8] ? gpo_out[8] : 1'bz;
+    assign gpo[9] = gpo_oe[9] ? gpo_out[9] : 1'bz;
+    assign gpo[10] = gpo_oe[10] ? gpo_out[10] : 1'bz;
+    assign gpo[11] = gpo_oe[11] ? gpo_out[11] : 1'bz;
+    assign gpo[12] = gpo_oe[12] ? gpo_out[12] : 1'bz;
+    assign gpo[13] = gpo_oe[13] ? gpo_out[13] : 1'bz;
+    assign gpo[14] = gpo_oe[14] ? gpo_out[14] : 1'bz;
+    assign gpo[15] = gpo_oe[15] ? gpo_out[15] : 1'bz;
 endmodule
 
 `default_nettype wire

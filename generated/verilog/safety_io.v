@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, halt, stop_up, stop_down, drive_enable, irq);
+module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, halt, stop_up, stop_down, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire [6:0] addr;
@@ -24,6 +24,9 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     output wire [3:0] stop_down;
     output wire [3:0] drive_enable;
     output wire irq;
+    input wire [15:0] gpi;
+    output wire [15:0] gpo_out;
+    output wire [15:0] gpo_oe;
 
     localparam addr_info = 7'b0;
     localparam addr_status = 7'b1;
@@ -49,6 +52,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     localparam status_irq = 32'h10;
     localparam estop_cause = 2'b1;
     localparam watchdog_cause = 2'b10;
+    localparam machine_single = 1'b0;
     localparam machine_tick_reload = 24'h30d3;
     localparam machine_tick_one = 24'h1;
     localparam machine_ctrl_mask = 32'hf000f;
@@ -83,6 +87,45 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     localparam machine_alarm_filters_1_one = 2'b1;
     localparam machine_alarm_filters_2_one = 2'b1;
     localparam machine_alarm_filters_3_one = 2'b1;
+    localparam gpio_input_bit_0 = 16'h1;
+    localparam gpio_input_bit_1 = 16'h2;
+    localparam gpio_input_bit_2 = 16'h4;
+    localparam gpio_input_bit_3 = 16'h8;
+    localparam gpio_input_bit_4 = 16'h10;
+    localparam gpio_input_bit_5 = 16'h20;
+    localparam gpio_input_bit_6 = 16'h40;
+    localparam gpio_input_bit_7 = 16'h80;
+    localparam gpio_input_bit_8 = 16'h100;
+    localparam gpio_input_bit_9 = 16'h200;
+    localparam gpio_input_bit_10 = 16'h400;
+    localparam gpio_input_bit_11 = 16'h800;
+    localparam gpio_input_bit_12 = 16'h1000;
+    localparam gpio_input_bit_13 = 16'h2000;
+    localparam gpio_input_bit_14 = 16'h4000;
+    localparam gpio_input_bit_15 = 16'h8000;
+    localparam gpio_addr_level = 7'b11000;
+    localparam gpio_addr_edge_ctrl = 7'b11001;
+    localparam gpio_addr_cause = 7'b11010;
+    localparam gpio_addr_mask = 7'b11011;
+    localparam gpio_addr_value = 7'b11100;
+    localparam gpio_addr_safe = 7'b11101;
+    localparam gpio_addr_open_drain = 7'b11110;
+    localparam gpio_filters_0_one = 2'b1;
+    localparam gpio_filters_1_one = 2'b1;
+    localparam gpio_filters_2_one = 2'b1;
+    localparam gpio_filters_3_one = 2'b1;
+    localparam gpio_filters_4_one = 2'b1;
+    localparam gpio_filters_5_one = 2'b1;
+    localparam gpio_filters_6_one = 2'b1;
+    localparam gpio_filters_7_one = 2'b1;
+    localparam gpio_filters_8_one = 2'b1;
+    localparam gpio_filters_9_one = 2'b1;
+    localparam gpio_filters_10_one = 2'b1;
+    localparam gpio_filters_11_one = 2'b1;
+    localparam gpio_filters_12_one = 2'b1;
+    localparam gpio_filters_13_one = 2'b1;
+    localparam gpio_filters_14_one = 2'b1;
+    localparam gpio_filters_15_one = 2'b1;
 
     reg machine_reset;
     reg [6:0] machine_addr;
@@ -97,6 +140,19 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg machine_irq_active;
     reg [3:0] machine_stop_up;
     reg [3:0] machine_stop_down;
+    reg machine_tick;
+    reg gpio_reset;
+    reg [6:0] gpio_addr;
+    reg [31:0] gpio_wdata;
+    reg gpio_we;
+    reg [6:0] gpio_read_addr;
+    reg gpio_tick;
+    reg gpio_halting;
+    reg [15:0] gpio_gpi;
+    reg [15:0] gpio_gpo_out;
+    reg [15:0] gpio_gpo_oe;
+    reg [31:0] gpio_read_value;
+    reg gpio_irq_active;
     reg estop_meta_d;
     reg estop_meta_q = 1'h0;
     reg estop_sync_d;
@@ -235,7 +291,8 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [31:0] machine_home_alarm_mask_q = 32'h0;
     reg [3:0] machine_home_before_d;
     reg [3:0] machine_home_before_q = 4'h0;
-    reg machine_tick;
+    reg machine_ticking_d;
+    reg machine_ticking_q = 1'h0;
     reg [3:0] machine_pos_level;
     reg [3:0] machine_neg_level;
     reg [3:0] machine_home_level;
@@ -383,6 +440,217 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg machine_alarm_filters_3_held_q = 1'h0;
     reg [1:0] machine_alarm_filters_3_count_d;
     reg [1:0] machine_alarm_filters_3_count_q = 2'h0;
+    reg gpio_filters_0_reset;
+    reg gpio_filters_0_pin;
+    reg gpio_filters_0_tick;
+    reg gpio_filters_0_level;
+    reg gpio_filters_1_reset;
+    reg gpio_filters_1_pin;
+    reg gpio_filters_1_tick;
+    reg gpio_filters_1_level;
+    reg gpio_filters_2_reset;
+    reg gpio_filters_2_pin;
+    reg gpio_filters_2_tick;
+    reg gpio_filters_2_level;
+    reg gpio_filters_3_reset;
+    reg gpio_filters_3_pin;
+    reg gpio_filters_3_tick;
+    reg gpio_filters_3_level;
+    reg gpio_filters_4_reset;
+    reg gpio_filters_4_pin;
+    reg gpio_filters_4_tick;
+    reg gpio_filters_4_level;
+    reg gpio_filters_5_reset;
+    reg gpio_filters_5_pin;
+    reg gpio_filters_5_tick;
+    reg gpio_filters_5_level;
+    reg gpio_filters_6_reset;
+    reg gpio_filters_6_pin;
+    reg gpio_filters_6_tick;
+    reg gpio_filters_6_level;
+    reg gpio_filters_7_reset;
+    reg gpio_filters_7_pin;
+    reg gpio_filters_7_tick;
+    reg gpio_filters_7_level;
+    reg gpio_filters_8_reset;
+    reg gpio_filters_8_pin;
+    reg gpio_filters_8_tick;
+    reg gpio_filters_8_level;
+    reg gpio_filters_9_reset;
+    reg gpio_filters_9_pin;
+    reg gpio_filters_9_tick;
+    reg gpio_filters_9_level;
+    reg gpio_filters_10_reset;
+    reg gpio_filters_10_pin;
+    reg gpio_filters_10_tick;
+    reg gpio_filters_10_level;
+    reg gpio_filters_11_reset;
+    reg gpio_filters_11_pin;
+    reg gpio_filters_11_tick;
+    reg gpio_filters_11_level;
+    reg gpio_filters_12_reset;
+    reg gpio_filters_12_pin;
+    reg gpio_filters_12_tick;
+    reg gpio_filters_12_level;
+    reg gpio_filters_13_reset;
+    reg gpio_filters_13_pin;
+    reg gpio_filters_13_tick;
+    reg gpio_filters_13_level;
+    reg gpio_filters_14_reset;
+    reg gpio_filters_14_pin;
+    reg gpio_filters_14_tick;
+    reg gpio_filters_14_level;
+    reg gpio_filters_15_reset;
+    reg gpio_filters_15_pin;
+    reg gpio_filters_15_tick;
+    reg gpio_filters_15_level;
+    reg [31:0] gpio_edge_ctrl_d;
+    reg [31:0] gpio_edge_ctrl_q = 32'h0;
+    reg [15:0] gpio_cause_d;
+    reg [15:0] gpio_cause_q = 16'h0;
+    reg [15:0] gpio_mask_d;
+    reg [15:0] gpio_mask_q = 16'h0;
+    reg [15:0] gpio_value_d;
+    reg [15:0] gpio_value_q = 16'h0;
+    reg [15:0] gpio_safe_d;
+    reg [15:0] gpio_safe_q = 16'h0;
+    reg [15:0] gpio_open_drain_d;
+    reg [15:0] gpio_open_drain_q = 16'h0;
+    reg [15:0] gpio_before_d;
+    reg [15:0] gpio_before_q = 16'h0;
+    reg [15:0] gpio_levels;
+    reg [15:0] gpio_events;
+    reg [15:0] gpio_kept;
+    reg [15:0] gpio_value_next;
+    reg [31:0] gpio_word;
+    reg gpio_filters_0_meta_d;
+    reg gpio_filters_0_meta_q = 1'h0;
+    reg gpio_filters_0_sync_d;
+    reg gpio_filters_0_sync_q = 1'h0;
+    reg gpio_filters_0_held_d;
+    reg gpio_filters_0_held_q = 1'h0;
+    reg [1:0] gpio_filters_0_count_d;
+    reg [1:0] gpio_filters_0_count_q = 2'h0;
+    reg gpio_filters_1_meta_d;
+    reg gpio_filters_1_meta_q = 1'h0;
+    reg gpio_filters_1_sync_d;
+    reg gpio_filters_1_sync_q = 1'h0;
+    reg gpio_filters_1_held_d;
+    reg gpio_filters_1_held_q = 1'h0;
+    reg [1:0] gpio_filters_1_count_d;
+    reg [1:0] gpio_filters_1_count_q = 2'h0;
+    reg gpio_filters_2_meta_d;
+    reg gpio_filters_2_meta_q = 1'h0;
+    reg gpio_filters_2_sync_d;
+    reg gpio_filters_2_sync_q = 1'h0;
+    reg gpio_filters_2_held_d;
+    reg gpio_filters_2_held_q = 1'h0;
+    reg [1:0] gpio_filters_2_count_d;
+    reg [1:0] gpio_filters_2_count_q = 2'h0;
+    reg gpio_filters_3_meta_d;
+    reg gpio_filters_3_meta_q = 1'h0;
+    reg gpio_filters_3_sync_d;
+    reg gpio_filters_3_sync_q = 1'h0;
+    reg gpio_filters_3_held_d;
+    reg gpio_filters_3_held_q = 1'h0;
+    reg [1:0] gpio_filters_3_count_d;
+    reg [1:0] gpio_filters_3_count_q = 2'h0;
+    reg gpio_filters_4_meta_d;
+    reg gpio_filters_4_meta_q = 1'h0;
+    reg gpio_filters_4_sync_d;
+    reg gpio_filters_4_sync_q = 1'h0;
+    reg gpio_filters_4_held_d;
+    reg gpio_filters_4_held_q = 1'h0;
+    reg [1:0] gpio_filters_4_count_d;
+    reg [1:0] gpio_filters_4_count_q = 2'h0;
+    reg gpio_filters_5_meta_d;
+    reg gpio_filters_5_meta_q = 1'h0;
+    reg gpio_filters_5_sync_d;
+    reg gpio_filters_5_sync_q = 1'h0;
+    reg gpio_filters_5_held_d;
+    reg gpio_filters_5_held_q = 1'h0;
+    reg [1:0] gpio_filters_5_count_d;
+    reg [1:0] gpio_filters_5_count_q = 2'h0;
+    reg gpio_filters_6_meta_d;
+    reg gpio_filters_6_meta_q = 1'h0;
+    reg gpio_filters_6_sync_d;
+    reg gpio_filters_6_sync_q = 1'h0;
+    reg gpio_filters_6_held_d;
+    reg gpio_filters_6_held_q = 1'h0;
+    reg [1:0] gpio_filters_6_count_d;
+    reg [1:0] gpio_filters_6_count_q = 2'h0;
+    reg gpio_filters_7_meta_d;
+    reg gpio_filters_7_meta_q = 1'h0;
+    reg gpio_filters_7_sync_d;
+    reg gpio_filters_7_sync_q = 1'h0;
+    reg gpio_filters_7_held_d;
+    reg gpio_filters_7_held_q = 1'h0;
+    reg [1:0] gpio_filters_7_count_d;
+    reg [1:0] gpio_filters_7_count_q = 2'h0;
+    reg gpio_filters_8_meta_d;
+    reg gpio_filters_8_meta_q = 1'h0;
+    reg gpio_filters_8_sync_d;
+    reg gpio_filters_8_sync_q = 1'h0;
+    reg gpio_filters_8_held_d;
+    reg gpio_filters_8_held_q = 1'h0;
+    reg [1:0] gpio_filters_8_count_d;
+    reg [1:0] gpio_filters_8_count_q = 2'h0;
+    reg gpio_filters_9_meta_d;
+    reg gpio_filters_9_meta_q = 1'h0;
+    reg gpio_filters_9_sync_d;
+    reg gpio_filters_9_sync_q = 1'h0;
+    reg gpio_filters_9_held_d;
+    reg gpio_filters_9_held_q = 1'h0;
+    reg [1:0] gpio_filters_9_count_d;
+    reg [1:0] gpio_filters_9_count_q = 2'h0;
+    reg gpio_filters_10_meta_d;
+    reg gpio_filters_10_meta_q = 1'h0;
+    reg gpio_filters_10_sync_d;
+    reg gpio_filters_10_sync_q = 1'h0;
+    reg gpio_filters_10_held_d;
+    reg gpio_filters_10_held_q = 1'h0;
+    reg [1:0] gpio_filters_10_count_d;
+    reg [1:0] gpio_filters_10_count_q = 2'h0;
+    reg gpio_filters_11_meta_d;
+    reg gpio_filters_11_meta_q = 1'h0;
+    reg gpio_filters_11_sync_d;
+    reg gpio_filters_11_sync_q = 1'h0;
+    reg gpio_filters_11_held_d;
+    reg gpio_filters_11_held_q = 1'h0;
+    reg [1:0] gpio_filters_11_count_d;
+    reg [1:0] gpio_filters_11_count_q = 2'h0;
+    reg gpio_filters_12_meta_d;
+    reg gpio_filters_12_meta_q = 1'h0;
+    reg gpio_filters_12_sync_d;
+    reg gpio_filters_12_sync_q = 1'h0;
+    reg gpio_filters_12_held_d;
+    reg gpio_filters_12_held_q = 1'h0;
+    reg [1:0] gpio_filters_12_count_d;
+    reg [1:0] gpio_filters_12_count_q = 2'h0;
+    reg gpio_filters_13_meta_d;
+    reg gpio_filters_13_meta_q = 1'h0;
+    reg gpio_filters_13_sync_d;
+    reg gpio_filters_13_sync_q = 1'h0;
+    reg gpio_filters_13_held_d;
+    reg gpio_filters_13_held_q = 1'h0;
+    reg [1:0] gpio_filters_13_count_d;
+    reg [1:0] gpio_filters_13_count_q = 2'h0;
+    reg gpio_filters_14_meta_d;
+    reg gpio_filters_14_meta_q = 1'h0;
+    reg gpio_filters_14_sync_d;
+    reg gpio_filters_14_sync_q = 1'h0;
+    reg gpio_filters_14_held_d;
+    reg gpio_filters_14_held_q = 1'h0;
+    reg [1:0] gpio_filters_14_count_d;
+    reg [1:0] gpio_filters_14_count_q = 2'h0;
+    reg gpio_filters_15_meta_d;
+    reg gpio_filters_15_meta_q = 1'h0;
+    reg gpio_filters_15_sync_d;
+    reg gpio_filters_15_sync_q = 1'h0;
+    reg gpio_filters_15_held_d;
+    reg gpio_filters_15_held_q = 1'h0;
+    reg [1:0] gpio_filters_15_count_d;
+    reg [1:0] gpio_filters_15_count_q = 2'h0;
 
     assign rdata = read_data_q;
     assign halt = estop_latch_q | bitten_q;
@@ -390,6 +658,8 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     assign stop_down = machine_stop_down;
     assign drive_enable = enable_q;
     assign irq = ~irq_low_q;
+    assign gpo_out = gpio_gpo_out;
+    assign gpo_oe = gpio_gpo_oe;
 
     always @(*) begin
         estop_meta_d = estop_meta_q;
@@ -422,6 +692,13 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         machine_limit_neg = limit_neg;
         machine_home = home;
         machine_alarm = alarm;
+        gpio_reset = reset;
+        gpio_addr = addr;
+        gpio_wdata = wdata;
+        gpio_we = we;
+        gpio_read_addr = read_addr_q;
+        gpio_tick = machine_tick;
+        gpio_gpi = gpi;
         write_clear = we & (addr == addr_clear);
         write_timeout = we & (addr == addr_timeout);
         estop_meta_d = ~estop_ok;
@@ -452,6 +729,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         if (latch_next | bitten_next) begin
             enable_d = 4'h0;
         end
+        gpio_halting = latch_next | bitten_next;
         system_events = 2'h0;
         if (estop_sync_q & ~estop_latch_q) begin
             system_events = estop_cause;
@@ -490,13 +768,13 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
                 active_high_d = wdata[0];
             end
         end
-        irq_active = |(cause_q & cause_mask_q) | |(done_cause_q & done_mask_q) | |(low_cause_q & low_mask_q) | machine_irq_active;
+        irq_active = |(cause_q & cause_mask_q) | |(done_cause_q & done_mask_q) | |(low_cause_q & low_mask_q) | machine_irq_active | gpio_irq_active;
         irq_low_d = irq_active != active_high_q;
         read_pending_d = re;
         if (re) begin
             read_addr_d = addr;
         end
-        read_value = machine_read_value;
+        read_value = machine_read_value | gpio_read_value;
         if (read_addr_q == addr_info) begin
             read_value = info;
         end
@@ -577,6 +855,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
 
     always @(*) begin
         machine_prescaler_d = machine_prescaler_q;
+        machine_ticking_d = machine_ticking_q;
         machine_pos_ctrl_d = machine_pos_ctrl_q;
         machine_neg_ctrl_d = machine_neg_ctrl_q;
         machine_home_ctrl_d = machine_home_ctrl_q;
@@ -586,12 +865,14 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         machine_home_alarm_cause_d = machine_home_alarm_cause_q;
         machine_home_alarm_mask_d = machine_home_alarm_mask_q;
         machine_home_before_d = machine_home_before_q;
-        machine_tick = ~|machine_prescaler_q;
-        if (machine_tick) begin
+        machine_tick = machine_ticking_q;
+        if (machine_ticking_q) begin
             machine_prescaler_d = machine_tick_reload;
+            machine_ticking_d = machine_single;
         end
         else begin
             machine_prescaler_d = machine_prescaler_q - machine_tick_one;
+            machine_ticking_d = machine_prescaler_q == machine_tick_one;
         end
         machine_pos_level = 4'h0;
         machine_neg_level = 4'h0;
@@ -775,6 +1056,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         end
         if (machine_reset) begin
             machine_prescaler_d = 24'h0;
+            machine_ticking_d = 1'b1;
             machine_pos_ctrl_d = 32'h0;
             machine_neg_ctrl_d = 32'h0;
             machine_home_ctrl_d = 32'h0;
@@ -1239,6 +1521,625 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         machine_alarm_filters_3_level = machine_alarm_filters_3_held_q;
     end
 
+    always @(*) begin
+        gpio_edge_ctrl_d = gpio_edge_ctrl_q;
+        gpio_cause_d = gpio_cause_q;
+        gpio_mask_d = gpio_mask_q;
+        gpio_value_d = gpio_value_q;
+        gpio_safe_d = gpio_safe_q;
+        gpio_open_drain_d = gpio_open_drain_q;
+        gpio_before_d = gpio_before_q;
+        gpio_levels = 16'h0;
+        gpio_filters_0_reset = gpio_reset;
+        gpio_filters_0_tick = gpio_tick;
+        gpio_filters_0_pin = gpio_gpi[0];
+        if (gpio_filters_0_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_0;
+        end
+        gpio_filters_1_reset = gpio_reset;
+        gpio_filters_1_tick = gpio_tick;
+        gpio_filters_1_pin = gpio_gpi[1];
+        if (gpio_filters_1_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_1;
+        end
+        gpio_filters_2_reset = gpio_reset;
+        gpio_filters_2_tick = gpio_tick;
+        gpio_filters_2_pin = gpio_gpi[2];
+        if (gpio_filters_2_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_2;
+        end
+        gpio_filters_3_reset = gpio_reset;
+        gpio_filters_3_tick = gpio_tick;
+        gpio_filters_3_pin = gpio_gpi[3];
+        if (gpio_filters_3_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_3;
+        end
+        gpio_filters_4_reset = gpio_reset;
+        gpio_filters_4_tick = gpio_tick;
+        gpio_filters_4_pin = gpio_gpi[4];
+        if (gpio_filters_4_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_4;
+        end
+        gpio_filters_5_reset = gpio_reset;
+        gpio_filters_5_tick = gpio_tick;
+        gpio_filters_5_pin = gpio_gpi[5];
+        if (gpio_filters_5_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_5;
+        end
+        gpio_filters_6_reset = gpio_reset;
+        gpio_filters_6_tick = gpio_tick;
+        gpio_filters_6_pin = gpio_gpi[6];
+        if (gpio_filters_6_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_6;
+        end
+        gpio_filters_7_reset = gpio_reset;
+        gpio_filters_7_tick = gpio_tick;
+        gpio_filters_7_pin = gpio_gpi[7];
+        if (gpio_filters_7_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_7;
+        end
+        gpio_filters_8_reset = gpio_reset;
+        gpio_filters_8_tick = gpio_tick;
+        gpio_filters_8_pin = gpio_gpi[8];
+        if (gpio_filters_8_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_8;
+        end
+        gpio_filters_9_reset = gpio_reset;
+        gpio_filters_9_tick = gpio_tick;
+        gpio_filters_9_pin = gpio_gpi[9];
+        if (gpio_filters_9_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_9;
+        end
+        gpio_filters_10_reset = gpio_reset;
+        gpio_filters_10_tick = gpio_tick;
+        gpio_filters_10_pin = gpio_gpi[10];
+        if (gpio_filters_10_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_10;
+        end
+        gpio_filters_11_reset = gpio_reset;
+        gpio_filters_11_tick = gpio_tick;
+        gpio_filters_11_pin = gpio_gpi[11];
+        if (gpio_filters_11_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_11;
+        end
+        gpio_filters_12_reset = gpio_reset;
+        gpio_filters_12_tick = gpio_tick;
+        gpio_filters_12_pin = gpio_gpi[12];
+        if (gpio_filters_12_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_12;
+        end
+        gpio_filters_13_reset = gpio_reset;
+        gpio_filters_13_tick = gpio_tick;
+        gpio_filters_13_pin = gpio_gpi[13];
+        if (gpio_filters_13_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_13;
+        end
+        gpio_filters_14_reset = gpio_reset;
+        gpio_filters_14_tick = gpio_tick;
+        gpio_filters_14_pin = gpio_gpi[14];
+        if (gpio_filters_14_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_14;
+        end
+        gpio_filters_15_reset = gpio_reset;
+        gpio_filters_15_tick = gpio_tick;
+        gpio_filters_15_pin = gpio_gpi[15];
+        if (gpio_filters_15_level) begin
+            gpio_levels = gpio_levels | gpio_input_bit_15;
+        end
+        gpio_events = (gpio_levels & ~gpio_before_q & gpio_edge_ctrl_q[15:0]) | (~gpio_levels & gpio_before_q & gpio_edge_ctrl_q[31:16]);
+        gpio_kept = gpio_cause_q;
+        if (gpio_we & (gpio_addr == gpio_addr_cause)) begin
+            gpio_kept = gpio_cause_q & ~gpio_wdata[15:0];
+        end
+        gpio_cause_d = gpio_kept | gpio_events;
+        gpio_before_d = gpio_levels;
+        gpio_value_next = gpio_value_q;
+        if (gpio_we) begin
+            if (gpio_addr == gpio_addr_edge_ctrl) begin
+                gpio_edge_ctrl_d = gpio_wdata;
+            end
+            if (gpio_addr == gpio_addr_mask) begin
+                gpio_mask_d = gpio_wdata[15:0];
+            end
+            if (gpio_addr == gpio_addr_value) begin
+                gpio_value_next = gpio_wdata[15:0];
+            end
+            if (gpio_addr == gpio_addr_safe) begin
+                gpio_safe_d = gpio_wdata[15:0];
+            end
+            if (gpio_addr == gpio_addr_open_drain) begin
+                gpio_open_drain_d = gpio_wdata[15:0];
+            end
+        end
+        if (gpio_halting) begin
+            gpio_value_next = gpio_safe_q;
+        end
+        gpio_value_d = gpio_value_next;
+        gpio_word = 32'h0;
+        if (gpio_read_addr == gpio_addr_level) begin
+            gpio_word = {16'h0, gpio_levels};
+        end
+        if (gpio_read_addr == gpio_addr_edge_ctrl) begin
+            gpio_word = gpio_edge_ctrl_q;
+        end
+        if (gpio_read_addr == gpio_addr_cause) begin
+            gpio_word = {16'h0, gpio_cause_q};
+        end
+        if (gpio_read_addr == gpio_addr_mask) begin
+            gpio_word = {16'h0, gpio_mask_q};
+        end
+        if (gpio_read_addr == gpio_addr_value) begin
+            gpio_word = {16'h0, gpio_value_q};
+        end
+        if (gpio_read_addr == gpio_addr_safe) begin
+            gpio_word = {16'h0, gpio_safe_q};
+        end
+        if (gpio_read_addr == gpio_addr_open_drain) begin
+            gpio_word = {16'h0, gpio_open_drain_q};
+        end
+        if (gpio_reset) begin
+            gpio_edge_ctrl_d = 32'h0;
+            gpio_cause_d = 16'h0;
+            gpio_mask_d = 16'h0;
+            gpio_value_d = 16'h0;
+            gpio_safe_d = 16'h0;
+            gpio_open_drain_d = 16'h0;
+            gpio_before_d = 16'h0;
+        end
+        gpio_read_value = gpio_word;
+        gpio_irq_active = |(gpio_cause_q & gpio_mask_q);
+        gpio_gpo_out = gpio_value_q & ~gpio_open_drain_q;
+        gpio_gpo_oe = ~gpio_open_drain_q | ~gpio_value_q;
+    end
+
+    always @(*) begin
+        gpio_filters_0_meta_d = gpio_filters_0_meta_q;
+        gpio_filters_0_sync_d = gpio_filters_0_sync_q;
+        gpio_filters_0_held_d = gpio_filters_0_held_q;
+        gpio_filters_0_count_d = gpio_filters_0_count_q;
+        gpio_filters_0_meta_d = gpio_filters_0_pin;
+        gpio_filters_0_sync_d = gpio_filters_0_meta_q;
+        if (gpio_filters_0_tick) begin
+            if (gpio_filters_0_sync_q == gpio_filters_0_held_q) begin
+                gpio_filters_0_count_d = 2'h0;
+            end
+            else if (&gpio_filters_0_count_q) begin
+                gpio_filters_0_held_d = gpio_filters_0_sync_q;
+                gpio_filters_0_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_0_count_d = gpio_filters_0_count_q + gpio_filters_0_one;
+            end
+        end
+        if (gpio_filters_0_reset) begin
+            gpio_filters_0_meta_d = 1'b0;
+            gpio_filters_0_sync_d = 1'b0;
+            gpio_filters_0_held_d = 1'b0;
+            gpio_filters_0_count_d = 2'h0;
+        end
+        gpio_filters_0_level = gpio_filters_0_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_1_meta_d = gpio_filters_1_meta_q;
+        gpio_filters_1_sync_d = gpio_filters_1_sync_q;
+        gpio_filters_1_held_d = gpio_filters_1_held_q;
+        gpio_filters_1_count_d = gpio_filters_1_count_q;
+        gpio_filters_1_meta_d = gpio_filters_1_pin;
+        gpio_filters_1_sync_d = gpio_filters_1_meta_q;
+        if (gpio_filters_1_tick) begin
+            if (gpio_filters_1_sync_q == gpio_filters_1_held_q) begin
+                gpio_filters_1_count_d = 2'h0;
+            end
+            else if (&gpio_filters_1_count_q) begin
+                gpio_filters_1_held_d = gpio_filters_1_sync_q;
+                gpio_filters_1_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_1_count_d = gpio_filters_1_count_q + gpio_filters_1_one;
+            end
+        end
+        if (gpio_filters_1_reset) begin
+            gpio_filters_1_meta_d = 1'b0;
+            gpio_filters_1_sync_d = 1'b0;
+            gpio_filters_1_held_d = 1'b0;
+            gpio_filters_1_count_d = 2'h0;
+        end
+        gpio_filters_1_level = gpio_filters_1_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_2_meta_d = gpio_filters_2_meta_q;
+        gpio_filters_2_sync_d = gpio_filters_2_sync_q;
+        gpio_filters_2_held_d = gpio_filters_2_held_q;
+        gpio_filters_2_count_d = gpio_filters_2_count_q;
+        gpio_filters_2_meta_d = gpio_filters_2_pin;
+        gpio_filters_2_sync_d = gpio_filters_2_meta_q;
+        if (gpio_filters_2_tick) begin
+            if (gpio_filters_2_sync_q == gpio_filters_2_held_q) begin
+                gpio_filters_2_count_d = 2'h0;
+            end
+            else if (&gpio_filters_2_count_q) begin
+                gpio_filters_2_held_d = gpio_filters_2_sync_q;
+                gpio_filters_2_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_2_count_d = gpio_filters_2_count_q + gpio_filters_2_one;
+            end
+        end
+        if (gpio_filters_2_reset) begin
+            gpio_filters_2_meta_d = 1'b0;
+            gpio_filters_2_sync_d = 1'b0;
+            gpio_filters_2_held_d = 1'b0;
+            gpio_filters_2_count_d = 2'h0;
+        end
+        gpio_filters_2_level = gpio_filters_2_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_3_meta_d = gpio_filters_3_meta_q;
+        gpio_filters_3_sync_d = gpio_filters_3_sync_q;
+        gpio_filters_3_held_d = gpio_filters_3_held_q;
+        gpio_filters_3_count_d = gpio_filters_3_count_q;
+        gpio_filters_3_meta_d = gpio_filters_3_pin;
+        gpio_filters_3_sync_d = gpio_filters_3_meta_q;
+        if (gpio_filters_3_tick) begin
+            if (gpio_filters_3_sync_q == gpio_filters_3_held_q) begin
+                gpio_filters_3_count_d = 2'h0;
+            end
+            else if (&gpio_filters_3_count_q) begin
+                gpio_filters_3_held_d = gpio_filters_3_sync_q;
+                gpio_filters_3_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_3_count_d = gpio_filters_3_count_q + gpio_filters_3_one;
+            end
+        end
+        if (gpio_filters_3_reset) begin
+            gpio_filters_3_meta_d = 1'b0;
+            gpio_filters_3_sync_d = 1'b0;
+            gpio_filters_3_held_d = 1'b0;
+            gpio_filters_3_count_d = 2'h0;
+        end
+        gpio_filters_3_level = gpio_filters_3_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_4_meta_d = gpio_filters_4_meta_q;
+        gpio_filters_4_sync_d = gpio_filters_4_sync_q;
+        gpio_filters_4_held_d = gpio_filters_4_held_q;
+        gpio_filters_4_count_d = gpio_filters_4_count_q;
+        gpio_filters_4_meta_d = gpio_filters_4_pin;
+        gpio_filters_4_sync_d = gpio_filters_4_meta_q;
+        if (gpio_filters_4_tick) begin
+            if (gpio_filters_4_sync_q == gpio_filters_4_held_q) begin
+                gpio_filters_4_count_d = 2'h0;
+            end
+            else if (&gpio_filters_4_count_q) begin
+                gpio_filters_4_held_d = gpio_filters_4_sync_q;
+                gpio_filters_4_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_4_count_d = gpio_filters_4_count_q + gpio_filters_4_one;
+            end
+        end
+        if (gpio_filters_4_reset) begin
+            gpio_filters_4_meta_d = 1'b0;
+            gpio_filters_4_sync_d = 1'b0;
+            gpio_filters_4_held_d = 1'b0;
+            gpio_filters_4_count_d = 2'h0;
+        end
+        gpio_filters_4_level = gpio_filters_4_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_5_meta_d = gpio_filters_5_meta_q;
+        gpio_filters_5_sync_d = gpio_filters_5_sync_q;
+        gpio_filters_5_held_d = gpio_filters_5_held_q;
+        gpio_filters_5_count_d = gpio_filters_5_count_q;
+        gpio_filters_5_meta_d = gpio_filters_5_pin;
+        gpio_filters_5_sync_d = gpio_filters_5_meta_q;
+        if (gpio_filters_5_tick) begin
+            if (gpio_filters_5_sync_q == gpio_filters_5_held_q) begin
+                gpio_filters_5_count_d = 2'h0;
+            end
+            else if (&gpio_filters_5_count_q) begin
+                gpio_filters_5_held_d = gpio_filters_5_sync_q;
+                gpio_filters_5_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_5_count_d = gpio_filters_5_count_q + gpio_filters_5_one;
+            end
+        end
+        if (gpio_filters_5_reset) begin
+            gpio_filters_5_meta_d = 1'b0;
+            gpio_filters_5_sync_d = 1'b0;
+            gpio_filters_5_held_d = 1'b0;
+            gpio_filters_5_count_d = 2'h0;
+        end
+        gpio_filters_5_level = gpio_filters_5_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_6_meta_d = gpio_filters_6_meta_q;
+        gpio_filters_6_sync_d = gpio_filters_6_sync_q;
+        gpio_filters_6_held_d = gpio_filters_6_held_q;
+        gpio_filters_6_count_d = gpio_filters_6_count_q;
+        gpio_filters_6_meta_d = gpio_filters_6_pin;
+        gpio_filters_6_sync_d = gpio_filters_6_meta_q;
+        if (gpio_filters_6_tick) begin
+            if (gpio_filters_6_sync_q == gpio_filters_6_held_q) begin
+                gpio_filters_6_count_d = 2'h0;
+            end
+            else if (&gpio_filters_6_count_q) begin
+                gpio_filters_6_held_d = gpio_filters_6_sync_q;
+                gpio_filters_6_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_6_count_d = gpio_filters_6_count_q + gpio_filters_6_one;
+            end
+        end
+        if (gpio_filters_6_reset) begin
+            gpio_filters_6_meta_d = 1'b0;
+            gpio_filters_6_sync_d = 1'b0;
+            gpio_filters_6_held_d = 1'b0;
+            gpio_filters_6_count_d = 2'h0;
+        end
+        gpio_filters_6_level = gpio_filters_6_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_7_meta_d = gpio_filters_7_meta_q;
+        gpio_filters_7_sync_d = gpio_filters_7_sync_q;
+        gpio_filters_7_held_d = gpio_filters_7_held_q;
+        gpio_filters_7_count_d = gpio_filters_7_count_q;
+        gpio_filters_7_meta_d = gpio_filters_7_pin;
+        gpio_filters_7_sync_d = gpio_filters_7_meta_q;
+        if (gpio_filters_7_tick) begin
+            if (gpio_filters_7_sync_q == gpio_filters_7_held_q) begin
+                gpio_filters_7_count_d = 2'h0;
+            end
+            else if (&gpio_filters_7_count_q) begin
+                gpio_filters_7_held_d = gpio_filters_7_sync_q;
+                gpio_filters_7_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_7_count_d = gpio_filters_7_count_q + gpio_filters_7_one;
+            end
+        end
+        if (gpio_filters_7_reset) begin
+            gpio_filters_7_meta_d = 1'b0;
+            gpio_filters_7_sync_d = 1'b0;
+            gpio_filters_7_held_d = 1'b0;
+            gpio_filters_7_count_d = 2'h0;
+        end
+        gpio_filters_7_level = gpio_filters_7_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_8_meta_d = gpio_filters_8_meta_q;
+        gpio_filters_8_sync_d = gpio_filters_8_sync_q;
+        gpio_filters_8_held_d = gpio_filters_8_held_q;
+        gpio_filters_8_count_d = gpio_filters_8_count_q;
+        gpio_filters_8_meta_d = gpio_filters_8_pin;
+        gpio_filters_8_sync_d = gpio_filters_8_meta_q;
+        if (gpio_filters_8_tick) begin
+            if (gpio_filters_8_sync_q == gpio_filters_8_held_q) begin
+                gpio_filters_8_count_d = 2'h0;
+            end
+            else if (&gpio_filters_8_count_q) begin
+                gpio_filters_8_held_d = gpio_filters_8_sync_q;
+                gpio_filters_8_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_8_count_d = gpio_filters_8_count_q + gpio_filters_8_one;
+            end
+        end
+        if (gpio_filters_8_reset) begin
+            gpio_filters_8_meta_d = 1'b0;
+            gpio_filters_8_sync_d = 1'b0;
+            gpio_filters_8_held_d = 1'b0;
+            gpio_filters_8_count_d = 2'h0;
+        end
+        gpio_filters_8_level = gpio_filters_8_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_9_meta_d = gpio_filters_9_meta_q;
+        gpio_filters_9_sync_d = gpio_filters_9_sync_q;
+        gpio_filters_9_held_d = gpio_filters_9_held_q;
+        gpio_filters_9_count_d = gpio_filters_9_count_q;
+        gpio_filters_9_meta_d = gpio_filters_9_pin;
+        gpio_filters_9_sync_d = gpio_filters_9_meta_q;
+        if (gpio_filters_9_tick) begin
+            if (gpio_filters_9_sync_q == gpio_filters_9_held_q) begin
+                gpio_filters_9_count_d = 2'h0;
+            end
+            else if (&gpio_filters_9_count_q) begin
+                gpio_filters_9_held_d = gpio_filters_9_sync_q;
+                gpio_filters_9_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_9_count_d = gpio_filters_9_count_q + gpio_filters_9_one;
+            end
+        end
+        if (gpio_filters_9_reset) begin
+            gpio_filters_9_meta_d = 1'b0;
+            gpio_filters_9_sync_d = 1'b0;
+            gpio_filters_9_held_d = 1'b0;
+            gpio_filters_9_count_d = 2'h0;
+        end
+        gpio_filters_9_level = gpio_filters_9_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_10_meta_d = gpio_filters_10_meta_q;
+        gpio_filters_10_sync_d = gpio_filters_10_sync_q;
+        gpio_filters_10_held_d = gpio_filters_10_held_q;
+        gpio_filters_10_count_d = gpio_filters_10_count_q;
+        gpio_filters_10_meta_d = gpio_filters_10_pin;
+        gpio_filters_10_sync_d = gpio_filters_10_meta_q;
+        if (gpio_filters_10_tick) begin
+            if (gpio_filters_10_sync_q == gpio_filters_10_held_q) begin
+                gpio_filters_10_count_d = 2'h0;
+            end
+            else if (&gpio_filters_10_count_q) begin
+                gpio_filters_10_held_d = gpio_filters_10_sync_q;
+                gpio_filters_10_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_10_count_d = gpio_filters_10_count_q + gpio_filters_10_one;
+            end
+        end
+        if (gpio_filters_10_reset) begin
+            gpio_filters_10_meta_d = 1'b0;
+            gpio_filters_10_sync_d = 1'b0;
+            gpio_filters_10_held_d = 1'b0;
+            gpio_filters_10_count_d = 2'h0;
+        end
+        gpio_filters_10_level = gpio_filters_10_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_11_meta_d = gpio_filters_11_meta_q;
+        gpio_filters_11_sync_d = gpio_filters_11_sync_q;
+        gpio_filters_11_held_d = gpio_filters_11_held_q;
+        gpio_filters_11_count_d = gpio_filters_11_count_q;
+        gpio_filters_11_meta_d = gpio_filters_11_pin;
+        gpio_filters_11_sync_d = gpio_filters_11_meta_q;
+        if (gpio_filters_11_tick) begin
+            if (gpio_filters_11_sync_q == gpio_filters_11_held_q) begin
+                gpio_filters_11_count_d = 2'h0;
+            end
+            else if (&gpio_filters_11_count_q) begin
+                gpio_filters_11_held_d = gpio_filters_11_sync_q;
+                gpio_filters_11_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_11_count_d = gpio_filters_11_count_q + gpio_filters_11_one;
+            end
+        end
+        if (gpio_filters_11_reset) begin
+            gpio_filters_11_meta_d = 1'b0;
+            gpio_filters_11_sync_d = 1'b0;
+            gpio_filters_11_held_d = 1'b0;
+            gpio_filters_11_count_d = 2'h0;
+        end
+        gpio_filters_11_level = gpio_filters_11_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_12_meta_d = gpio_filters_12_meta_q;
+        gpio_filters_12_sync_d = gpio_filters_12_sync_q;
+        gpio_filters_12_held_d = gpio_filters_12_held_q;
+        gpio_filters_12_count_d = gpio_filters_12_count_q;
+        gpio_filters_12_meta_d = gpio_filters_12_pin;
+        gpio_filters_12_sync_d = gpio_filters_12_meta_q;
+        if (gpio_filters_12_tick) begin
+            if (gpio_filters_12_sync_q == gpio_filters_12_held_q) begin
+                gpio_filters_12_count_d = 2'h0;
+            end
+            else if (&gpio_filters_12_count_q) begin
+                gpio_filters_12_held_d = gpio_filters_12_sync_q;
+                gpio_filters_12_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_12_count_d = gpio_filters_12_count_q + gpio_filters_12_one;
+            end
+        end
+        if (gpio_filters_12_reset) begin
+            gpio_filters_12_meta_d = 1'b0;
+            gpio_filters_12_sync_d = 1'b0;
+            gpio_filters_12_held_d = 1'b0;
+            gpio_filters_12_count_d = 2'h0;
+        end
+        gpio_filters_12_level = gpio_filters_12_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_13_meta_d = gpio_filters_13_meta_q;
+        gpio_filters_13_sync_d = gpio_filters_13_sync_q;
+        gpio_filters_13_held_d = gpio_filters_13_held_q;
+        gpio_filters_13_count_d = gpio_filters_13_count_q;
+        gpio_filters_13_meta_d = gpio_filters_13_pin;
+        gpio_filters_13_sync_d = gpio_filters_13_meta_q;
+        if (gpio_filters_13_tick) begin
+            if (gpio_filters_13_sync_q == gpio_filters_13_held_q) begin
+                gpio_filters_13_count_d = 2'h0;
+            end
+            else if (&gpio_filters_13_count_q) begin
+                gpio_filters_13_held_d = gpio_filters_13_sync_q;
+                gpio_filters_13_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_13_count_d = gpio_filters_13_count_q + gpio_filters_13_one;
+            end
+        end
+        if (gpio_filters_13_reset) begin
+            gpio_filters_13_meta_d = 1'b0;
+            gpio_filters_13_sync_d = 1'b0;
+            gpio_filters_13_held_d = 1'b0;
+            gpio_filters_13_count_d = 2'h0;
+        end
+        gpio_filters_13_level = gpio_filters_13_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_14_meta_d = gpio_filters_14_meta_q;
+        gpio_filters_14_sync_d = gpio_filters_14_sync_q;
+        gpio_filters_14_held_d = gpio_filters_14_held_q;
+        gpio_filters_14_count_d = gpio_filters_14_count_q;
+        gpio_filters_14_meta_d = gpio_filters_14_pin;
+        gpio_filters_14_sync_d = gpio_filters_14_meta_q;
+        if (gpio_filters_14_tick) begin
+            if (gpio_filters_14_sync_q == gpio_filters_14_held_q) begin
+                gpio_filters_14_count_d = 2'h0;
+            end
+            else if (&gpio_filters_14_count_q) begin
+                gpio_filters_14_held_d = gpio_filters_14_sync_q;
+                gpio_filters_14_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_14_count_d = gpio_filters_14_count_q + gpio_filters_14_one;
+            end
+        end
+        if (gpio_filters_14_reset) begin
+            gpio_filters_14_meta_d = 1'b0;
+            gpio_filters_14_sync_d = 1'b0;
+            gpio_filters_14_held_d = 1'b0;
+            gpio_filters_14_count_d = 2'h0;
+        end
+        gpio_filters_14_level = gpio_filters_14_held_q;
+    end
+
+    always @(*) begin
+        gpio_filters_15_meta_d = gpio_filters_15_meta_q;
+        gpio_filters_15_sync_d = gpio_filters_15_sync_q;
+        gpio_filters_15_held_d = gpio_filters_15_held_q;
+        gpio_filters_15_count_d = gpio_filters_15_count_q;
+        gpio_filters_15_meta_d = gpio_filters_15_pin;
+        gpio_filters_15_sync_d = gpio_filters_15_meta_q;
+        if (gpio_filters_15_tick) begin
+            if (gpio_filters_15_sync_q == gpio_filters_15_held_q) begin
+                gpio_filters_15_count_d = 2'h0;
+            end
+            else if (&gpio_filters_15_count_q) begin
+                gpio_filters_15_held_d = gpio_filters_15_sync_q;
+                gpio_filters_15_count_d = 2'h0;
+            end
+            else begin
+                gpio_filters_15_count_d = gpio_filters_15_count_q + gpio_filters_15_one;
+            end
+        end
+        if (gpio_filters_15_reset) begin
+            gpio_filters_15_meta_d = 1'b0;
+            gpio_filters_15_sync_d = 1'b0;
+            gpio_filters_15_held_d = 1'b0;
+            gpio_filters_15_count_d = 2'h0;
+        end
+        gpio_filters_15_level = gpio_filters_15_held_q;
+    end
+
     always @(posedge clock) machine_pos_filters_0_meta_q <= machine_pos_filters_0_meta_d;
     always @(posedge clock) machine_pos_filters_0_sync_q <= machine_pos_filters_0_sync_d;
     always @(posedge clock) machine_pos_filters_0_held_q <= machine_pos_filters_0_held_d;
@@ -1313,6 +2214,78 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     always @(posedge clock) machine_home_alarm_cause_q <= machine_home_alarm_cause_d;
     always @(posedge clock) machine_home_alarm_mask_q <= machine_home_alarm_mask_d;
     always @(posedge clock) machine_home_before_q <= machine_home_before_d;
+    always @(posedge clock) machine_ticking_q <= machine_ticking_d;
+    always @(posedge clock) gpio_filters_0_meta_q <= gpio_filters_0_meta_d;
+    always @(posedge clock) gpio_filters_0_sync_q <= gpio_filters_0_sync_d;
+    always @(posedge clock) gpio_filters_0_held_q <= gpio_filters_0_held_d;
+    always @(posedge clock) gpio_filters_0_count_q <= gpio_filters_0_count_d;
+    always @(posedge clock) gpio_filters_1_meta_q <= gpio_filters_1_meta_d;
+    always @(posedge clock) gpio_filters_1_sync_q <= gpio_filters_1_sync_d;
+    always @(posedge clock) gpio_filters_1_held_q <= gpio_filters_1_held_d;
+    always @(posedge clock) gpio_filters_1_count_q <= gpio_filters_1_count_d;
+    always @(posedge clock) gpio_filters_2_meta_q <= gpio_filters_2_meta_d;
+    always @(posedge clock) gpio_filters_2_sync_q <= gpio_filters_2_sync_d;
+    always @(posedge clock) gpio_filters_2_held_q <= gpio_filters_2_held_d;
+    always @(posedge clock) gpio_filters_2_count_q <= gpio_filters_2_count_d;
+    always @(posedge clock) gpio_filters_3_meta_q <= gpio_filters_3_meta_d;
+    always @(posedge clock) gpio_filters_3_sync_q <= gpio_filters_3_sync_d;
+    always @(posedge clock) gpio_filters_3_held_q <= gpio_filters_3_held_d;
+    always @(posedge clock) gpio_filters_3_count_q <= gpio_filters_3_count_d;
+    always @(posedge clock) gpio_filters_4_meta_q <= gpio_filters_4_meta_d;
+    always @(posedge clock) gpio_filters_4_sync_q <= gpio_filters_4_sync_d;
+    always @(posedge clock) gpio_filters_4_held_q <= gpio_filters_4_held_d;
+    always @(posedge clock) gpio_filters_4_count_q <= gpio_filters_4_count_d;
+    always @(posedge clock) gpio_filters_5_meta_q <= gpio_filters_5_meta_d;
+    always @(posedge clock) gpio_filters_5_sync_q <= gpio_filters_5_sync_d;
+    always @(posedge clock) gpio_filters_5_held_q <= gpio_filters_5_held_d;
+    always @(posedge clock) gpio_filters_5_count_q <= gpio_filters_5_count_d;
+    always @(posedge clock) gpio_filters_6_meta_q <= gpio_filters_6_meta_d;
+    always @(posedge clock) gpio_filters_6_sync_q <= gpio_filters_6_sync_d;
+    always @(posedge clock) gpio_filters_6_held_q <= gpio_filters_6_held_d;
+    always @(posedge clock) gpio_filters_6_count_q <= gpio_filters_6_count_d;
+    always @(posedge clock) gpio_filters_7_meta_q <= gpio_filters_7_meta_d;
+    always @(posedge clock) gpio_filters_7_sync_q <= gpio_filters_7_sync_d;
+    always @(posedge clock) gpio_filters_7_held_q <= gpio_filters_7_held_d;
+    always @(posedge clock) gpio_filters_7_count_q <= gpio_filters_7_count_d;
+    always @(posedge clock) gpio_filters_8_meta_q <= gpio_filters_8_meta_d;
+    always @(posedge clock) gpio_filters_8_sync_q <= gpio_filters_8_sync_d;
+    always @(posedge clock) gpio_filters_8_held_q <= gpio_filters_8_held_d;
+    always @(posedge clock) gpio_filters_8_count_q <= gpio_filters_8_count_d;
+    always @(posedge clock) gpio_filters_9_meta_q <= gpio_filters_9_meta_d;
+    always @(posedge clock) gpio_filters_9_sync_q <= gpio_filters_9_sync_d;
+    always @(posedge clock) gpio_filters_9_held_q <= gpio_filters_9_held_d;
+    always @(posedge clock) gpio_filters_9_count_q <= gpio_filters_9_count_d;
+    always @(posedge clock) gpio_filters_10_meta_q <= gpio_filters_10_meta_d;
+    always @(posedge clock) gpio_filters_10_sync_q <= gpio_filters_10_sync_d;
+    always @(posedge clock) gpio_filters_10_held_q <= gpio_filters_10_held_d;
+    always @(posedge clock) gpio_filters_10_count_q <= gpio_filters_10_count_d;
+    always @(posedge clock) gpio_filters_11_meta_q <= gpio_filters_11_meta_d;
+    always @(posedge clock) gpio_filters_11_sync_q <= gpio_filters_11_sync_d;
+    always @(posedge clock) gpio_filters_11_held_q <= gpio_filters_11_held_d;
+    always @(posedge clock) gpio_filters_11_count_q <= gpio_filters_11_count_d;
+    always @(posedge clock) gpio_filters_12_meta_q <= gpio_filters_12_meta_d;
+    always @(posedge clock) gpio_filters_12_sync_q <= gpio_filters_12_sync_d;
+    always @(posedge clock) gpio_filters_12_held_q <= gpio_filters_12_held_d;
+    always @(posedge clock) gpio_filters_12_count_q <= gpio_filters_12_count_d;
+    always @(posedge clock) gpio_filters_13_meta_q <= gpio_filters_13_meta_d;
+    always @(posedge clock) gpio_filters_13_sync_q <= gpio_filters_13_sync_d;
+    always @(posedge clock) gpio_filters_13_held_q <= gpio_filters_13_held_d;
+    always @(posedge clock) gpio_filters_13_count_q <= gpio_filters_13_count_d;
+    always @(posedge clock) gpio_filters_14_meta_q <= gpio_filters_14_meta_d;
+    always @(posedge clock) gpio_filters_14_sync_q <= gpio_filters_14_sync_d;
+    always @(posedge clock) gpio_filters_14_held_q <= gpio_filters_14_held_d;
+    always @(posedge clock) gpio_filters_14_count_q <= gpio_filters_14_count_d;
+    always @(posedge clock) gpio_filters_15_meta_q <= gpio_filters_15_meta_d;
+    always @(posedge clock) gpio_filters_15_sync_q <= gpio_filters_15_sync_d;
+    always @(posedge clock) gpio_filters_15_held_q <= gpio_filters_15_held_d;
+    always @(posedge clock) gpio_filters_15_count_q <= gpio_filters_15_count_d;
+    always @(posedge clock) gpio_edge_ctrl_q <= gpio_edge_ctrl_d;
+    always @(posedge clock) gpio_cause_q <= gpio_cause_d;
+    always @(posedge clock) gpio_mask_q <= gpio_mask_d;
+    always @(posedge clock) gpio_value_q <= gpio_value_d;
+    always @(posedge clock) gpio_safe_q <= gpio_safe_d;
+    always @(posedge clock) gpio_open_drain_q <= gpio_open_drain_d;
+    always @(posedge clock) gpio_before_q <= gpio_before_d;
     always @(posedge clock) estop_meta_q <= estop_meta_d;
     always @(posedge clock) estop_sync_q <= estop_sync_d;
     always @(posedge clock) estop_latch_q <= estop_latch_d;

@@ -10,6 +10,7 @@ mod pin_groups;
 pub mod catalog;
 pub mod counter_bank;
 pub mod counter_channel;
+pub mod digital_io;
 pub mod fsmc_bridge;
 pub mod id_block;
 pub mod input_filter;

@@ -110,6 +110,8 @@ pub struct MachineStops<const N: usize> {
     pub stop_up: Signal<Out, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<Out, Bits<N>>,
+    /// The filters' tick (the general-purpose inputs' filters share it).
+    pub tick: Signal<Out, Bit>,
     pos_filters: Vec<PinFilter>,
     neg_filters: Vec<PinFilter>,
     home_filters: Vec<PinFilter>,
@@ -124,6 +126,11 @@ pub struct MachineStops<const N: usize> {
     home_alarm_cause: DFF<Bits<32>>,
     home_alarm_mask: DFF<Bits<32>>,
     home_before: DFF<Bits<N>>,
+    /// "The prescaler is 0", registered: computed a clock early from the
+    /// prescaler's next value, so the decrement's carry chain ends at a
+    /// flip-flop instead of fanning out to every filter.
+    ticking: DFF<Bit>,
+    single: Constant<Bit>,
     tick_reload: Constant<Bits<TICK_BITS>>,
     tick_one: Constant<Bits<TICK_BITS>>,
     ctrl_mask: Constant<Bits<32>>,
@@ -139,7 +146,6 @@ pub struct MachineStops<const N: usize> {
     addr_limit_mask: Constant<Bits<7>>,
     addr_home_alarm_cause: Constant<Bits<7>>,
     addr_home_alarm_mask: Constant<Bits<7>>,
-    tick: Signal<Local, Bit>,
     pos_level: Signal<Local, Bits<N>>,
     neg_level: Signal<Local, Bits<N>>,
     home_level: Signal<Local, Bits<N>>,
@@ -213,6 +219,8 @@ impl<const N: usize> MachineStops<N> {
             home_alarm_cause: Default::default(),
             home_alarm_mask: Default::default(),
             home_before: Default::default(),
+            ticking: Default::default(),
+            single: Constant::new(tick_clocks == 1),
             tick_reload: Constant::new(((tick_clocks - 1) as u64).into()),
             tick_one: Constant::new(1.into()),
             ctrl_mask: Constant::new((ctrl.writable_mask() as u64).into()),
@@ -293,6 +301,7 @@ impl<const N: usize> Logic for MachineStops<N> {
             self,
             clock,
             prescaler,
+            ticking,
             pos_ctrl,
             neg_ctrl,
             home_ctrl,
@@ -303,12 +312,15 @@ impl<const N: usize> Logic for MachineStops<N> {
             home_alarm_mask,
             home_before
         );
-        // One tick every tick_reload + 1 clocks for every filter.
-        self.tick.next = !self.prescaler.q.val().any();
-        if self.tick.val() {
+        // One tick every tick_reload + 1 clocks for every filter: at the
+        // clocks where the prescaler is 0 (`ticking` tracks that).
+        self.tick.next = self.ticking.q.val();
+        if self.ticking.q.val() {
             self.prescaler.d.next = self.tick_reload.val();
+            self.ticking.d.next = self.single.val();
         } else {
             self.prescaler.d.next = self.prescaler.q.val() - self.tick_one.val();
+            self.ticking.d.next = self.prescaler.q.val() == self.tick_one.val();
         }
         self.pos_level.next = 0.into();
         self.neg_level.next = 0.into();
@@ -433,6 +445,7 @@ impl<const N: usize> Logic for MachineStops<N> {
         }
         if self.reset.val() {
             self.prescaler.d.next = 0.into();
+            self.ticking.d.next = true;
             self.pos_ctrl.d.next = 0.into();
             self.neg_ctrl.d.next = 0.into();
             self.home_ctrl.d.next = 0.into();

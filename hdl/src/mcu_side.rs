@@ -43,6 +43,12 @@ fsmc_host_block! {
         pub drive_enable: Signal<Out, Bits<N>>,
         /// The IRQ pin to the MCU (active low after reset).
         pub irq: Signal<Out, Bit>,
+        /// General-purpose input pins (asynchronous).
+        pub gpi: Signal<In, Bits<16>>,
+        /// General-purpose outputs: the level driven while `gpo_oe` is 1.
+        pub gpo_out: Signal<Out, Bits<16>>,
+        /// General-purpose outputs: drive the pin (else release it).
+        pub gpo_oe: Signal<Out, Bits<16>>,
         mcu_bus: FsmcBridge,
         identity: IdBlock,
         counters: CounterBank<N>,
@@ -117,6 +123,9 @@ impl<const N: usize> McuSide<N> {
             alarm: Default::default(),
             drive_enable: Default::default(),
             irq: Default::default(),
+            gpi: Default::default(),
+            gpo_out: Default::default(),
+            gpo_oe: Default::default(),
             read_from_safety: Default::default(),
             safety_page: Constant::new(((safety.base >> 7) as u64).into()),
             select_safety: Default::default(),
@@ -229,6 +238,9 @@ impl<const N: usize> Logic for McuSide<N> {
         self.pulses.halt.next = self.safety.halt.val();
         self.drive_enable.next = self.safety.drive_enable.val();
         self.irq.next = self.safety.irq.val();
+        self.safety.gpi.next = self.gpi.val();
+        self.gpo_out.next = self.safety.gpo_out.val();
+        self.gpo_oe.next = self.safety.gpo_oe.val();
         self.pulse_f1.next = self.pulses.f1.val();
         self.pulse_f2.next = self.pulses.f2.val();
         if self.mcu_bus.reg_re.val() {

@@ -84,6 +84,13 @@ macro_rules! top_level {
                 pub drive_enable: Signal<Out, Bits<N>>,
                 /// IRQ to the MCU (active low after reset; docs/safety_io.md).
                 pub irq: Signal<Out, Bit>,
+                /// General-purpose inputs (asynchronous; docs/safety_io.md).
+                pub gpi: Signal<In, Bits<16>>,
+                /// General-purpose outputs: the level driven while `gpo_oe`
+                /// is 1 (the board wrapper makes each a tri-state pin).
+                pub gpo_out: Signal<Out, Bits<16>>,
+                /// General-purpose outputs: drive the pin (else release it).
+                pub gpo_oe: Signal<Out, Bits<16>>,
                 $(
                     $(#[$port_attr])*
                     pub $port: $port_ty,
@@ -120,6 +127,9 @@ macro_rules! top_level {
                     alarm: Default::default(),
                     drive_enable: Default::default(),
                     irq: Default::default(),
+                    gpi: Default::default(),
+                    gpo_out: Default::default(),
+                    gpo_oe: Default::default(),
                     $( $port: Default::default(), )*
                     mcu: McuSide::new(config),
                     pc_bus: $bridge::new(),
@@ -159,6 +169,9 @@ macro_rules! top_level {
                 self.mcu.alarm.next = self.alarm.val();
                 self.drive_enable.next = self.mcu.drive_enable.val();
                 self.irq.next = self.mcu.irq.val();
+                self.mcu.gpi.next = self.gpi.val();
+                self.gpo_out.next = self.mcu.gpo_out.val();
+                self.gpo_oe.next = self.mcu.gpo_oe.val();
                 // PC side.
                 self.pc_bus.sa.next = self.isa_sa.val();
                 self.pc_bus.sd_in.next = self.isa_sd_in.val();

@@ -102,6 +102,9 @@ pub struct SafetyRegisters {
     pub limit_mask: u32,
     pub home_alarm_cause: u32,
     pub home_alarm_mask: u32,
+    /// The general-purpose I/O: filtered input levels, GPI_EDGE_CTRL,
+    /// GPI_CAUSE, GPI_MASK, GPO_VALUE, GPO_SAFE, GPO_OPEN_DRAIN.
+    pub gpio: [u32; 7],
 }
 
 impl SafetyRegisters {
@@ -112,5 +115,6 @@ impl SafetyRegisters {
             || self.low_cause & self.low_mask != 0
             || self.limit_cause & self.limit_mask != 0
             || self.home_alarm_cause & self.home_alarm_mask != 0
+            || self.gpio[2] & self.gpio[3] != 0
     }
 }

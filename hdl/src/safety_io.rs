@@ -2,14 +2,18 @@
 //! interrupt line's causes and masks, behind the register bus
 //! (docs/safety_io.md).
 
+use crate::digital_io::DigitalIo;
 use crate::machine_inputs::MachineStops;
 use motionhdl_spec::regmap;
 use motionhdl_spec::safety_io::WATCHDOG_KEY;
+use motionhdl_spec::safety_io::{GPIO_INPUTS, GPIO_OUTPUTS};
 use rust_hdl::prelude::*;
 
 /// Word address bits the block decodes (`regmap::safety_io`).
 pub const SAFETY_ADDRESS_BITS: usize = 7;
 const A: usize = SAFETY_ADDRESS_BITS;
+const GPI: usize = GPIO_INPUTS as usize;
+const GPO: usize = GPIO_OUTPUTS as usize;
 
 /// `N` axes' stop, enable and interrupt logic. Bus contract as the counter
 /// bank's: a write acts at the edge where `we` is high; the edge where `re`
@@ -58,7 +62,14 @@ pub struct SafetyIo<const N: usize> {
     pub drive_enable: Signal<Out, Bits<N>>,
     /// The IRQ pin (polarity from IRQ_CTRL; active low after reset).
     pub irq: Signal<Out, Bit>,
+    /// General-purpose input pins (asynchronous).
+    pub gpi: Signal<In, Bits<GPI>>,
+    /// General-purpose outputs: the level driven while `gpo_oe` is 1.
+    pub gpo_out: Signal<Out, Bits<GPO>>,
+    /// General-purpose outputs: drive the pin (else release it).
+    pub gpo_oe: Signal<Out, Bits<GPO>>,
     machine: MachineStops<N>,
+    gpio: DigitalIo,
     estop_meta: DFF<Bit>,
     estop_sync: DFF<Bit>,
     estop_latch: DFF<Bit>,
@@ -155,7 +166,11 @@ impl<const N: usize> SafetyIo<N> {
             halt: Default::default(),
             stop_up: Default::default(),
             stop_down: Default::default(),
+            gpi: Default::default(),
+            gpo_out: Default::default(),
+            gpo_oe: Default::default(),
             machine: MachineStops::new(tick_clocks),
+            gpio: DigitalIo::new(),
             drive_enable: Default::default(),
             irq: Default::default(),
             estop_meta: Default::default(),
@@ -232,6 +247,7 @@ impl<const N: usize> SafetyIo<N> {
             limit_mask,
             home_alarm_cause,
             home_alarm_mask,
+            gpio: self.gpio.probe(),
             cause: word(self.cause.q.val().index() as u64),
             cause_mask: word(self.cause_mask.q.val().index() as u64),
             done_cause: word(self.done_cause.q.val().index() as u64),
@@ -281,6 +297,14 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.machine.limit_neg.next = self.limit_neg.val();
         self.machine.home.next = self.home.val();
         self.machine.alarm.next = self.alarm.val();
+        self.gpio.clock.next = self.clock.val();
+        self.gpio.reset.next = self.reset.val();
+        self.gpio.addr.next = self.addr.val();
+        self.gpio.wdata.next = self.wdata.val();
+        self.gpio.we.next = self.we.val();
+        self.gpio.read_addr.next = self.read_addr.q.val();
+        self.gpio.tick.next = self.machine.tick.val();
+        self.gpio.gpi.next = self.gpi.val();
         self.write_clear.next = self.we.val() & (self.addr.val() == self.addr_clear.val());
         self.write_timeout.next = self.we.val() & (self.addr.val() == self.addr_timeout.val());
         // E-stop: two synchroniser stages, then the latch; a clear request
@@ -321,6 +345,7 @@ impl<const N: usize> Logic for SafetyIo<N> {
         if self.latch_next.val() | self.bitten_next.val() {
             self.enable.d.next = 0.into();
         }
+        self.gpio.halting.next = self.latch_next.val() | self.bitten_next.val();
         // Causes: set by their event, cleared by a 1 written; event first.
         self.system_events.next = 0.into();
         if self.estop_sync.q.val() & !self.estop_latch.q.val() {
@@ -369,14 +394,15 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.irq_active.next = (self.cause.q.val() & self.cause_mask.q.val()).any()
             | (self.done_cause.q.val() & self.done_mask.q.val()).any()
             | (self.low_cause.q.val() & self.low_mask.q.val()).any()
-            | self.machine.irq_active.val();
+            | self.machine.irq_active.val()
+            | self.gpio.irq_active.val();
         self.irq_low.d.next = self.irq_active.val() != self.active_high.q.val();
         // Reads: the address at the `re` edge, the value at the next.
         self.read_pending.d.next = self.re.val();
         if self.re.val() {
             self.read_addr.d.next = self.addr.val();
         }
-        self.read_value.next = self.machine.read_value.val();
+        self.read_value.next = self.machine.read_value.val() | self.gpio.read_value.val();
         if self.read_addr.q.val() == self.addr_info.val() {
             self.read_value.next = self.info.val();
         }
@@ -457,6 +483,8 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.stop_up.next = self.machine.stop_up.val();
         self.stop_down.next = self.machine.stop_down.val();
         self.drive_enable.next = self.enable.q.val();
+        self.gpo_out.next = self.gpio.gpo_out.val();
+        self.gpo_oe.next = self.gpio.gpo_oe.val();
         self.irq.next = !self.irq_low.q.val();
         self.rdata.next = self.read_data.q.val();
     }

@@ -8,6 +8,7 @@
 
 pub use motionhdl_spec::{config, regmap};
 pub mod counter;
+pub mod digital_io;
 pub mod fsmc_bridge;
 pub mod isa_bridge;
 pub mod ls153;

@@ -9,13 +9,14 @@ use motionhdl_spec::bus::mask_bits;
 pub use motionhdl_spec::safety_io::{FILTER_TICKS, LIMIT_LATENCY, MACHINE_INPUTS};
 
 /// The machine pins of every axis as the FPGA reads them (bit i = axis i),
-/// before polarity.
+/// before polarity, and the general-purpose input pins (bit i = input i).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MachinePins {
     pub limit_pos: u32,
     pub limit_neg: u32,
     pub home: u32,
     pub alarm: u32,
+    pub gpi: u32,
 }
 
 impl MachinePins {
@@ -103,6 +104,11 @@ impl MachineStops {
         }
     }
 
+    /// The filters tick at the coming edge.
+    pub fn tick(&self) -> bool {
+        self.prescaler == 0
+    }
+
     /// The filter's tick period in clocks.
     pub fn tick_clocks(&self) -> u32 {
         self.tick_clocks
@@ -184,7 +190,7 @@ impl MachineStops {
         for (kind, name) in CTRL.iter().enumerate() {
             self.ctrl[kind] = written(name, self.ctrl[kind]);
         }
-        let tick = self.prescaler == 0;
+        let tick = self.tick();
         self.prescaler = if tick {
             self.tick_clocks - 1
         } else {

@@ -107,11 +107,14 @@ pub struct TopOutputs {
     pub drive_enable: u16,
     /// The IRQ pin.
     pub irq: bool,
+    /// General-purpose outputs: levels, and which pins drive.
+    pub gpo_out: u16,
+    pub gpo_oe: u16,
 }
 
 impl TopOutputs {
     /// (pin name, value) of every output, for messages and comparisons.
-    pub fn pins(&self) -> [(&'static str, u32); 9] {
+    pub fn pins(&self) -> [(&'static str, u32); 11] {
         [
             ("fsmc_d_out", u32::from(self.fsmc_d_out)),
             ("fsmc_d_oe", u32::from(self.fsmc_d_oe)),
@@ -122,6 +125,8 @@ impl TopOutputs {
             ("pulse_f2", u32::from(self.pulse_f2)),
             ("drive_enable", u32::from(self.drive_enable)),
             ("irq", u32::from(self.irq)),
+            ("gpo_out", u32::from(self.gpo_out)),
+            ("gpo_oe", u32::from(self.gpo_oe)),
         ]
     }
 }
@@ -338,6 +343,8 @@ impl MotionControllerModel {
             pulse_f2: f2,
             drive_enable: self.safety.drive_enable() as u16,
             irq: self.safety.irq_pin(),
+            gpo_out: self.safety.gpo_pins().out as u16,
+            gpo_oe: self.safety.gpo_pins().oe as u16,
         }
     }
 

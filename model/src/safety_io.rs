@@ -3,6 +3,7 @@
 //! (`regmap::safety_io`).
 
 use crate::counter::BusCycle;
+use crate::digital_io::{DigitalIo, GpoPins};
 use crate::machine_inputs::{MachinePins, MachineStops};
 use crate::pulse_generator::{PulseBank, Stops};
 use crate::regmap::{self, Block};
@@ -47,6 +48,7 @@ pub struct SafetyIo {
     map: Block,
     axes: u32,
     machine: MachineStops,
+    gpio: DigitalIo,
     /// The synchroniser's two stages of "the input asks for a stop".
     estop_meta: bool,
     estop_sync: bool,
@@ -79,6 +81,7 @@ impl SafetyIo {
             map: regmap::safety_io(axes),
             axes,
             machine: MachineStops::new(axes, tick_clocks),
+            gpio: DigitalIo::new(),
             estop_meta: true,
             estop_sync: true,
             estop_latch: true,
@@ -136,6 +139,11 @@ impl SafetyIo {
         self.enable
     }
 
+    /// The general-purpose output pins.
+    pub fn gpo_pins(&self) -> GpoPins {
+        self.gpio.pins()
+    }
+
     /// The IRQ pin's level.
     pub fn irq_pin(&self) -> bool {
         self.irq_pin
@@ -166,6 +174,7 @@ impl SafetyIo {
             || self.done_cause & self.done_mask != 0
             || self.low_cause & self.low_mask != 0
             || self.machine.irq_active()
+            || self.gpio.irq_active()
     }
 
     /// What a read of `addr` returns now (0 where nothing is decoded).
@@ -173,7 +182,7 @@ impl SafetyIo {
         let Some((_, r, _)) = self.map.decoded().into_iter().find(|d| d.0 == addr) else {
             return 0;
         };
-        if let Some(value) = self.machine.read(r.name) {
+        if let Some(value) = self.machine.read(r.name).or(self.gpio.read(r.name)) {
             return value;
         }
         match r.name {
@@ -285,7 +294,10 @@ impl SafetyIo {
         // The pin: one flip-flop after this clock's causes, masks and
         // polarity.
         self.irq_pin = self.irq_active() == self.active_high;
+        let tick = self.machine.tick();
         self.machine.clock(&self.map, bus, &inputs.machine);
+        self.gpio
+            .clock(&self.map, bus, tick, latch || bitten, inputs.machine.gpi);
         self.cause = cause;
         self.done_cause = done_cause;
         self.low_cause = low_cause;

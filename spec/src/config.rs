@@ -1,6 +1,8 @@
 //! Build-time configuration of the gateware: axis count, counter width, clock.
 
-use crate::safety_io::{filter_tick_clocks, DEFAULT_INPUT_FILTER_US, INPUT_FILTER_US};
+use crate::safety_io::{
+    filter_tick_clocks, DEFAULT_INPUT_FILTER_US, GPIO_INPUTS, GPIO_OUTPUTS, INPUT_FILTER_US,
+};
 use std::fmt;
 use std::ops::RangeInclusive;
 
@@ -15,6 +17,8 @@ pub struct Config {
     isa_ram: IsaRam,
     counter_features: CounterFeatures,
     input_filter_us: u32,
+    /// General-purpose (inputs, outputs) the board wrapper brings to pins.
+    gpio_pins: (u32, u32),
 }
 
 /// The counter channel's optional features (docs/counter_bank.md, "Build
@@ -122,6 +126,11 @@ impl Config {
     pub const CLOCK_HZ: RangeInclusive<u64> = 1_000_000..=400_000_000;
     /// Filter times of the machine inputs (limits, home, alarm), in µs.
     pub const INPUT_FILTER_US: RangeInclusive<u64> = INPUT_FILTER_US;
+    /// General-purpose inputs the board wrapper brings to pins (the core
+    /// always has GPIO_INPUTS; the rest read 0).
+    pub const GPIO_INPUT_PINS: RangeInclusive<u64> = 0..=GPIO_INPUTS as u64;
+    /// General-purpose outputs the board wrapper brings to pins.
+    pub const GPIO_OUTPUT_PINS: RangeInclusive<u64> = 0..=GPIO_OUTPUTS as u64;
 
     /// Checks every value against its allowed range.
     pub fn new(axes: u64, counter_width: u64, clock_hz: u64) -> Result<Self, ConfigError> {
@@ -135,6 +144,7 @@ impl Config {
             isa_ram: IsaRam::default(),
             counter_features: CounterFeatures::ALL,
             input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
+            gpio_pins: (GPIO_INPUTS, GPIO_OUTPUTS),
         })
     }
 
@@ -146,6 +156,29 @@ impl Config {
             input_filter_us: us as u32,
             ..self
         })
+    }
+
+    /// The same configuration with `inputs` general-purpose inputs and
+    /// `outputs` outputs on the board's pins (checked against
+    /// [`Self::GPIO_INPUT_PINS`] and [`Self::GPIO_OUTPUT_PINS`]): the first
+    /// ones of the core's; a board with few pins leaves the rest out.
+    pub fn with_gpio_pins(self, inputs: u64, outputs: u64) -> Result<Self, ConfigError> {
+        check("gpio_inputs", inputs, Self::GPIO_INPUT_PINS)?;
+        check("gpio_outputs", outputs, Self::GPIO_OUTPUT_PINS)?;
+        Ok(Self {
+            gpio_pins: (inputs as u32, outputs as u32),
+            ..self
+        })
+    }
+
+    /// General-purpose inputs on the board's pins.
+    pub fn gpio_inputs(&self) -> u32 {
+        self.gpio_pins.0
+    }
+
+    /// General-purpose outputs on the board's pins.
+    pub fn gpio_outputs(&self) -> u32 {
+        self.gpio_pins.1
     }
 
     /// The machine inputs' filter time in microseconds.
@@ -213,6 +246,7 @@ impl Default for Config {
             isa_ram: IsaRam::Internal,
             counter_features: CounterFeatures::ALL,
             input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
+            gpio_pins: (GPIO_INPUTS, GPIO_OUTPUTS),
         }
     }
 }

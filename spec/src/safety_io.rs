@@ -58,6 +58,14 @@ pub fn filter_tick_clocks(us: u64, clock_hz: u64) -> u32 {
 /// level itself follows the pin by two synchroniser edges and the filter.
 pub const LIMIT_LATENCY: u32 = 2;
 
+/// General-purpose inputs of the block (the seed's keys and switches):
+/// filtered like the machine inputs, with edge events.
+pub const GPIO_INPUTS: u32 = 16;
+
+/// General-purpose outputs, each push-pull or open-drain, with a safe
+/// state taken on an e-stop or a watchdog bite.
+pub const GPIO_OUTPUTS: u32 = 16;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -35,7 +35,9 @@ fn netlist_against_model() {
 /// Clocks of the contract run, and how often each property's antecedent
 /// must hold in it (so none passes by never being tested).
 const CONTRACT_CLOCKS: usize = 200_000;
-const MIN_COVERED: [u64; 8] = [100_000, 10_000, 500, 200, 100, 1_000, 100_000, 1_000];
+const MIN_COVERED: [u64; 10] = [
+    100_000, 10_000, 500, 200, 100, 1_000, 100_000, 1_000, 10_000, 100,
+];
 
 #[test]
 fn contract_holds_with_every_antecedent_covered() {

@@ -2,7 +2,7 @@
 //! line's causes and masks (docs/safety_io.md).
 
 use super::{field, reg, Access, Block, EnumValue, Field};
-use crate::safety_io::WATCHDOG_KEY;
+use crate::safety_io::{GPIO_INPUTS, GPIO_OUTPUTS, WATCHDOG_KEY};
 
 fn with_reset(mut f: Field, reset: u32) -> Field {
     f.reset = reset;
@@ -143,6 +143,7 @@ pub fn safety_io(axes: u32) -> Block {
         ]
         .into_iter()
         .chain(machine_registers(axes))
+        .chain(gpio_registers())
         .collect(),
         arrays: vec![],
     }
@@ -221,6 +222,67 @@ fn machine_registers(axes: u32) -> Vec<super::Register> {
             pair(axes, WriteOneToClear, ("HOME", "Per axis: the enabled HOME input turned active."), ("ALARM", "Per axis: stopped by the drive's alarm.")),
         ),
         reg("HOME_ALARM_MASK", 23, ReadWrite, "Which HOME_ALARM_CAUSE bits drive the IRQ pin.", "", pair(axes, ReadWrite, ("HOME", "Per axis."), ("ALARM", "Per axis."))),
+    ]
+}
+
+/// The general-purpose inputs' and outputs' registers.
+fn gpio_registers() -> Vec<super::Register> {
+    use Access::*;
+    let ins = |access, what| vec![field("INPUTS", 0, GPIO_INPUTS, access, what)];
+    let outs = |access, what| vec![field("OUTPUTS", 0, GPIO_OUTPUTS, access, what)];
+    vec![
+        reg(
+            "GPI_LEVEL",
+            24,
+            ReadOnly,
+            "The general-purpose inputs after synchroniser and filter (the machine inputs' filter time): 1 = the pin is high.",
+            "",
+            ins(ReadOnly, "Bit i = input i."),
+        ),
+        reg(
+            "GPI_EDGE_CTRL",
+            25,
+            ReadWrite,
+            "Which filtered edges of each input set GPI_CAUSE.",
+            "Both fields are 0 after reset: no edge sets a cause.",
+            vec![
+                field("RISE", 0, GPIO_INPUTS, ReadWrite, "Bit i: a rise of input i sets its cause."),
+                field("FALL", 16, GPIO_INPUTS, ReadWrite, "Bit i: a fall of input i sets its cause."),
+            ],
+        ),
+        reg(
+            "GPI_CAUSE",
+            26,
+            WriteOneToClear,
+            "Sticky, per input: a selected edge of the filtered input.",
+            "An edge in the same clock as a write of 1 to its bit sets the bit.",
+            ins(WriteOneToClear, "Bit i = input i."),
+        ),
+        reg("GPI_MASK", 27, ReadWrite, "Which GPI_CAUSE bits drive the IRQ pin.", "", ins(ReadWrite, "Bit i = input i.")),
+        reg(
+            "GPO_VALUE",
+            28,
+            ReadWrite,
+            "The general-purpose outputs' values: 1 = the pin high (push-pull) or released (open-drain).",
+            "Loaded from GPO_SAFE, and writes ignored, while ESTOP or BITTEN is set: after a stop the outputs hold their safe state until firmware writes them again.",
+            outs(ReadWrite, "Bit i = output i."),
+        ),
+        reg(
+            "GPO_SAFE",
+            29,
+            ReadWrite,
+            "Each output's safe state, taken by GPO_VALUE in the clock an e-stop or a watchdog bite halts the card (and from reset, which sets the e-stop latch).",
+            "",
+            outs(ReadWrite, "Bit i = output i's safe value."),
+        ),
+        reg(
+            "GPO_OPEN_DRAIN",
+            30,
+            ReadWrite,
+            "Per output: 1 = open-drain (drives low for 0, releases for 1; the board has the pull-up), 0 = push-pull (the reset value).",
+            "",
+            outs(ReadWrite, "Bit i = output i."),
+        ),
     ]
 }
 

@@ -102,6 +102,12 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::checks::motion_controller::limit_stop::trace,
     },
     Scenario {
+        name: "watchdog_bite",
+        summary: "the whole controller: two axes creep, firmware feeds the watchdog four times and \
+                  stops; it bites, steps and drive enables stop, the outputs take their safe state, IRQ falls",
+        build: crate::checks::motion_controller::watchdog_bite::trace,
+    },
+    Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
         build: |_| isa_bridge::block_write_trace(),

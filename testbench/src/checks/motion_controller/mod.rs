@@ -21,6 +21,7 @@ mod oracle;
 pub mod system;
 pub mod top_model;
 pub mod top_stimulus;
+pub mod watchdog_bite;
 
 pub use loopback::*;
 pub use oracle::*;
@@ -158,6 +159,7 @@ fn rig(target: Target, config: &Config, loopback: bool) -> Result<Rig, String> {
         ("limit_neg", 0),
         ("home", 0),
         ("alarm", 0),
+        ("gpi", 0),
     ]);
     if loopback {
         rig.loops = vec![

@@ -73,6 +73,8 @@ struct Probes {
     trace: Trace,
     half_ns: u64,
     bus: [SignalId; 5],
+    /// drive_enable, gpo_out, gpo_oe.
+    machine: [SignalId; 3],
     axes: Vec<[SignalId; 7]>,
 }
 
@@ -131,6 +133,11 @@ impl<const N: usize> System<N> {
             trace.signal(&["fsmc"], "d_in", 16),
             trace.signal(&["mcu"], "irq", 1),
         ];
+        let machine = [
+            trace.signal(&["machine"], "drive_enable", N as u32),
+            trace.signal(&["machine"], "gpo_out", 16),
+            trace.signal(&["machine"], "gpo_oe", 16),
+        ];
         let axes = (0..N)
             .map(|i| {
                 let scope = format!("axis{i}");
@@ -150,6 +157,7 @@ impl<const N: usize> System<N> {
             trace,
             half_ns,
             bus,
+            machine,
             axes,
         });
     }
@@ -228,6 +236,14 @@ impl<const N: usize> System<N> {
             p.trace.set(t, p.bus[2], u64::from(pins.a & 0xfff));
             p.trace.set(t, p.bus[3], u64::from(pins.d_in));
             p.trace.set(t, p.bus[4], u64::from(self.uut.irq.val()));
+            let (out, oe) = (
+                self.uut.gpo_out.val().index(),
+                self.uut.gpo_oe.val().index(),
+            );
+            let enable = self.uut.drive_enable.val().index();
+            for (id, v) in p.machine.into_iter().zip([enable, out, oe]) {
+                p.trace.set(t, id, v as u64);
+            }
             let limit_pos = self.uut.limit_pos.val().index() as u64;
             let limit_neg = self.uut.limit_neg.val().index() as u64;
             for (i, d) in self.drives.iter().enumerate() {
@@ -329,6 +345,14 @@ impl<const N: usize> System<N> {
     /// The drive ENABLE pins, bit i = axis i.
     pub fn drive_enable(&self) -> u32 {
         self.uut.drive_enable.val().index() as u32
+    }
+
+    /// The general-purpose output pins: (levels, drive enables).
+    pub fn gpo(&self) -> (u32, u32) {
+        (
+            self.uut.gpo_out.val().index() as u32,
+            self.uut.gpo_oe.val().index() as u32,
+        )
     }
 
     /// The IRQ pin.

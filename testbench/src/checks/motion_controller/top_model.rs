@@ -52,6 +52,7 @@ pub fn drive<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) {
     uut.limit_neg.next = u64::from(p.machine.limit_neg).into();
     uut.home.next = u64::from(p.machine.home).into();
     uut.alarm.next = u64::from(p.machine.alarm).into();
+    uut.gpi.next = u64::from(p.machine.gpi).into();
 }
 
 /// The rust-hdl top's output pins.
@@ -66,6 +67,8 @@ pub fn outputs<const N: usize>(uut: &MotionController<N>) -> TopOutputs {
         pulse_f2: uut.pulse_f2.val().index() as u16,
         drive_enable: uut.drive_enable.val().index() as u16,
         irq: uut.irq.val(),
+        gpo_out: uut.gpo_out.val().index() as u16,
+        gpo_oe: uut.gpo_oe.val().index() as u16,
     }
 }
 

@@ -231,6 +231,7 @@ impl TopStimulus {
                 limit_neg: sparse >> 16 & mask,
                 home: (r3 ^ r2) & mask,
                 alarm: (sparse & sparse >> 4) >> 8 & mask,
+                gpi: (r2 ^ r3 >> 7) & 0xffff,
             };
         }
 
@@ -431,6 +432,7 @@ impl Sums {
             u32::from(p.enc_z),
             p.machine.limit_pos | p.machine.limit_neg << 16,
             p.machine.home | p.machine.alarm << 16,
+            p.machine.gpi,
         ] {
             self.stimulus = mix(self.stimulus, v);
         }
@@ -442,6 +444,7 @@ impl Sums {
             u32::from(o.isa_sd_out),
             u32::from(o.pulse_f1) | u32::from(o.pulse_f2) << 16,
             u32::from(o.drive_enable) | b(o.irq) << 16,
+            u32::from(o.gpo_out) | u32::from(o.gpo_oe) << 16,
         ] {
             self.outputs = mix(self.outputs, v);
         }

@@ -5,12 +5,13 @@
 
 use super::{Observed, AXES, TICK_CLOCKS};
 use crate::harness::CheckReport;
+use motionhdl_model::digital_io::GpoPins;
 use motionhdl_model::machine_inputs::FILTER_TICKS;
 use motionhdl_model::regmap;
 use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY};
 
 /// The properties, in the order [`contract`] reports them.
-pub const PROPERTIES: [&str; 8] = [
+pub const PROPERTIES: [&str; 10] = [
     "IRQ pin = OR(cause AND mask) with its polarity, IRQ_LATENCY later",
     "no drive ENABLE while HALT",
     "an e-stop input low halts every axis ESTOP_LATENCY edges later",
@@ -19,6 +20,8 @@ pub const PROPERTIES: [&str; 8] = [
     "a filtered input changes only after its pin read the new level at FILTER_TICKS ticks",
     "a pin held FILTER_TICKS x P + 2 clocks has passed its filter",
     "nothing latches from a disabled input",
+    "while HALT every general-purpose output shows its safe state",
+    "a GPI cause rises only at a selected edge of its filtered input",
 ];
 
 /// Clocks from a pin sample to the filter tick that uses it (the two
@@ -101,7 +104,8 @@ pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
             format!("armed with {t} at clock {e}: cause early {early}, at {}: cause {bit}, HALT {halted}", e + t + 1)
         }));
     }
-    machine_properties(trace, &mut r[5..]);
+    machine_properties(trace, &mut r[5..8]);
+    gpio_properties(trace, &mut r[8..]);
     for report in &mut r {
         report.expected = report.covered;
     }
@@ -171,6 +175,50 @@ fn machine_properties(trace: &[Observed], r: &mut [CheckReport]) {
     }
 }
 
+/// The general-purpose I/O properties, reports 8 and 9.
+fn gpio_properties(trace: &[Observed], r: &mut [CheckReport]) {
+    // Indices into SafetyRegisters::gpio.
+    const LEVEL: usize = 0;
+    const EDGES: usize = 1;
+    const CAUSE: usize = 2;
+    const SAFE: usize = 5;
+    const OPEN_DRAIN: usize = 6;
+    for k in 2..trace.len() {
+        if trace[k - 2..=k].iter().any(|o| o.vector.reset) {
+            continue;
+        }
+        // The value takes GPO_SAFE as it stood before the edge.
+        let (safe, od) = (
+            trace[k - 1].registers.gpio[SAFE],
+            trace[k].registers.gpio[OPEN_DRAIN],
+        );
+        if trace[k - 1].outputs.halt && trace[k].outputs.halt {
+            let want = GpoPins {
+                out: safe & !od & 0xffff,
+                oe: (!od | !safe) & 0xffff,
+            };
+            let got = trace[k].outputs.gpo;
+            r[0].case(
+                (got != want)
+                    .then(|| format!("clock {k}: halted, outputs {got:?}, safe state {want:?}")),
+            );
+        }
+        // A cause set at edge k comes from the levels before edges k and
+        // k - 1 and the edges selected before edge k.
+        let (g1, g2) = (&trace[k - 1].registers.gpio, &trace[k - 2].registers.gpio);
+        let rose = trace[k].registers.gpio[CAUSE] & !g1[CAUSE];
+        if rose != 0 {
+            let edge =
+                (g1[LEVEL] & !g2[LEVEL] & g1[EDGES]) | (!g1[LEVEL] & g2[LEVEL] & g1[EDGES] >> 16);
+            r[1].case(
+                (rose & !edge != 0).then(|| {
+                    format!("clock {k}: GPI_CAUSE rose {rose:#x}, selected edges {edge:#x}")
+                }),
+            );
+        }
+    }
+}
+
 /// A deliberate fault in a good trace, one per property, to show each
 /// property can fail.
 #[derive(Clone, Copy, Debug)]
@@ -191,10 +239,14 @@ pub enum Breakage {
     LevelStuck,
     /// A limit cause rising while its input was disabled.
     CauseWhileDisabled,
+    /// An output released in a halted clock.
+    OutputNotSafe,
+    /// A GPI cause rising with its edge not selected.
+    GpiCauseUnselected,
 }
 
 impl Breakage {
-    pub const ALL: [Breakage; 8] = [
+    pub const ALL: [Breakage; 10] = [
         Breakage::IrqFlipped,
         Breakage::EnableWhileHalted,
         Breakage::EstopLate,
@@ -203,6 +255,8 @@ impl Breakage {
         Breakage::LevelFromNothing,
         Breakage::LevelStuck,
         Breakage::CauseWhileDisabled,
+        Breakage::OutputNotSafe,
+        Breakage::GpiCauseUnselected,
     ];
 
     /// The property (index into [`PROPERTIES`]) this breakage must fail.
@@ -235,11 +289,15 @@ impl Breakage {
                     .register("CAUSE")
                     .field("WATCHDOG")
                     .mask();
+                // Every bite: the property checks only those left alone.
                 let bit = |o: &Observed| o.registers.cause & watchdog != 0;
-                let k = (1..t.len())
-                    .find(|&k| bit(&t[k]) && !bit(&t[k - 1]))
-                    .expect("a bite");
-                t[k].registers.cause &= !watchdog;
+                let bites: Vec<usize> = (1..t.len())
+                    .filter(|&k| bit(&t[k]) && !bit(&t[k - 1]))
+                    .collect();
+                assert!(!bites.is_empty(), "a bite");
+                bites
+                    .into_iter()
+                    .for_each(|k| t[k].registers.cause &= !watchdog);
             }
             Breakage::LevelFromNothing => {
                 // Axis 0's LIMIT_POS level flipped for the rest of the run.
@@ -258,6 +316,25 @@ impl Breakage {
                     .find(|&k| rose(&t, k) && !t[k].vector.reset && !t[k - 1].vector.reset)
                     .expect("a limit cause rising");
                 t[k - 1].registers.input_ctrl[0] &= !0xffff;
+            }
+            Breakage::OutputNotSafe => {
+                let k = (2..t.len())
+                    .find(|&k| {
+                        halted(&t[k - 1])
+                            && halted(&t[k])
+                            && t[k - 2..=k].iter().all(|o| !o.vector.reset)
+                    })
+                    .expect("a checked halted clock");
+                t[k].outputs.gpo.oe ^= 1;
+            }
+            Breakage::GpiCauseUnselected => {
+                let k = (2..t.len())
+                    .find(|&k| {
+                        t[k].registers.gpio[2] & !t[k - 1].registers.gpio[2] != 0
+                            && t[k - 2..=k].iter().all(|o| !o.vector.reset)
+                    })
+                    .expect("a GPI cause rising");
+                t[k - 1].registers.gpio[1] = 0;
             }
         }
         t

@@ -11,6 +11,7 @@ use crate::verilog_sim::{ports_of, run_vectors, sim_failure, Design, Target};
 use motionhdl_hdl::probe::SafetyRegisters;
 use motionhdl_hdl::{catalog, SafetyIo};
 use motionhdl_model::counter::BusCycle;
+use motionhdl_model::digital_io::{GpoPins, GPIO_INPUTS};
 use motionhdl_model::machine_inputs::MachinePins;
 use motionhdl_model::regmap;
 use motionhdl_model::safety_io::{SafetyInputs, SafetyIo as Model, WATCHDOG_KEY};
@@ -45,6 +46,7 @@ pub struct Outputs {
     pub irq: bool,
     pub stop_up: u32,
     pub stop_down: u32,
+    pub gpo: GpoPins,
 }
 
 fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
@@ -80,21 +82,28 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         ..Default::default()
     };
     let mut estop_low_for = 0;
-    // Machine pins: levels that hold for a few hundred clocks, and
-    // glitches of one to eight clocks on top of them.
-    let mut levels = [0u32; 4];
-    let mut glitch = [0u32; 4];
+    // Machine and general-purpose input pins: levels that hold for a few
+    // hundred clocks, and glitches of one to eight clocks on top of them.
+    let mut levels = [0u32; 5];
+    let mut glitch = [0u32; 5];
     let mut glitch_for = 0;
+    let some_pin = |next: &mut dyn FnMut() -> u64| {
+        let kind = (next() % 5) as usize;
+        let width = if kind == 4 { GPIO_INPUTS } else { AXES as u32 };
+        (kind, 1 << (next() % u64::from(width)))
+    };
     while v.len() < clocks {
         if next().is_multiple_of(16) {
-            levels[(next() % 4) as usize] ^= 1 << (next() % AXES as u64);
+            let (kind, bit) = some_pin(&mut next);
+            levels[kind] ^= bit;
         }
         if glitch_for == 0 && next().is_multiple_of(64) {
             glitch_for = 1 + next() % 8;
-            glitch = [0; 4];
-            glitch[(next() % 4) as usize] = 1 << (next() % AXES as u64);
+            glitch = [0; 5];
+            let (kind, bit) = some_pin(&mut next);
+            glitch[kind] = bit;
         }
-        let pins: Vec<u32> = (0..4)
+        let pins: Vec<u32> = (0..5)
             .map(|k| levels[k] ^ if glitch_for > 0 { glitch[k] } else { 0 })
             .collect();
         glitch_for = glitch_for.saturating_sub(1);
@@ -103,6 +112,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
             limit_neg: pins[1],
             home: pins[2],
             alarm: pins[3],
+            gpi: pins[4],
         };
         if estop_low_for == 0 && next().is_multiple_of(300) {
             estop_low_for = 1 + next() % 20;
@@ -148,6 +158,7 @@ pub fn model_outputs(vectors: &[Vector]) -> Vec<Outputs> {
                 irq: model.irq_pin(),
                 stop_up: model.stop_up(),
                 stop_down: model.stop_down(),
+                gpo: model.gpo_pins(),
             }
         })
         .collect()
@@ -182,6 +193,7 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
             uut.limit_neg.next = u64::from(m.limit_neg).into();
             uut.home.next = u64::from(m.home).into();
             uut.alarm.next = u64::from(m.alarm).into();
+            uut.gpi.next = u64::from(m.gpi).into();
             settle(&mut uut);
             cycle(&mut uut, |u| &mut u.clock);
             Observed {
@@ -193,6 +205,10 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
                     irq: uut.irq.val(),
                     stop_up: uut.stop_up.val().index() as u32,
                     stop_down: uut.stop_down.val().index() as u32,
+                    gpo: GpoPins {
+                        out: uut.gpo_out.val().index() as u32,
+                        oe: uut.gpo_oe.val().index() as u32,
+                    },
                 },
                 registers: uut.probe(),
             }
@@ -256,6 +272,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "limit_neg",
                 "home",
                 "alarm",
+                "gpi",
             ],
         ),
         outputs: ports_of(
@@ -267,6 +284,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "irq",
                 "stop_up",
                 "stop_down",
+                "gpo_out",
+                "gpo_oe",
             ],
         ),
         clock: Some("clock"),
@@ -286,10 +305,11 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             ]
             .into_iter()
             .chain(v.inputs.machine.kinds().map(u64::from))
+            .chain([u64::from(v.inputs.machine.gpi)])
             .collect()
         })
         .collect();
-    rows.push(vec![0; 12]);
+    rows.push(vec![0; 13]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, w) in want.iter().enumerate() {
@@ -301,6 +321,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                     u64::from(w.irq),
                     u64::from(w.stop_up),
                     u64::from(w.stop_down),
+                    u64::from(w.gpo.out),
+                    u64::from(w.gpo.oe),
                 ];
                 r.case((got[..] != expect[..]).then(|| {
                     format!(

@@ -41,8 +41,8 @@ module top_bench_tb;
 {dut}    reg [31:0] x, r0, r1, r2, r3, sum_stim, sum_out, idx, shift, m;
     reg [63:0] cycle;
     reg [1:0] phase [0:{top}];
-    reg [15:0] a16, b16, z16, hd, lp16, ln16, hm16, al16;
-    reg [31:0] sp, sq;
+    reg [15:0] a16, b16, z16, hd, lp16, ln16, hm16, al16, gp16;
+    reg [31:0] sp, sq, gx;
     reg moving, jump;
     integer i;
     // FSMC generator
@@ -230,8 +230,9 @@ module top_bench_tb;
                 sp = r3 & r2; sq = (sp & (sp >> 4)) >> 8;
                 lp16 = sp[15:0] & 16'd{machine_mask}; ln16 = sp[31:16] & 16'd{machine_mask};
                 hm16 = (r3[15:0] ^ r2[15:0]) & 16'd{machine_mask}; al16 = sq[15:0] & 16'd{machine_mask};
+                gx = r2 ^ (r3 >> 7); gp16 = gx[15:0];
             end
-            limit_pos = lp16[{top}:0]; limit_neg = ln16[{top}:0]; home = hm16[{top}:0]; alarm = al16[{top}:0];
+            limit_pos = lp16[{top}:0]; limit_neg = ln16[{top}:0]; home = hm16[{top}:0]; alarm = al16[{top}:0]; gpi = gp16;
             fsmc_clock;
             isa_clock;
             sum_stim = sum_stim * 32'd31 + {{fsmc_d_in, fsmc_a, reset, fsmc_nwe_n, fsmc_noe_n, fsmc_ne_n}};
@@ -240,6 +241,7 @@ module top_bench_tb;
             sum_stim = sum_stim * 32'd31 + {{16'd0, z16}};
             sum_stim = sum_stim * 32'd31 + {{ln16, lp16}};
             sum_stim = sum_stim * 32'd31 + {{al16, hm16}};
+            sum_stim = sum_stim * 32'd31 + {{16'd0, gp16}};
             cycle = cycle + 64'd1;
         end
     endtask
@@ -249,7 +251,7 @@ module top_bench_tb;
         clock = 1'b0;
         isa_base = 8'd{base};
         estop_ok = 1'b1;
-        lp16 = 16'd0; ln16 = 16'd0; hm16 = 16'd0; al16 = 16'd0;
+        lp16 = 16'd0; ln16 = 16'd0; hm16 = 16'd0; al16 = 16'd0; gp16 = 16'd0;
         x = 32'd{seed};
         sum_stim = 32'd0;
         sum_out = 32'd0;
@@ -267,6 +269,7 @@ module top_bench_tb;
         sum_out = sum_out * 32'd31 + {{16'd0, isa_sd_out}};
         sum_out = sum_out * 32'd31 + {{16'(pulse_f2), 16'(pulse_f1)}};
         sum_out = sum_out * 32'd31 + {{15'd0, irq, 16'(drive_enable)}};
+        sum_out = sum_out * 32'd31 + {{gpo_oe, gpo_out}};
     end
     // (Icarus starts the clock at X: X -> 0 at time 0 is no clock.)
     always @(negedge clock) if ($time != 0) begin
