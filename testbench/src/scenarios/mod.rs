@@ -102,10 +102,22 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::checks::motion_controller::limit_stop::trace,
     },
     Scenario {
+        name: "estop",
+        summary: "the whole controller: two axes creep, the e-stop chain opens: both stop, drives off, \
+                  outputs safe, IRQ low; the chain closes, firmware clears the latch",
+        build: crate::checks::motion_controller::estop::trace,
+    },
+    Scenario {
         name: "watchdog_bite",
         summary: "the whole controller: two axes creep, firmware feeds the watchdog four times and \
                   stops; it bites, steps and drive enables stop, the outputs take their safe state, IRQ falls",
         build: crate::checks::motion_controller::watchdog_bite::trace,
+    },
+    Scenario {
+        name: "irq_refill",
+        summary: "the whole controller: two axes stream 96 segments each, the firmware refilling \
+                  the FIFOs on the FIFO-low interrupt alone, never reading STATUS",
+        build: crate::checks::motion_controller::irq_refill::trace,
     },
     Scenario {
         name: "isa_block_write",

@@ -15,6 +15,8 @@ use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
+pub mod estop;
+pub mod irq_refill;
 pub mod limit_stop;
 mod loopback;
 mod oracle;
