@@ -174,33 +174,6 @@ pub fn ports(config: &Config) -> Vec<BoardPort> {
     board_ports(&catalog::motion_controller(config).ports, config)
 }
 
-/// Checks that `config`'s board ports fit `board`'s pins: `Err` says how
-/// many it needs and has, and how many axes would fit.
-pub fn check_fit(board: &crate::constraints::Board, config: &Config) -> Result<(), String> {
-    let needed = |c: &Config| -> u32 { ports(c).iter().map(|p| p.width).sum() };
-    let ports = ports(config);
-    let Err(why) = crate::constraints::assign(board, &ports) else {
-        return Ok(());
-    };
-    let total = needed(config);
-    let one = config.with_axes(1).expect("1 axis is allowed");
-    let fixed_and_one = needed(&one);
-    let per_axis = needed(&one.with_axes(2).expect("2 axes are allowed")) - fixed_and_one;
-    let fixed = fixed_and_one - per_axis;
-    let room = (board.pool.len() as u32).saturating_sub(fixed) / per_axis;
-    Err(format!(
-        "board = \"{}\" has {} user pins; this configuration needs {total} \
-         ({per_axis} per axis for axes = {}, {fixed} for the rest: clock, reset, FSMC, ISA, \
-         e-stop, IRQ and gpio_inputs = {}, gpio_outputs = {}); at most {room} axes fit \
-         with these settings ({why})",
-        board.name,
-        board.pool.len(),
-        config.axes(),
-        config.gpio_inputs(),
-        config.gpio_outputs(),
-    ))
-}
-
 fn range(width: u32) -> String {
     if width == 1 {
         String::new()

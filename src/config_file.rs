@@ -175,10 +175,36 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         .map(|c| c.with_isa_ram(isa_ram).with_counter_features(features))
         .map_err(|e| CliError::input(format!("{origin}: {e}")))?;
     if let Some(b) = board {
-        crate::board::check_fit(b, &config)
-            .map_err(|why| CliError::input(format!("{origin}: {why}")))?;
+        check_fit(b, &config).map_err(|why| CliError::input(format!("{origin}: {why}")))?;
     }
     Ok(config)
+}
+
+/// Checks that `config`'s board ports fit `board`'s pins: `Err` says how
+/// many it needs and has, and how many axes would fit.
+fn check_fit(board: &crate::constraints::Board, config: &Config) -> Result<(), String> {
+    let needed = |c: &Config| -> u32 { crate::board::ports(c).iter().map(|p| p.width).sum() };
+    let ports = crate::board::ports(config);
+    let Err(why) = crate::constraints::assign(board, &ports) else {
+        return Ok(());
+    };
+    let total = needed(config);
+    let one = config.with_axes(1).expect("1 axis is allowed");
+    let fixed_and_one = needed(&one);
+    let per_axis = needed(&one.with_axes(2).expect("2 axes are allowed")) - fixed_and_one;
+    let fixed = fixed_and_one - per_axis;
+    let room = (board.pool.len() as u32).saturating_sub(fixed) / per_axis;
+    Err(format!(
+        "board = \"{}\" has {} user pins; this configuration needs {total} \
+         ({per_axis} per axis for axes = {}, {fixed} for the rest: clock, reset, FSMC, ISA, \
+         e-stop, IRQ and gpio_inputs = {}, gpio_outputs = {}); at most {room} axes fit \
+         with these settings ({why})",
+        board.name,
+        board.pool.len(),
+        config.axes(),
+        config.gpio_inputs(),
+        config.gpio_outputs(),
+    ))
 }
 
 /// A TOML error as the `toml` crate reports it (line, column, the text);
