@@ -23,6 +23,7 @@ fn pins(value: u32) -> (u32, u32) {
 #[test]
 fn an_unfed_watchdog_bites_and_stops_everything_but_the_counters() {
     let mut sys = System::<4>::new(&Config::default());
+    sys.setup();
     let bite = run_into_bite(&mut sys);
     // The last feed's write ends a few clocks after the bus op began; the
     // bite follows TIMEOUT + 1 edges after it and ENABLE drops with it.

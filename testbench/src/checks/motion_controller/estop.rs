@@ -3,7 +3,7 @@
 //! `tests/system.rs`).
 
 use super::limit_stop::creep;
-use super::system::{System, DRIVE_LATENCY};
+use super::system::{two_axes, DRIVE_LATENCY};
 use crate::trace::Trace;
 use motionhdl_model::safety_io::ESTOP_LATENCY;
 use motionhdl_model::Config;
@@ -13,18 +13,8 @@ use motionhdl_model::Config;
 /// IRQ falls; the chain closes and firmware clears the latch, the drives
 /// stay off until enabled.
 pub fn trace(config: &Config) -> Trace {
-    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
-        .expect("2 axes of a valid configuration");
-    let mut sys = System::<2>::new(&two);
-    sys.setup();
-    sys.record_trace(
-        format!(
-            "{} | scenario estop | clock {} Hz",
-            motionhdl_hdl::banner_ascii(),
-            config.clock_hz()
-        ),
-        crate::trace::half_period_ns(config),
-    );
+    let mut sys = two_axes(config, |c| c);
+    sys.record_scenario(config, "estop");
     sys.write("SAFETY", None, "ENABLE", 3);
     sys.write("SAFETY", None, "GPO_SAFE", 0x00f0);
     sys.write("SAFETY", None, "GPO_VALUE", 0x000f);

@@ -6,7 +6,7 @@
 //! what it handled. It never reads STATUS.
 
 use super::limit_stop::creep;
-use super::system::System;
+use super::system::{two_axes, System};
 use crate::trace::Trace;
 use motionhdl_model::pulse_generator::{Segment, SEGMENT_FIFO_DEPTH};
 use motionhdl_model::Config;
@@ -134,18 +134,8 @@ pub const TRACE_LOW_WATER: u32 = 32;
 /// `motionhdl trace irq_refill`: two axes stream 96 segments each on the
 /// FIFO-low interrupt, the firmware never reading STATUS.
 pub fn trace(config: &Config) -> Trace {
-    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
-        .expect("2 axes of a valid configuration");
-    let mut sys = System::<2>::new(&two);
-    sys.setup();
-    sys.record_trace(
-        format!(
-            "{} | scenario irq_refill | clock {} Hz",
-            motionhdl_hdl::banner_ascii(),
-            config.clock_hz()
-        ),
-        crate::trace::half_period_ns(config),
-    );
+    let mut sys = two_axes(config, |c| c);
+    sys.record_scenario(config, "irq_refill");
     let segs = steady(TRACE_SEGMENTS, TRACE_STEPS, 40);
     let r = stream_on_irq(&mut sys, &[segs.clone(), segs], TRACE_LOW_WATER, 1 << 20)
         .expect("irq_refill trace: the move streams");

@@ -2,7 +2,7 @@
 //! stops"): the moves firmware uses around one, and `motionhdl trace
 //! limit_stop`.
 
-use super::system::System;
+use super::system::{two_axes, System};
 use crate::trace::Trace;
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
@@ -46,23 +46,14 @@ pub const TRACE_SWITCH: i32 = 20;
 /// with LIMIT_CAUSE.POS and the IRQ pin low, a move further in is refused,
 /// it backs off 10 steps, firmware clears the cause and IRQ rises again.
 pub fn trace(config: &Config) -> Trace {
-    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
-        .and_then(|c| c.with_input_filter_us(1))
-        .expect("2 axes of a valid configuration");
-    let mut sys = System::<2>::new(&two);
-    sys.setup();
+    let mut sys = two_axes(config, |c| {
+        c.with_input_filter_us(1).expect("1 us is allowed")
+    });
     sys.limit_pos_at[0] = Some(TRACE_SWITCH);
     sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
     sys.write("SAFETY", None, "LIMIT_MASK", 1);
     sys.idle(100);
-    sys.record_trace(
-        format!(
-            "{} | scenario limit_stop | clock {} Hz",
-            motionhdl_hdl::banner_ascii(),
-            config.clock_hz()
-        ),
-        crate::trace::half_period_ns(config),
-    );
+    sys.record_scenario(config, "limit_stop");
     run(&mut sys, 0, &creep(40));
     let stopped = sys.drives[0].position;
     assert!(

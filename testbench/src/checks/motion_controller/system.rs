@@ -162,6 +162,18 @@ impl<const N: usize> System<N> {
         });
     }
 
+    /// Records trace scenario `name` of `config` (its banner and clock).
+    pub fn record_scenario(&mut self, config: &Config, name: &str) {
+        self.record_trace(
+            format!(
+                "{} | scenario {name} | clock {} Hz",
+                motionhdl_hdl::banner_ascii(),
+                config.clock_hz()
+            ),
+            crate::trace::half_period_ns(config),
+        );
+    }
+
     /// The recorded trace.
     pub fn take_trace(&mut self) -> Option<Trace> {
         self.probes.take().map(|p| p.trace)
@@ -506,4 +518,14 @@ pub fn trace(config: &Config) -> Trace {
         "system trace: counted back"
     );
     sys.take_trace().expect("recording")
+}
+
+/// The two-axis controller the trace scenarios run: `config`'s counter
+/// width and clock, `adjust` for the rest, set up ([`System::setup`]).
+pub fn two_axes(config: &Config, adjust: impl FnOnce(Config) -> Config) -> System<2> {
+    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
+        .expect("2 axes of a valid configuration");
+    let mut sys = System::<2>::new(&adjust(two));
+    sys.setup();
+    sys
 }

@@ -5,7 +5,7 @@
 //! safe state, the IRQ pin falls, and the counters keep counting.
 
 use super::limit_stop::creep;
-use super::system::{System, DRIVE_LATENCY};
+use super::system::{two_axes, System, DRIVE_LATENCY};
 use crate::trace::Trace;
 use motionhdl_model::safety_io::WATCHDOG_KEY;
 use motionhdl_model::Config;
@@ -35,12 +35,11 @@ pub struct Bite {
     pub later: Vec<i32>,
 }
 
-/// Sets the safety block up (ENABLE on every axis, outputs running at
+/// On a set-up system ([`System::setup`]): sets the safety block up (ENABLE on every axis, outputs running at
 /// RUNNING with safe state SAFE, CAUSE.WATCHDOG on IRQ), arms the watchdog,
 /// starts a slow move on every axis, feeds it FEEDS times and then lets it
 /// bite; idles on 4 000 clocks.
 pub fn run_into_bite<const N: usize>(sys: &mut System<N>) -> Bite {
-    sys.setup();
     let all = (1u32 << N) - 1;
     sys.write("SAFETY", None, "ENABLE", all);
     sys.write("SAFETY", None, "GPO_SAFE", SAFE);
@@ -83,17 +82,8 @@ pub fn run_into_bite<const N: usize>(sys: &mut System<N>) -> Bite {
 /// watchdog four times and then stops; it bites, the drives and the
 /// steps stop, the outputs take their safe state and IRQ falls.
 pub fn trace(config: &Config) -> Trace {
-    let two = Config::new(2, config.counter_width().into(), config.clock_hz())
-        .expect("2 axes of a valid configuration");
-    let mut sys = System::<2>::new(&two);
-    sys.record_trace(
-        format!(
-            "{} | scenario watchdog_bite | clock {} Hz",
-            motionhdl_hdl::banner_ascii(),
-            config.clock_hz()
-        ),
-        crate::trace::half_period_ns(config),
-    );
+    let mut sys = two_axes(config, |c| c);
+    sys.record_scenario(config, "watchdog_bite");
     let bite = run_into_bite(&mut sys);
     assert_eq!(
         bite.later, bite.at_bite,
