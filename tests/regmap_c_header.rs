@@ -30,10 +30,10 @@ fn header_defines_every_number_of_the_table() {
             + (2 + 10 + 92 + 5)
             + (2 + 4 + 12)
             + (2 + 24 + 84 + 2)
-            + (2 + 62 + 196 + 2)
+            + (2 + 64 + 200 + 2)
             + 4
     );
-    assert_eq!(n, 628);
+    assert_eq!(n, 634);
     for c in other_configs() {
         check_header_numbers(&mcu_map(&c));
     }

@@ -74,7 +74,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'hf787018c;
+    localparam mcu_identity_values_7 = 32'hfa557b7b;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -553,6 +553,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_machine_addr_limit_mask = 7'b10101;
     localparam mcu_safety_machine_addr_home_alarm_cause = 7'b10110;
     localparam mcu_safety_machine_addr_home_alarm_mask = 7'b10111;
+    localparam mcu_safety_machine_addr_home_stop = 7'b11111;
     localparam mcu_safety_machine_pos_filters_0_one = 2'b1;
     localparam mcu_safety_machine_pos_filters_1_one = 2'b1;
     localparam mcu_safety_machine_pos_filters_2_one = 2'b1;
@@ -2467,10 +2468,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_safety_machine_home_alarm_cause_q = 32'h0;
     reg [31:0] mcu_safety_machine_home_alarm_mask_d;
     reg [31:0] mcu_safety_machine_home_alarm_mask_q = 32'h0;
+    reg [3:0] mcu_safety_machine_home_stop_d;
+    reg [3:0] mcu_safety_machine_home_stop_q = 4'h0;
     reg [3:0] mcu_safety_machine_home_before_d;
     reg [3:0] mcu_safety_machine_home_before_q = 4'h0;
     reg mcu_safety_machine_ticking_d;
     reg mcu_safety_machine_ticking_q = 1'h0;
+    reg [3:0] mcu_safety_machine_stop_both;
     reg [3:0] mcu_safety_machine_pos_level;
     reg [3:0] mcu_safety_machine_neg_level;
     reg [3:0] mcu_safety_machine_home_level;
@@ -7218,6 +7222,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_machine_limit_mask_d = mcu_safety_machine_limit_mask_q;
         mcu_safety_machine_home_alarm_cause_d = mcu_safety_machine_home_alarm_cause_q;
         mcu_safety_machine_home_alarm_mask_d = mcu_safety_machine_home_alarm_mask_q;
+        mcu_safety_machine_home_stop_d = mcu_safety_machine_home_stop_q;
         mcu_safety_machine_home_before_d = mcu_safety_machine_home_before_q;
         mcu_safety_machine_tick = mcu_safety_machine_ticking_q;
         if (mcu_safety_machine_ticking_q) begin
@@ -7372,6 +7377,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_safety_machine_addr == mcu_safety_machine_addr_home_alarm_mask) begin
                 mcu_safety_machine_home_alarm_mask_d = mcu_safety_machine_wdata & mcu_safety_machine_ctrl_mask;
             end
+            if (mcu_safety_machine_addr == mcu_safety_machine_addr_home_stop) begin
+                mcu_safety_machine_home_stop_d = mcu_safety_machine_wdata[3:0];
+            end
         end
         mcu_safety_machine_value = 32'h0;
         if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_pos_ctrl) begin
@@ -7408,6 +7416,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_alarm_mask) begin
             mcu_safety_machine_value = mcu_safety_machine_home_alarm_mask_q;
         end
+        if (mcu_safety_machine_read_addr == mcu_safety_machine_addr_home_stop) begin
+            mcu_safety_machine_value = {28'h0, mcu_safety_machine_home_stop_q};
+        end
         if (mcu_safety_machine_reset) begin
             mcu_safety_machine_prescaler_d = 24'h0;
             mcu_safety_machine_ticking_d = 1'b1;
@@ -7419,12 +7430,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_machine_limit_mask_d = 32'h0;
             mcu_safety_machine_home_alarm_cause_d = 32'h0;
             mcu_safety_machine_home_alarm_mask_d = 32'h0;
+            mcu_safety_machine_home_stop_d = 4'h0;
             mcu_safety_machine_home_before_d = 4'h0;
         end
         mcu_safety_machine_read_value = mcu_safety_machine_value;
         mcu_safety_machine_irq_active = |(mcu_safety_machine_limit_cause_q & mcu_safety_machine_limit_mask_q) | |(mcu_safety_machine_home_alarm_cause_q & mcu_safety_machine_home_alarm_mask_q);
-        mcu_safety_machine_stop_up = mcu_safety_machine_limit_cause_q[3:0] | mcu_safety_machine_home_alarm_cause_q[19:16];
-        mcu_safety_machine_stop_down = mcu_safety_machine_limit_cause_q[19:16] | mcu_safety_machine_home_alarm_cause_q[19:16];
+        mcu_safety_machine_stop_both = mcu_safety_machine_home_alarm_cause_q[19:16] | (mcu_safety_machine_home_alarm_cause_q[3:0] & mcu_safety_machine_home_stop_q);
+        mcu_safety_machine_stop_up = mcu_safety_machine_limit_cause_q[3:0] | mcu_safety_machine_stop_both;
+        mcu_safety_machine_stop_down = mcu_safety_machine_limit_cause_q[19:16] | mcu_safety_machine_stop_both;
     end
 
     always @(*) begin
@@ -9107,6 +9120,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_safety_machine_limit_mask_q <= mcu_safety_machine_limit_mask_d;
     always @(posedge clock) mcu_safety_machine_home_alarm_cause_q <= mcu_safety_machine_home_alarm_cause_d;
     always @(posedge clock) mcu_safety_machine_home_alarm_mask_q <= mcu_safety_machine_home_alarm_mask_d;
+    always @(posedge clock) mcu_safety_machine_home_stop_q <= mcu_safety_machine_home_stop_d;
     always @(posedge clock) mcu_safety_machine_home_before_q <= mcu_safety_machine_home_before_d;
     always @(posedge clock) mcu_safety_machine_ticking_q <= mcu_safety_machine_ticking_d;
     always @(posedge clock) mcu_safety_gpio_filters_0_meta_q <= mcu_safety_gpio_filters_0_meta_d;

@@ -71,6 +71,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     localparam machine_addr_limit_mask = 7'b10101;
     localparam machine_addr_home_alarm_cause = 7'b10110;
     localparam machine_addr_home_alarm_mask = 7'b10111;
+    localparam machine_addr_home_stop = 7'b11111;
     localparam machine_pos_filters_0_one = 2'b1;
     localparam machine_pos_filters_1_one = 2'b1;
     localparam machine_pos_filters_2_one = 2'b1;
@@ -289,10 +290,13 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [31:0] machine_home_alarm_cause_q = 32'h0;
     reg [31:0] machine_home_alarm_mask_d;
     reg [31:0] machine_home_alarm_mask_q = 32'h0;
+    reg [3:0] machine_home_stop_d;
+    reg [3:0] machine_home_stop_q = 4'h0;
     reg [3:0] machine_home_before_d;
     reg [3:0] machine_home_before_q = 4'h0;
     reg machine_ticking_d;
     reg machine_ticking_q = 1'h0;
+    reg [3:0] machine_stop_both;
     reg [3:0] machine_pos_level;
     reg [3:0] machine_neg_level;
     reg [3:0] machine_home_level;
@@ -864,6 +868,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         machine_limit_mask_d = machine_limit_mask_q;
         machine_home_alarm_cause_d = machine_home_alarm_cause_q;
         machine_home_alarm_mask_d = machine_home_alarm_mask_q;
+        machine_home_stop_d = machine_home_stop_q;
         machine_home_before_d = machine_home_before_q;
         machine_tick = machine_ticking_q;
         if (machine_ticking_q) begin
@@ -1018,6 +1023,9 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             if (machine_addr == machine_addr_home_alarm_mask) begin
                 machine_home_alarm_mask_d = machine_wdata & machine_ctrl_mask;
             end
+            if (machine_addr == machine_addr_home_stop) begin
+                machine_home_stop_d = machine_wdata[3:0];
+            end
         end
         machine_value = 32'h0;
         if (machine_read_addr == machine_addr_pos_ctrl) begin
@@ -1054,6 +1062,9 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         if (machine_read_addr == machine_addr_home_alarm_mask) begin
             machine_value = machine_home_alarm_mask_q;
         end
+        if (machine_read_addr == machine_addr_home_stop) begin
+            machine_value = {28'h0, machine_home_stop_q};
+        end
         if (machine_reset) begin
             machine_prescaler_d = 24'h0;
             machine_ticking_d = 1'b1;
@@ -1065,12 +1076,14 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             machine_limit_mask_d = 32'h0;
             machine_home_alarm_cause_d = 32'h0;
             machine_home_alarm_mask_d = 32'h0;
+            machine_home_stop_d = 4'h0;
             machine_home_before_d = 4'h0;
         end
         machine_read_value = machine_value;
         machine_irq_active = |(machine_limit_cause_q & machine_limit_mask_q) | |(machine_home_alarm_cause_q & machine_home_alarm_mask_q);
-        machine_stop_up = machine_limit_cause_q[3:0] | machine_home_alarm_cause_q[19:16];
-        machine_stop_down = machine_limit_cause_q[19:16] | machine_home_alarm_cause_q[19:16];
+        machine_stop_both = machine_home_alarm_cause_q[19:16] | (machine_home_alarm_cause_q[3:0] & machine_home_stop_q);
+        machine_stop_up = machine_limit_cause_q[3:0] | machine_stop_both;
+        machine_stop_down = machine_limit_cause_q[19:16] | machine_stop_both;
     end
 
     always @(*) begin
@@ -2213,6 +2226,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     always @(posedge clock) machine_limit_mask_q <= machine_limit_mask_d;
     always @(posedge clock) machine_home_alarm_cause_q <= machine_home_alarm_cause_d;
     always @(posedge clock) machine_home_alarm_mask_q <= machine_home_alarm_mask_d;
+    always @(posedge clock) machine_home_stop_q <= machine_home_stop_d;
     always @(posedge clock) machine_home_before_q <= machine_home_before_d;
     always @(posedge clock) machine_ticking_q <= machine_ticking_d;
     always @(posedge clock) gpio_filters_0_meta_q <= gpio_filters_0_meta_d;

@@ -125,6 +125,7 @@ pub struct MachineStops<const N: usize> {
     limit_mask: DFF<Bits<32>>,
     home_alarm_cause: DFF<Bits<32>>,
     home_alarm_mask: DFF<Bits<32>>,
+    home_stop: DFF<Bits<N>>,
     home_before: DFF<Bits<N>>,
     /// "The prescaler is 0", registered: computed a clock early from the
     /// prescaler's next value, so the decrement's carry chain ends at a
@@ -146,6 +147,9 @@ pub struct MachineStops<const N: usize> {
     addr_limit_mask: Constant<Bits<7>>,
     addr_home_alarm_cause: Constant<Bits<7>>,
     addr_home_alarm_mask: Constant<Bits<7>>,
+    addr_home_stop: Constant<Bits<7>>,
+    /// Per axis: stopped both ways (an alarm, or home with HOME_STOP).
+    stop_both: Signal<Local, Bits<N>>,
     pos_level: Signal<Local, Bits<N>>,
     neg_level: Signal<Local, Bits<N>>,
     home_level: Signal<Local, Bits<N>>,
@@ -218,6 +222,7 @@ impl<const N: usize> MachineStops<N> {
             limit_mask: Default::default(),
             home_alarm_cause: Default::default(),
             home_alarm_mask: Default::default(),
+            home_stop: Default::default(),
             home_before: Default::default(),
             ticking: Default::default(),
             single: Constant::new(tick_clocks == 1),
@@ -236,6 +241,8 @@ impl<const N: usize> MachineStops<N> {
             addr_limit_mask: addr("LIMIT_MASK"),
             addr_home_alarm_cause: addr("HOME_ALARM_CAUSE"),
             addr_home_alarm_mask: addr("HOME_ALARM_MASK"),
+            addr_home_stop: addr("HOME_STOP"),
+            stop_both: Default::default(),
             tick: Default::default(),
             pos_level: Default::default(),
             neg_level: Default::default(),
@@ -310,6 +317,7 @@ impl<const N: usize> Logic for MachineStops<N> {
             limit_mask,
             home_alarm_cause,
             home_alarm_mask,
+            home_stop,
             home_before
         );
         // One tick every tick_reload + 1 clocks for every filter: at the
@@ -407,6 +415,9 @@ impl<const N: usize> Logic for MachineStops<N> {
             if self.addr.val() == self.addr_home_alarm_mask.val() {
                 self.home_alarm_mask.d.next = self.wdata.val() & self.ctrl_mask.val();
             }
+            if self.addr.val() == self.addr_home_stop.val() {
+                self.home_stop.d.next = self.wdata.val().get_bits::<N>(0);
+            }
         }
         self.value.next = 0.into();
         if self.read_addr.val() == self.addr_pos_ctrl.val() {
@@ -443,6 +454,9 @@ impl<const N: usize> Logic for MachineStops<N> {
         if self.read_addr.val() == self.addr_home_alarm_mask.val() {
             self.value.next = self.home_alarm_mask.q.val();
         }
+        if self.read_addr.val() == self.addr_home_stop.val() {
+            self.value.next = bit_cast::<32, N>(self.home_stop.q.val());
+        }
         if self.reset.val() {
             self.prescaler.d.next = 0.into();
             self.ticking.d.next = true;
@@ -454,14 +468,15 @@ impl<const N: usize> Logic for MachineStops<N> {
             self.limit_mask.d.next = 0.into();
             self.home_alarm_cause.d.next = 0.into();
             self.home_alarm_mask.d.next = 0.into();
+            self.home_stop.d.next = 0.into();
             self.home_before.d.next = 0.into();
         }
         self.read_value.next = self.value.val();
         self.irq_active.next = (self.limit_cause.q.val() & self.limit_mask.q.val()).any()
             | (self.home_alarm_cause.q.val() & self.home_alarm_mask.q.val()).any();
-        self.stop_up.next = self.limit_cause.q.val().get_bits::<N>(0)
-            | self.home_alarm_cause.q.val().get_bits::<N>(16);
-        self.stop_down.next = self.limit_cause.q.val().get_bits::<N>(16)
-            | self.home_alarm_cause.q.val().get_bits::<N>(16);
+        self.stop_both.next = self.home_alarm_cause.q.val().get_bits::<N>(16)
+            | (self.home_alarm_cause.q.val().get_bits::<N>(0) & self.home_stop.q.val());
+        self.stop_up.next = self.limit_cause.q.val().get_bits::<N>(0) | self.stop_both.val();
+        self.stop_down.next = self.limit_cause.q.val().get_bits::<N>(16) | self.stop_both.val();
     }
 }

@@ -54,7 +54,8 @@ pub struct SafetyIo<const N: usize> {
     pub alarm: Signal<In, Bits<N>>,
     /// Stop every axis now: the e-stop latch or the bite flag is set.
     pub halt: Signal<Out, Bit>,
-    /// Per axis: no step in the positive direction (a limit or an alarm).
+    /// Per axis: no step in the positive direction (a limit, an alarm or
+    /// a home stop).
     pub stop_up: Signal<Out, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<Out, Bits<N>>,

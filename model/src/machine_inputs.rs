@@ -75,6 +75,7 @@ pub struct MachineStops {
     limit_mask: u32,
     home_alarm_cause: u32,
     home_alarm_mask: u32,
+    home_stop: u32,
     home_before: u32,
 }
 
@@ -100,6 +101,7 @@ impl MachineStops {
             limit_mask: 0,
             home_alarm_cause: 0,
             home_alarm_mask: 0,
+            home_stop: 0,
             home_before: 0,
         }
     }
@@ -132,15 +134,21 @@ impl MachineStops {
         self.active(kind) & self.ctrl[kind]
     }
 
-    /// Per axis: no step in the positive direction (LIMIT_CAUSE.POS or
-    /// HOME_ALARM_CAUSE.ALARM).
+    /// Per axis: stopped both ways (HOME_ALARM_CAUSE.ALARM, or .HOME
+    /// with HOME_STOP).
+    fn stop_both(&self) -> u32 {
+        self.home_alarm_cause >> 16 | self.home_alarm_cause & self.home_stop
+    }
+
+    /// Per axis: no step in the positive direction (LIMIT_CAUSE.POS, an
+    /// alarm or a home stop).
     pub fn stop_up(&self) -> u32 {
-        (self.limit_cause | self.home_alarm_cause >> 16) & mask_bits(self.axes)
+        (self.limit_cause | self.stop_both()) & mask_bits(self.axes)
     }
 
     /// Per axis: no step in the negative direction.
     pub fn stop_down(&self) -> u32 {
-        (self.limit_cause >> 16 | self.home_alarm_cause >> 16) & mask_bits(self.axes)
+        (self.limit_cause >> 16 | self.stop_both()) & mask_bits(self.axes)
     }
 
     /// OR(cause AND mask) over the block's two cause registers.
@@ -160,6 +168,7 @@ impl MachineStops {
             "LIMIT_MASK" => self.limit_mask,
             "HOME_ALARM_CAUSE" => self.home_alarm_cause,
             "HOME_ALARM_MASK" => self.home_alarm_mask,
+            "HOME_STOP" => self.home_stop,
             _ => return None,
         })
     }
@@ -187,6 +196,7 @@ impl MachineStops {
         self.home_before = home;
         self.limit_mask = written("LIMIT_MASK", self.limit_mask);
         self.home_alarm_mask = written("HOME_ALARM_MASK", self.home_alarm_mask);
+        self.home_stop = written("HOME_STOP", self.home_stop);
         for (kind, name) in CTRL.iter().enumerate() {
             self.ctrl[kind] = written(name, self.ctrl[kind]);
         }
@@ -250,5 +260,27 @@ mod tests {
         let clear = BusCycle::write(map.register("LIMIT_CAUSE").offset, !0);
         m.clock(&map, &clear, &pins);
         assert_eq!(m.stop_down(), 2, "still active: the clear loses");
+    }
+
+    #[test]
+    fn home_stops_both_ways_only_with_home_stop_and_until_cleared() {
+        let map = crate::regmap::safety_io(2);
+        let write = |name: &str, v: u32| BusCycle::write(map.register(name).offset, v);
+        let mut m = MachineStops::new(2, 1);
+        let home = MachinePins {
+            home: 1,
+            ..Default::default()
+        };
+        m.clock(&map, &write("HOME_CTRL", 3), &MachinePins::default());
+        for _ in 0..10 {
+            m.clock(&map, &BusCycle::default(), &home);
+        }
+        assert_eq!(m.read("HOME_ALARM_CAUSE"), Some(1));
+        assert_eq!((m.stop_up(), m.stop_down()), (0, 0), "HOME_STOP off");
+        m.clock(&map, &write("HOME_STOP", 1), &home);
+        assert_eq!((m.stop_up(), m.stop_down()), (1, 1), "stopped both ways");
+        // An edge cause: cleared while the switch is still closed, it stays clear.
+        m.clock(&map, &write("HOME_ALARM_CAUSE", 1), &home);
+        assert_eq!((m.stop_up(), m.stop_down()), (0, 0));
     }
 }

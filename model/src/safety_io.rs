@@ -124,12 +124,14 @@ impl SafetyIo {
         }
     }
 
-    /// Per axis: no step in the positive direction (a limit or an alarm).
+    /// Per axis: no step in the positive direction (a limit, an alarm or
+    /// a home stop).
     pub fn stop_up(&self) -> u32 {
         self.machine.stop_up()
     }
 
-    /// Per axis: no step in the negative direction (a limit or an alarm).
+    /// Per axis: no step in the negative direction (a limit, an alarm or
+    /// a home stop).
     pub fn stop_down(&self) -> u32 {
         self.machine.stop_down()
     }

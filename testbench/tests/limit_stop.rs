@@ -113,3 +113,54 @@ fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
     );
     counts_are_exact(&mut sys);
 }
+
+/// HOME_STOP (docs/safety_io.md, "Direction stops"): an axis heading for
+/// its home switch stops on the switch's edge within the limit's latency,
+/// moves neither way while HOME_ALARM_CAUSE.HOME is set, and runs on once
+/// firmware clears it; without HOME_STOP the switch only sets the cause.
+#[test]
+fn home_stop_halts_the_axis_on_the_home_edge_until_the_cause_is_cleared() {
+    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
+        .unwrap()
+        .with_input_filter_us(1)
+        .unwrap();
+    let tick = config.filter_tick_clocks();
+    let mut sys = System::<2>::new(&config);
+    sys.setup();
+    let switch = 30;
+    sys.home_at = vec![Some(switch), Some(switch)];
+    sys.write("SAFETY", None, "HOME_CTRL", 3);
+    sys.write("SAFETY", None, "HOME_STOP", 1);
+    sys.idle(u64::from(FILTER_TICKS * tick) + 10);
+    for axis in 0..2 {
+        run(&mut sys, axis, &creep(60));
+    }
+    // One step per 100 clocks: the latency (well under 100 clocks) lets
+    // at most one more step out after the shaft reaches the switch.
+    let stopped = shaft(&sys, 0);
+    assert!(
+        (switch..=switch + 1).contains(&stopped),
+        "axis 0 stopped at {stopped}"
+    );
+    assert_eq!(
+        shaft(&sys, 1),
+        60,
+        "axis 1 has no HOME_STOP: it ran its move"
+    );
+    assert_eq!(
+        sys.read("SAFETY", None, "HOME_ALARM_CAUSE"),
+        3,
+        "both saw HOME"
+    );
+    counts_are_exact(&mut sys);
+    run(&mut sys, 0, &creep(-5));
+    assert_eq!(
+        shaft(&sys, 0),
+        stopped,
+        "no step either way while the cause is set"
+    );
+    sys.write("SAFETY", None, "HOME_ALARM_CAUSE", 1);
+    run(&mut sys, 0, &creep(-5));
+    assert_eq!(shaft(&sys, 0), stopped - 5, "after the clear it backs off");
+    counts_are_exact(&mut sys);
+}

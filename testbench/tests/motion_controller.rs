@@ -49,9 +49,9 @@ fn the_plan_covers_the_map() {
     assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
     // PRESET, SNAPSHOT and CTRL/CMD of 4 channels; RUN and 10 registers of
     // 4 pulse axes (CTRL, RATE, two timings, five SEG_*, FIFO_LOW_WATER);
-    // 25 SAFETY registers (all but INFO, STATUS, WDT_COUNT, the two
+    // 26 SAFETY registers (all but INFO, STATUS, WDT_COUNT, the two
     // machine-input level registers and GPI_LEVEL).
-    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 10 + 25);
+    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 10 + 26);
     // The ID block reads its table values after reset.
     let id = o.map().block("ID");
     assert_eq!(o.read32(id.base), regmap::ID_MAGIC);

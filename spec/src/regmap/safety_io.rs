@@ -144,6 +144,7 @@ pub fn safety_io(axes: u32) -> Block {
         .into_iter()
         .chain(machine_registers(axes))
         .chain(gpio_registers())
+        .chain([home_stop_register(axes)])
         .collect(),
         arrays: vec![],
     }
@@ -223,6 +224,18 @@ fn machine_registers(axes: u32) -> Vec<super::Register> {
         ),
         reg("HOME_ALARM_MASK", 23, ReadWrite, "Which HOME_ALARM_CAUSE bits drive the IRQ pin.", "", pair(axes, ReadWrite, ("HOME", "Per axis."), ("ALARM", "Per axis."))),
     ]
+}
+
+/// Stop on home: the register after the general-purpose I/O's.
+fn home_stop_register(axes: u32) -> super::Register {
+    reg(
+        "HOME_STOP",
+        31,
+        Access::ReadWrite,
+        "Per axis: 1 = while HOME_ALARM_CAUSE.HOME is set the axis starts no step in either direction (it stops on the home switch's edge, as at a limit); clear the cause to move on.",
+        "0 after reset: HOME sets its cause and stops nothing.",
+        axes_field(axes, Access::ReadWrite, "One bit per axis."),
+    )
 }
 
 /// The general-purpose inputs' and outputs' registers.

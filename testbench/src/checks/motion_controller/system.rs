@@ -98,6 +98,8 @@ pub struct System<const N: usize> {
     pub limit_pos_at: Vec<Option<i32>>,
     /// Per axis, a LIMIT_NEG switch: high at or below it.
     pub limit_neg_at: Vec<Option<i32>>,
+    /// Per axis, a HOME switch: high at or beyond it.
+    pub home_at: Vec<Option<i32>>,
 }
 
 impl<const N: usize> System<N> {
@@ -120,6 +122,7 @@ impl<const N: usize> System<N> {
             estop_ok: true,
             limit_pos_at: vec![None; N],
             limit_neg_at: vec![None; N],
+            home_at: vec![None; N],
         }
     }
 
@@ -211,13 +214,15 @@ impl<const N: usize> System<N> {
         u.enc_a.next = a.into();
         u.enc_b.next = b.into();
         u.estop_ok.next = self.estop_ok;
-        let (mut pos, mut neg) = (0u64, 0u64);
+        let (mut pos, mut neg, mut home) = (0u64, 0u64, 0u64);
         for (i, d) in self.drives.iter().enumerate() {
             pos |= u64::from(self.limit_pos_at[i].is_some_and(|at| d.position >= at)) << i;
             neg |= u64::from(self.limit_neg_at[i].is_some_and(|at| d.position <= at)) << i;
+            home |= u64::from(self.home_at[i].is_some_and(|at| d.position >= at)) << i;
         }
         u.limit_pos.next = pos.into();
         u.limit_neg.next = neg.into();
+        u.home.next = home.into();
     }
 
     /// One clock edge with these pins; then the drives see the outputs.

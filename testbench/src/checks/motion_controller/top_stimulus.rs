@@ -161,7 +161,8 @@ impl TopStimulus {
                     // stops at a limit.
                     (
                         "SAFETY",
-                        "LIMIT_POS_CTRL" | "LIMIT_NEG_CTRL" | "HOME_CTRL" | "ALARM_CTRL",
+                        "LIMIT_POS_CTRL" | "LIMIT_NEG_CTRL" | "HOME_CTRL" | "ALARM_CTRL"
+                        | "HOME_STOP",
                     ) => class::SMALL,
                     _ => class::RANDOM,
                 };
