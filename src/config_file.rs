@@ -183,12 +183,14 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
 /// Checks that `config`'s board ports fit `board`'s pins: `Err` says how
 /// many it needs and has, and how many axes would fit.
 fn check_fit(board: &crate::constraints::Board, config: &Config) -> Result<(), String> {
-    let needed = |c: &Config| -> u32 { crate::board::ports(c).iter().map(|p| p.width).sum() };
+    let width = |ports: &[crate::board::BoardPort]| -> u32 { ports.iter().map(|p| p.width).sum() };
+    let needed = |c: &Config| width(&crate::board::ports(c));
     let ports = crate::board::ports(config);
     let Err(why) = crate::constraints::assign(board, &ports) else {
         return Ok(());
     };
-    let total = needed(config);
+    // (Elaborating a top takes seconds: the configuration's is at hand.)
+    let total = width(&ports);
     let one = config.with_axes(1).expect("1 axis is allowed");
     let fixed_and_one = needed(&one);
     let per_axis = needed(&one.with_axes(2).expect("2 axes are allowed")) - fixed_and_one;

@@ -2380,6 +2380,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_bite;
     reg mcu_safety_latch_next;
     reg mcu_safety_bitten_next;
+    reg mcu_safety_halting;
     reg [1:0] mcu_safety_system_events;
     reg mcu_safety_irq_active;
     reg [1:0] mcu_safety_cause_kept;
@@ -7076,10 +7077,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_enable)) begin
             mcu_safety_enable_d = mcu_safety_wdata[3:0];
         end
-        if (mcu_safety_latch_next | mcu_safety_bitten_next) begin
+        mcu_safety_halting = mcu_safety_latch_next | mcu_safety_bitten_next;
+        if (mcu_safety_halting) begin
             mcu_safety_enable_d = 4'h0;
         end
-        mcu_safety_gpio_halting = mcu_safety_latch_next | mcu_safety_bitten_next;
+        mcu_safety_gpio_halting = mcu_safety_halting;
         mcu_safety_system_events = 2'h0;
         if (mcu_safety_estop_sync_q & ~mcu_safety_estop_latch_q) begin
             mcu_safety_system_events = mcu_safety_estop_cause;

@@ -202,6 +202,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg bite;
     reg latch_next;
     reg bitten_next;
+    reg halting;
     reg [1:0] system_events;
     reg irq_active;
     reg [1:0] cause_kept;
@@ -730,10 +731,11 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         if (we & (addr == addr_enable)) begin
             enable_d = wdata[3:0];
         end
-        if (latch_next | bitten_next) begin
+        halting = latch_next | bitten_next;
+        if (halting) begin
             enable_d = 4'h0;
         end
-        gpio_halting = latch_next | bitten_next;
+        gpio_halting = halting;
         system_events = 2'h0;
         if (estop_sync_q & ~estop_latch_q) begin
             system_events = estop_cause;

@@ -121,13 +121,8 @@ impl DigitalIo {
     /// (filtered levels, GPI_EDGE_CTRL, GPI_CAUSE, GPI_MASK, GPO_VALUE,
     /// GPO_SAFE, GPO_OPEN_DRAIN), for the checks.
     pub fn probe(&self) -> [u32; 7] {
-        let levels = self
-            .filters
-            .iter()
-            .enumerate()
-            .fold(0, |bits, (i, f)| bits | u32::from(f.level.val()) << i);
         [
-            levels,
+            crate::machine_inputs::levels(&self.filters),
             self.edge_ctrl.q.val().index() as u32,
             self.cause.q.val().index() as u32,
             self.mask.q.val().index() as u32,

@@ -77,6 +77,14 @@ impl Logic for PinFilter {
     }
 }
 
+/// The filtered levels of `filters`, bit i = filter i, for the checks.
+pub fn levels(filters: &[PinFilter]) -> u32 {
+    filters
+        .iter()
+        .enumerate()
+        .fold(0, |bits, (i, f)| bits | u32::from(f.held.q.val()) << i)
+}
+
 /// The machine inputs of `N` axes and their registers, inside the safety
 /// block: writes decode `addr`/`we` as the block does; `read_value` is the
 /// register at the block's latched `read_addr` (0 for any other address).
@@ -271,12 +279,6 @@ impl<const N: usize> MachineStops<N> {
     /// (filtered levels, CTRL registers, LIMIT_CAUSE, LIMIT_MASK,
     /// HOME_ALARM_CAUSE, HOME_ALARM_MASK), for the contract checks.
     pub fn probe(&self) -> ([u32; 4], [u32; 4], [u32; 4]) {
-        let levels = |filters: &[PinFilter]| {
-            filters
-                .iter()
-                .enumerate()
-                .fold(0, |bits, (i, f)| bits | u32::from(f.held.q.val()) << i)
-        };
         let word = |d: &DFF<Bits<32>>| d.q.val().index() as u32;
         (
             [

@@ -122,6 +122,7 @@ pub struct SafetyIo<const N: usize> {
     bite: Signal<Local, Bit>,
     latch_next: Signal<Local, Bit>,
     bitten_next: Signal<Local, Bit>,
+    halting: Signal<Local, Bit>,
     system_events: Signal<Local, Bits<2>>,
     irq_active: Signal<Local, Bit>,
     cause_kept: Signal<Local, Bits<2>>,
@@ -225,6 +226,7 @@ impl<const N: usize> SafetyIo<N> {
             bite: Default::default(),
             latch_next: Default::default(),
             bitten_next: Default::default(),
+            halting: Default::default(),
             system_events: Default::default(),
             irq_active: Default::default(),
             cause_kept: Default::default(),
@@ -339,14 +341,16 @@ impl<const N: usize> Logic for SafetyIo<N> {
         } else if self.armed.q.val() {
             self.count.d.next = self.count.q.val() - self.one.val();
         }
-        // Drive enables drop in the clock HALT rises, and stay off.
+        // Drive enables drop in the clock HALT rises, and stay off (and the
+        // outputs take their safe state, in DigitalIo).
         if self.we.val() & (self.addr.val() == self.addr_enable.val()) {
             self.enable.d.next = self.wdata.val().get_bits::<N>(0);
         }
-        if self.latch_next.val() | self.bitten_next.val() {
+        self.halting.next = self.latch_next.val() | self.bitten_next.val();
+        if self.halting.val() {
             self.enable.d.next = 0.into();
         }
-        self.gpio.halting.next = self.latch_next.val() | self.bitten_next.val();
+        self.gpio.halting.next = self.halting.val();
         // Causes: set by their event, cleared by a 1 written; event first.
         self.system_events.next = 0.into();
         if self.estop_sync.q.val() & !self.estop_latch.q.val() {

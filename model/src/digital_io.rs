@@ -55,10 +55,7 @@ impl DigitalIo {
 
     /// The filtered input levels.
     pub fn levels(&self) -> u32 {
-        self.filters
-            .iter()
-            .enumerate()
-            .fold(0, |bits, (i, f)| bits | u32::from(f.level()) << i)
+        crate::machine_inputs::levels(&self.filters)
     }
 
     /// The output pins: push-pull drives the value; open-drain drives 0
@@ -94,20 +91,12 @@ impl DigitalIo {
     /// `halting` (the e-stop latch or the bite flag will be set after this
     /// edge) and the input pins.
     pub fn clock(&mut self, map: &Block, bus: &BusCycle, tick: bool, halting: bool, pins: u32) {
-        let addr = bus.addr & mask_bits(map.address_bits);
-        let wrote = |name: &str| bus.we && addr == map.register(name).offset;
-        let written = |name: &str, old: u32| {
-            if wrote(name) {
-                bus.wdata & map.register(name).writable_mask()
-            } else {
-                old
-            }
-        };
+        let written = |name: &str, old: u32| bus.written(map, name, old);
         let levels = self.levels();
         let rises = levels & !self.before & self.edge_ctrl;
         let falls = !levels & self.before & self.edge_ctrl >> 16;
-        let cleared = if wrote("GPI_CAUSE") { bus.wdata } else { 0 };
-        self.cause = (self.cause & !cleared) | ((rises | falls) & mask_bits(GPIO_INPUTS));
+        self.cause = (self.cause & !bus.cleared(map, "GPI_CAUSE"))
+            | ((rises | falls) & mask_bits(GPIO_INPUTS));
         self.before = levels;
         self.edge_ctrl = written("GPI_EDGE_CTRL", self.edge_ctrl);
         self.mask = written("GPI_MASK", self.mask);

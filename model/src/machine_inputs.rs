@@ -61,6 +61,14 @@ impl PinFilter {
     }
 }
 
+/// The filtered levels of `filters`, bit i = filter i.
+pub fn levels(filters: &[PinFilter]) -> u32 {
+    filters
+        .iter()
+        .enumerate()
+        .fold(0, |bits, (i, f)| bits | u32::from(f.level()) << i)
+}
+
 /// The machine inputs of `axes` axes with their registers.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct MachineStops {
@@ -118,10 +126,7 @@ impl MachineStops {
 
     /// The filtered levels of input `kind` (index into [`MACHINE_INPUTS`]).
     fn levels(&self, kind: usize) -> u32 {
-        self.filters[kind]
-            .iter()
-            .enumerate()
-            .fold(0, |bits, (i, f)| bits | u32::from(f.level()) << i)
+        levels(&self.filters[kind])
     }
 
     /// Input `kind` active, after polarity, enabled or not.
@@ -175,16 +180,8 @@ impl MachineStops {
 
     /// One rising edge (not a reset) with the bus and the pins.
     pub fn clock(&mut self, map: &Block, bus: &BusCycle, pins: &MachinePins) {
-        let addr = bus.addr & mask_bits(map.address_bits);
-        let wrote = |name: &str| bus.we && addr == map.register(name).offset;
-        let written = |name: &str, old: u32| {
-            if wrote(name) {
-                bus.wdata & map.register(name).writable_mask()
-            } else {
-                old
-            }
-        };
-        let cleared = |name: &str| if wrote(name) { bus.wdata } else { 0 };
+        let written = |name: &str, old: u32| bus.written(map, name, old);
+        let cleared = |name: &str| bus.cleared(map, name);
         // Limits and alarms set their causes for as long as they act;
         // HOME at the edge where it starts acting.
         let limit_events = self.acting(0) | self.acting(1) << 16;

@@ -230,7 +230,7 @@ impl SafetyIo {
         }
         let addr = bus.addr & mask_bits(self.map.address_bits);
         let map = &self.map;
-        let wrote = |name: &str| bus.we && addr == map.register(name).offset;
+        let wrote = |name: &str| bus.writes(map, name);
         let axes = mask_bits(self.axes);
         if self.read_pending {
             self.rdata = self.read_value(self.read_addr);
@@ -261,17 +261,16 @@ impl SafetyIo {
         } else if self.armed {
             self.count -= 1;
         }
-        // Drive enables drop in the clock HALT rises, and stay off.
-        if latch || bitten {
+        // Drive enables drop in the clock HALT rises, and stay off (and the
+        // outputs take their safe state, in DigitalIo).
+        let halting = latch || bitten;
+        if halting {
             self.enable = 0;
-        } else if wrote("ENABLE") {
-            self.enable = bus.wdata & map.register("ENABLE").writable_mask();
+        } else {
+            self.enable = bus.written(map, "ENABLE", self.enable);
         }
         // Causes: set by their event, cleared by a 1 written, event first.
-        let w1c = |name: &str, cause: u32, events: u32| {
-            let cleared = if wrote(name) { bus.wdata } else { 0 };
-            (cause & !cleared) | events
-        };
+        let w1c = |name: &str, cause: u32, events: u32| (cause & !bus.cleared(map, name)) | events;
         let system_events = if estop_event {
             self.field_bit("CAUSE", "ESTOP")
         } else {
@@ -286,20 +285,14 @@ impl SafetyIo {
         let cause = w1c("CAUSE", self.cause, system_events);
         let done_cause = w1c("DONE_CAUSE", self.done_cause, done_events);
         let low_cause = w1c("LOW_CAUSE", self.low_cause, low_events);
-        let mask_write = |name: &str, old: u32| {
-            if wrote(name) {
-                bus.wdata & map.register(name).writable_mask()
-            } else {
-                old
-            }
-        };
+        let mask_write = |name: &str, old: u32| bus.written(map, name, old);
         // The pin: one flip-flop after this clock's causes, masks and
         // polarity.
         self.irq_pin = self.irq_active() == self.active_high;
         let tick = self.machine.tick();
         self.machine.clock(&self.map, bus, &inputs.machine);
         self.gpio
-            .clock(&self.map, bus, tick, latch || bitten, inputs.machine.gpi);
+            .clock(&self.map, bus, tick, halting, inputs.machine.gpi);
         self.cause = cause;
         self.done_cause = done_cause;
         self.low_cause = low_cause;

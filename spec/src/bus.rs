@@ -102,4 +102,30 @@ impl BusCycle {
             re: true,
         }
     }
+
+    /// Whether this cycle writes register `name` of `block` (the address
+    /// bits the block decodes).
+    pub fn writes(&self, block: &regmap::Block, name: &str) -> bool {
+        self.we && self.addr & mask_bits(block.address_bits) == block.register(name).offset
+    }
+
+    /// A read-write register's next value: the written data in its
+    /// writable bits if this cycle writes it, else `old`.
+    pub fn written(&self, block: &regmap::Block, name: &str, old: u32) -> u32 {
+        if self.writes(block, name) {
+            self.wdata & block.register(name).writable_mask()
+        } else {
+            old
+        }
+    }
+
+    /// The bits a write of 1 clears in write-1-to-clear register `name`
+    /// (0 if this cycle does not write it).
+    pub fn cleared(&self, block: &regmap::Block, name: &str) -> u32 {
+        if self.writes(block, name) {
+            self.wdata
+        } else {
+            0
+        }
+    }
 }

@@ -22,6 +22,18 @@ fn plan(target: i64) -> (Vec<Segment>, u64) {
     (p.segments, p.clocks)
 }
 
+/// Two axes at CLOCK_HZ with a 1 µs input filter, set up, and the
+/// filter's tick in clocks.
+fn two_axes_with_fast_filter() -> (System<2>, u32) {
+    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
+        .unwrap()
+        .with_input_filter_us(1)
+        .unwrap();
+    let mut sys = System::<2>::new(&config);
+    sys.setup();
+    (sys, config.filter_tick_clocks())
+}
+
 fn shaft(sys: &System<2>, axis: usize) -> i32 {
     sys.drives[axis].position
 }
@@ -36,13 +48,7 @@ fn counts_are_exact(sys: &mut System<2>) {
 
 #[test]
 fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
-    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
-        .unwrap()
-        .with_input_filter_us(1)
-        .unwrap();
-    let tick = config.filter_tick_clocks();
-    let mut sys = System::<2>::new(&config);
-    sys.setup();
+    let (mut sys, tick) = two_axes_with_fast_filter();
     let switch = 500;
     sys.limit_pos_at[0] = Some(switch);
     // Axis 0's limits on, active high; LIMIT_CAUSE.POS of axis 0 on IRQ.
@@ -120,13 +126,7 @@ fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
 /// firmware clears it; without HOME_STOP the switch only sets the cause.
 #[test]
 fn home_stop_halts_the_axis_on_the_home_edge_until_the_cause_is_cleared() {
-    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
-        .unwrap()
-        .with_input_filter_us(1)
-        .unwrap();
-    let tick = config.filter_tick_clocks();
-    let mut sys = System::<2>::new(&config);
-    sys.setup();
+    let (mut sys, tick) = two_axes_with_fast_filter();
     let switch = 30;
     sys.home_at = vec![Some(switch), Some(switch)];
     sys.write("SAFETY", None, "HOME_CTRL", 3);

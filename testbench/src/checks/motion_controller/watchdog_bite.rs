@@ -35,10 +35,10 @@ pub struct Bite {
     pub later: Vec<i32>,
 }
 
-/// On a set-up system ([`System::setup`]): sets the safety block up (ENABLE on every axis, outputs running at
-/// RUNNING with safe state SAFE, CAUSE.WATCHDOG on IRQ), arms the watchdog,
-/// starts a slow move on every axis, feeds it FEEDS times and then lets it
-/// bite; idles on 4 000 clocks.
+/// On a set-up system ([`System::setup`]): sets the safety block up
+/// (ENABLE on every axis, outputs running at RUNNING with safe state SAFE,
+/// CAUSE.WATCHDOG on IRQ), arms the watchdog, starts a slow move on every
+/// axis, feeds it FEEDS times and then lets it bite; idles on 4 000 clocks.
 pub fn run_into_bite<const N: usize>(sys: &mut System<N>) -> Bite {
     let all = (1u32 << N) - 1;
     sys.write("SAFETY", None, "ENABLE", all);
