@@ -200,12 +200,12 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
 #[test]
 fn svd_parses_back_to_the_table() {
     let (regs, fields) = check_svd(&default_map());
-    // 114 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 23,
-    // PULSE 3 + 4 x 21, SAFETY 21 + 20 (the machine inputs' 10 registers
+    // 122 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 24,
+    // PULSE 3 + 4 x 22, SAFETY 21 + 20 (the machine inputs' 10 registers
     // of two fields each) + 8 (the general-purpose I/O's 7 registers) + 1
     // (HOME_STOP).
-    assert_eq!(regs, 114 + 1024);
-    assert_eq!(fields, 13 + 8 + 4 * 23 + 3 + 4 * 21 + 21 + 20 + 8 + 1);
+    assert_eq!(regs, 122 + 1024);
+    assert_eq!(fields, 13 + 8 + 4 * 24 + 3 + 4 * 22 + 21 + 20 + 8 + 1);
     for c in other_configs() {
         check_svd(&mcu_map(&c));
     }

@@ -8,6 +8,7 @@
 //! | [`scurve`] | STM32 + FPGA card | 7-segment jerk-limited S-curve whose deceleration point is found by comparing the remaining distance with the braking distance every tick (steps 1-5) |
 //! | [`bspline`] | TMS320C32 DSP card | cubic uniform B-spline fine interpolation of coarse points |
 //! | [`pid`] | TMS320C32 DSP card | incremental PID to a 16-bit DAC |
+//! | [`homing`] | STM32 + FPGA card | home search against the HOME switch the gateware captures: fast search, back-off, slow search, optional index, non-blocking |
 //! | [`frames`] | dual-CPU STM32 card | master/slave "virtual memory" frames with CRC-16/MODBUS |
 //! | [`segments`] | (this project) | a sampled profile as segments for the FPGA pulse generator's move FIFO |
 //! | `scurve_segments` | STM32 + FPGA card | the 7-phase S-curve as at most 7 segments with a jerk, one per phase (`alloc`) |
@@ -33,6 +34,7 @@ extern crate alloc;
 
 pub mod bspline;
 pub mod frames;
+pub mod homing;
 pub mod pid;
 pub mod scurve;
 #[cfg(feature = "alloc")]

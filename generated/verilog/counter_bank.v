@@ -4,18 +4,23 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
+module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     input wire clock;
     input wire reset;
     input wire [3:0] a;
     input wire [3:0] b;
     input wire [3:0] z;
+    input wire [3:0] home;
     input wire [7:0] addr;
     input wire [31:0] wdata;
     input wire we;
     input wire re;
     output wire [31:0] rdata;
 
+    localparam addr_home_count_0 = 8'hd;
+    localparam addr_home_count_1 = 8'h15;
+    localparam addr_home_count_2 = 8'h1d;
+    localparam addr_home_count_3 = 8'h25;
     localparam addr_info = 8'h0;
     localparam addr_snapshot = 8'h1;
     localparam has_snapshot = 1'b1;
@@ -263,6 +268,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_0_preset_low_is_max;
     reg channels_0_preset_low_is_nonzero;
     reg [31:0] channels_0_rdata;
+    reg [31:0] channels_0_count;
     reg channels_1_reset;
     reg channels_1_a;
     reg channels_1_b;
@@ -276,6 +282,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_1_preset_low_is_max;
     reg channels_1_preset_low_is_nonzero;
     reg [31:0] channels_1_rdata;
+    reg [31:0] channels_1_count;
     reg channels_2_reset;
     reg channels_2_a;
     reg channels_2_b;
@@ -289,6 +296,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_2_preset_low_is_max;
     reg channels_2_preset_low_is_nonzero;
     reg [31:0] channels_2_rdata;
+    reg [31:0] channels_2_count;
     reg channels_3_reset;
     reg channels_3_a;
     reg channels_3_b;
@@ -302,6 +310,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg channels_3_preset_low_is_max;
     reg channels_3_preset_low_is_nonzero;
     reg [31:0] channels_3_rdata;
+    reg [31:0] channels_3_count;
     reg [31:0] preset_d;
     reg [31:0] preset_q = 32'h0;
     reg [31:0] read_data_d;
@@ -316,9 +325,18 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     reg read_sel_q = 1'h0;
     reg [31:0] read_word_d;
     reg [31:0] read_word_q = 32'h0;
+    reg [31:0] home_count_0_d;
+    reg [31:0] home_count_0_q = 32'h0;
+    reg [31:0] home_count_1_d;
+    reg [31:0] home_count_1_q = 32'h0;
+    reg [31:0] home_count_2_d;
+    reg [31:0] home_count_2_q = 32'h0;
+    reg [31:0] home_count_3_d;
+    reg [31:0] home_count_3_q = 32'h0;
     reg snapshot;
     reg [31:0] preset_read;
     reg [31:0] read_value;
+    reg bank_read;
     reg channels_0_filter_a_reset;
     reg channels_0_filter_a_pin;
     reg [3:0] channels_0_filter_a_setting;
@@ -978,11 +996,68 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
             preset_read = preset_q & width_mask;
         end
         read_pending_d = re;
-        read_sel_d = re & ((addr == addr_info) | (addr == addr_preset));
+        bank_read = (addr == addr_info) | (addr == addr_preset);
         read_word_d = info;
         if (addr == addr_preset) begin
             read_word_d = preset_read;
         end
+        home_count_0_d = home_count_0_q;
+        if (home[0]) begin
+            home_count_0_d = channels_0_count;
+        end
+        if (addr == addr_home_count_0) begin
+            bank_read = 1'b1;
+            read_word_d = home_count_0_q;
+            if (|(home_count_0_q & sign_bit)) begin
+                read_word_d = home_count_0_q | sign_extension;
+            end
+        end
+        if (reset) begin
+            home_count_0_d = 32'h0;
+        end
+        home_count_1_d = home_count_1_q;
+        if (home[1]) begin
+            home_count_1_d = channels_1_count;
+        end
+        if (addr == addr_home_count_1) begin
+            bank_read = 1'b1;
+            read_word_d = home_count_1_q;
+            if (|(home_count_1_q & sign_bit)) begin
+                read_word_d = home_count_1_q | sign_extension;
+            end
+        end
+        if (reset) begin
+            home_count_1_d = 32'h0;
+        end
+        home_count_2_d = home_count_2_q;
+        if (home[2]) begin
+            home_count_2_d = channels_2_count;
+        end
+        if (addr == addr_home_count_2) begin
+            bank_read = 1'b1;
+            read_word_d = home_count_2_q;
+            if (|(home_count_2_q & sign_bit)) begin
+                read_word_d = home_count_2_q | sign_extension;
+            end
+        end
+        if (reset) begin
+            home_count_2_d = 32'h0;
+        end
+        home_count_3_d = home_count_3_q;
+        if (home[3]) begin
+            home_count_3_d = channels_3_count;
+        end
+        if (addr == addr_home_count_3) begin
+            bank_read = 1'b1;
+            read_word_d = home_count_3_q;
+            if (|(home_count_3_q & sign_bit)) begin
+                read_word_d = home_count_3_q | sign_extension;
+            end
+        end
+        if (reset) begin
+            home_count_3_d = 32'h0;
+        end
+        read_sel_d = re & bank_read;
         read_value = 32'h0;
         if (read_sel_q) begin
             read_value = read_word_q;
@@ -1064,6 +1139,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_0_counter_load = channels_0_load_q_q;
         channels_0_counter_clear = channels_0_reset | channels_0_cmd_clear | channels_0_cmd_load | channels_0_index_clear_q_q;
         channels_0_count_now = channels_0_counter_count;
+        channels_0_count = channels_0_count_now;
         channels_0_load_q_d = channels_0_cmd_load & ~channels_0_cmd_clear;
         channels_0_index_latch_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_latch_bit];
         channels_0_index_clear_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_clear_bit];
@@ -1455,6 +1531,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_1_counter_load = channels_1_load_q_q;
         channels_1_counter_clear = channels_1_reset | channels_1_cmd_clear | channels_1_cmd_load | channels_1_index_clear_q_q;
         channels_1_count_now = channels_1_counter_count;
+        channels_1_count = channels_1_count_now;
         channels_1_load_q_d = channels_1_cmd_load & ~channels_1_cmd_clear;
         channels_1_index_latch_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_latch_bit];
         channels_1_index_clear_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_clear_bit];
@@ -1846,6 +1923,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_2_counter_load = channels_2_load_q_q;
         channels_2_counter_clear = channels_2_reset | channels_2_cmd_clear | channels_2_cmd_load | channels_2_index_clear_q_q;
         channels_2_count_now = channels_2_counter_count;
+        channels_2_count = channels_2_count_now;
         channels_2_load_q_d = channels_2_cmd_load & ~channels_2_cmd_clear;
         channels_2_index_latch_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_latch_bit];
         channels_2_index_clear_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_clear_bit];
@@ -2237,6 +2315,7 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
         channels_3_counter_load = channels_3_load_q_q;
         channels_3_counter_clear = channels_3_reset | channels_3_cmd_clear | channels_3_cmd_load | channels_3_index_clear_q_q;
         channels_3_count_now = channels_3_counter_count;
+        channels_3_count = channels_3_count_now;
         channels_3_load_q_d = channels_3_cmd_load & ~channels_3_cmd_clear;
         channels_3_index_latch_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_latch_bit];
         channels_3_index_clear_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_clear_bit];
@@ -2752,6 +2831,10 @@ module counter_bank(clock, reset, a, b, z, addr, wdata, we, re, rdata);
     always @(posedge clock) read_pending_q <= read_pending_d;
     always @(posedge clock) read_sel_q <= read_sel_d;
     always @(posedge clock) read_word_q <= read_word_d;
+    always @(posedge clock) home_count_0_q <= home_count_0_d;
+    always @(posedge clock) home_count_1_q <= home_count_1_d;
+    always @(posedge clock) home_count_2_q <= home_count_2_d;
+    always @(posedge clock) home_count_3_q <= home_count_3_d;
 endmodule // counter_bank
 
 `default_nettype wire

@@ -74,7 +74,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'hfa557b7b;
+    localparam mcu_identity_values_7 = 32'h4c6e7f88;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -83,6 +83,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_13 = 32'h0;
     localparam mcu_identity_values_14 = 32'h0;
     localparam mcu_identity_values_15 = 32'h0;
+    localparam mcu_counters_addr_home_count_0 = 8'hd;
+    localparam mcu_counters_addr_home_count_1 = 8'h15;
+    localparam mcu_counters_addr_home_count_2 = 8'h1d;
+    localparam mcu_counters_addr_home_count_3 = 8'h25;
     localparam mcu_counters_addr_info = 8'h0;
     localparam mcu_counters_addr_snapshot = 8'h1;
     localparam mcu_counters_has_snapshot = 1'b1;
@@ -338,6 +342,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_addr_position_1 = 9'b100100;
     localparam mcu_pulses_addr_position_2 = 9'b110100;
     localparam mcu_pulses_addr_position_3 = 9'b1000100;
+    localparam mcu_pulses_addr_home_position_0 = 9'b11100;
+    localparam mcu_pulses_addr_home_position_1 = 9'b101100;
+    localparam mcu_pulses_addr_home_position_2 = 9'b111100;
+    localparam mcu_pulses_addr_home_position_3 = 9'b1001100;
     localparam mcu_pulses_addr_status_0 = 9'b10101;
     localparam mcu_pulses_addr_status_1 = 9'b100101;
     localparam mcu_pulses_addr_status_2 = 9'b110101;
@@ -688,6 +696,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_counters_a;
     reg [3:0] mcu_counters_b;
     reg [3:0] mcu_counters_z;
+    reg [3:0] mcu_counters_home;
     reg [7:0] mcu_counters_addr;
     reg [31:0] mcu_counters_wdata;
     reg mcu_counters_we;
@@ -703,6 +712,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_halt;
     reg [3:0] mcu_pulses_stop_up;
     reg [3:0] mcu_pulses_stop_down;
+    reg [3:0] mcu_pulses_home_capture;
     reg [3:0] mcu_pulses_done;
     reg [3:0] mcu_pulses_low;
     reg [3:0] mcu_pulses_f1;
@@ -723,6 +733,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_halt;
     reg [3:0] mcu_safety_stop_up;
     reg [3:0] mcu_safety_stop_down;
+    reg [3:0] mcu_safety_home_event;
     reg [3:0] mcu_safety_drive_enable;
     reg mcu_safety_irq;
     reg [15:0] mcu_safety_gpi;
@@ -810,6 +821,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_preset_low_is_max;
     reg mcu_counters_channels_0_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_0_rdata;
+    reg [31:0] mcu_counters_channels_0_count;
     reg mcu_counters_channels_1_reset;
     reg mcu_counters_channels_1_a;
     reg mcu_counters_channels_1_b;
@@ -823,6 +835,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_preset_low_is_max;
     reg mcu_counters_channels_1_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_1_rdata;
+    reg [31:0] mcu_counters_channels_1_count;
     reg mcu_counters_channels_2_reset;
     reg mcu_counters_channels_2_a;
     reg mcu_counters_channels_2_b;
@@ -836,6 +849,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_preset_low_is_max;
     reg mcu_counters_channels_2_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_2_rdata;
+    reg [31:0] mcu_counters_channels_2_count;
     reg mcu_counters_channels_3_reset;
     reg mcu_counters_channels_3_a;
     reg mcu_counters_channels_3_b;
@@ -849,6 +863,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_preset_low_is_max;
     reg mcu_counters_channels_3_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_3_rdata;
+    reg [31:0] mcu_counters_channels_3_count;
     reg [31:0] mcu_counters_preset_d;
     reg [31:0] mcu_counters_preset_q = 32'h0;
     reg [31:0] mcu_counters_read_data_d;
@@ -863,9 +878,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_read_sel_q = 1'h0;
     reg [31:0] mcu_counters_read_word_d;
     reg [31:0] mcu_counters_read_word_q = 32'h0;
+    reg [31:0] mcu_counters_home_count_0_d;
+    reg [31:0] mcu_counters_home_count_0_q = 32'h0;
+    reg [31:0] mcu_counters_home_count_1_d;
+    reg [31:0] mcu_counters_home_count_1_q = 32'h0;
+    reg [31:0] mcu_counters_home_count_2_d;
+    reg [31:0] mcu_counters_home_count_2_q = 32'h0;
+    reg [31:0] mcu_counters_home_count_3_d;
+    reg [31:0] mcu_counters_home_count_3_q = 32'h0;
     reg mcu_counters_snapshot;
     reg [31:0] mcu_counters_preset_read;
     reg [31:0] mcu_counters_read_value;
+    reg mcu_counters_bank_read;
     reg mcu_counters_channels_0_filter_a_reset;
     reg mcu_counters_channels_0_filter_a_pin;
     reg [3:0] mcu_counters_channels_0_filter_a_setting;
@@ -1656,6 +1680,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_snap_2_q = 32'h0;
     reg [31:0] mcu_pulses_snap_3_d;
     reg [31:0] mcu_pulses_snap_3_q = 32'h0;
+    reg [31:0] mcu_pulses_home_position_0_d;
+    reg [31:0] mcu_pulses_home_position_0_q = 32'h0;
+    reg [31:0] mcu_pulses_home_position_1_d;
+    reg [31:0] mcu_pulses_home_position_1_q = 32'h0;
+    reg [31:0] mcu_pulses_home_position_2_d;
+    reg [31:0] mcu_pulses_home_position_2_q = 32'h0;
+    reg [31:0] mcu_pulses_home_position_3_d;
+    reg [31:0] mcu_pulses_home_position_3_q = 32'h0;
     reg mcu_pulses_quadrature_a_0_d;
     reg mcu_pulses_quadrature_a_0_q = 1'h0;
     reg mcu_pulses_quadrature_a_1_d;
@@ -2319,6 +2351,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_machine_irq_active;
     reg [3:0] mcu_safety_machine_stop_up;
     reg [3:0] mcu_safety_machine_stop_down;
+    reg [3:0] mcu_safety_machine_home_event;
     reg mcu_safety_machine_tick;
     reg mcu_safety_gpio_reset;
     reg [6:0] mcu_safety_gpio_addr;
@@ -2488,7 +2521,6 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_machine_pos_acting;
     reg [3:0] mcu_safety_machine_neg_acting;
     reg [3:0] mcu_safety_machine_alarm_acting;
-    reg [3:0] mcu_safety_machine_home_event;
     reg [31:0] mcu_safety_machine_low_half;
     reg [31:0] mcu_safety_machine_high_half;
     reg [31:0] mcu_safety_machine_limit_events;
@@ -3010,6 +3042,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_alarm = mcu_alarm;
         mcu_pulses_stop_up = mcu_safety_stop_up;
         mcu_pulses_stop_down = mcu_safety_stop_down;
+        mcu_pulses_home_capture = mcu_safety_home_event;
+        mcu_counters_home = mcu_safety_home_event;
         mcu_safety_done = mcu_pulses_done;
         mcu_safety_low = mcu_pulses_low;
         mcu_pulses_halt = mcu_safety_halt;
@@ -3294,11 +3328,68 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_preset_read = mcu_counters_preset_q & mcu_counters_width_mask;
         end
         mcu_counters_read_pending_d = mcu_counters_re;
-        mcu_counters_read_sel_d = mcu_counters_re & ((mcu_counters_addr == mcu_counters_addr_info) | (mcu_counters_addr == mcu_counters_addr_preset));
+        mcu_counters_bank_read = (mcu_counters_addr == mcu_counters_addr_info) | (mcu_counters_addr == mcu_counters_addr_preset);
         mcu_counters_read_word_d = mcu_counters_info;
         if (mcu_counters_addr == mcu_counters_addr_preset) begin
             mcu_counters_read_word_d = mcu_counters_preset_read;
         end
+        mcu_counters_home_count_0_d = mcu_counters_home_count_0_q;
+        if (mcu_counters_home[0]) begin
+            mcu_counters_home_count_0_d = mcu_counters_channels_0_count;
+        end
+        if (mcu_counters_addr == mcu_counters_addr_home_count_0) begin
+            mcu_counters_bank_read = 1'b1;
+            mcu_counters_read_word_d = mcu_counters_home_count_0_q;
+            if (|(mcu_counters_home_count_0_q & mcu_counters_sign_bit)) begin
+                mcu_counters_read_word_d = mcu_counters_home_count_0_q | mcu_counters_sign_extension;
+            end
+        end
+        if (mcu_counters_reset) begin
+            mcu_counters_home_count_0_d = 32'h0;
+        end
+        mcu_counters_home_count_1_d = mcu_counters_home_count_1_q;
+        if (mcu_counters_home[1]) begin
+            mcu_counters_home_count_1_d = mcu_counters_channels_1_count;
+        end
+        if (mcu_counters_addr == mcu_counters_addr_home_count_1) begin
+            mcu_counters_bank_read = 1'b1;
+            mcu_counters_read_word_d = mcu_counters_home_count_1_q;
+            if (|(mcu_counters_home_count_1_q & mcu_counters_sign_bit)) begin
+                mcu_counters_read_word_d = mcu_counters_home_count_1_q | mcu_counters_sign_extension;
+            end
+        end
+        if (mcu_counters_reset) begin
+            mcu_counters_home_count_1_d = 32'h0;
+        end
+        mcu_counters_home_count_2_d = mcu_counters_home_count_2_q;
+        if (mcu_counters_home[2]) begin
+            mcu_counters_home_count_2_d = mcu_counters_channels_2_count;
+        end
+        if (mcu_counters_addr == mcu_counters_addr_home_count_2) begin
+            mcu_counters_bank_read = 1'b1;
+            mcu_counters_read_word_d = mcu_counters_home_count_2_q;
+            if (|(mcu_counters_home_count_2_q & mcu_counters_sign_bit)) begin
+                mcu_counters_read_word_d = mcu_counters_home_count_2_q | mcu_counters_sign_extension;
+            end
+        end
+        if (mcu_counters_reset) begin
+            mcu_counters_home_count_2_d = 32'h0;
+        end
+        mcu_counters_home_count_3_d = mcu_counters_home_count_3_q;
+        if (mcu_counters_home[3]) begin
+            mcu_counters_home_count_3_d = mcu_counters_channels_3_count;
+        end
+        if (mcu_counters_addr == mcu_counters_addr_home_count_3) begin
+            mcu_counters_bank_read = 1'b1;
+            mcu_counters_read_word_d = mcu_counters_home_count_3_q;
+            if (|(mcu_counters_home_count_3_q & mcu_counters_sign_bit)) begin
+                mcu_counters_read_word_d = mcu_counters_home_count_3_q | mcu_counters_sign_extension;
+            end
+        end
+        if (mcu_counters_reset) begin
+            mcu_counters_home_count_3_d = 32'h0;
+        end
+        mcu_counters_read_sel_d = mcu_counters_re & mcu_counters_bank_read;
         mcu_counters_read_value = 32'h0;
         if (mcu_counters_read_sel_q) begin
             mcu_counters_read_value = mcu_counters_read_word_q;
@@ -3381,6 +3472,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_counter_load = mcu_counters_channels_0_load_q_q;
         mcu_counters_channels_0_counter_clear = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_clear | mcu_counters_channels_0_cmd_load | mcu_counters_channels_0_index_clear_q_q;
         mcu_counters_channels_0_count_now = mcu_counters_channels_0_counter_count;
+        mcu_counters_channels_0_count = mcu_counters_channels_0_count_now;
         mcu_counters_channels_0_load_q_d = mcu_counters_channels_0_cmd_load & ~mcu_counters_channels_0_cmd_clear;
         mcu_counters_channels_0_index_latch_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_latch_bit];
         mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_clear_bit];
@@ -3772,6 +3864,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_counter_load = mcu_counters_channels_1_load_q_q;
         mcu_counters_channels_1_counter_clear = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_clear | mcu_counters_channels_1_cmd_load | mcu_counters_channels_1_index_clear_q_q;
         mcu_counters_channels_1_count_now = mcu_counters_channels_1_counter_count;
+        mcu_counters_channels_1_count = mcu_counters_channels_1_count_now;
         mcu_counters_channels_1_load_q_d = mcu_counters_channels_1_cmd_load & ~mcu_counters_channels_1_cmd_clear;
         mcu_counters_channels_1_index_latch_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_latch_bit];
         mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_clear_bit];
@@ -4163,6 +4256,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_counter_load = mcu_counters_channels_2_load_q_q;
         mcu_counters_channels_2_counter_clear = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_clear | mcu_counters_channels_2_cmd_load | mcu_counters_channels_2_index_clear_q_q;
         mcu_counters_channels_2_count_now = mcu_counters_channels_2_counter_count;
+        mcu_counters_channels_2_count = mcu_counters_channels_2_count_now;
         mcu_counters_channels_2_load_q_d = mcu_counters_channels_2_cmd_load & ~mcu_counters_channels_2_cmd_clear;
         mcu_counters_channels_2_index_latch_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_latch_bit];
         mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_clear_bit];
@@ -4554,6 +4648,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_counter_load = mcu_counters_channels_3_load_q_q;
         mcu_counters_channels_3_counter_clear = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_clear | mcu_counters_channels_3_cmd_load | mcu_counters_channels_3_index_clear_q_q;
         mcu_counters_channels_3_count_now = mcu_counters_channels_3_counter_count;
+        mcu_counters_channels_3_count = mcu_counters_channels_3_count_now;
         mcu_counters_channels_3_load_q_d = mcu_counters_channels_3_cmd_load & ~mcu_counters_channels_3_cmd_clear;
         mcu_counters_channels_3_index_latch_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_latch_bit];
         mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_clear_bit];
@@ -4961,6 +5056,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_dir_timing_0_d = mcu_pulses_dir_timing_0_q;
         mcu_pulses_low_water_0_d = mcu_pulses_low_water_0_q;
         mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
+        mcu_pulses_home_position_0_d = mcu_pulses_home_position_0_q;
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
         mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
         mcu_pulses_generators_0_halt = mcu_pulses_axis_stopped;
@@ -4983,6 +5079,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_snapshot) begin
             mcu_pulses_snap_0_d = mcu_pulses_generators_0_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_home_capture[0]) begin
+            mcu_pulses_home_position_0_d = mcu_pulses_generators_0_position & mcu_pulses_width_mask;
         end
         if (mcu_pulses_we) begin
             if (mcu_pulses_addr == mcu_pulses_addr_ctrl_0) begin
@@ -5030,6 +5129,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_snap_0_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_home_position_0) begin
+            mcu_pulses_read_value = mcu_pulses_home_position_0_q;
+            if (|(mcu_pulses_home_position_0_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_home_position_0_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_0) begin
             mcu_pulses_read_value = mcu_pulses_generators_0_status | mcu_pulses_engines_0_status;
         end
@@ -5044,6 +5149,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_dir_timing_0_d = 32'h0;
             mcu_pulses_low_water_0_d = 32'h0;
             mcu_pulses_snap_0_d = 32'h0;
+            mcu_pulses_home_position_0_d = 32'h0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_1_q;
         if (mcu_pulses_ctrl_1_q[2]) begin
@@ -5091,6 +5197,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_dir_timing_1_d = mcu_pulses_dir_timing_1_q;
         mcu_pulses_low_water_1_d = mcu_pulses_low_water_1_q;
         mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
+        mcu_pulses_home_position_1_d = mcu_pulses_home_position_1_q;
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
         mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
         mcu_pulses_generators_1_halt = mcu_pulses_axis_stopped;
@@ -5113,6 +5220,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_snapshot) begin
             mcu_pulses_snap_1_d = mcu_pulses_generators_1_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_home_capture[1]) begin
+            mcu_pulses_home_position_1_d = mcu_pulses_generators_1_position & mcu_pulses_width_mask;
         end
         if (mcu_pulses_we) begin
             if (mcu_pulses_addr == mcu_pulses_addr_ctrl_1) begin
@@ -5160,6 +5270,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_snap_1_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_home_position_1) begin
+            mcu_pulses_read_value = mcu_pulses_home_position_1_q;
+            if (|(mcu_pulses_home_position_1_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_home_position_1_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_1) begin
             mcu_pulses_read_value = mcu_pulses_generators_1_status | mcu_pulses_engines_1_status;
         end
@@ -5174,6 +5290,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_dir_timing_1_d = 32'h0;
             mcu_pulses_low_water_1_d = 32'h0;
             mcu_pulses_snap_1_d = 32'h0;
+            mcu_pulses_home_position_1_d = 32'h0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_2_q;
         if (mcu_pulses_ctrl_2_q[2]) begin
@@ -5221,6 +5338,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_dir_timing_2_d = mcu_pulses_dir_timing_2_q;
         mcu_pulses_low_water_2_d = mcu_pulses_low_water_2_q;
         mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
+        mcu_pulses_home_position_2_d = mcu_pulses_home_position_2_q;
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
         mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
         mcu_pulses_generators_2_halt = mcu_pulses_axis_stopped;
@@ -5243,6 +5361,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_snapshot) begin
             mcu_pulses_snap_2_d = mcu_pulses_generators_2_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_home_capture[2]) begin
+            mcu_pulses_home_position_2_d = mcu_pulses_generators_2_position & mcu_pulses_width_mask;
         end
         if (mcu_pulses_we) begin
             if (mcu_pulses_addr == mcu_pulses_addr_ctrl_2) begin
@@ -5290,6 +5411,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_snap_2_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_home_position_2) begin
+            mcu_pulses_read_value = mcu_pulses_home_position_2_q;
+            if (|(mcu_pulses_home_position_2_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_home_position_2_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_2) begin
             mcu_pulses_read_value = mcu_pulses_generators_2_status | mcu_pulses_engines_2_status;
         end
@@ -5304,6 +5431,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_dir_timing_2_d = 32'h0;
             mcu_pulses_low_water_2_d = 32'h0;
             mcu_pulses_snap_2_d = 32'h0;
+            mcu_pulses_home_position_2_d = 32'h0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_3_q;
         if (mcu_pulses_ctrl_3_q[2]) begin
@@ -5351,6 +5479,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_dir_timing_3_d = mcu_pulses_dir_timing_3_q;
         mcu_pulses_low_water_3_d = mcu_pulses_low_water_3_q;
         mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
+        mcu_pulses_home_position_3_d = mcu_pulses_home_position_3_q;
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
         mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
         mcu_pulses_generators_3_halt = mcu_pulses_axis_stopped;
@@ -5373,6 +5502,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_snapshot) begin
             mcu_pulses_snap_3_d = mcu_pulses_generators_3_position & mcu_pulses_width_mask;
+        end
+        if (mcu_pulses_home_capture[3]) begin
+            mcu_pulses_home_position_3_d = mcu_pulses_generators_3_position & mcu_pulses_width_mask;
         end
         if (mcu_pulses_we) begin
             if (mcu_pulses_addr == mcu_pulses_addr_ctrl_3) begin
@@ -5420,6 +5552,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_snap_3_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_home_position_3) begin
+            mcu_pulses_read_value = mcu_pulses_home_position_3_q;
+            if (|(mcu_pulses_home_position_3_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_home_position_3_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_3) begin
             mcu_pulses_read_value = mcu_pulses_generators_3_status | mcu_pulses_engines_3_status;
         end
@@ -5434,6 +5572,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_dir_timing_3_d = 32'h0;
             mcu_pulses_low_water_3_d = 32'h0;
             mcu_pulses_snap_3_d = 32'h0;
+            mcu_pulses_home_position_3_d = 32'h0;
         end
         mcu_pulses_run_d = mcu_pulses_run_next & ~mcu_pulses_stopped_bits;
         if (mcu_pulses_read_pending_q) begin
@@ -7206,6 +7345,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_halt = mcu_safety_estop_latch_q | mcu_safety_bitten_q;
         mcu_safety_stop_up = mcu_safety_machine_stop_up;
         mcu_safety_stop_down = mcu_safety_machine_stop_down;
+        mcu_safety_home_event = mcu_safety_machine_home_event;
         mcu_safety_drive_enable = mcu_safety_enable_q;
         mcu_safety_gpo_out = mcu_safety_gpio_gpo_out;
         mcu_safety_gpo_oe = mcu_safety_gpio_gpo_oe;
@@ -8881,6 +9021,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_counters_read_pending_q <= mcu_counters_read_pending_d;
     always @(posedge clock) mcu_counters_read_sel_q <= mcu_counters_read_sel_d;
     always @(posedge clock) mcu_counters_read_word_q <= mcu_counters_read_word_d;
+    always @(posedge clock) mcu_counters_home_count_0_q <= mcu_counters_home_count_0_d;
+    always @(posedge clock) mcu_counters_home_count_1_q <= mcu_counters_home_count_1_d;
+    always @(posedge clock) mcu_counters_home_count_2_q <= mcu_counters_home_count_2_d;
+    always @(posedge clock) mcu_counters_home_count_3_q <= mcu_counters_home_count_3_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_pending_q_q <= mcu_pulses_generators_0_timer_pending_q_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_step_q_q <= mcu_pulses_generators_0_timer_step_q_d;
     always @(posedge clock) mcu_pulses_generators_0_timer_dir_q_q <= mcu_pulses_generators_0_timer_dir_q_d;
@@ -9030,6 +9174,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_snap_1_q <= mcu_pulses_snap_1_d;
     always @(posedge clock) mcu_pulses_snap_2_q <= mcu_pulses_snap_2_d;
     always @(posedge clock) mcu_pulses_snap_3_q <= mcu_pulses_snap_3_d;
+    always @(posedge clock) mcu_pulses_home_position_0_q <= mcu_pulses_home_position_0_d;
+    always @(posedge clock) mcu_pulses_home_position_1_q <= mcu_pulses_home_position_1_d;
+    always @(posedge clock) mcu_pulses_home_position_2_q <= mcu_pulses_home_position_2_d;
+    always @(posedge clock) mcu_pulses_home_position_3_q <= mcu_pulses_home_position_3_d;
     always @(posedge clock) mcu_pulses_quadrature_a_0_q <= mcu_pulses_quadrature_a_0_d;
     always @(posedge clock) mcu_pulses_quadrature_a_1_q <= mcu_pulses_quadrature_a_1_d;
     always @(posedge clock) mcu_pulses_quadrature_a_2_q <= mcu_pulses_quadrature_a_2_d;

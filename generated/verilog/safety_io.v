@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, halt, stop_up, stop_down, drive_enable, irq, gpi, gpo_out, gpo_oe);
+module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, halt, stop_up, stop_down, home_event, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire [6:0] addr;
@@ -22,6 +22,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     output wire halt;
     output wire [3:0] stop_up;
     output wire [3:0] stop_down;
+    output wire [3:0] home_event;
     output wire [3:0] drive_enable;
     output wire irq;
     input wire [15:0] gpi;
@@ -141,6 +142,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg machine_irq_active;
     reg [3:0] machine_stop_up;
     reg [3:0] machine_stop_down;
+    reg [3:0] machine_home_event;
     reg machine_tick;
     reg gpio_reset;
     reg [6:0] gpio_addr;
@@ -310,7 +312,6 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [3:0] machine_pos_acting;
     reg [3:0] machine_neg_acting;
     reg [3:0] machine_alarm_acting;
-    reg [3:0] machine_home_event;
     reg [31:0] machine_low_half;
     reg [31:0] machine_high_half;
     reg [31:0] machine_limit_events;
@@ -661,6 +662,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     assign halt = estop_latch_q | bitten_q;
     assign stop_up = machine_stop_up;
     assign stop_down = machine_stop_down;
+    assign home_event = machine_home_event;
     assign drive_enable = enable_q;
     assign irq = ~irq_low_q;
     assign gpo_out = gpio_gpo_out;

@@ -26,6 +26,9 @@ pub struct CounterBank<const N: usize> {
     pub b: Signal<In, Bits<N>>,
     /// Index pins.
     pub z: Signal<In, Bits<N>>,
+    /// Per channel: the home event (the safety block's `home_event` on the
+    /// MCU top); high in a clock, HOME_COUNT takes the count at its edge.
+    pub home: Signal<In, Bits<N>>,
     /// Register bus word address.
     pub addr: Signal<In, Bits<8>>,
     /// Register bus write data.
@@ -47,6 +50,8 @@ pub struct CounterBank<const N: usize> {
     // Read stage 1 for the bank's own registers, like each channel's.
     read_sel: DFF<Bit>,
     read_word: DFF<Bits<32>>,
+    home_count: Vec<DFF<Bits<32>>>,
+    addr_home_count: Vec<Constant<Bits<8>>>,
     addr_info: Constant<Bits<8>>,
     addr_snapshot: Constant<Bits<8>>,
     // 0 in a build without SNAPSHOT: its address is then unmapped.
@@ -60,6 +65,7 @@ pub struct CounterBank<const N: usize> {
     snapshot: Signal<Local, Bit>,
     preset_read: Signal<Local, Bits<32>>,
     read_value: Signal<Local, Bits<32>>,
+    bank_read: Signal<Local, Bit>,
 }
 
 impl<const N: usize> CounterBank<N> {
@@ -98,6 +104,7 @@ impl<const N: usize> CounterBank<N> {
             a: Default::default(),
             b: Default::default(),
             z: Default::default(),
+            home: Default::default(),
             addr: Default::default(),
             wdata: Default::default(),
             we: Default::default(),
@@ -113,6 +120,10 @@ impl<const N: usize> CounterBank<N> {
             read_pending: Default::default(),
             read_sel: Default::default(),
             read_word: Default::default(),
+            home_count: (0..N).map(|_| Default::default()).collect(),
+            addr_home_count: (0..N as u32)
+                .map(|i| Constant::new((full.array("CH").address(i, "HOME_COUNT") as u64).into()))
+                .collect(),
             addr_info: addr("INFO"),
             addr_snapshot: addr("SNAPSHOT"),
             has_snapshot: Constant::new(params.features.snapshot),
@@ -125,6 +136,7 @@ impl<const N: usize> CounterBank<N> {
             snapshot: Default::default(),
             preset_read: Default::default(),
             read_value: Default::default(),
+            bank_read: Default::default(),
         }
     }
 
@@ -173,13 +185,31 @@ impl<const N: usize> Logic for CounterBank<N> {
         }
         // Reads, stage 1: the addressed word (each channel has its own).
         self.read_pending.d.next = self.re.val();
-        self.read_sel.d.next = self.re.val()
-            & ((self.addr.val() == self.addr_info.val())
-                | (self.addr.val() == self.addr_preset.val()));
+        self.bank_read.next =
+            (self.addr.val() == self.addr_info.val()) | (self.addr.val() == self.addr_preset.val());
         self.read_word.d.next = self.info.val();
         if self.addr.val() == self.addr_preset.val() {
             self.read_word.d.next = self.preset_read.val();
         }
+        // HOME_COUNT: the bank keeps it (a channel's slot 5 reads 0).
+        for i in 0..N {
+            self.home_count[i].clock.next = self.clock.val();
+            self.home_count[i].d.next = self.home_count[i].q.val();
+            if self.home.val().get_bit(i) {
+                self.home_count[i].d.next = self.channels[i].count.val();
+            }
+            if self.addr.val() == self.addr_home_count[i].val() {
+                self.bank_read.next = true;
+                self.read_word.d.next = self.home_count[i].q.val();
+                if (self.home_count[i].q.val() & self.sign_bit.val()).any() {
+                    self.read_word.d.next = self.home_count[i].q.val() | self.sign_extension.val();
+                }
+            }
+            if self.reset.val() {
+                self.home_count[i].d.next = 0.into();
+            }
+        }
+        self.read_sel.d.next = self.re.val() & self.bank_read.val();
         // Stage 2: AND-OR of one word per channel into `rdata`.
         self.read_value.next = 0.into();
         if self.read_sel.q.val() {

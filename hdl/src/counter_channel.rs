@@ -47,7 +47,8 @@ pub struct CounterChannel {
     /// addressed, as it stood in that clock, or 0 (the bank ORs the
     /// channels and registers the result).
     pub rdata: Signal<Out, Bits<32>>,
-
+    /// The live count (W bits), for the bank's HOME_COUNT.
+    pub count: Signal<Out, Bits<32>>,
     filter_a: InputFilter,
     filter_b: InputFilter,
     filter_z: InputFilter,
@@ -210,6 +211,7 @@ impl CounterChannel {
             preset_low_is_max: Default::default(),
             preset_low_is_nonzero: Default::default(),
             rdata: Default::default(),
+            count: Default::default(),
             filter_a: InputFilter::with_filtering(features.filter),
             filter_b: InputFilter::with_filtering(features.filter),
             filter_z: InputFilter::with_filtering(features.filter),
@@ -444,6 +446,7 @@ impl Logic for CounterChannel {
             | self.cmd_load.val()
             | self.index_clear_q.q.val();
         self.count_now.next = self.counter.count.val();
+        self.count.next = self.count_now.val();
         self.load_q.d.next = self.cmd_load.val() & !self.cmd_clear.val();
         // Index actions are registered and act at the next edge, on the
         // count after the event's edge (a register, not the adder output).

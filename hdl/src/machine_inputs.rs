@@ -118,6 +118,9 @@ pub struct MachineStops<const N: usize> {
     pub stop_up: Signal<Out, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<Out, Bits<N>>,
+    /// Per axis: the enabled HOME input turns active (its cause sets at
+    /// this clock's edge); gates of flip-flops.
+    pub home_event: Signal<Out, Bits<N>>,
     /// The filters' tick (the general-purpose inputs' filters share it).
     pub tick: Signal<Out, Bit>,
     pos_filters: Vec<PinFilter>,
@@ -170,7 +173,6 @@ pub struct MachineStops<const N: usize> {
     pos_acting: Signal<Local, Bits<N>>,
     neg_acting: Signal<Local, Bits<N>>,
     alarm_acting: Signal<Local, Bits<N>>,
-    home_event: Signal<Local, Bits<N>>,
     low_half: Signal<Local, Bits<32>>,
     high_half: Signal<Local, Bits<32>>,
     limit_events: Signal<Local, Bits<32>>,

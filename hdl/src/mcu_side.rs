@@ -233,6 +233,8 @@ impl<const N: usize> Logic for McuSide<N> {
         self.safety.alarm.next = self.alarm.val();
         self.pulses.stop_up.next = self.safety.stop_up.val();
         self.pulses.stop_down.next = self.safety.stop_down.val();
+        self.pulses.home_capture.next = self.safety.home_event.val();
+        self.counters.home.next = self.safety.home_event.val();
         self.safety.done.next = self.pulses.done.val();
         self.safety.low.next = self.pulses.low.val();
         self.pulses.halt.next = self.safety.halt.val();

@@ -38,6 +38,9 @@ pub struct PulseBank<const N: usize> {
     pub stop_up: Signal<In, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<In, Bits<N>>,
+    /// Per axis: the home event (the safety block's `home_event`); high in
+    /// a clock, HOME_POSITION takes POSITION's value at its edge.
+    pub home_capture: Signal<In, Bits<N>>,
     /// Per axis: STATUS.DONE and not STATUS.BUSY (the move is out).
     pub done: Signal<Out, Bits<N>>,
     /// Per axis: STATUS.FIFO_LOW.
@@ -56,6 +59,7 @@ pub struct PulseBank<const N: usize> {
     dir_timing: Vec<DFF<Bits<32>>>,
     low_water: Vec<DFF<Bits<32>>>,
     snap: Vec<DFF<Bits<32>>>,
+    home_position: Vec<DFF<Bits<32>>>,
     quadrature_a: Vec<DFF<Bit>>,
     quadrature_b: Vec<DFF<Bit>>,
     out_f1: Vec<DFF<Bit>>,
@@ -70,6 +74,7 @@ pub struct PulseBank<const N: usize> {
     addr_step_timing: Vec<Constant<Bits<9>>>,
     addr_dir_timing: Vec<Constant<Bits<9>>>,
     addr_position: Vec<Constant<Bits<9>>>,
+    addr_home_position: Vec<Constant<Bits<9>>>,
     addr_status: Vec<Constant<Bits<9>>>,
     addr_seg_steps: Vec<Constant<Bits<9>>>,
     addr_seg_rate: Vec<Constant<Bits<9>>>,
@@ -133,6 +138,7 @@ impl<const N: usize> PulseBank<N> {
             halt: Default::default(),
             stop_up: Default::default(),
             stop_down: Default::default(),
+            home_capture: Default::default(),
             done: Default::default(),
             low: Default::default(),
             f1: Default::default(),
@@ -149,6 +155,7 @@ impl<const N: usize> PulseBank<N> {
             dir_timing: (0..N).map(|_| Default::default()).collect(),
             low_water: (0..N).map(|_| Default::default()).collect(),
             snap: (0..N).map(|_| Default::default()).collect(),
+            home_position: (0..N).map(|_| Default::default()).collect(),
             quadrature_a: (0..N).map(|_| Default::default()).collect(),
             quadrature_b: (0..N).map(|_| Default::default()).collect(),
             out_f1: (0..N).map(|_| Default::default()).collect(),
@@ -163,6 +170,7 @@ impl<const N: usize> PulseBank<N> {
             addr_step_timing: per_axis("STEP_TIMING"),
             addr_dir_timing: per_axis("DIR_TIMING"),
             addr_position: per_axis("POSITION"),
+            addr_home_position: per_axis("HOME_POSITION"),
             addr_status: per_axis("STATUS"),
             addr_seg_steps: per_axis("SEG_STEPS"),
             addr_seg_rate: per_axis("SEG_RATE"),
@@ -271,6 +279,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.dir_timing[i].clock.next = self.clock.val();
             self.low_water[i].clock.next = self.clock.val();
             self.snap[i].clock.next = self.clock.val();
+            self.home_position[i].clock.next = self.clock.val();
             // Moves: the engine sets the NCO's rate while CTRL.MOVES.
             self.engines[i].clock.next = self.clock.val();
             self.engines[i].reset.next = self.reset.val();
@@ -309,6 +318,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.dir_timing[i].d.next = self.dir_timing[i].q.val();
             self.low_water[i].d.next = self.low_water[i].q.val();
             self.snap[i].d.next = self.snap[i].q.val();
+            self.home_position[i].d.next = self.home_position[i].q.val();
             self.generators[i].clock.next = self.clock.val();
             self.generators[i].reset.next = self.reset.val();
             self.generators[i].enable.next = self.run.q.val().get_bit(i);
@@ -334,6 +344,10 @@ impl<const N: usize> Logic for PulseBank<N> {
             }
             if self.snapshot.val() {
                 self.snap[i].d.next = self.generators[i].position.val() & self.width_mask.val();
+            }
+            if self.home_capture.val().get_bit(i) {
+                self.home_position[i].d.next =
+                    self.generators[i].position.val() & self.width_mask.val();
             }
             if self.we.val() {
                 if self.addr.val() == self.addr_ctrl[i].val() {
@@ -382,6 +396,13 @@ impl<const N: usize> Logic for PulseBank<N> {
                     self.read_value.next = self.snap[i].q.val() | self.sign_extension.val();
                 }
             }
+            if self.read_addr.q.val() == self.addr_home_position[i].val() {
+                self.read_value.next = self.home_position[i].q.val();
+                if (self.home_position[i].q.val() & self.sign_bit.val()).any() {
+                    self.read_value.next =
+                        self.home_position[i].q.val() | self.sign_extension.val();
+                }
+            }
             if self.read_addr.q.val() == self.addr_status[i].val() {
                 self.read_value.next =
                     self.generators[i].status.val() | self.engines[i].status.val();
@@ -397,6 +418,7 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.dir_timing[i].d.next = 0.into();
                 self.low_water[i].d.next = 0.into();
                 self.snap[i].d.next = 0.into();
+                self.home_position[i].d.next = 0.into();
             }
         }
         self.run.d.next = self.run_next.val() & !self.stopped_bits.val();

@@ -59,6 +59,10 @@ pub struct SafetyIo<const N: usize> {
     pub stop_up: Signal<Out, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<Out, Bits<N>>,
+    /// Per axis: the enabled HOME input turns active; HOME_ALARM_CAUSE.HOME
+    /// sets at this clock's edge, and the pulse and counter banks capture
+    /// HOME_POSITION and HOME_COUNT at it (gates of flip-flops).
+    pub home_event: Signal<Out, Bits<N>>,
     /// Drive ENABLE pins, high = enabled.
     pub drive_enable: Signal<Out, Bits<N>>,
     /// The IRQ pin (polarity from IRQ_CTRL; active low after reset).
@@ -168,6 +172,7 @@ impl<const N: usize> SafetyIo<N> {
             halt: Default::default(),
             stop_up: Default::default(),
             stop_down: Default::default(),
+            home_event: Default::default(),
             gpi: Default::default(),
             gpo_out: Default::default(),
             gpo_oe: Default::default(),
@@ -487,6 +492,7 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.halt.next = self.estop_latch.q.val() | self.bitten.q.val();
         self.stop_up.next = self.machine.stop_up.val();
         self.stop_down.next = self.machine.stop_down.val();
+        self.home_event.next = self.machine.home_event.val();
         self.drive_enable.next = self.enable.q.val();
         self.gpo_out.next = self.gpio.gpo_out.val();
         self.gpo_oe.next = self.gpio.gpo_oe.val();

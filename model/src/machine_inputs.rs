@@ -156,6 +156,14 @@ impl MachineStops {
         (self.limit_cause >> 16 | self.stop_both()) & mask_bits(self.axes)
     }
 
+    /// Per axis: the home event, high in the clock before the edge where
+    /// HOME_ALARM_CAUSE.HOME sets (the enabled HOME input turned active):
+    /// the pulse and counter banks capture HOME_POSITION and HOME_COUNT
+    /// at that edge.
+    pub fn home_event(&self) -> u32 {
+        self.acting(2) & !self.home_before
+    }
+
     /// OR(cause AND mask) over the block's two cause registers.
     pub fn irq_active(&self) -> bool {
         self.limit_cause & self.limit_mask != 0 || self.home_alarm_cause & self.home_alarm_mask != 0
@@ -186,7 +194,7 @@ impl MachineStops {
         // HOME at the edge where it starts acting.
         let limit_events = self.acting(0) | self.acting(1) << 16;
         let home = self.acting(2);
-        let home_alarm_events = (home & !self.home_before) | self.acting(3) << 16;
+        let home_alarm_events = self.home_event() | self.acting(3) << 16;
         self.limit_cause = (self.limit_cause & !cleared("LIMIT_CAUSE")) | limit_events;
         self.home_alarm_cause =
             (self.home_alarm_cause & !cleared("HOME_ALARM_CAUSE")) | home_alarm_events;

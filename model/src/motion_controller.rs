@@ -394,7 +394,10 @@ impl MotionControllerModel {
                 inp.enc_z >> i & 1 == 1,
             );
         }
-        self.counters.clock(&self.enc, reset, &counter_bus);
+        // The safety block's home event (its state before the edge).
+        let home = self.safety.home_event();
+        self.counters
+            .clock_homing(&self.enc, reset, &counter_bus, home);
 
         // The counter bank's SNAPSHOT also captures the pulse positions.
         let snapshot = counter_bus.we && counter_bus.addr == self.snapshot_offset;

@@ -121,7 +121,14 @@ impl SafetyIo {
             halt: self.halted(),
             up: self.stop_up(),
             down: self.stop_down(),
+            home: self.home_event(),
         }
+    }
+
+    /// Per axis: the home event (the `home_event` port): the banks
+    /// capture HOME_POSITION and HOME_COUNT at this edge.
+    pub fn home_event(&self) -> u32 {
+        self.machine.home_event()
     }
 
     /// Per axis: no step in the positive direction (a limit, an alarm or

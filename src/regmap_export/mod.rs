@@ -280,7 +280,7 @@ mod tests {
                 _ => None,
             })
             .collect();
-        assert_eq!(reserved, vec![(5, 3)]);
+        assert_eq!(reserved, vec![(6, 2)]);
         assert_eq!(element_struct_bytes(ch), 32);
         // COUNTER: INFO, SNAPSHOT, PRESET, 5 reserved words, CH[4].
         let counter = map.block("COUNTER");
@@ -317,7 +317,7 @@ mod tests {
                 assert_eq!(size, 0x940);
             }
             let inst = instances(&map);
-            assert_eq!(inst.len(), 9 + 3 + 4 * 5 + 2 + 4 * 12 + 32);
+            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 13 + 32);
             assert!(inst.windows(2).all(|w| w[0].byte_offset < w[1].byte_offset));
             let status = inst
                 .iter()

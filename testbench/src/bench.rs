@@ -61,6 +61,7 @@ pub fn rust_hdl(cycles: u64) -> Throughput {
         bank.a.next = word(|p| p.0);
         bank.b.next = word(|p| p.1);
         bank.z.next = word(|p| p.2);
+        bank.home.next = u64::from(c.home).into();
         bank.reset.next = c.reset;
         bank.addr.next = (c.bus.addr as u64).into();
         bank.wdata.next = (c.bus.wdata as u64).into();

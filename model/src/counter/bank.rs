@@ -33,6 +33,7 @@ enum Slot {
     Snapshot,
     Preset,
     Channel(usize, ChReg),
+    HomeCount(usize),
 }
 
 /// The bank: N channels, the PRESET register and the register bus.
@@ -44,6 +45,8 @@ pub struct Bank {
     decode: Vec<Slot>,
     channels: Vec<Channel>,
     preset: u32,
+    /// Per channel: the count at the last home event (W bits).
+    home_count: Vec<u32>,
     /// The value a read captured at the last edge (stage 1 of the
     /// two-edge read).
     read_pending: Option<u32>,
@@ -60,6 +63,7 @@ impl Bank {
                 (None, "INFO") => Slot::Info,
                 (None, "SNAPSHOT") => Slot::Snapshot,
                 (None, "PRESET") => Slot::Preset,
+                (Some(i), "HOME_COUNT") => Slot::HomeCount(i as usize),
                 (Some(i), name) => {
                     let r = [
                         ChReg::Ctrl,
@@ -86,6 +90,7 @@ impl Bank {
             decode,
             channels,
             preset: 0,
+            home_count: vec![0; axes as usize],
             read_pending: None,
             rdata: 0,
         }
@@ -131,6 +136,7 @@ impl Bank {
             Slot::Unmapped | Slot::Snapshot => 0,
             Slot::Info => self.map.register("INFO").reset,
             Slot::Preset => sign_extend(self.preset, self.params.width),
+            Slot::HomeCount(i) => sign_extend(self.home_count[i], self.params.width),
             Slot::Channel(i, r) => {
                 if self.map.array("CH").register(r.name()).access == Access::WriteOnly {
                     0
@@ -143,6 +149,18 @@ impl Bank {
 
     /// One rising clock edge; `pins[i]` = (a, b, z) of channel i.
     pub fn clock(&mut self, pins: &[(bool, bool, bool)], reset: bool, bus: &BusCycle) {
+        self.clock_homing(pins, reset, bus, 0);
+    }
+
+    /// One rising clock edge with the `home` input: bit i high captures
+    /// channel i's count (as it stands before the edge) into HOME_COUNT.
+    pub fn clock_homing(
+        &mut self,
+        pins: &[(bool, bool, bool)],
+        reset: bool,
+        bus: &BusCycle,
+        home: u32,
+    ) {
         assert_eq!(
             pins.len(),
             self.channels.len(),
@@ -165,6 +183,13 @@ impl Bank {
         };
         self.read_pending = (!reset && bus.re).then(|| self.read_value(bus.addr));
         let preset = self.preset;
+        for (i, kept) in self.home_count.iter_mut().enumerate() {
+            if reset {
+                *kept = 0;
+            } else if home >> i & 1 == 1 {
+                *kept = self.channels[i].state().count;
+            }
+        }
         for (i, (ch, &(a, b, z))) in self.channels.iter_mut().zip(pins).enumerate() {
             ch.clock(&ChannelInputs {
                 a,

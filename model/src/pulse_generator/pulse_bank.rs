@@ -22,6 +22,8 @@ pub struct Stops {
     pub up: u32,
     /// Per axis: no step in the negative direction.
     pub down: u32,
+    /// Per axis: the home event; HOME_POSITION captures POSITION.
+    pub home: u32,
 }
 
 /// The bank of pulse generators behind the register bus
@@ -41,6 +43,7 @@ pub struct PulseBank {
     low_water: Vec<u32>,
     engines: Vec<MoveEngine>,
     snap: Vec<u32>,
+    home_position: Vec<u32>,
     generators: Vec<PulseGenerator>,
     selectors: Vec<RegisteredSelector>,
     quadrature: Vec<(bool, bool)>,
@@ -64,6 +67,7 @@ impl PulseBank {
             low_water: vec![0; n],
             engines: vec![MoveEngine::default(); n],
             snap: vec![0; n],
+            home_position: vec![0; n],
             generators: vec![PulseGenerator::new(); n],
             selectors: vec![RegisteredSelector::default(); n],
             quadrature: vec![(false, false); n],
@@ -143,6 +147,9 @@ impl PulseBank {
                         "DIR_TIMING" => self.dir_timing[i],
                         "FIFO_LOW_WATER" => self.low_water[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
+                        "HOME_POSITION" => {
+                            crate::counter::sign_extend(self.home_position[i], self.width)
+                        }
                         // Write-only: they write the FIFO's tail slot
                         // (reading them back would cost a 128-bit read-mux
                         // leg per axis).
@@ -235,8 +242,12 @@ impl PulseBank {
             self.quadrature[i] = quadrature(self.generators[i].position);
             let (s1, s2) = self.generators[i].outputs();
             self.selectors[i].clock(false, self.ctrl[i] & 1 == 1, s2, s1);
+            let position = crate::counter::wrap(self.generators[i].position, self.width);
             if snapshot {
-                self.snap[i] = crate::counter::wrap(self.generators[i].position, self.width);
+                self.snap[i] = position;
+            }
+            if stops.home >> i & 1 == 1 {
+                self.home_position[i] = position;
             }
             let (request, blocked) = self.generators[i].request(&inputs);
             let push = bus.we && self.is(bus.addr, "SEG_PUSH", i);

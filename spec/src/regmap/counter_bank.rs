@@ -290,6 +290,20 @@ pub fn counter_bank_with(axes: u32, width: u32, features: CounterFeatures) -> Bl
                         ),
                     ],
                 ),
+                reg(
+                    "HOME_COUNT",
+                    5,
+                    ReadOnly,
+                    "The count in the clock where the same-numbered axis's HOME input turned active, sign-extended from WIDTH bits.",
+                    "Live, not through SNAPSHOT: it changes only at a home event (the bank's `home` input; on the MCU top the safety block's, the edge where it sets HOME_ALARM_CAUSE.HOME). 0 after reset, and always where nothing drives `home` (the ISA-only builds).",
+                    vec![field(
+                        "VALUE",
+                        0,
+                        32,
+                        ReadOnly,
+                        "Two's complement count; wraps modulo 2^WIDTH.",
+                    )],
+                ),
             ],
         }],
     };

@@ -199,6 +199,14 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "Written straight into the tail entry of the jerk ring (block RAM, 128 entries: the FIFO's depth twice); dropped while the FIFO is full. Write all four SEG_* before each SEG_PUSH: a jerk not written is the one written 128 pushes before, across resets too.",
                     vec![field("VALUE", 0, 32, WriteOnly, "Two's complement; 2^-64 steps/clock^3 per LSB (0: the acceleration stays SEG_ACCEL).")],
                 ),
+                reg(
+                    "HOME_POSITION",
+                    12,
+                    ReadOnly,
+                    "POSITION (the steps emitted) in the clock where the axis's HOME input turned active, sign-extended from WIDTH bits.",
+                    "Live, not through SNAPSHOT: it changes only at a home event, the edge where the safety block sets HOME_ALARM_CAUSE.HOME (an enabled HOME input turning active after its filter). 0 after reset.",
+                    vec![field("VALUE", 0, 32, ReadOnly, "Two's complement; wraps modulo 2^WIDTH.")],
+                ),
             ],
         }],
     }

@@ -18,6 +18,9 @@ pub struct BankPair<const N: usize> {
     pub model: Bank,
     pub map: RegisterBlock,
     pub cycles: u64,
+    /// The `home` input for the next steps (bit i captures channel i's
+    /// count into HOME_COUNT).
+    pub home: u32,
 }
 
 impl<const N: usize> BankPair<N> {
@@ -36,6 +39,7 @@ impl<const N: usize> BankPair<N> {
             model: Bank::new(N as u32, params),
             map: regmap::counter_bank(N as u32, params.width),
             cycles: 0,
+            home: 0,
         }
     }
 
@@ -60,6 +64,7 @@ impl<const N: usize> BankPair<N> {
         self.hdl.a.next = word(|p| p.0);
         self.hdl.b.next = word(|p| p.1);
         self.hdl.z.next = word(|p| p.2);
+        self.hdl.home.next = u64::from(self.home).into();
         self.hdl.reset.next = reset;
         self.hdl.addr.next = (bus.addr as u64).into();
         self.hdl.wdata.next = (bus.wdata as u64).into();
@@ -67,7 +72,7 @@ impl<const N: usize> BankPair<N> {
         self.hdl.re.next = bus.re;
         settle(&mut self.hdl);
         cycle(&mut self.hdl, |h| &mut h.clock);
-        self.model.clock(pins, reset, bus);
+        self.model.clock_homing(pins, reset, bus, self.home);
         self.cycles += 1;
         self.compare()
     }
@@ -180,6 +185,7 @@ pub fn long_stimulus_hdl_built(cycles: u64, seed: u32, features: CounterFeatures
     );
     for n in 0..cycles {
         let c = s.clock();
+        p.home = c.home;
         if let Err(e) = p.step(&c.pins, c.reset, &c.bus) {
             r.failures.push(format!("clock {n}: {e}"));
             break;

@@ -74,8 +74,19 @@ pub fn bank_stimulus(axes: u32, width: u32, clocks: usize, seed: u64) -> Vec<Ban
             }
             _ => {}
         }
+        // Home events: one-clock strobes on random axes.
+        let home = if next().is_multiple_of(300) {
+            1 << (next() % u64::from(axes))
+        } else {
+            0
+        };
         v.push(BankVector {
-            stops: m::Stops { halt, up, down },
+            stops: m::Stops {
+                halt,
+                up,
+                down,
+                home,
+            },
             reset: next().is_multiple_of(5000),
             bus,
             snapshot: next().is_multiple_of(64),
@@ -111,6 +122,7 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
         uut.halt.next = v.stops.halt;
         uut.stop_up.next = u64::from(v.stops.up).into();
         uut.stop_down.next = u64::from(v.stops.down).into();
+        uut.home_capture.next = u64::from(v.stops.home).into();
         settle(&mut uut);
         cycle(&mut uut, |u| &mut u.clock);
         model.clock_stopping(v.reset, &v.bus, v.snapshot, &v.stops);

@@ -102,6 +102,12 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::checks::motion_controller::limit_stop::trace,
     },
     Scenario {
+        name: "homing",
+        summary: "the whole controller: the firmware's homing sequence on axis 0 over FSMC: fast search, \
+                  back-off, slow search captured by HOME_POSITION/HOME_COUNT, on to the encoder index",
+        build: crate::checks::motion_controller::homing::trace,
+    },
+    Scenario {
         name: "estop",
         summary: "the whole controller: two axes creep, the e-stop chain opens: both stop, drives off, \
                   outputs safe, IRQ low; the chain closes, firmware clears the latch",

@@ -7,7 +7,8 @@
 //! Each channel is a simulated encoder: a Gray phase that holds, steps
 //! forward or back each clock; every 4096 clocks each phase jumps by two
 //! (an illegal transition); Z pulses at phase 0 on some clocks. The bus
-//! snapshots, reads, writes CTRL/CMD/PRESET at random.
+//! snapshots, reads, writes CTRL/CMD/PRESET at random; one clock in 16
+//! strobes `home` on random channels (HOME_COUNT captures).
 
 use crate::verilog_sim::{dut_instance, run_for_sums, Simulator};
 use motionhdl_hdl::catalog::VerilogModule;
@@ -37,6 +38,8 @@ pub struct Clock {
     pub pins: Vec<(bool, bool, bool)>,
     pub reset: bool,
     pub bus: BusCycle,
+    /// The `home` input: bit i captures channel i's count.
+    pub home: u32,
 }
 
 impl Stimulus {
@@ -93,8 +96,18 @@ impl Stimulus {
             5 => BusCycle::write(self.preset, r3),
             _ => BusCycle::default(),
         };
+        let home = if (r2 >> 4) & 15 == 0 {
+            (r3 >> 16) & ((1 << n) - 1)
+        } else {
+            0
+        };
         self.cycle += 1;
-        Clock { pins, reset, bus }
+        Clock {
+            pins,
+            reset,
+            bus,
+            home,
+        }
     }
 }
 
@@ -126,6 +139,7 @@ impl Sums {
                 | (u32::from(c.reset) << 26),
         );
         self.stimulus = mix(self.stimulus, c.bus.wdata);
+        self.stimulus = mix(self.stimulus, c.home);
         self.rdata = mix(self.rdata, rdata_after);
     }
 }
@@ -144,7 +158,7 @@ pub fn model_sums(
     let mut sums = Sums::default();
     for _ in 0..cycles {
         let c = s.clock();
-        bank.clock(&c.pins, c.reset, &c.bus);
+        bank.clock_homing(&c.pins, c.reset, &c.bus, c.home);
         sums.add(&c, bank.rdata());
     }
     sums
@@ -169,7 +183,7 @@ module counter_bank_tb;
 {dut}    reg [31:0] x, r1, r2, r3, c, ch, sum_stim, sum_rdata;
     reg [1:0] phase [0:{top}];
     reg [1:0] m;
-    reg [15:0] a16, b16, z16;
+    reg [15:0] a16, b16, z16, home16;
     reg jump;
     integer i;
     reg [63:0] cycle;
@@ -192,7 +206,7 @@ module counter_bank_tb;
         sum_rdata = 32'd0;
         cycle = 64'd0;
         for (i = 0; i < {n}; i = i + 1) phase[i] = 2'd0;
-        a = {n}'d0; b = {n}'d0; z = {n}'d0; reset = 1'b1; we = 1'b0; re = 1'b0; addr = 8'd0; wdata = 32'd0;
+        a = {n}'d0; b = {n}'d0; z = {n}'d0; home = {n}'d0; reset = 1'b1; we = 1'b0; re = 1'b0; addr = 8'd0; wdata = 32'd0;
     end
     always @(negedge clock) begin
         if (cycle != 64'd0) sum_rdata = sum_rdata * 32'd31 + rdata;
@@ -227,9 +241,12 @@ module counter_bank_tb;
                 32'd5: begin addr = 8'd{preset}; wdata = r3; we = 1'b1; end
                 default: ;
             endcase
+            home16 = ((r2 >> 4) & 32'd15) == 32'd0 ? 16'(r3 >> 16) & 16'd{home_mask} : 16'd0;
+            home = home16[{top}:0];
             sum_stim = sum_stim * 32'd31 + ({{16'd0, b16}} << 16 | {{16'd0, a16}});
             sum_stim = sum_stim * 32'd31 + ({{16'd0, z16}} | ({{24'd0, addr}} << 16) | ({{31'd0, we}} << 24) | ({{31'd0, re}} << 25) | ({{31'd0, reset}} << 26));
             sum_stim = sum_stim * 32'd31 + wdata;
+            sum_stim = sum_stim * 32'd31 + {{16'd0, home16}};
             cycle = cycle + 64'd1;
         end
     end
@@ -248,6 +265,7 @@ endmodule
         ctrl = s.ctrl,
         cmd = s.cmd,
         preset = s.preset,
+        home_mask = (1u32 << n) - 1,
     );
     t
 }

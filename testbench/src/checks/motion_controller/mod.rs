@@ -16,6 +16,7 @@ use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
 pub mod estop;
+pub mod homing;
 pub mod irq_refill;
 pub mod limit_stop;
 mod loopback;

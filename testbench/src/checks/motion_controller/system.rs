@@ -75,7 +75,7 @@ struct Probes {
     bus: [SignalId; 5],
     /// drive_enable, gpo_out, gpo_oe.
     machine: [SignalId; 3],
-    axes: Vec<[SignalId; 7]>,
+    axes: Vec<[SignalId; 9]>,
 }
 
 /// The MCU and the board around the rust-hdl top: the firmware's bus
@@ -100,6 +100,9 @@ pub struct System<const N: usize> {
     pub limit_neg_at: Vec<Option<i32>>,
     /// Per axis, a HOME switch: high at or beyond it.
     pub home_at: Vec<Option<i32>>,
+    /// Per axis, the encoder's index: Z high at shaft positions that are
+    /// multiples of it.
+    pub index_every: Vec<Option<i32>>,
 }
 
 impl<const N: usize> System<N> {
@@ -123,6 +126,7 @@ impl<const N: usize> System<N> {
             limit_pos_at: vec![None; N],
             limit_neg_at: vec![None; N],
             home_at: vec![None; N],
+            index_every: vec![None; N],
         }
     }
 
@@ -153,6 +157,8 @@ impl<const N: usize> System<N> {
                     trace.signal(&s, "shaft_position", 32),
                     trace.signal(&s, "limit_pos", 1),
                     trace.signal(&s, "limit_neg", 1),
+                    trace.signal(&s, "home", 1),
+                    trace.signal(&s, "enc_z", 1),
                 ]
             })
             .collect();
@@ -205,14 +211,16 @@ impl<const N: usize> System<N> {
         u.isa_ior_n.next = true;
         u.isa_iow_n.next = true;
         u.isa_aen.next = true;
-        let (mut a, mut b) = (0u64, 0u64);
+        let (mut a, mut b, mut z) = (0u64, 0u64, 0u64);
         for (i, d) in self.drives.iter().enumerate() {
             let (ea, eb) = d.encoder();
             a |= u64::from(ea) << i;
             b |= u64::from(eb) << i;
+            z |= u64::from(self.index_every[i].is_some_and(|k| d.position % k == 0)) << i;
         }
         u.enc_a.next = a.into();
         u.enc_b.next = b.into();
+        u.enc_z.next = z.into();
         u.estop_ok.next = self.estop_ok;
         let (mut pos, mut neg, mut home) = (0u64, 0u64, 0u64);
         for (i, d) in self.drives.iter().enumerate() {
@@ -263,6 +271,8 @@ impl<const N: usize> System<N> {
             }
             let limit_pos = self.uut.limit_pos.val().index() as u64;
             let limit_neg = self.uut.limit_neg.val().index() as u64;
+            let home = self.uut.home.val().index() as u64;
+            let z = self.uut.enc_z.val().index() as u64;
             for (i, d) in self.drives.iter().enumerate() {
                 let (ea, eb) = d.encoder();
                 let ids = p.axes[i];
@@ -273,6 +283,8 @@ impl<const N: usize> System<N> {
                 p.trace.set(t, ids[4], u64::from(d.position as u32));
                 p.trace.set(t, ids[5], limit_pos >> i & 1);
                 p.trace.set(t, ids[6], limit_neg >> i & 1);
+                p.trace.set(t, ids[7], home >> i & 1);
+                p.trace.set(t, ids[8], z >> i & 1);
             }
         }
         self.clocks += 1;
@@ -357,6 +369,11 @@ impl<const N: usize> System<N> {
             self.write("PULSE", Some(i), "STEP_TIMING", 2 | 2 << 16);
             self.write("PULSE", Some(i), "DIR_TIMING", 4 | 2 << 16);
         }
+    }
+
+    /// The register map the firmware addresses.
+    pub fn map(&self) -> &BusMap {
+        &self.map
     }
 
     /// The drive ENABLE pins, bit i = axis i.

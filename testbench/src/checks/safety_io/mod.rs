@@ -46,6 +46,7 @@ pub struct Outputs {
     pub irq: bool,
     pub stop_up: u32,
     pub stop_down: u32,
+    pub home_event: u32,
     pub gpo: GpoPins,
 }
 
@@ -158,6 +159,7 @@ pub fn model_outputs(vectors: &[Vector]) -> Vec<Outputs> {
                 irq: model.irq_pin(),
                 stop_up: model.stop_up(),
                 stop_down: model.stop_down(),
+                home_event: model.home_event(),
                 gpo: model.gpo_pins(),
             }
         })
@@ -205,6 +207,7 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
                     irq: uut.irq.val(),
                     stop_up: uut.stop_up.val().index() as u32,
                     stop_down: uut.stop_down.val().index() as u32,
+                    home_event: uut.home_event.val().index() as u32,
                     gpo: GpoPins {
                         out: uut.gpo_out.val().index() as u32,
                         oe: uut.gpo_oe.val().index() as u32,
@@ -284,6 +287,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "irq",
                 "stop_up",
                 "stop_down",
+                "home_event",
                 "gpo_out",
                 "gpo_oe",
             ],
@@ -321,6 +325,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                     u64::from(w.irq),
                     u64::from(w.stop_up),
                     u64::from(w.stop_down),
+                    u64::from(w.home_event),
                     u64::from(w.gpo.out),
                     u64::from(w.gpo.oe),
                 ];
