@@ -152,13 +152,13 @@ impl Homing {
         self.phase = match self.phase {
             Phase::Start => {
                 axis.arm_home();
-                // Already on the switch: enabling it was its edge.
-                if axis.on_switch() {
-                    axis.clear_home();
+                let on_switch = axis.on_switch();
+                // A stale cause, or (on the switch) the one enabling it set.
+                axis.clear_home();
+                if on_switch {
                     axis.start_move(-p.toward * backoff, p.fast_period);
                     Phase::BackOff { backed: p.backoff }
                 } else {
-                    axis.clear_home();
                     axis.start_move(p.toward * travel, p.fast_period);
                     Phase::FastSearch
                 }

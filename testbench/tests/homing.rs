@@ -8,20 +8,14 @@ use motionhdl_firmware::homing::HomingParams;
 use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::homing::home;
-use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, run};
+use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, fast_filter_axes, run};
 use motionhdl_testbench::checks::motion_controller::system::System;
 
 const CLOCK_HZ: u32 = 50_000_000;
 
 /// Two axes with a 1 µs input filter, set up; the filter's tick.
 fn system() -> (System<2>, u32) {
-    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
-        .unwrap()
-        .with_input_filter_us(1)
-        .unwrap();
-    let mut sys = System::<2>::new(&config);
-    sys.setup();
-    (sys, config.filter_tick_clocks())
+    fast_filter_axes(&Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap())
 }
 
 fn params(index: bool) -> HomingParams {

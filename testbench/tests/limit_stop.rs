@@ -8,7 +8,7 @@ use motionhdl_firmware::scurve_segments::{self, EngineLimits};
 use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
-use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, run};
+use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, fast_filter_axes, run};
 use motionhdl_testbench::checks::motion_controller::system::System;
 
 const CLOCK_HZ: u32 = 50_000_000;
@@ -25,13 +25,7 @@ fn plan(target: i64) -> (Vec<Segment>, u64) {
 /// Two axes at CLOCK_HZ with a 1 µs input filter, set up, and the
 /// filter's tick in clocks.
 fn two_axes_with_fast_filter() -> (System<2>, u32) {
-    let config = Config::new(2, 28, u64::from(CLOCK_HZ))
-        .unwrap()
-        .with_input_filter_us(1)
-        .unwrap();
-    let mut sys = System::<2>::new(&config);
-    sys.setup();
-    (sys, config.filter_tick_clocks())
+    fast_filter_axes(&Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap())
 }
 
 fn shaft(sys: &System<2>, axis: usize) -> i32 {

@@ -3,7 +3,8 @@
 //! over the FSMC bus, as the MCU runs it, against a simulated HOME switch
 //! and encoder index; and `motionhdl trace homing`.
 
-use super::system::{two_axes, System};
+use super::limit_stop::fast_filter_axes;
+use super::system::System;
 use crate::trace::Trace;
 use motionhdl_firmware::homing::{Home, Homing, HomingAxis, HomingParams, Poll};
 use motionhdl_model::pulse_generator::Segment;
@@ -147,9 +148,7 @@ pub fn trace_params() -> HomingParams {
 /// steps: fast search, back-off, slow search (HOME_POSITION and
 /// HOME_COUNT capture the switch's edge), then on to the index at 75.
 pub fn trace(config: &Config) -> Trace {
-    let mut sys = two_axes(config, |c| {
-        c.with_input_filter_us(1).expect("1 us is allowed")
-    });
+    let (mut sys, _) = fast_filter_axes(config);
     sys.home_at[0] = Some(TRACE_SWITCH);
     sys.index_every[0] = Some(TRACE_INDEX_EVERY);
     sys.idle(100);

@@ -37,6 +37,19 @@ pub fn run<const N: usize>(
     sys.idle(clocks + 2_000);
 }
 
+/// Two axes of `config`'s width and clock with a 1 µs input filter (so a
+/// switch shows within a few steps), set up; and the filter's tick in
+/// clocks.
+pub fn fast_filter_axes(config: &Config) -> (System<2>, u32) {
+    let mut tick = 0;
+    let sys = two_axes(config, |c| {
+        let c = c.with_input_filter_us(1).expect("1 us is allowed");
+        tick = c.filter_tick_clocks();
+        c
+    });
+    (sys, tick)
+}
+
 /// Where the trace's switch sits on axis 0's shaft.
 pub const TRACE_SWITCH: i32 = 20;
 
@@ -46,9 +59,7 @@ pub const TRACE_SWITCH: i32 = 20;
 /// with LIMIT_CAUSE.POS and the IRQ pin low, a move further in is refused,
 /// it backs off 10 steps, firmware clears the cause and IRQ rises again.
 pub fn trace(config: &Config) -> Trace {
-    let mut sys = two_axes(config, |c| {
-        c.with_input_filter_us(1).expect("1 us is allowed")
-    });
+    let (mut sys, _) = fast_filter_axes(config);
     sys.limit_pos_at[0] = Some(TRACE_SWITCH);
     sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
     sys.write("SAFETY", None, "LIMIT_MASK", 1);
