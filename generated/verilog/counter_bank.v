@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
+module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata, error, index_seen);
     input wire clock;
     input wire reset;
     input wire [3:0] a;
@@ -16,6 +16,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     input wire we;
     input wire re;
     output wire [31:0] rdata;
+    output wire [3:0] error;
+    output wire [3:0] index_seen;
 
     localparam addr_home_count_0 = 8'hd;
     localparam addr_home_count_1 = 8'h15;
@@ -30,6 +32,10 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     localparam low_mask = 32'h3fff;
     localparam sign_bit = 32'h8000000;
     localparam sign_extension = 32'hf0000000;
+    localparam channel_bit_0 = 4'h1;
+    localparam channel_bit_1 = 4'h2;
+    localparam channel_bit_2 = 4'h4;
+    localparam channel_bit_3 = 4'h8;
     localparam channels_0_addr_ctrl = 8'h8;
     localparam channels_0_addr_cmd = 8'h9;
     localparam channels_0_channel_page = 5'b1;
@@ -269,6 +275,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg channels_0_preset_low_is_nonzero;
     reg [31:0] channels_0_rdata;
     reg [31:0] channels_0_count;
+    reg channels_0_error;
+    reg channels_0_index_seen;
     reg channels_1_reset;
     reg channels_1_a;
     reg channels_1_b;
@@ -283,6 +291,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg channels_1_preset_low_is_nonzero;
     reg [31:0] channels_1_rdata;
     reg [31:0] channels_1_count;
+    reg channels_1_error;
+    reg channels_1_index_seen;
     reg channels_2_reset;
     reg channels_2_a;
     reg channels_2_b;
@@ -297,6 +307,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg channels_2_preset_low_is_nonzero;
     reg [31:0] channels_2_rdata;
     reg [31:0] channels_2_count;
+    reg channels_2_error;
+    reg channels_2_index_seen;
     reg channels_3_reset;
     reg channels_3_a;
     reg channels_3_b;
@@ -311,6 +323,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg channels_3_preset_low_is_nonzero;
     reg [31:0] channels_3_rdata;
     reg [31:0] channels_3_count;
+    reg channels_3_error;
+    reg channels_3_index_seen;
     reg [31:0] preset_d;
     reg [31:0] preset_q = 32'h0;
     reg [31:0] read_data_d;
@@ -337,6 +351,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg [31:0] preset_read;
     reg [31:0] read_value;
     reg bank_read;
+    reg [3:0] error_bits;
+    reg [3:0] seen_bits;
     reg channels_0_filter_a_reset;
     reg channels_0_filter_a_pin;
     reg [3:0] channels_0_filter_a_setting;
@@ -931,6 +947,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
     reg [31:0] channels_3_counter_load_lo;
 
     assign rdata = read_data_q;
+    assign error = error_bits;
+    assign index_seen = seen_bits;
 
     always @(*) begin
         preset_d = preset_q;
@@ -941,6 +959,14 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         read_sel_d = read_sel_q;
         read_word_d = read_word_q;
         snapshot = we & (addr == addr_snapshot) & has_snapshot;
+        error_bits = 4'h0;
+        seen_bits = 4'h0;
+        if (channels_0_error) begin
+            error_bits = error_bits | channel_bit_0;
+        end
+        if (channels_0_index_seen) begin
+            seen_bits = seen_bits | channel_bit_0;
+        end
         channels_0_reset = reset;
         channels_0_a = a[0];
         channels_0_b = b[0];
@@ -953,6 +979,12 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_0_preset = preset_q;
         channels_0_preset_low_is_max = preset_low_is_max_q;
         channels_0_preset_low_is_nonzero = preset_low_is_nonzero_q;
+        if (channels_1_error) begin
+            error_bits = error_bits | channel_bit_1;
+        end
+        if (channels_1_index_seen) begin
+            seen_bits = seen_bits | channel_bit_1;
+        end
         channels_1_reset = reset;
         channels_1_a = a[1];
         channels_1_b = b[1];
@@ -965,6 +997,12 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_1_preset = preset_q;
         channels_1_preset_low_is_max = preset_low_is_max_q;
         channels_1_preset_low_is_nonzero = preset_low_is_nonzero_q;
+        if (channels_2_error) begin
+            error_bits = error_bits | channel_bit_2;
+        end
+        if (channels_2_index_seen) begin
+            seen_bits = seen_bits | channel_bit_2;
+        end
         channels_2_reset = reset;
         channels_2_a = a[2];
         channels_2_b = b[2];
@@ -977,6 +1015,12 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_2_preset = preset_q;
         channels_2_preset_low_is_max = preset_low_is_max_q;
         channels_2_preset_low_is_nonzero = preset_low_is_nonzero_q;
+        if (channels_3_error) begin
+            error_bits = error_bits | channel_bit_3;
+        end
+        if (channels_3_index_seen) begin
+            seen_bits = seen_bits | channel_bit_3;
+        end
         channels_3_reset = reset;
         channels_3_a = a[3];
         channels_3_b = b[3];
@@ -1140,6 +1184,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_0_counter_clear = channels_0_reset | channels_0_cmd_clear | channels_0_cmd_load | channels_0_index_clear_q_q;
         channels_0_count_now = channels_0_counter_count;
         channels_0_count = channels_0_count_now;
+        channels_0_error = channels_0_err_q;
+        channels_0_index_seen = channels_0_seen_q;
         channels_0_load_q_d = channels_0_cmd_load & ~channels_0_cmd_clear;
         channels_0_index_latch_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_latch_bit];
         channels_0_index_clear_q_d = channels_0_index_act & channels_0_ctrl_q[channels_0_idx_clear_bit];
@@ -1532,6 +1578,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_1_counter_clear = channels_1_reset | channels_1_cmd_clear | channels_1_cmd_load | channels_1_index_clear_q_q;
         channels_1_count_now = channels_1_counter_count;
         channels_1_count = channels_1_count_now;
+        channels_1_error = channels_1_err_q;
+        channels_1_index_seen = channels_1_seen_q;
         channels_1_load_q_d = channels_1_cmd_load & ~channels_1_cmd_clear;
         channels_1_index_latch_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_latch_bit];
         channels_1_index_clear_q_d = channels_1_index_act & channels_1_ctrl_q[channels_1_idx_clear_bit];
@@ -1924,6 +1972,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_2_counter_clear = channels_2_reset | channels_2_cmd_clear | channels_2_cmd_load | channels_2_index_clear_q_q;
         channels_2_count_now = channels_2_counter_count;
         channels_2_count = channels_2_count_now;
+        channels_2_error = channels_2_err_q;
+        channels_2_index_seen = channels_2_seen_q;
         channels_2_load_q_d = channels_2_cmd_load & ~channels_2_cmd_clear;
         channels_2_index_latch_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_latch_bit];
         channels_2_index_clear_q_d = channels_2_index_act & channels_2_ctrl_q[channels_2_idx_clear_bit];
@@ -2316,6 +2366,8 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata);
         channels_3_counter_clear = channels_3_reset | channels_3_cmd_clear | channels_3_cmd_load | channels_3_index_clear_q_q;
         channels_3_count_now = channels_3_counter_count;
         channels_3_count = channels_3_count_now;
+        channels_3_error = channels_3_err_q;
+        channels_3_index_seen = channels_3_seen_q;
         channels_3_load_q_d = channels_3_cmd_load & ~channels_3_cmd_clear;
         channels_3_index_latch_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_latch_bit];
         channels_3_index_clear_q_d = channels_3_index_act & channels_3_ctrl_q[channels_3_idx_clear_bit];

@@ -74,7 +74,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h4c6e7f88;
+    localparam mcu_identity_values_7 = 32'hde26d2e8;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -96,6 +96,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counters_low_mask = 32'h3fff;
     localparam mcu_counters_sign_bit = 32'h8000000;
     localparam mcu_counters_sign_extension = 32'hf0000000;
+    localparam mcu_counters_channel_bit_0 = 4'h1;
+    localparam mcu_counters_channel_bit_1 = 4'h2;
+    localparam mcu_counters_channel_bit_2 = 4'h4;
+    localparam mcu_counters_channel_bit_3 = 4'h8;
     localparam mcu_counters_channels_0_addr_ctrl = 8'h8;
     localparam mcu_counters_channels_0_addr_cmd = 8'h9;
     localparam mcu_counters_channels_0_channel_page = 5'b1;
@@ -346,6 +350,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_addr_home_position_1 = 9'b101100;
     localparam mcu_pulses_addr_home_position_2 = 9'b111100;
     localparam mcu_pulses_addr_home_position_3 = 9'b1001100;
+    localparam mcu_pulses_addr_soft_min_0 = 9'b11101;
+    localparam mcu_pulses_addr_soft_min_1 = 9'b101101;
+    localparam mcu_pulses_addr_soft_min_2 = 9'b111101;
+    localparam mcu_pulses_addr_soft_min_3 = 9'b1001101;
+    localparam mcu_pulses_addr_soft_max_0 = 9'b11110;
+    localparam mcu_pulses_addr_soft_max_1 = 9'b101110;
+    localparam mcu_pulses_addr_soft_max_2 = 9'b111110;
+    localparam mcu_pulses_addr_soft_max_3 = 9'b1001110;
     localparam mcu_pulses_addr_status_0 = 9'b10101;
     localparam mcu_pulses_addr_status_1 = 9'b100101;
     localparam mcu_pulses_addr_status_2 = 9'b110101;
@@ -617,6 +629,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_gpio_filters_13_one = 2'b1;
     localparam mcu_safety_gpio_filters_14_one = 2'b1;
     localparam mcu_safety_gpio_filters_15_one = 2'b1;
+    localparam mcu_safety_soft_field_mask = 32'hf000f;
+    localparam mcu_safety_soft_has_ctrl = 1'b1;
+    localparam mcu_safety_soft_on_rise = 1'b0;
+    localparam mcu_safety_soft_stops = 1'b1;
+    localparam mcu_safety_soft_shift = 5'b10000;
+    localparam mcu_safety_soft_addr_ctrl = 7'b100000;
+    localparam mcu_safety_soft_addr_cause = 7'b100001;
+    localparam mcu_safety_soft_addr_mask = 7'b100010;
+    localparam mcu_safety_counter_events_field_mask = 32'hf000f;
+    localparam mcu_safety_counter_events_has_ctrl = 1'b0;
+    localparam mcu_safety_counter_events_on_rise = 1'b1;
+    localparam mcu_safety_counter_events_stops = 1'b0;
+    localparam mcu_safety_counter_events_shift = 5'b10000;
+    localparam mcu_safety_counter_events_addr_ctrl = 7'b100011;
+    localparam mcu_safety_counter_events_addr_cause = 7'b100011;
+    localparam mcu_safety_counter_events_addr_mask = 7'b100100;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
@@ -702,6 +730,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_we;
     reg mcu_counters_re;
     reg [31:0] mcu_counters_rdata;
+    reg [3:0] mcu_counters_error;
+    reg [3:0] mcu_counters_index_seen;
     reg mcu_pulses_reset;
     reg [8:0] mcu_pulses_addr;
     reg [31:0] mcu_pulses_wdata;
@@ -715,6 +745,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_pulses_home_capture;
     reg [3:0] mcu_pulses_done;
     reg [3:0] mcu_pulses_low;
+    reg [3:0] mcu_pulses_at_soft_max;
+    reg [3:0] mcu_pulses_at_soft_min;
     reg [3:0] mcu_pulses_f1;
     reg [3:0] mcu_pulses_f2;
     reg mcu_safety_reset;
@@ -730,6 +762,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_limit_neg;
     reg [3:0] mcu_safety_home;
     reg [3:0] mcu_safety_alarm;
+    reg [3:0] mcu_safety_at_soft_max;
+    reg [3:0] mcu_safety_at_soft_min;
+    reg [3:0] mcu_safety_counter_error;
+    reg [3:0] mcu_safety_index_seen;
     reg mcu_safety_halt;
     reg [3:0] mcu_safety_stop_up;
     reg [3:0] mcu_safety_stop_down;
@@ -822,6 +858,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_0_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_0_rdata;
     reg [31:0] mcu_counters_channels_0_count;
+    reg mcu_counters_channels_0_error;
+    reg mcu_counters_channels_0_index_seen;
     reg mcu_counters_channels_1_reset;
     reg mcu_counters_channels_1_a;
     reg mcu_counters_channels_1_b;
@@ -836,6 +874,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_1_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_1_rdata;
     reg [31:0] mcu_counters_channels_1_count;
+    reg mcu_counters_channels_1_error;
+    reg mcu_counters_channels_1_index_seen;
     reg mcu_counters_channels_2_reset;
     reg mcu_counters_channels_2_a;
     reg mcu_counters_channels_2_b;
@@ -850,6 +890,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_2_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_2_rdata;
     reg [31:0] mcu_counters_channels_2_count;
+    reg mcu_counters_channels_2_error;
+    reg mcu_counters_channels_2_index_seen;
     reg mcu_counters_channels_3_reset;
     reg mcu_counters_channels_3_a;
     reg mcu_counters_channels_3_b;
@@ -864,6 +906,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_channels_3_preset_low_is_nonzero;
     reg [31:0] mcu_counters_channels_3_rdata;
     reg [31:0] mcu_counters_channels_3_count;
+    reg mcu_counters_channels_3_error;
+    reg mcu_counters_channels_3_index_seen;
     reg [31:0] mcu_counters_preset_d;
     reg [31:0] mcu_counters_preset_q = 32'h0;
     reg [31:0] mcu_counters_read_data_d;
@@ -890,6 +934,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_counters_preset_read;
     reg [31:0] mcu_counters_read_value;
     reg mcu_counters_bank_read;
+    reg [3:0] mcu_counters_error_bits;
+    reg [3:0] mcu_counters_seen_bits;
     reg mcu_counters_channels_0_filter_a_reset;
     reg mcu_counters_channels_0_filter_a_pin;
     reg [3:0] mcu_counters_channels_0_filter_a_setting;
@@ -1688,6 +1734,38 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_home_position_2_q = 32'h0;
     reg [31:0] mcu_pulses_home_position_3_d;
     reg [31:0] mcu_pulses_home_position_3_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_min_0_d;
+    reg [31:0] mcu_pulses_soft_min_0_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_min_1_d;
+    reg [31:0] mcu_pulses_soft_min_1_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_min_2_d;
+    reg [31:0] mcu_pulses_soft_min_2_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_min_3_d;
+    reg [31:0] mcu_pulses_soft_min_3_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_max_0_d;
+    reg [31:0] mcu_pulses_soft_max_0_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_max_1_d;
+    reg [31:0] mcu_pulses_soft_max_1_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_max_2_d;
+    reg [31:0] mcu_pulses_soft_max_2_q = 32'h0;
+    reg [31:0] mcu_pulses_soft_max_3_d;
+    reg [31:0] mcu_pulses_soft_max_3_q = 32'h0;
+    reg mcu_pulses_above_max_0_d;
+    reg mcu_pulses_above_max_0_q = 1'h0;
+    reg mcu_pulses_above_max_1_d;
+    reg mcu_pulses_above_max_1_q = 1'h0;
+    reg mcu_pulses_above_max_2_d;
+    reg mcu_pulses_above_max_2_q = 1'h0;
+    reg mcu_pulses_above_max_3_d;
+    reg mcu_pulses_above_max_3_q = 1'h0;
+    reg mcu_pulses_below_min_0_d;
+    reg mcu_pulses_below_min_0_q = 1'h0;
+    reg mcu_pulses_below_min_1_d;
+    reg mcu_pulses_below_min_1_q = 1'h0;
+    reg mcu_pulses_below_min_2_d;
+    reg mcu_pulses_below_min_2_q = 1'h0;
+    reg mcu_pulses_below_min_3_d;
+    reg mcu_pulses_below_min_3_q = 1'h0;
     reg mcu_pulses_quadrature_a_0_d;
     reg mcu_pulses_quadrature_a_0_q = 1'h0;
     reg mcu_pulses_quadrature_a_1_d;
@@ -1738,6 +1816,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_heading_up;
     reg mcu_pulses_heading_down;
     reg mcu_pulses_axis_stopped;
+    reg [31:0] mcu_pulses_position_key;
+    reg [3:0] mcu_pulses_above_bits;
+    reg [3:0] mcu_pulses_below_bits;
     reg mcu_pulses_generators_0_timer_reset;
     reg mcu_pulses_generators_0_timer_request_up;
     reg mcu_pulses_generators_0_timer_request_down;
@@ -2365,6 +2446,28 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [15:0] mcu_safety_gpio_gpo_oe;
     reg [31:0] mcu_safety_gpio_read_value;
     reg mcu_safety_gpio_irq_active;
+    reg mcu_safety_soft_reset;
+    reg [6:0] mcu_safety_soft_addr;
+    reg [31:0] mcu_safety_soft_wdata;
+    reg mcu_safety_soft_we;
+    reg [6:0] mcu_safety_soft_read_addr;
+    reg [3:0] mcu_safety_soft_low;
+    reg [3:0] mcu_safety_soft_high;
+    reg [31:0] mcu_safety_soft_read_value;
+    reg mcu_safety_soft_irq_active;
+    reg [3:0] mcu_safety_soft_stop_up;
+    reg [3:0] mcu_safety_soft_stop_down;
+    reg mcu_safety_counter_events_reset;
+    reg [6:0] mcu_safety_counter_events_addr;
+    reg [31:0] mcu_safety_counter_events_wdata;
+    reg mcu_safety_counter_events_we;
+    reg [6:0] mcu_safety_counter_events_read_addr;
+    reg [3:0] mcu_safety_counter_events_low;
+    reg [3:0] mcu_safety_counter_events_high;
+    reg [31:0] mcu_safety_counter_events_read_value;
+    reg mcu_safety_counter_events_irq_active;
+    reg [3:0] mcu_safety_counter_events_stop_up;
+    reg [3:0] mcu_safety_counter_events_stop_down;
     reg mcu_safety_estop_meta_d;
     reg mcu_safety_estop_meta_q = 1'h0;
     reg mcu_safety_estop_sync_d;
@@ -2866,6 +2969,34 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_gpio_filters_15_held_q = 1'h0;
     reg [1:0] mcu_safety_gpio_filters_15_count_d;
     reg [1:0] mcu_safety_gpio_filters_15_count_q = 2'h0;
+    reg [31:0] mcu_safety_soft_ctrl_d;
+    reg [31:0] mcu_safety_soft_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_soft_cause_d;
+    reg [31:0] mcu_safety_soft_cause_q = 32'h0;
+    reg [31:0] mcu_safety_soft_mask_d;
+    reg [31:0] mcu_safety_soft_mask_q = 32'h0;
+    reg [31:0] mcu_safety_soft_before_d;
+    reg [31:0] mcu_safety_soft_before_q = 32'h0;
+    reg [31:0] mcu_safety_soft_low_half;
+    reg [31:0] mcu_safety_soft_high_half;
+    reg [31:0] mcu_safety_soft_levels;
+    reg [31:0] mcu_safety_soft_events;
+    reg [31:0] mcu_safety_soft_kept;
+    reg [31:0] mcu_safety_soft_word;
+    reg [31:0] mcu_safety_counter_events_ctrl_d;
+    reg [31:0] mcu_safety_counter_events_ctrl_q = 32'h0;
+    reg [31:0] mcu_safety_counter_events_cause_d;
+    reg [31:0] mcu_safety_counter_events_cause_q = 32'h0;
+    reg [31:0] mcu_safety_counter_events_mask_d;
+    reg [31:0] mcu_safety_counter_events_mask_q = 32'h0;
+    reg [31:0] mcu_safety_counter_events_before_d;
+    reg [31:0] mcu_safety_counter_events_before_q = 32'h0;
+    reg [31:0] mcu_safety_counter_events_low_half;
+    reg [31:0] mcu_safety_counter_events_high_half;
+    reg [31:0] mcu_safety_counter_events_levels;
+    reg [31:0] mcu_safety_counter_events_events;
+    reg [31:0] mcu_safety_counter_events_kept;
+    reg [31:0] mcu_safety_counter_events_word;
     reg pc_bus_core_reset;
     reg [9:0] pc_bus_core_sa;
     reg [15:0] pc_bus_core_sd_in;
@@ -3044,6 +3175,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_stop_down = mcu_safety_stop_down;
         mcu_pulses_home_capture = mcu_safety_home_event;
         mcu_counters_home = mcu_safety_home_event;
+        mcu_safety_at_soft_max = mcu_pulses_at_soft_max;
+        mcu_safety_at_soft_min = mcu_pulses_at_soft_min;
+        mcu_safety_counter_error = mcu_counters_error;
+        mcu_safety_index_seen = mcu_counters_index_seen;
         mcu_safety_done = mcu_pulses_done;
         mcu_safety_low = mcu_pulses_low;
         mcu_pulses_halt = mcu_safety_halt;
@@ -3273,6 +3408,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_read_sel_d = mcu_counters_read_sel_q;
         mcu_counters_read_word_d = mcu_counters_read_word_q;
         mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot) & mcu_counters_has_snapshot;
+        mcu_counters_error_bits = 4'h0;
+        mcu_counters_seen_bits = 4'h0;
+        if (mcu_counters_channels_0_error) begin
+            mcu_counters_error_bits = mcu_counters_error_bits | mcu_counters_channel_bit_0;
+        end
+        if (mcu_counters_channels_0_index_seen) begin
+            mcu_counters_seen_bits = mcu_counters_seen_bits | mcu_counters_channel_bit_0;
+        end
         mcu_counters_channels_0_reset = mcu_counters_reset;
         mcu_counters_channels_0_a = mcu_counters_a[0];
         mcu_counters_channels_0_b = mcu_counters_b[0];
@@ -3285,6 +3428,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_preset = mcu_counters_preset_q;
         mcu_counters_channels_0_preset_low_is_max = mcu_counters_preset_low_is_max_q;
         mcu_counters_channels_0_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        if (mcu_counters_channels_1_error) begin
+            mcu_counters_error_bits = mcu_counters_error_bits | mcu_counters_channel_bit_1;
+        end
+        if (mcu_counters_channels_1_index_seen) begin
+            mcu_counters_seen_bits = mcu_counters_seen_bits | mcu_counters_channel_bit_1;
+        end
         mcu_counters_channels_1_reset = mcu_counters_reset;
         mcu_counters_channels_1_a = mcu_counters_a[1];
         mcu_counters_channels_1_b = mcu_counters_b[1];
@@ -3297,6 +3446,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_preset = mcu_counters_preset_q;
         mcu_counters_channels_1_preset_low_is_max = mcu_counters_preset_low_is_max_q;
         mcu_counters_channels_1_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        if (mcu_counters_channels_2_error) begin
+            mcu_counters_error_bits = mcu_counters_error_bits | mcu_counters_channel_bit_2;
+        end
+        if (mcu_counters_channels_2_index_seen) begin
+            mcu_counters_seen_bits = mcu_counters_seen_bits | mcu_counters_channel_bit_2;
+        end
         mcu_counters_channels_2_reset = mcu_counters_reset;
         mcu_counters_channels_2_a = mcu_counters_a[2];
         mcu_counters_channels_2_b = mcu_counters_b[2];
@@ -3309,6 +3464,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_preset = mcu_counters_preset_q;
         mcu_counters_channels_2_preset_low_is_max = mcu_counters_preset_low_is_max_q;
         mcu_counters_channels_2_preset_low_is_nonzero = mcu_counters_preset_low_is_nonzero_q;
+        if (mcu_counters_channels_3_error) begin
+            mcu_counters_error_bits = mcu_counters_error_bits | mcu_counters_channel_bit_3;
+        end
+        if (mcu_counters_channels_3_index_seen) begin
+            mcu_counters_seen_bits = mcu_counters_seen_bits | mcu_counters_channel_bit_3;
+        end
         mcu_counters_channels_3_reset = mcu_counters_reset;
         mcu_counters_channels_3_a = mcu_counters_a[3];
         mcu_counters_channels_3_b = mcu_counters_b[3];
@@ -3415,6 +3576,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_counters_read_sel_d = 1'b0;
         end
         mcu_counters_rdata = mcu_counters_read_data_q;
+        mcu_counters_error = mcu_counters_error_bits;
+        mcu_counters_index_seen = mcu_counters_seen_bits;
     end
 
     always @(*) begin
@@ -3473,6 +3636,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_0_counter_clear = mcu_counters_channels_0_reset | mcu_counters_channels_0_cmd_clear | mcu_counters_channels_0_cmd_load | mcu_counters_channels_0_index_clear_q_q;
         mcu_counters_channels_0_count_now = mcu_counters_channels_0_counter_count;
         mcu_counters_channels_0_count = mcu_counters_channels_0_count_now;
+        mcu_counters_channels_0_error = mcu_counters_channels_0_err_q;
+        mcu_counters_channels_0_index_seen = mcu_counters_channels_0_seen_q;
         mcu_counters_channels_0_load_q_d = mcu_counters_channels_0_cmd_load & ~mcu_counters_channels_0_cmd_clear;
         mcu_counters_channels_0_index_latch_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_latch_bit];
         mcu_counters_channels_0_index_clear_q_d = mcu_counters_channels_0_index_act & mcu_counters_channels_0_ctrl_q[mcu_counters_channels_0_idx_clear_bit];
@@ -3865,6 +4030,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_1_counter_clear = mcu_counters_channels_1_reset | mcu_counters_channels_1_cmd_clear | mcu_counters_channels_1_cmd_load | mcu_counters_channels_1_index_clear_q_q;
         mcu_counters_channels_1_count_now = mcu_counters_channels_1_counter_count;
         mcu_counters_channels_1_count = mcu_counters_channels_1_count_now;
+        mcu_counters_channels_1_error = mcu_counters_channels_1_err_q;
+        mcu_counters_channels_1_index_seen = mcu_counters_channels_1_seen_q;
         mcu_counters_channels_1_load_q_d = mcu_counters_channels_1_cmd_load & ~mcu_counters_channels_1_cmd_clear;
         mcu_counters_channels_1_index_latch_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_latch_bit];
         mcu_counters_channels_1_index_clear_q_d = mcu_counters_channels_1_index_act & mcu_counters_channels_1_ctrl_q[mcu_counters_channels_1_idx_clear_bit];
@@ -4257,6 +4424,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_2_counter_clear = mcu_counters_channels_2_reset | mcu_counters_channels_2_cmd_clear | mcu_counters_channels_2_cmd_load | mcu_counters_channels_2_index_clear_q_q;
         mcu_counters_channels_2_count_now = mcu_counters_channels_2_counter_count;
         mcu_counters_channels_2_count = mcu_counters_channels_2_count_now;
+        mcu_counters_channels_2_error = mcu_counters_channels_2_err_q;
+        mcu_counters_channels_2_index_seen = mcu_counters_channels_2_seen_q;
         mcu_counters_channels_2_load_q_d = mcu_counters_channels_2_cmd_load & ~mcu_counters_channels_2_cmd_clear;
         mcu_counters_channels_2_index_latch_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_latch_bit];
         mcu_counters_channels_2_index_clear_q_d = mcu_counters_channels_2_index_act & mcu_counters_channels_2_ctrl_q[mcu_counters_channels_2_idx_clear_bit];
@@ -4649,6 +4818,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_channels_3_counter_clear = mcu_counters_channels_3_reset | mcu_counters_channels_3_cmd_clear | mcu_counters_channels_3_cmd_load | mcu_counters_channels_3_index_clear_q_q;
         mcu_counters_channels_3_count_now = mcu_counters_channels_3_counter_count;
         mcu_counters_channels_3_count = mcu_counters_channels_3_count_now;
+        mcu_counters_channels_3_error = mcu_counters_channels_3_err_q;
+        mcu_counters_channels_3_index_seen = mcu_counters_channels_3_seen_q;
         mcu_counters_channels_3_load_q_d = mcu_counters_channels_3_cmd_load & ~mcu_counters_channels_3_cmd_clear;
         mcu_counters_channels_3_index_latch_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_latch_bit];
         mcu_counters_channels_3_index_clear_q_d = mcu_counters_channels_3_index_act & mcu_counters_channels_3_ctrl_q[mcu_counters_channels_3_idx_clear_bit];
@@ -5010,6 +5181,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_run_next = mcu_pulses_wdata[3:0];
         end
         mcu_pulses_stopped_bits = 4'h0;
+        mcu_pulses_above_bits = 4'h0;
+        mcu_pulses_below_bits = 4'h0;
         mcu_pulses_axis_rate = mcu_pulses_rate_0_q;
         if (mcu_pulses_ctrl_0_q[2]) begin
             mcu_pulses_axis_rate = mcu_pulses_engines_0_rate;
@@ -5030,6 +5203,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_pulses_out_f1_0_d = mcu_pulses_selectors_0_f1;
             mcu_pulses_out_f2_0_d = mcu_pulses_selectors_0_f2;
+        end
+        mcu_pulses_soft_min_0_d = mcu_pulses_soft_min_0_q;
+        mcu_pulses_soft_max_0_d = mcu_pulses_soft_max_0_q;
+        mcu_pulses_position_key = (mcu_pulses_generators_0_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
+        mcu_pulses_above_max_0_d = mcu_pulses_position_key >= (mcu_pulses_soft_max_0_q ^ mcu_pulses_sign_bit);
+        mcu_pulses_below_min_0_d = mcu_pulses_position_key <= (mcu_pulses_soft_min_0_q ^ mcu_pulses_sign_bit);
+        if (mcu_pulses_above_max_0_q) begin
+            mcu_pulses_above_bits = mcu_pulses_above_bits | mcu_pulses_axis_bit_0;
+        end
+        if (mcu_pulses_below_min_0_q) begin
+            mcu_pulses_below_bits = mcu_pulses_below_bits | mcu_pulses_axis_bit_0;
         end
         mcu_pulses_engines_0_reset = mcu_pulses_reset;
         mcu_pulses_engines_0_run = mcu_pulses_ctrl_0_q[2] & mcu_pulses_run_q[0];
@@ -5096,6 +5280,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_0) begin
                 mcu_pulses_dir_timing_0_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_min_0) begin
+                mcu_pulses_soft_min_0_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_max_0) begin
+                mcu_pulses_soft_max_0_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_0) begin
                 mcu_pulses_low_water_0_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
@@ -5135,6 +5325,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_home_position_0_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_min_0) begin
+            mcu_pulses_read_value = mcu_pulses_soft_min_0_q;
+            if (|(mcu_pulses_soft_min_0_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_min_0_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_max_0) begin
+            mcu_pulses_read_value = mcu_pulses_soft_max_0_q;
+            if (|(mcu_pulses_soft_max_0_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_max_0_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_0) begin
             mcu_pulses_read_value = mcu_pulses_generators_0_status | mcu_pulses_engines_0_status;
         end
@@ -5150,6 +5352,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_0_d = 32'h0;
             mcu_pulses_snap_0_d = 32'h0;
             mcu_pulses_home_position_0_d = 32'h0;
+            mcu_pulses_soft_min_0_d = 32'h0;
+            mcu_pulses_soft_max_0_d = 32'h0;
+            mcu_pulses_above_max_0_d = 1'b0;
+            mcu_pulses_below_min_0_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_1_q;
         if (mcu_pulses_ctrl_1_q[2]) begin
@@ -5171,6 +5377,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_pulses_out_f1_1_d = mcu_pulses_selectors_1_f1;
             mcu_pulses_out_f2_1_d = mcu_pulses_selectors_1_f2;
+        end
+        mcu_pulses_soft_min_1_d = mcu_pulses_soft_min_1_q;
+        mcu_pulses_soft_max_1_d = mcu_pulses_soft_max_1_q;
+        mcu_pulses_position_key = (mcu_pulses_generators_1_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
+        mcu_pulses_above_max_1_d = mcu_pulses_position_key >= (mcu_pulses_soft_max_1_q ^ mcu_pulses_sign_bit);
+        mcu_pulses_below_min_1_d = mcu_pulses_position_key <= (mcu_pulses_soft_min_1_q ^ mcu_pulses_sign_bit);
+        if (mcu_pulses_above_max_1_q) begin
+            mcu_pulses_above_bits = mcu_pulses_above_bits | mcu_pulses_axis_bit_1;
+        end
+        if (mcu_pulses_below_min_1_q) begin
+            mcu_pulses_below_bits = mcu_pulses_below_bits | mcu_pulses_axis_bit_1;
         end
         mcu_pulses_engines_1_reset = mcu_pulses_reset;
         mcu_pulses_engines_1_run = mcu_pulses_ctrl_1_q[2] & mcu_pulses_run_q[1];
@@ -5237,6 +5454,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_1) begin
                 mcu_pulses_dir_timing_1_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_min_1) begin
+                mcu_pulses_soft_min_1_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_max_1) begin
+                mcu_pulses_soft_max_1_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_1) begin
                 mcu_pulses_low_water_1_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
@@ -5276,6 +5499,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_home_position_1_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_min_1) begin
+            mcu_pulses_read_value = mcu_pulses_soft_min_1_q;
+            if (|(mcu_pulses_soft_min_1_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_min_1_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_max_1) begin
+            mcu_pulses_read_value = mcu_pulses_soft_max_1_q;
+            if (|(mcu_pulses_soft_max_1_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_max_1_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_1) begin
             mcu_pulses_read_value = mcu_pulses_generators_1_status | mcu_pulses_engines_1_status;
         end
@@ -5291,6 +5526,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_1_d = 32'h0;
             mcu_pulses_snap_1_d = 32'h0;
             mcu_pulses_home_position_1_d = 32'h0;
+            mcu_pulses_soft_min_1_d = 32'h0;
+            mcu_pulses_soft_max_1_d = 32'h0;
+            mcu_pulses_above_max_1_d = 1'b0;
+            mcu_pulses_below_min_1_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_2_q;
         if (mcu_pulses_ctrl_2_q[2]) begin
@@ -5312,6 +5551,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_pulses_out_f1_2_d = mcu_pulses_selectors_2_f1;
             mcu_pulses_out_f2_2_d = mcu_pulses_selectors_2_f2;
+        end
+        mcu_pulses_soft_min_2_d = mcu_pulses_soft_min_2_q;
+        mcu_pulses_soft_max_2_d = mcu_pulses_soft_max_2_q;
+        mcu_pulses_position_key = (mcu_pulses_generators_2_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
+        mcu_pulses_above_max_2_d = mcu_pulses_position_key >= (mcu_pulses_soft_max_2_q ^ mcu_pulses_sign_bit);
+        mcu_pulses_below_min_2_d = mcu_pulses_position_key <= (mcu_pulses_soft_min_2_q ^ mcu_pulses_sign_bit);
+        if (mcu_pulses_above_max_2_q) begin
+            mcu_pulses_above_bits = mcu_pulses_above_bits | mcu_pulses_axis_bit_2;
+        end
+        if (mcu_pulses_below_min_2_q) begin
+            mcu_pulses_below_bits = mcu_pulses_below_bits | mcu_pulses_axis_bit_2;
         end
         mcu_pulses_engines_2_reset = mcu_pulses_reset;
         mcu_pulses_engines_2_run = mcu_pulses_ctrl_2_q[2] & mcu_pulses_run_q[2];
@@ -5378,6 +5628,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_2) begin
                 mcu_pulses_dir_timing_2_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_min_2) begin
+                mcu_pulses_soft_min_2_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_max_2) begin
+                mcu_pulses_soft_max_2_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_2) begin
                 mcu_pulses_low_water_2_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
@@ -5417,6 +5673,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_home_position_2_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_min_2) begin
+            mcu_pulses_read_value = mcu_pulses_soft_min_2_q;
+            if (|(mcu_pulses_soft_min_2_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_min_2_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_max_2) begin
+            mcu_pulses_read_value = mcu_pulses_soft_max_2_q;
+            if (|(mcu_pulses_soft_max_2_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_max_2_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_2) begin
             mcu_pulses_read_value = mcu_pulses_generators_2_status | mcu_pulses_engines_2_status;
         end
@@ -5432,6 +5700,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_2_d = 32'h0;
             mcu_pulses_snap_2_d = 32'h0;
             mcu_pulses_home_position_2_d = 32'h0;
+            mcu_pulses_soft_min_2_d = 32'h0;
+            mcu_pulses_soft_max_2_d = 32'h0;
+            mcu_pulses_above_max_2_d = 1'b0;
+            mcu_pulses_below_min_2_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_3_q;
         if (mcu_pulses_ctrl_3_q[2]) begin
@@ -5453,6 +5725,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else begin
             mcu_pulses_out_f1_3_d = mcu_pulses_selectors_3_f1;
             mcu_pulses_out_f2_3_d = mcu_pulses_selectors_3_f2;
+        end
+        mcu_pulses_soft_min_3_d = mcu_pulses_soft_min_3_q;
+        mcu_pulses_soft_max_3_d = mcu_pulses_soft_max_3_q;
+        mcu_pulses_position_key = (mcu_pulses_generators_3_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
+        mcu_pulses_above_max_3_d = mcu_pulses_position_key >= (mcu_pulses_soft_max_3_q ^ mcu_pulses_sign_bit);
+        mcu_pulses_below_min_3_d = mcu_pulses_position_key <= (mcu_pulses_soft_min_3_q ^ mcu_pulses_sign_bit);
+        if (mcu_pulses_above_max_3_q) begin
+            mcu_pulses_above_bits = mcu_pulses_above_bits | mcu_pulses_axis_bit_3;
+        end
+        if (mcu_pulses_below_min_3_q) begin
+            mcu_pulses_below_bits = mcu_pulses_below_bits | mcu_pulses_axis_bit_3;
         end
         mcu_pulses_engines_3_reset = mcu_pulses_reset;
         mcu_pulses_engines_3_run = mcu_pulses_ctrl_3_q[2] & mcu_pulses_run_q[3];
@@ -5519,6 +5802,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_dir_timing_3) begin
                 mcu_pulses_dir_timing_3_d = mcu_pulses_wdata;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_min_3) begin
+                mcu_pulses_soft_min_3_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
+            if (mcu_pulses_addr == mcu_pulses_addr_soft_max_3) begin
+                mcu_pulses_soft_max_3_d = mcu_pulses_wdata & mcu_pulses_width_mask;
+            end
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_3) begin
                 mcu_pulses_low_water_3_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
@@ -5558,6 +5847,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_read_value = mcu_pulses_home_position_3_q | mcu_pulses_sign_extension;
             end
         end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_min_3) begin
+            mcu_pulses_read_value = mcu_pulses_soft_min_3_q;
+            if (|(mcu_pulses_soft_min_3_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_min_3_q | mcu_pulses_sign_extension;
+            end
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_soft_max_3) begin
+            mcu_pulses_read_value = mcu_pulses_soft_max_3_q;
+            if (|(mcu_pulses_soft_max_3_q & mcu_pulses_sign_bit)) begin
+                mcu_pulses_read_value = mcu_pulses_soft_max_3_q | mcu_pulses_sign_extension;
+            end
+        end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_status_3) begin
             mcu_pulses_read_value = mcu_pulses_generators_3_status | mcu_pulses_engines_3_status;
         end
@@ -5573,6 +5874,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_low_water_3_d = 32'h0;
             mcu_pulses_snap_3_d = 32'h0;
             mcu_pulses_home_position_3_d = 32'h0;
+            mcu_pulses_soft_min_3_d = 32'h0;
+            mcu_pulses_soft_max_3_d = 32'h0;
+            mcu_pulses_above_max_3_d = 1'b0;
+            mcu_pulses_below_min_3_d = 1'b0;
         end
         mcu_pulses_run_d = mcu_pulses_run_next & ~mcu_pulses_stopped_bits;
         if (mcu_pulses_read_pending_q) begin
@@ -5589,6 +5894,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_f2 = mcu_pulses_f2_bits;
         mcu_pulses_done = mcu_pulses_done_bits;
         mcu_pulses_low = mcu_pulses_low_bits;
+        mcu_pulses_at_soft_max = mcu_pulses_above_bits;
+        mcu_pulses_at_soft_min = mcu_pulses_below_bits;
     end
 
     always @(*) begin
@@ -7182,6 +7489,20 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_machine_limit_neg = mcu_safety_limit_neg;
         mcu_safety_machine_home = mcu_safety_home;
         mcu_safety_machine_alarm = mcu_safety_alarm;
+        mcu_safety_soft_reset = mcu_safety_reset;
+        mcu_safety_soft_addr = mcu_safety_addr;
+        mcu_safety_soft_wdata = mcu_safety_wdata;
+        mcu_safety_soft_we = mcu_safety_we;
+        mcu_safety_soft_read_addr = mcu_safety_read_addr_q;
+        mcu_safety_soft_low = mcu_safety_at_soft_max;
+        mcu_safety_soft_high = mcu_safety_at_soft_min;
+        mcu_safety_counter_events_reset = mcu_safety_reset;
+        mcu_safety_counter_events_addr = mcu_safety_addr;
+        mcu_safety_counter_events_wdata = mcu_safety_wdata;
+        mcu_safety_counter_events_we = mcu_safety_we;
+        mcu_safety_counter_events_read_addr = mcu_safety_read_addr_q;
+        mcu_safety_counter_events_low = mcu_safety_counter_error;
+        mcu_safety_counter_events_high = mcu_safety_index_seen;
         mcu_safety_gpio_reset = mcu_safety_reset;
         mcu_safety_gpio_addr = mcu_safety_addr;
         mcu_safety_gpio_wdata = mcu_safety_wdata;
@@ -7259,13 +7580,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_safety_active_high_d = mcu_safety_wdata[0];
             end
         end
-        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q) | mcu_safety_machine_irq_active | mcu_safety_gpio_irq_active;
+        mcu_safety_irq_active = |(mcu_safety_cause_q & mcu_safety_cause_mask_q) | |(mcu_safety_done_cause_q & mcu_safety_done_mask_q) | |(mcu_safety_low_cause_q & mcu_safety_low_mask_q) | mcu_safety_machine_irq_active | mcu_safety_gpio_irq_active | mcu_safety_soft_irq_active | mcu_safety_counter_events_irq_active;
         mcu_safety_irq_low_d = mcu_safety_irq_active != mcu_safety_active_high_q;
         mcu_safety_read_pending_d = mcu_safety_re;
         if (mcu_safety_re) begin
             mcu_safety_read_addr_d = mcu_safety_addr;
         end
-        mcu_safety_read_value = mcu_safety_machine_read_value | mcu_safety_gpio_read_value;
+        mcu_safety_read_value = mcu_safety_machine_read_value | mcu_safety_gpio_read_value | mcu_safety_soft_read_value | mcu_safety_counter_events_read_value;
         if (mcu_safety_read_addr_q == mcu_safety_addr_info) begin
             mcu_safety_read_value = mcu_safety_info;
         end
@@ -7343,8 +7664,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_read_data_d = 32'h0;
         end
         mcu_safety_halt = mcu_safety_estop_latch_q | mcu_safety_bitten_q;
-        mcu_safety_stop_up = mcu_safety_machine_stop_up;
-        mcu_safety_stop_down = mcu_safety_machine_stop_down;
+        mcu_safety_stop_up = mcu_safety_machine_stop_up | mcu_safety_soft_stop_up | mcu_safety_counter_events_stop_up;
+        mcu_safety_stop_down = mcu_safety_machine_stop_down | mcu_safety_soft_stop_down | mcu_safety_counter_events_stop_down;
         mcu_safety_home_event = mcu_safety_machine_home_event;
         mcu_safety_drive_enable = mcu_safety_enable_q;
         mcu_safety_gpo_out = mcu_safety_gpio_gpo_out;
@@ -8650,6 +8971,116 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     end
 
     always @(*) begin
+        mcu_safety_soft_ctrl_d = mcu_safety_soft_ctrl_q;
+        mcu_safety_soft_cause_d = mcu_safety_soft_cause_q;
+        mcu_safety_soft_mask_d = mcu_safety_soft_mask_q;
+        mcu_safety_soft_before_d = mcu_safety_soft_before_q;
+        mcu_safety_soft_low_half = {28'h0, mcu_safety_soft_low};
+        mcu_safety_soft_high_half = {28'h0, mcu_safety_soft_high};
+        mcu_safety_soft_levels = mcu_safety_soft_low_half | (mcu_safety_soft_high_half << mcu_safety_soft_shift);
+        mcu_safety_soft_events = mcu_safety_soft_levels;
+        if (mcu_safety_soft_has_ctrl) begin
+            mcu_safety_soft_events = mcu_safety_soft_levels & mcu_safety_soft_ctrl_q;
+        end
+        if (mcu_safety_soft_on_rise) begin
+            mcu_safety_soft_events = mcu_safety_soft_events & ~mcu_safety_soft_before_q;
+        end
+        mcu_safety_soft_before_d = mcu_safety_soft_levels;
+        mcu_safety_soft_kept = mcu_safety_soft_cause_q;
+        if (mcu_safety_soft_we & (mcu_safety_soft_addr == mcu_safety_soft_addr_cause)) begin
+            mcu_safety_soft_kept = mcu_safety_soft_cause_q & ~mcu_safety_soft_wdata;
+        end
+        mcu_safety_soft_cause_d = mcu_safety_soft_kept | mcu_safety_soft_events;
+        if (mcu_safety_soft_we) begin
+            if (mcu_safety_soft_has_ctrl & (mcu_safety_soft_addr == mcu_safety_soft_addr_ctrl)) begin
+                mcu_safety_soft_ctrl_d = mcu_safety_soft_wdata & mcu_safety_soft_field_mask;
+            end
+            if (mcu_safety_soft_addr == mcu_safety_soft_addr_mask) begin
+                mcu_safety_soft_mask_d = mcu_safety_soft_wdata & mcu_safety_soft_field_mask;
+            end
+        end
+        mcu_safety_soft_word = 32'h0;
+        if (mcu_safety_soft_has_ctrl & (mcu_safety_soft_read_addr == mcu_safety_soft_addr_ctrl)) begin
+            mcu_safety_soft_word = mcu_safety_soft_ctrl_q;
+        end
+        if (mcu_safety_soft_read_addr == mcu_safety_soft_addr_cause) begin
+            mcu_safety_soft_word = mcu_safety_soft_cause_q;
+        end
+        if (mcu_safety_soft_read_addr == mcu_safety_soft_addr_mask) begin
+            mcu_safety_soft_word = mcu_safety_soft_mask_q;
+        end
+        if (mcu_safety_soft_reset) begin
+            mcu_safety_soft_ctrl_d = 32'h0;
+            mcu_safety_soft_cause_d = 32'h0;
+            mcu_safety_soft_mask_d = 32'h0;
+            mcu_safety_soft_before_d = 32'h0;
+        end
+        mcu_safety_soft_read_value = mcu_safety_soft_word;
+        mcu_safety_soft_irq_active = |(mcu_safety_soft_cause_q & mcu_safety_soft_mask_q);
+        mcu_safety_soft_stop_up = 4'h0;
+        mcu_safety_soft_stop_down = 4'h0;
+        if (mcu_safety_soft_stops) begin
+            mcu_safety_soft_stop_up = mcu_safety_soft_cause_q[3:0];
+            mcu_safety_soft_stop_down = mcu_safety_soft_cause_q[19:16];
+        end
+    end
+
+    always @(*) begin
+        mcu_safety_counter_events_ctrl_d = mcu_safety_counter_events_ctrl_q;
+        mcu_safety_counter_events_cause_d = mcu_safety_counter_events_cause_q;
+        mcu_safety_counter_events_mask_d = mcu_safety_counter_events_mask_q;
+        mcu_safety_counter_events_before_d = mcu_safety_counter_events_before_q;
+        mcu_safety_counter_events_low_half = {28'h0, mcu_safety_counter_events_low};
+        mcu_safety_counter_events_high_half = {28'h0, mcu_safety_counter_events_high};
+        mcu_safety_counter_events_levels = mcu_safety_counter_events_low_half | (mcu_safety_counter_events_high_half << mcu_safety_counter_events_shift);
+        mcu_safety_counter_events_events = mcu_safety_counter_events_levels;
+        if (mcu_safety_counter_events_has_ctrl) begin
+            mcu_safety_counter_events_events = mcu_safety_counter_events_levels & mcu_safety_counter_events_ctrl_q;
+        end
+        if (mcu_safety_counter_events_on_rise) begin
+            mcu_safety_counter_events_events = mcu_safety_counter_events_events & ~mcu_safety_counter_events_before_q;
+        end
+        mcu_safety_counter_events_before_d = mcu_safety_counter_events_levels;
+        mcu_safety_counter_events_kept = mcu_safety_counter_events_cause_q;
+        if (mcu_safety_counter_events_we & (mcu_safety_counter_events_addr == mcu_safety_counter_events_addr_cause)) begin
+            mcu_safety_counter_events_kept = mcu_safety_counter_events_cause_q & ~mcu_safety_counter_events_wdata;
+        end
+        mcu_safety_counter_events_cause_d = mcu_safety_counter_events_kept | mcu_safety_counter_events_events;
+        if (mcu_safety_counter_events_we) begin
+            if (mcu_safety_counter_events_has_ctrl & (mcu_safety_counter_events_addr == mcu_safety_counter_events_addr_ctrl)) begin
+                mcu_safety_counter_events_ctrl_d = mcu_safety_counter_events_wdata & mcu_safety_counter_events_field_mask;
+            end
+            if (mcu_safety_counter_events_addr == mcu_safety_counter_events_addr_mask) begin
+                mcu_safety_counter_events_mask_d = mcu_safety_counter_events_wdata & mcu_safety_counter_events_field_mask;
+            end
+        end
+        mcu_safety_counter_events_word = 32'h0;
+        if (mcu_safety_counter_events_has_ctrl & (mcu_safety_counter_events_read_addr == mcu_safety_counter_events_addr_ctrl)) begin
+            mcu_safety_counter_events_word = mcu_safety_counter_events_ctrl_q;
+        end
+        if (mcu_safety_counter_events_read_addr == mcu_safety_counter_events_addr_cause) begin
+            mcu_safety_counter_events_word = mcu_safety_counter_events_cause_q;
+        end
+        if (mcu_safety_counter_events_read_addr == mcu_safety_counter_events_addr_mask) begin
+            mcu_safety_counter_events_word = mcu_safety_counter_events_mask_q;
+        end
+        if (mcu_safety_counter_events_reset) begin
+            mcu_safety_counter_events_ctrl_d = 32'h0;
+            mcu_safety_counter_events_cause_d = 32'h0;
+            mcu_safety_counter_events_mask_d = 32'h0;
+            mcu_safety_counter_events_before_d = 32'h0;
+        end
+        mcu_safety_counter_events_read_value = mcu_safety_counter_events_word;
+        mcu_safety_counter_events_irq_active = |(mcu_safety_counter_events_cause_q & mcu_safety_counter_events_mask_q);
+        mcu_safety_counter_events_stop_up = 4'h0;
+        mcu_safety_counter_events_stop_down = 4'h0;
+        if (mcu_safety_counter_events_stops) begin
+            mcu_safety_counter_events_stop_up = mcu_safety_counter_events_cause_q[3:0];
+            mcu_safety_counter_events_stop_down = mcu_safety_counter_events_cause_q[19:16];
+        end
+    end
+
+    always @(*) begin
         pc_bus_core_reset = pc_bus_reset;
         pc_bus_core_sa = pc_bus_sa;
         pc_bus_core_sd_in = pc_bus_sd_in;
@@ -9178,6 +9609,22 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_home_position_1_q <= mcu_pulses_home_position_1_d;
     always @(posedge clock) mcu_pulses_home_position_2_q <= mcu_pulses_home_position_2_d;
     always @(posedge clock) mcu_pulses_home_position_3_q <= mcu_pulses_home_position_3_d;
+    always @(posedge clock) mcu_pulses_soft_min_0_q <= mcu_pulses_soft_min_0_d;
+    always @(posedge clock) mcu_pulses_soft_min_1_q <= mcu_pulses_soft_min_1_d;
+    always @(posedge clock) mcu_pulses_soft_min_2_q <= mcu_pulses_soft_min_2_d;
+    always @(posedge clock) mcu_pulses_soft_min_3_q <= mcu_pulses_soft_min_3_d;
+    always @(posedge clock) mcu_pulses_soft_max_0_q <= mcu_pulses_soft_max_0_d;
+    always @(posedge clock) mcu_pulses_soft_max_1_q <= mcu_pulses_soft_max_1_d;
+    always @(posedge clock) mcu_pulses_soft_max_2_q <= mcu_pulses_soft_max_2_d;
+    always @(posedge clock) mcu_pulses_soft_max_3_q <= mcu_pulses_soft_max_3_d;
+    always @(posedge clock) mcu_pulses_above_max_0_q <= mcu_pulses_above_max_0_d;
+    always @(posedge clock) mcu_pulses_above_max_1_q <= mcu_pulses_above_max_1_d;
+    always @(posedge clock) mcu_pulses_above_max_2_q <= mcu_pulses_above_max_2_d;
+    always @(posedge clock) mcu_pulses_above_max_3_q <= mcu_pulses_above_max_3_d;
+    always @(posedge clock) mcu_pulses_below_min_0_q <= mcu_pulses_below_min_0_d;
+    always @(posedge clock) mcu_pulses_below_min_1_q <= mcu_pulses_below_min_1_d;
+    always @(posedge clock) mcu_pulses_below_min_2_q <= mcu_pulses_below_min_2_d;
+    always @(posedge clock) mcu_pulses_below_min_3_q <= mcu_pulses_below_min_3_d;
     always @(posedge clock) mcu_pulses_quadrature_a_0_q <= mcu_pulses_quadrature_a_0_d;
     always @(posedge clock) mcu_pulses_quadrature_a_1_q <= mcu_pulses_quadrature_a_1_d;
     always @(posedge clock) mcu_pulses_quadrature_a_2_q <= mcu_pulses_quadrature_a_2_d;
@@ -9344,6 +9791,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_safety_gpio_safe_q <= mcu_safety_gpio_safe_d;
     always @(posedge clock) mcu_safety_gpio_open_drain_q <= mcu_safety_gpio_open_drain_d;
     always @(posedge clock) mcu_safety_gpio_before_q <= mcu_safety_gpio_before_d;
+    always @(posedge clock) mcu_safety_soft_ctrl_q <= mcu_safety_soft_ctrl_d;
+    always @(posedge clock) mcu_safety_soft_cause_q <= mcu_safety_soft_cause_d;
+    always @(posedge clock) mcu_safety_soft_mask_q <= mcu_safety_soft_mask_d;
+    always @(posedge clock) mcu_safety_soft_before_q <= mcu_safety_soft_before_d;
+    always @(posedge clock) mcu_safety_counter_events_ctrl_q <= mcu_safety_counter_events_ctrl_d;
+    always @(posedge clock) mcu_safety_counter_events_cause_q <= mcu_safety_counter_events_cause_d;
+    always @(posedge clock) mcu_safety_counter_events_mask_q <= mcu_safety_counter_events_mask_d;
+    always @(posedge clock) mcu_safety_counter_events_before_q <= mcu_safety_counter_events_before_d;
     always @(posedge clock) mcu_safety_estop_meta_q <= mcu_safety_estop_meta_d;
     always @(posedge clock) mcu_safety_estop_sync_q <= mcu_safety_estop_sync_d;
     always @(posedge clock) mcu_safety_estop_latch_q <= mcu_safety_estop_latch_d;

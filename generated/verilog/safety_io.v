@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, halt, stop_up, stop_down, home_event, drive_enable, irq, gpi, gpo_out, gpo_oe);
+module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, at_soft_max, at_soft_min, counter_error, index_seen, halt, stop_up, stop_down, home_event, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire [6:0] addr;
@@ -19,6 +19,10 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     input wire [3:0] limit_neg;
     input wire [3:0] home;
     input wire [3:0] alarm;
+    input wire [3:0] at_soft_max;
+    input wire [3:0] at_soft_min;
+    input wire [3:0] counter_error;
+    input wire [3:0] index_seen;
     output wire halt;
     output wire [3:0] stop_up;
     output wire [3:0] stop_down;
@@ -128,6 +132,22 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     localparam gpio_filters_13_one = 2'b1;
     localparam gpio_filters_14_one = 2'b1;
     localparam gpio_filters_15_one = 2'b1;
+    localparam soft_field_mask = 32'hf000f;
+    localparam soft_has_ctrl = 1'b1;
+    localparam soft_on_rise = 1'b0;
+    localparam soft_stops = 1'b1;
+    localparam soft_shift = 5'b10000;
+    localparam soft_addr_ctrl = 7'b100000;
+    localparam soft_addr_cause = 7'b100001;
+    localparam soft_addr_mask = 7'b100010;
+    localparam counter_events_field_mask = 32'hf000f;
+    localparam counter_events_has_ctrl = 1'b0;
+    localparam counter_events_on_rise = 1'b1;
+    localparam counter_events_stops = 1'b0;
+    localparam counter_events_shift = 5'b10000;
+    localparam counter_events_addr_ctrl = 7'b100011;
+    localparam counter_events_addr_cause = 7'b100011;
+    localparam counter_events_addr_mask = 7'b100100;
 
     reg machine_reset;
     reg [6:0] machine_addr;
@@ -156,6 +176,28 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [15:0] gpio_gpo_oe;
     reg [31:0] gpio_read_value;
     reg gpio_irq_active;
+    reg soft_reset;
+    reg [6:0] soft_addr;
+    reg [31:0] soft_wdata;
+    reg soft_we;
+    reg [6:0] soft_read_addr;
+    reg [3:0] soft_low;
+    reg [3:0] soft_high;
+    reg [31:0] soft_read_value;
+    reg soft_irq_active;
+    reg [3:0] soft_stop_up;
+    reg [3:0] soft_stop_down;
+    reg counter_events_reset;
+    reg [6:0] counter_events_addr;
+    reg [31:0] counter_events_wdata;
+    reg counter_events_we;
+    reg [6:0] counter_events_read_addr;
+    reg [3:0] counter_events_low;
+    reg [3:0] counter_events_high;
+    reg [31:0] counter_events_read_value;
+    reg counter_events_irq_active;
+    reg [3:0] counter_events_stop_up;
+    reg [3:0] counter_events_stop_down;
     reg estop_meta_d;
     reg estop_meta_q = 1'h0;
     reg estop_sync_d;
@@ -657,11 +699,39 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg gpio_filters_15_held_q = 1'h0;
     reg [1:0] gpio_filters_15_count_d;
     reg [1:0] gpio_filters_15_count_q = 2'h0;
+    reg [31:0] soft_ctrl_d;
+    reg [31:0] soft_ctrl_q = 32'h0;
+    reg [31:0] soft_cause_d;
+    reg [31:0] soft_cause_q = 32'h0;
+    reg [31:0] soft_mask_d;
+    reg [31:0] soft_mask_q = 32'h0;
+    reg [31:0] soft_before_d;
+    reg [31:0] soft_before_q = 32'h0;
+    reg [31:0] soft_low_half;
+    reg [31:0] soft_high_half;
+    reg [31:0] soft_levels;
+    reg [31:0] soft_events;
+    reg [31:0] soft_kept;
+    reg [31:0] soft_word;
+    reg [31:0] counter_events_ctrl_d;
+    reg [31:0] counter_events_ctrl_q = 32'h0;
+    reg [31:0] counter_events_cause_d;
+    reg [31:0] counter_events_cause_q = 32'h0;
+    reg [31:0] counter_events_mask_d;
+    reg [31:0] counter_events_mask_q = 32'h0;
+    reg [31:0] counter_events_before_d;
+    reg [31:0] counter_events_before_q = 32'h0;
+    reg [31:0] counter_events_low_half;
+    reg [31:0] counter_events_high_half;
+    reg [31:0] counter_events_levels;
+    reg [31:0] counter_events_events;
+    reg [31:0] counter_events_kept;
+    reg [31:0] counter_events_word;
 
     assign rdata = read_data_q;
     assign halt = estop_latch_q | bitten_q;
-    assign stop_up = machine_stop_up;
-    assign stop_down = machine_stop_down;
+    assign stop_up = machine_stop_up | soft_stop_up | counter_events_stop_up;
+    assign stop_down = machine_stop_down | soft_stop_down | counter_events_stop_down;
     assign home_event = machine_home_event;
     assign drive_enable = enable_q;
     assign irq = ~irq_low_q;
@@ -699,6 +769,20 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         machine_limit_neg = limit_neg;
         machine_home = home;
         machine_alarm = alarm;
+        soft_reset = reset;
+        soft_addr = addr;
+        soft_wdata = wdata;
+        soft_we = we;
+        soft_read_addr = read_addr_q;
+        soft_low = at_soft_max;
+        soft_high = at_soft_min;
+        counter_events_reset = reset;
+        counter_events_addr = addr;
+        counter_events_wdata = wdata;
+        counter_events_we = we;
+        counter_events_read_addr = read_addr_q;
+        counter_events_low = counter_error;
+        counter_events_high = index_seen;
         gpio_reset = reset;
         gpio_addr = addr;
         gpio_wdata = wdata;
@@ -776,13 +860,13 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
                 active_high_d = wdata[0];
             end
         end
-        irq_active = |(cause_q & cause_mask_q) | |(done_cause_q & done_mask_q) | |(low_cause_q & low_mask_q) | machine_irq_active | gpio_irq_active;
+        irq_active = |(cause_q & cause_mask_q) | |(done_cause_q & done_mask_q) | |(low_cause_q & low_mask_q) | machine_irq_active | gpio_irq_active | soft_irq_active | counter_events_irq_active;
         irq_low_d = irq_active != active_high_q;
         read_pending_d = re;
         if (re) begin
             read_addr_d = addr;
         end
-        read_value = machine_read_value | gpio_read_value;
+        read_value = machine_read_value | gpio_read_value | soft_read_value | counter_events_read_value;
         if (read_addr_q == addr_info) begin
             read_value = info;
         end
@@ -2157,6 +2241,116 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         gpio_filters_15_level = gpio_filters_15_held_q;
     end
 
+    always @(*) begin
+        soft_ctrl_d = soft_ctrl_q;
+        soft_cause_d = soft_cause_q;
+        soft_mask_d = soft_mask_q;
+        soft_before_d = soft_before_q;
+        soft_low_half = {28'h0, soft_low};
+        soft_high_half = {28'h0, soft_high};
+        soft_levels = soft_low_half | (soft_high_half << soft_shift);
+        soft_events = soft_levels;
+        if (soft_has_ctrl) begin
+            soft_events = soft_levels & soft_ctrl_q;
+        end
+        if (soft_on_rise) begin
+            soft_events = soft_events & ~soft_before_q;
+        end
+        soft_before_d = soft_levels;
+        soft_kept = soft_cause_q;
+        if (soft_we & (soft_addr == soft_addr_cause)) begin
+            soft_kept = soft_cause_q & ~soft_wdata;
+        end
+        soft_cause_d = soft_kept | soft_events;
+        if (soft_we) begin
+            if (soft_has_ctrl & (soft_addr == soft_addr_ctrl)) begin
+                soft_ctrl_d = soft_wdata & soft_field_mask;
+            end
+            if (soft_addr == soft_addr_mask) begin
+                soft_mask_d = soft_wdata & soft_field_mask;
+            end
+        end
+        soft_word = 32'h0;
+        if (soft_has_ctrl & (soft_read_addr == soft_addr_ctrl)) begin
+            soft_word = soft_ctrl_q;
+        end
+        if (soft_read_addr == soft_addr_cause) begin
+            soft_word = soft_cause_q;
+        end
+        if (soft_read_addr == soft_addr_mask) begin
+            soft_word = soft_mask_q;
+        end
+        if (soft_reset) begin
+            soft_ctrl_d = 32'h0;
+            soft_cause_d = 32'h0;
+            soft_mask_d = 32'h0;
+            soft_before_d = 32'h0;
+        end
+        soft_read_value = soft_word;
+        soft_irq_active = |(soft_cause_q & soft_mask_q);
+        soft_stop_up = 4'h0;
+        soft_stop_down = 4'h0;
+        if (soft_stops) begin
+            soft_stop_up = soft_cause_q[3:0];
+            soft_stop_down = soft_cause_q[19:16];
+        end
+    end
+
+    always @(*) begin
+        counter_events_ctrl_d = counter_events_ctrl_q;
+        counter_events_cause_d = counter_events_cause_q;
+        counter_events_mask_d = counter_events_mask_q;
+        counter_events_before_d = counter_events_before_q;
+        counter_events_low_half = {28'h0, counter_events_low};
+        counter_events_high_half = {28'h0, counter_events_high};
+        counter_events_levels = counter_events_low_half | (counter_events_high_half << counter_events_shift);
+        counter_events_events = counter_events_levels;
+        if (counter_events_has_ctrl) begin
+            counter_events_events = counter_events_levels & counter_events_ctrl_q;
+        end
+        if (counter_events_on_rise) begin
+            counter_events_events = counter_events_events & ~counter_events_before_q;
+        end
+        counter_events_before_d = counter_events_levels;
+        counter_events_kept = counter_events_cause_q;
+        if (counter_events_we & (counter_events_addr == counter_events_addr_cause)) begin
+            counter_events_kept = counter_events_cause_q & ~counter_events_wdata;
+        end
+        counter_events_cause_d = counter_events_kept | counter_events_events;
+        if (counter_events_we) begin
+            if (counter_events_has_ctrl & (counter_events_addr == counter_events_addr_ctrl)) begin
+                counter_events_ctrl_d = counter_events_wdata & counter_events_field_mask;
+            end
+            if (counter_events_addr == counter_events_addr_mask) begin
+                counter_events_mask_d = counter_events_wdata & counter_events_field_mask;
+            end
+        end
+        counter_events_word = 32'h0;
+        if (counter_events_has_ctrl & (counter_events_read_addr == counter_events_addr_ctrl)) begin
+            counter_events_word = counter_events_ctrl_q;
+        end
+        if (counter_events_read_addr == counter_events_addr_cause) begin
+            counter_events_word = counter_events_cause_q;
+        end
+        if (counter_events_read_addr == counter_events_addr_mask) begin
+            counter_events_word = counter_events_mask_q;
+        end
+        if (counter_events_reset) begin
+            counter_events_ctrl_d = 32'h0;
+            counter_events_cause_d = 32'h0;
+            counter_events_mask_d = 32'h0;
+            counter_events_before_d = 32'h0;
+        end
+        counter_events_read_value = counter_events_word;
+        counter_events_irq_active = |(counter_events_cause_q & counter_events_mask_q);
+        counter_events_stop_up = 4'h0;
+        counter_events_stop_down = 4'h0;
+        if (counter_events_stops) begin
+            counter_events_stop_up = counter_events_cause_q[3:0];
+            counter_events_stop_down = counter_events_cause_q[19:16];
+        end
+    end
+
     always @(posedge clock) machine_pos_filters_0_meta_q <= machine_pos_filters_0_meta_d;
     always @(posedge clock) machine_pos_filters_0_sync_q <= machine_pos_filters_0_sync_d;
     always @(posedge clock) machine_pos_filters_0_held_q <= machine_pos_filters_0_held_d;
@@ -2304,6 +2498,14 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     always @(posedge clock) gpio_safe_q <= gpio_safe_d;
     always @(posedge clock) gpio_open_drain_q <= gpio_open_drain_d;
     always @(posedge clock) gpio_before_q <= gpio_before_d;
+    always @(posedge clock) soft_ctrl_q <= soft_ctrl_d;
+    always @(posedge clock) soft_cause_q <= soft_cause_d;
+    always @(posedge clock) soft_mask_q <= soft_mask_d;
+    always @(posedge clock) soft_before_q <= soft_before_d;
+    always @(posedge clock) counter_events_ctrl_q <= counter_events_ctrl_d;
+    always @(posedge clock) counter_events_cause_q <= counter_events_cause_d;
+    always @(posedge clock) counter_events_mask_q <= counter_events_mask_d;
+    always @(posedge clock) counter_events_before_q <= counter_events_before_d;
     always @(posedge clock) estop_meta_q <= estop_meta_d;
     always @(posedge clock) estop_sync_q <= estop_sync_d;
     always @(posedge clock) estop_latch_q <= estop_latch_d;

@@ -39,6 +39,10 @@ pub struct CounterBank<const N: usize> {
     pub re: Signal<In, Bit>,
     /// Read data, valid from the second clock edge after `re`.
     pub rdata: Signal<Out, Bits<32>>,
+    /// Per channel: STATUS.ERR, live (flip-flops).
+    pub error: Signal<Out, Bits<N>>,
+    /// Per channel: STATUS.SEEN, live (flip-flops).
+    pub index_seen: Signal<Out, Bits<N>>,
     channels: Vec<CounterChannel>,
     preset: DFF<Bits<32>>,
     read_data: DFF<Bits<32>>,
@@ -66,6 +70,9 @@ pub struct CounterBank<const N: usize> {
     preset_read: Signal<Local, Bits<32>>,
     read_value: Signal<Local, Bits<32>>,
     bank_read: Signal<Local, Bit>,
+    error_bits: Signal<Local, Bits<N>>,
+    seen_bits: Signal<Local, Bits<N>>,
+    channel_bit: Vec<Constant<Bits<N>>>,
 }
 
 impl<const N: usize> CounterBank<N> {
@@ -110,6 +117,8 @@ impl<const N: usize> CounterBank<N> {
             we: Default::default(),
             re: Default::default(),
             rdata: Default::default(),
+            error: Default::default(),
+            index_seen: Default::default(),
             channels: (0..N as u32)
                 .map(|i| CounterChannel::new(N as u32, i, params))
                 .collect(),
@@ -137,6 +146,9 @@ impl<const N: usize> CounterBank<N> {
             preset_read: Default::default(),
             read_value: Default::default(),
             bank_read: Default::default(),
+            error_bits: Default::default(),
+            seen_bits: Default::default(),
+            channel_bit: (0..N).map(|i| Constant::new((1u64 << i).into())).collect(),
         }
     }
 
@@ -162,7 +174,15 @@ impl<const N: usize> Logic for CounterBank<N> {
         );
         self.snapshot.next =
             self.we.val() & (self.addr.val() == self.addr_snapshot.val()) & self.has_snapshot.val();
+        self.error_bits.next = 0.into();
+        self.seen_bits.next = 0.into();
         for i in 0..N {
+            if self.channels[i].error.val() {
+                self.error_bits.next = self.error_bits.val() | self.channel_bit[i].val();
+            }
+            if self.channels[i].index_seen.val() {
+                self.seen_bits.next = self.seen_bits.val() | self.channel_bit[i].val();
+            }
             self.channels[i].clock.next = self.clock.val();
             self.channels[i].reset.next = self.reset.val();
             self.channels[i].a.next = self.a.val().get_bit(i);
@@ -236,5 +256,7 @@ impl<const N: usize> Logic for CounterBank<N> {
             self.read_sel.d.next = false;
         }
         self.rdata.next = self.read_data.q.val();
+        self.error.next = self.error_bits.val();
+        self.index_seen.next = self.seen_bits.val();
     }
 }

@@ -2,7 +2,6 @@
 //! error detection, snapshot registers and the channel's register decode.
 
 use crate::input_filter::InputFilter;
-use crate::probe::ChannelRegisters;
 use crate::step_decoder::StepDecoder;
 use crate::up_down_counter::UpDownCounter;
 use motionhdl_spec::bus::CounterParams;
@@ -49,6 +48,10 @@ pub struct CounterChannel {
     pub rdata: Signal<Out, Bits<32>>,
     /// The live count (W bits), for the bank's HOME_COUNT.
     pub count: Signal<Out, Bits<32>>,
+    /// STATUS.ERR and STATUS.SEEN, live (flip-flops), for the safety
+    /// block's COUNTER_CAUSE.
+    pub error: Signal<Out, Bit>,
+    pub index_seen: Signal<Out, Bit>,
     filter_a: InputFilter,
     filter_b: InputFilter,
     filter_z: InputFilter,
@@ -212,6 +215,8 @@ impl CounterChannel {
             preset_low_is_nonzero: Default::default(),
             rdata: Default::default(),
             count: Default::default(),
+            error: Default::default(),
+            index_seen: Default::default(),
             filter_a: InputFilter::with_filtering(features.filter),
             filter_b: InputFilter::with_filtering(features.filter),
             filter_z: InputFilter::with_filtering(features.filter),
@@ -293,48 +298,9 @@ impl CounterChannel {
             index_read: Default::default(),
         }
     }
-
-    /// Every register, for comparison with the model every clock.
-    pub fn probe(&self) -> ChannelRegisters {
-        ChannelRegisters {
-            fa: self.filter_a.probe(),
-            fb: self.filter_b.probe(),
-            fz: self.filter_z.probe(),
-            a_prev: self.a_prev.q.val(),
-            b_prev: self.b_prev.q.val(),
-            zg_prev: self.zg_prev.q.val(),
-            zg_q: self.zg_q.q.val(),
-            err_q: self.err_q.q.val(),
-            up_q: self.decoder.up_q.val(),
-            down_q: self.decoder.down_q.val(),
-            count: self.counter.value(),
-            load_q: self.load_q.q.val(),
-            index_latch_q: self.index_latch_q.q.val(),
-            index_clear_q: self.index_clear_q.q.val(),
-            index: self.index.q.val().to_u32(),
-            err: self.err.q.val(),
-            err_count: self.err_count.q.val().to_u32(),
-            seen: self.seen.q.val(),
-            armed: self.armed.q.val(),
-            ctrl: self.ctrl.q.val().to_u32(),
-            snap_count: self.snap_count.q.val().to_u32(),
-            snap_index: self.snap_index.q.val().to_u32(),
-            snap_status: self.snap_status.q.val().to_u32(),
-        }
-    }
-
-    /// The counter's look-ahead flags describe its low half, the filters'
-    /// flags their counters and the error counter's saturation flag the
-    /// error counter (contract properties the model does not see).
-    pub fn flags_consistent(&self) -> bool {
-        let err_max = self.err_max_minus_one.val().to_u32() + 1;
-        self.counter.lookahead_consistent()
-            && self.filter_a.consistent()
-            && self.filter_b.consistent()
-            && self.filter_z.consistent()
-            && self.err_sat.q.val() == (self.err_count.q.val().to_u32() == err_max)
-    }
 }
+
+mod inspect;
 
 impl Logic for CounterChannel {
     #[hdl_gen]
@@ -447,6 +413,8 @@ impl Logic for CounterChannel {
             | self.index_clear_q.q.val();
         self.count_now.next = self.counter.count.val();
         self.count.next = self.count_now.val();
+        self.error.next = self.err.q.val();
+        self.index_seen.next = self.seen.q.val();
         self.load_q.d.next = self.cmd_load.val() & !self.cmd_clear.val();
         // Index actions are registered and act at the next edge, on the
         // count after the event's edge (a register, not the adder output).

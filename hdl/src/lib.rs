@@ -7,6 +7,7 @@
 // Macros first: they are in scope only for the modules declared after.
 #[macro_use]
 mod pin_groups;
+pub mod axis_causes;
 pub mod catalog;
 pub mod counter_bank;
 pub mod counter_channel;

@@ -235,6 +235,10 @@ impl<const N: usize> Logic for McuSide<N> {
         self.pulses.stop_down.next = self.safety.stop_down.val();
         self.pulses.home_capture.next = self.safety.home_event.val();
         self.counters.home.next = self.safety.home_event.val();
+        self.safety.at_soft_max.next = self.pulses.at_soft_max.val();
+        self.safety.at_soft_min.next = self.pulses.at_soft_min.val();
+        self.safety.counter_error.next = self.counters.error.val();
+        self.safety.index_seen.next = self.counters.index_seen.val();
         self.safety.done.next = self.pulses.done.val();
         self.safety.low.next = self.pulses.low.val();
         self.pulses.halt.next = self.safety.halt.val();

@@ -105,6 +105,10 @@ pub struct SafetyRegisters {
     /// The general-purpose I/O: filtered input levels, GPI_EDGE_CTRL,
     /// GPI_CAUSE, GPI_MASK, GPO_VALUE, GPO_SAFE, GPO_OPEN_DRAIN.
     pub gpio: [u32; 7],
+    /// SOFT_LIMIT_CTRL, SOFT_LIMIT_CAUSE, SOFT_LIMIT_MASK.
+    pub soft: [u32; 3],
+    /// COUNTER_CAUSE, COUNTER_MASK (index 1 and 2; 0 unused).
+    pub counter_events: [u32; 3],
 }
 
 impl SafetyRegisters {
@@ -116,5 +120,7 @@ impl SafetyRegisters {
             || self.limit_cause & self.limit_mask != 0
             || self.home_alarm_cause & self.home_alarm_mask != 0
             || self.gpio[2] & self.gpio[3] != 0
+            || self.soft[1] & self.soft[2] != 0
+            || self.counter_events[1] & self.counter_events[2] != 0
     }
 }

@@ -45,6 +45,11 @@ pub struct PulseBank<const N: usize> {
     pub done: Signal<Out, Bits<N>>,
     /// Per axis: STATUS.FIFO_LOW.
     pub low: Signal<Out, Bits<N>>,
+    /// Per axis: POSITION >= SOFT_MAX (signed, WIDTH bits), a flip-flop
+    /// one edge behind POSITION; the safety block's soft-limit input.
+    pub at_soft_max: Signal<Out, Bits<N>>,
+    /// Per axis: POSITION <= SOFT_MIN, likewise.
+    pub at_soft_min: Signal<Out, Bits<N>>,
     /// F1 per axis (pulse, or CW pulses), registered.
     pub f1: Signal<Out, Bits<N>>,
     /// F2 per axis (direction, or CCW pulses), registered.
@@ -60,6 +65,10 @@ pub struct PulseBank<const N: usize> {
     low_water: Vec<DFF<Bits<32>>>,
     snap: Vec<DFF<Bits<32>>>,
     home_position: Vec<DFF<Bits<32>>>,
+    soft_min: Vec<DFF<Bits<32>>>,
+    soft_max: Vec<DFF<Bits<32>>>,
+    above_max: Vec<DFF<Bit>>,
+    below_min: Vec<DFF<Bit>>,
     quadrature_a: Vec<DFF<Bit>>,
     quadrature_b: Vec<DFF<Bit>>,
     out_f1: Vec<DFF<Bit>>,
@@ -75,6 +84,8 @@ pub struct PulseBank<const N: usize> {
     addr_dir_timing: Vec<Constant<Bits<9>>>,
     addr_position: Vec<Constant<Bits<9>>>,
     addr_home_position: Vec<Constant<Bits<9>>>,
+    addr_soft_min: Vec<Constant<Bits<9>>>,
+    addr_soft_max: Vec<Constant<Bits<9>>>,
     addr_status: Vec<Constant<Bits<9>>>,
     addr_seg_steps: Vec<Constant<Bits<9>>>,
     addr_seg_rate: Vec<Constant<Bits<9>>>,
@@ -103,6 +114,11 @@ pub struct PulseBank<const N: usize> {
     heading_up: Signal<Local, Bit>,
     heading_down: Signal<Local, Bit>,
     axis_stopped: Signal<Local, Bit>,
+    // POSITION and the limits with the sign bit flipped: unsigned order
+    // of these is the signed order of the WIDTH-bit values.
+    position_key: Signal<Local, Bits<32>>,
+    above_bits: Signal<Local, Bits<N>>,
+    below_bits: Signal<Local, Bits<N>>,
 }
 
 impl<const N: usize> PulseBank<N> {
@@ -139,6 +155,8 @@ impl<const N: usize> PulseBank<N> {
             stop_up: Default::default(),
             stop_down: Default::default(),
             home_capture: Default::default(),
+            at_soft_max: Default::default(),
+            at_soft_min: Default::default(),
             done: Default::default(),
             low: Default::default(),
             f1: Default::default(),
@@ -156,6 +174,10 @@ impl<const N: usize> PulseBank<N> {
             low_water: (0..N).map(|_| Default::default()).collect(),
             snap: (0..N).map(|_| Default::default()).collect(),
             home_position: (0..N).map(|_| Default::default()).collect(),
+            soft_min: (0..N).map(|_| Default::default()).collect(),
+            soft_max: (0..N).map(|_| Default::default()).collect(),
+            above_max: (0..N).map(|_| Default::default()).collect(),
+            below_min: (0..N).map(|_| Default::default()).collect(),
             quadrature_a: (0..N).map(|_| Default::default()).collect(),
             quadrature_b: (0..N).map(|_| Default::default()).collect(),
             out_f1: (0..N).map(|_| Default::default()).collect(),
@@ -171,6 +193,8 @@ impl<const N: usize> PulseBank<N> {
             addr_dir_timing: per_axis("DIR_TIMING"),
             addr_position: per_axis("POSITION"),
             addr_home_position: per_axis("HOME_POSITION"),
+            addr_soft_min: per_axis("SOFT_MIN"),
+            addr_soft_max: per_axis("SOFT_MAX"),
             addr_status: per_axis("STATUS"),
             addr_seg_steps: per_axis("SEG_STEPS"),
             addr_seg_rate: per_axis("SEG_RATE"),
@@ -199,6 +223,9 @@ impl<const N: usize> PulseBank<N> {
             heading_up: Default::default(),
             heading_down: Default::default(),
             axis_stopped: Default::default(),
+            position_key: Default::default(),
+            above_bits: Default::default(),
+            below_bits: Default::default(),
         }
     }
 
@@ -239,6 +266,8 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.run_next.next = self.wdata.val().get_bits::<N>(0);
         }
         self.stopped_bits.next = 0.into();
+        self.above_bits.next = 0.into();
+        self.below_bits.next = 0.into();
         for i in 0..N {
             // The direction the axis heads: its NCO rate's sign, or the
             // steps waiting in its queue (PENDING, signed). All flip-flops.
@@ -280,6 +309,25 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.low_water[i].clock.next = self.clock.val();
             self.snap[i].clock.next = self.clock.val();
             self.home_position[i].clock.next = self.clock.val();
+            self.soft_min[i].clock.next = self.clock.val();
+            self.soft_max[i].clock.next = self.clock.val();
+            self.above_max[i].clock.next = self.clock.val();
+            self.below_min[i].clock.next = self.clock.val();
+            self.soft_min[i].d.next = self.soft_min[i].q.val();
+            self.soft_max[i].d.next = self.soft_max[i].q.val();
+            // Soft limits: signed WIDTH-bit compares, registered.
+            self.position_key.next =
+                (self.generators[i].position.val() & self.width_mask.val()) ^ self.sign_bit.val();
+            self.above_max[i].d.next =
+                self.position_key.val() >= (self.soft_max[i].q.val() ^ self.sign_bit.val());
+            self.below_min[i].d.next =
+                self.position_key.val() <= (self.soft_min[i].q.val() ^ self.sign_bit.val());
+            if self.above_max[i].q.val() {
+                self.above_bits.next = self.above_bits.val() | self.axis_bit[i].val();
+            }
+            if self.below_min[i].q.val() {
+                self.below_bits.next = self.below_bits.val() | self.axis_bit[i].val();
+            }
             // Moves: the engine sets the NCO's rate while CTRL.MOVES.
             self.engines[i].clock.next = self.clock.val();
             self.engines[i].reset.next = self.reset.val();
@@ -362,6 +410,12 @@ impl<const N: usize> Logic for PulseBank<N> {
                 if self.addr.val() == self.addr_dir_timing[i].val() {
                     self.dir_timing[i].d.next = self.wdata.val();
                 }
+                if self.addr.val() == self.addr_soft_min[i].val() {
+                    self.soft_min[i].d.next = self.wdata.val() & self.width_mask.val();
+                }
+                if self.addr.val() == self.addr_soft_max[i].val() {
+                    self.soft_max[i].d.next = self.wdata.val() & self.width_mask.val();
+                }
                 if self.addr.val() == self.addr_low_water[i].val() {
                     self.low_water[i].d.next = self.wdata.val() & self.low_water_mask.val();
                 }
@@ -403,6 +457,18 @@ impl<const N: usize> Logic for PulseBank<N> {
                         self.home_position[i].q.val() | self.sign_extension.val();
                 }
             }
+            if self.read_addr.q.val() == self.addr_soft_min[i].val() {
+                self.read_value.next = self.soft_min[i].q.val();
+                if (self.soft_min[i].q.val() & self.sign_bit.val()).any() {
+                    self.read_value.next = self.soft_min[i].q.val() | self.sign_extension.val();
+                }
+            }
+            if self.read_addr.q.val() == self.addr_soft_max[i].val() {
+                self.read_value.next = self.soft_max[i].q.val();
+                if (self.soft_max[i].q.val() & self.sign_bit.val()).any() {
+                    self.read_value.next = self.soft_max[i].q.val() | self.sign_extension.val();
+                }
+            }
             if self.read_addr.q.val() == self.addr_status[i].val() {
                 self.read_value.next =
                     self.generators[i].status.val() | self.engines[i].status.val();
@@ -419,6 +485,10 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.low_water[i].d.next = 0.into();
                 self.snap[i].d.next = 0.into();
                 self.home_position[i].d.next = 0.into();
+                self.soft_min[i].d.next = 0.into();
+                self.soft_max[i].d.next = 0.into();
+                self.above_max[i].d.next = false;
+                self.below_min[i].d.next = false;
             }
         }
         self.run.d.next = self.run_next.val() & !self.stopped_bits.val();
@@ -436,5 +506,7 @@ impl<const N: usize> Logic for PulseBank<N> {
         self.f2.next = self.f2_bits.val();
         self.done.next = self.done_bits.val();
         self.low.next = self.low_bits.val();
+        self.at_soft_max.next = self.above_bits.val();
+        self.at_soft_min.next = self.below_bits.val();
     }
 }

@@ -2,6 +2,7 @@
 //! interrupt line's causes and masks, behind the register bus
 //! (docs/safety_io.md).
 
+use crate::axis_causes::{AxisCauses, COUNTER_EVENTS, SOFT_LIMITS};
 use crate::digital_io::DigitalIo;
 use crate::machine_inputs::MachineStops;
 use motionhdl_spec::regmap;
@@ -52,6 +53,13 @@ pub struct SafetyIo<const N: usize> {
     pub home: Signal<In, Bits<N>>,
     /// Drive ALARM pins.
     pub alarm: Signal<In, Bits<N>>,
+    /// Per axis: POSITION >= SOFT_MAX (the pulse bank's flip-flops).
+    pub at_soft_max: Signal<In, Bits<N>>,
+    /// Per axis: POSITION <= SOFT_MIN.
+    pub at_soft_min: Signal<In, Bits<N>>,
+    /// Per counter channel: STATUS.ERR and STATUS.SEEN (live flip-flops).
+    pub counter_error: Signal<In, Bits<N>>,
+    pub index_seen: Signal<In, Bits<N>>,
     /// Stop every axis now: the e-stop latch or the bite flag is set.
     pub halt: Signal<Out, Bit>,
     /// Per axis: no step in the positive direction (a limit, an alarm or
@@ -75,6 +83,8 @@ pub struct SafetyIo<const N: usize> {
     pub gpo_oe: Signal<Out, Bits<GPO>>,
     machine: MachineStops<N>,
     gpio: DigitalIo,
+    soft: AxisCauses<N>,
+    counter_events: AxisCauses<N>,
     estop_meta: DFF<Bit>,
     estop_sync: DFF<Bit>,
     estop_latch: DFF<Bit>,
@@ -169,6 +179,10 @@ impl<const N: usize> SafetyIo<N> {
             limit_neg: Default::default(),
             home: Default::default(),
             alarm: Default::default(),
+            at_soft_max: Default::default(),
+            at_soft_min: Default::default(),
+            counter_error: Default::default(),
+            index_seen: Default::default(),
             halt: Default::default(),
             stop_up: Default::default(),
             stop_down: Default::default(),
@@ -178,6 +192,8 @@ impl<const N: usize> SafetyIo<N> {
             gpo_oe: Default::default(),
             machine: MachineStops::new(tick_clocks),
             gpio: DigitalIo::new(),
+            soft: AxisCauses::new(SOFT_LIMITS),
+            counter_events: AxisCauses::new(COUNTER_EVENTS),
             drive_enable: Default::default(),
             irq: Default::default(),
             estop_meta: Default::default(),
@@ -256,6 +272,8 @@ impl<const N: usize> SafetyIo<N> {
             home_alarm_cause,
             home_alarm_mask,
             gpio: self.gpio.probe(),
+            soft: self.soft.probe(),
+            counter_events: self.counter_events.probe(),
             cause: word(self.cause.q.val().index() as u64),
             cause_mask: word(self.cause_mask.q.val().index() as u64),
             done_cause: word(self.done_cause.q.val().index() as u64),
@@ -305,6 +323,22 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.machine.limit_neg.next = self.limit_neg.val();
         self.machine.home.next = self.home.val();
         self.machine.alarm.next = self.alarm.val();
+        self.soft.clock.next = self.clock.val();
+        self.soft.reset.next = self.reset.val();
+        self.soft.addr.next = self.addr.val();
+        self.soft.wdata.next = self.wdata.val();
+        self.soft.we.next = self.we.val();
+        self.soft.read_addr.next = self.read_addr.q.val();
+        self.soft.low.next = self.at_soft_max.val();
+        self.soft.high.next = self.at_soft_min.val();
+        self.counter_events.clock.next = self.clock.val();
+        self.counter_events.reset.next = self.reset.val();
+        self.counter_events.addr.next = self.addr.val();
+        self.counter_events.wdata.next = self.wdata.val();
+        self.counter_events.we.next = self.we.val();
+        self.counter_events.read_addr.next = self.read_addr.q.val();
+        self.counter_events.low.next = self.counter_error.val();
+        self.counter_events.high.next = self.index_seen.val();
         self.gpio.clock.next = self.clock.val();
         self.gpio.reset.next = self.reset.val();
         self.gpio.addr.next = self.addr.val();
@@ -405,14 +439,19 @@ impl<const N: usize> Logic for SafetyIo<N> {
             | (self.done_cause.q.val() & self.done_mask.q.val()).any()
             | (self.low_cause.q.val() & self.low_mask.q.val()).any()
             | self.machine.irq_active.val()
-            | self.gpio.irq_active.val();
+            | self.gpio.irq_active.val()
+            | self.soft.irq_active.val()
+            | self.counter_events.irq_active.val();
         self.irq_low.d.next = self.irq_active.val() != self.active_high.q.val();
         // Reads: the address at the `re` edge, the value at the next.
         self.read_pending.d.next = self.re.val();
         if self.re.val() {
             self.read_addr.d.next = self.addr.val();
         }
-        self.read_value.next = self.machine.read_value.val() | self.gpio.read_value.val();
+        self.read_value.next = self.machine.read_value.val()
+            | self.gpio.read_value.val()
+            | self.soft.read_value.val()
+            | self.counter_events.read_value.val();
         if self.read_addr.q.val() == self.addr_info.val() {
             self.read_value.next = self.info.val();
         }
@@ -490,8 +529,12 @@ impl<const N: usize> Logic for SafetyIo<N> {
             self.read_data.d.next = 0.into();
         }
         self.halt.next = self.estop_latch.q.val() | self.bitten.q.val();
-        self.stop_up.next = self.machine.stop_up.val();
-        self.stop_down.next = self.machine.stop_down.val();
+        self.stop_up.next = self.machine.stop_up.val()
+            | self.soft.stop_up.val()
+            | self.counter_events.stop_up.val();
+        self.stop_down.next = self.machine.stop_down.val()
+            | self.soft.stop_down.val()
+            | self.counter_events.stop_down.val();
         self.home_event.next = self.machine.home_event.val();
         self.drive_enable.next = self.enable.q.val();
         self.gpo_out.next = self.gpio.gpo_out.val();

@@ -7,6 +7,7 @@
 //! are re-exported here under their old paths.
 
 pub use motionhdl_spec::{config, regmap};
+pub mod axis_causes;
 pub mod counter;
 pub mod digital_io;
 pub mod fsmc_bridge;

@@ -6,7 +6,9 @@
 use crate::counter::BusCycle;
 use crate::regmap::Block;
 use motionhdl_spec::bus::mask_bits;
-pub use motionhdl_spec::safety_io::{FILTER_TICKS, LIMIT_LATENCY, MACHINE_INPUTS};
+pub use motionhdl_spec::safety_io::{
+    FILTER_TICKS, LIMIT_LATENCY, MACHINE_INPUTS, SOFT_LIMIT_LATENCY,
+};
 
 /// The machine pins of every axis as the FPGA reads them (bit i = axis i),
 /// before polarity, and the general-purpose input pins (bit i = input i).

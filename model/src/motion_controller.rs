@@ -394,8 +394,10 @@ impl MotionControllerModel {
                 inp.enc_z >> i & 1 == 1,
             );
         }
-        // The safety block's home event (its state before the edge).
+        // The safety block's home event and the channels' flags (the
+        // states before the edge).
         let home = self.safety.home_event();
+        let counter_flags = self.counters.flags();
         self.counters
             .clock_homing(&self.enc, reset, &counter_bus, home);
 
@@ -419,6 +421,7 @@ impl MotionControllerModel {
             (&pulse_bus, snapshot),
             &safety_bus,
             (inp.estop_ok, inp.machine),
+            counter_flags,
         );
 
         self.isa.clock(&isa_pins, reset);

@@ -2,6 +2,7 @@
 //! drive enables, interrupt causes and masks, behind the register bus
 //! (`regmap::safety_io`).
 
+use crate::axis_causes::{AxisCauses, COUNTER_EVENTS, SOFT_LIMITS};
 use crate::counter::BusCycle;
 use crate::digital_io::{DigitalIo, GpoPins};
 use crate::machine_inputs::{MachinePins, MachineStops};
@@ -21,6 +22,13 @@ pub struct SafetyInputs {
     pub low: u32,
     /// The limit, home and alarm pins.
     pub machine: MachinePins,
+    /// Per axis: POSITION >= SOFT_MAX, POSITION <= SOFT_MIN (the pulse
+    /// bank's flip-flops).
+    pub at_soft_max: u32,
+    pub at_soft_min: u32,
+    /// Per counter channel: STATUS.ERR and STATUS.SEEN, live.
+    pub counter_error: u32,
+    pub index_seen: u32,
 }
 
 impl SafetyInputs {
@@ -28,11 +36,16 @@ impl SafetyInputs {
     /// move-done and FIFO-low as `pulses` shows them now (how the top wires
     /// the two blocks).
     pub fn from_pulses(estop_ok: bool, machine: MachinePins, pulses: &PulseBank) -> Self {
+        let (at_soft_max, at_soft_min) = pulses.soft_levels();
         let mut inputs = Self {
             estop_ok,
             done: 0,
             low: 0,
             machine,
+            at_soft_max,
+            at_soft_min,
+            counter_error: 0,
+            index_seen: 0,
         };
         for i in 0..pulses.axes() {
             inputs.done |= u32::from(pulses.move_done(i)) << i;
@@ -49,6 +62,8 @@ pub struct SafetyIo {
     axes: u32,
     machine: MachineStops,
     gpio: DigitalIo,
+    soft: AxisCauses,
+    counter_events: AxisCauses,
     /// The synchroniser's two stages of "the input asks for a stop".
     estop_meta: bool,
     estop_sync: bool,
@@ -82,6 +97,8 @@ impl SafetyIo {
             axes,
             machine: MachineStops::new(axes, tick_clocks),
             gpio: DigitalIo::new(),
+            soft: AxisCauses::new(axes, SOFT_LIMITS),
+            counter_events: AxisCauses::new(axes, COUNTER_EVENTS),
             estop_meta: true,
             estop_sync: true,
             estop_latch: true,
@@ -134,13 +151,13 @@ impl SafetyIo {
     /// Per axis: no step in the positive direction (a limit, an alarm or
     /// a home stop).
     pub fn stop_up(&self) -> u32 {
-        self.machine.stop_up()
+        self.machine.stop_up() | self.soft.stop_up() | self.counter_events.stop_up()
     }
 
     /// Per axis: no step in the negative direction (a limit, an alarm or
     /// a home stop).
     pub fn stop_down(&self) -> u32 {
-        self.machine.stop_down()
+        self.machine.stop_down() | self.soft.stop_down() | self.counter_events.stop_down()
     }
 
     /// The drive ENABLE pins.
@@ -184,6 +201,8 @@ impl SafetyIo {
             || self.low_cause & self.low_mask != 0
             || self.machine.irq_active()
             || self.gpio.irq_active()
+            || self.soft.irq_active()
+            || self.counter_events.irq_active()
     }
 
     /// What a read of `addr` returns now (0 where nothing is decoded).
@@ -191,7 +210,13 @@ impl SafetyIo {
         let Some((_, r, _)) = self.map.decoded().into_iter().find(|d| d.0 == addr) else {
             return 0;
         };
-        if let Some(value) = self.machine.read(r.name).or(self.gpio.read(r.name)) {
+        let parts = [
+            self.machine.read(r.name),
+            self.gpio.read(r.name),
+            self.soft.read(r.name),
+            self.counter_events.read(r.name),
+        ];
+        if let Some(value) = parts.into_iter().flatten().next() {
             return value;
         }
         match r.name {
@@ -213,9 +238,10 @@ impl SafetyIo {
     }
 
     /// One edge of `pulses` and this block wired as in the top: the bank
-    /// takes this block's stops, this block the bank's move-done and
-    /// FIFO-low and `pins` (the e-stop chain, the machine inputs), all as
-    /// they stand before the edge.
+    /// takes this block's stops, this block the bank's move-done, FIFO-low
+    /// and soft-limit comparisons, `pins` (the e-stop chain, the machine
+    /// inputs) and the counter bank's (STATUS.ERR, STATUS.SEEN) flags, all
+    /// as they stand before the edge.
     pub fn clock_with_pulses(
         &mut self,
         pulses: &mut PulseBank,
@@ -223,8 +249,13 @@ impl SafetyIo {
         (pulse_bus, snapshot): (&BusCycle, bool),
         bus: &BusCycle,
         (estop_ok, machine): (bool, MachinePins),
+        (counter_error, index_seen): (u32, u32),
     ) {
-        let inputs = SafetyInputs::from_pulses(estop_ok, machine, pulses);
+        let inputs = SafetyInputs {
+            counter_error,
+            index_seen,
+            ..SafetyInputs::from_pulses(estop_ok, machine, pulses)
+        };
         pulses.clock_stopping(reset, pulse_bus, snapshot, &self.stops());
         self.clock(reset, bus, &inputs);
     }
@@ -298,6 +329,10 @@ impl SafetyIo {
         self.irq_pin = self.irq_active() == self.active_high;
         let tick = self.machine.tick();
         self.machine.clock(&self.map, bus, &inputs.machine);
+        self.soft
+            .clock(&self.map, bus, inputs.at_soft_max, inputs.at_soft_min);
+        self.counter_events
+            .clock(&self.map, bus, inputs.counter_error, inputs.index_seen);
         self.gpio
             .clock(&self.map, bus, tick, halting, inputs.machine.gpi);
         self.cause = cause;

@@ -58,6 +58,12 @@ pub fn filter_tick_clocks(us: u64, clock_hz: u64) -> u32 {
 /// level itself follows the pin by two synchroniser edges and the filter.
 pub const LIMIT_LATENCY: u32 = 2;
 
+/// Clock edges from the edge where an axis's POSITION reaches an enabled
+/// soft limit (SOFT_MAX or SOFT_MIN) to the edge from which it starts no
+/// step past it: the pulse bank's comparison flip-flop, then
+/// [`LIMIT_LATENCY`].
+pub const SOFT_LIMIT_LATENCY: u32 = 1 + LIMIT_LATENCY;
+
 /// General-purpose inputs of the block (the seed's keys and switches):
 /// filtered like the machine inputs, with edge events.
 pub const GPIO_INPUTS: u32 = 16;

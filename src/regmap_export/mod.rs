@@ -302,22 +302,22 @@ mod tests {
             let map = mcu_map(&Config::default().with_isa_ram(ram));
             let (members, size) = window_layout(&map);
             let offsets: Vec<u32> = members.iter().map(|m| m.0).collect();
-            // ID (9 words) and padding, SAFETY at 0x200 (32 words, to
-            // 0x280) and padding, COUNTER at 0x400 (to 0x4a0) and padding,
+            // ID (9 words) and padding, SAFETY at 0x200 (37 words, to
+            // 0x294) and padding, COUNTER at 0x400 (to 0x4a0) and padding,
             // PULSE at 0x800 (16 + 4 x 16 words, to 0x940), then padding
             // and the RAM at 0x1000.
             if ram == IsaRam::Internal {
                 assert_eq!(
                     offsets,
-                    vec![0, 0x24, 0x200, 0x280, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
+                    vec![0, 0x24, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
                 );
                 assert_eq!(size, 0x1800);
             } else {
-                assert_eq!(offsets, vec![0, 0x24, 0x200, 0x280, 0x400, 0x4a0, 0x800]);
+                assert_eq!(offsets, vec![0, 0x24, 0x200, 0x294, 0x400, 0x4a0, 0x800]);
                 assert_eq!(size, 0x940);
             }
             let inst = instances(&map);
-            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 13 + 32);
+            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 15 + 37);
             assert!(inst.windows(2).all(|w| w[0].byte_offset < w[1].byte_offset));
             let status = inst
                 .iter()

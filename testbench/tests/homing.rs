@@ -114,3 +114,46 @@ fn a_move_through_the_switch_captures_its_edge_on_the_fly() {
     assert_eq!(sys.read("PULSE", Some(1), "HOME_POSITION"), 0);
     assert_eq!(sys.read("COUNTER", Some(1), "HOME_COUNT"), 0);
 }
+
+#[test]
+fn an_index_pulse_is_a_counter_event_on_the_irq() {
+    let (mut sys, _) = system();
+    // Off the index at 0 first, then the encoders get their index.
+    run(&mut sys, 1, &creep(10));
+    sys.index_every[1] = Some(64);
+    sys.write("SAFETY", None, "COUNTER_MASK", 1 << 17);
+    run(&mut sys, 0, &creep(100));
+    assert_eq!(
+        sys.read("SAFETY", None, "COUNTER_CAUSE"),
+        0,
+        "axis 0 has no index"
+    );
+    assert!(sys.irq());
+    run(&mut sys, 1, &creep(70));
+    assert_eq!(
+        sys.read("SAFETY", None, "COUNTER_CAUSE"),
+        1 << 17,
+        "INDEX of channel 1"
+    );
+    assert!(!sys.irq(), "the unmasked cause pulls IRQ low");
+    // An edge: clearing the cause while SEEN stays set keeps it clear;
+    // after CMD.CLEAR_STATUS the next index sets it again.
+    sys.write("SAFETY", None, "COUNTER_CAUSE", 1 << 17);
+    run(&mut sys, 1, &creep(64));
+    assert_eq!(
+        sys.read("SAFETY", None, "COUNTER_CAUSE"),
+        0,
+        "SEEN still set"
+    );
+    assert!(sys.irq());
+    let clear_status = sys
+        .map()
+        .block("COUNTER")
+        .array("CH")
+        .register("CMD")
+        .field("CLEAR_STATUS")
+        .lsb;
+    sys.write("COUNTER", Some(1), "CMD", 1 << clear_status);
+    run(&mut sys, 1, &creep(64));
+    assert_eq!(sys.read("SAFETY", None, "COUNTER_CAUSE"), 1 << 17);
+}

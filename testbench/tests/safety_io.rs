@@ -21,6 +21,22 @@ fn one_axis_stop_logic_every_reachable_state_and_input() {
 }
 
 #[test]
+fn one_axis_soft_limits_and_counter_events_every_reachable_state_and_input() {
+    use motionhdl_testbench::checks::safety_io::cause_tour;
+    // Soft limits: CTRL 4 x CAUSE 4 x MASK 2 states; counter events: the
+    // inputs before 4 x CAUSE 4 x MASK 2; all reachable, x 52 inputs.
+    for r in [
+        cause_tour::soft_limits_exhaustive(),
+        cause_tour::counter_events_exhaustive(),
+    ] {
+        eprintln!("{}: {} of {} pairs", r.check, r.covered, r.expected);
+        r.assert_passed();
+        assert_eq!(r.covered, r.expected, "every pair visited");
+        assert_eq!(r.expected, 4 * 4 * 2 * 52);
+    }
+}
+
+#[test]
 fn generated_verilog_against_model() {
     random_verilog(Simulator::Icarus, 100_000, 0x5afe_0002).assert_passed();
     random_verilog(Simulator::Verilator, 1_000_000, 0x5afe_0003).assert_passed();
@@ -72,7 +88,7 @@ fn each_contract_property_can_fail() {
 /// and the spec's: acceptance testbenches are written from that page.
 #[test]
 fn the_docs_state_the_map_and_the_latencies() {
-    use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
+    use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY, SOFT_LIMIT_LATENCY};
     use motionhdl_model::regmap::{self, Access};
     use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/safety_io.md");
@@ -125,6 +141,7 @@ fn the_docs_state_the_map_and_the_latencies() {
         format!("`IRQ_LATENCY` = {IRQ_LATENCY}"),
         format!("`FILTER_TICKS` = {FILTER_TICKS} ticks"),
         format!("`LIMIT_LATENCY` = {LIMIT_LATENCY} edges"),
+        format!("`SOFT_LIMIT_LATENCY` = {SOFT_LIMIT_LATENCY} edges"),
     ] {
         assert!(
             flat.contains(&fact),

@@ -118,6 +118,18 @@ impl Bank {
         self.preset
     }
 
+    /// Per channel (STATUS.ERR, STATUS.SEEN) as they stand now, live:
+    /// the safety block's counter-event inputs.
+    pub fn flags(&self) -> (u32, u32) {
+        self.channels
+            .iter()
+            .enumerate()
+            .fold((0, 0), |(err, seen), (i, ch)| {
+                let s = ch.state();
+                (err | u32::from(s.err) << i, seen | u32::from(s.seen) << i)
+            })
+    }
+
     /// The registered read data.
     pub fn rdata(&self) -> u32 {
         self.rdata

@@ -44,6 +44,11 @@ pub struct PulseBank {
     engines: Vec<MoveEngine>,
     snap: Vec<u32>,
     home_position: Vec<u32>,
+    soft_min: Vec<u32>,
+    soft_max: Vec<u32>,
+    /// Per axis: POSITION >= SOFT_MAX, POSITION <= SOFT_MIN, registered.
+    above_max: u32,
+    below_min: u32,
     generators: Vec<PulseGenerator>,
     selectors: Vec<RegisteredSelector>,
     quadrature: Vec<(bool, bool)>,
@@ -68,6 +73,10 @@ impl PulseBank {
             engines: vec![MoveEngine::default(); n],
             snap: vec![0; n],
             home_position: vec![0; n],
+            soft_min: vec![0; n],
+            soft_max: vec![0; n],
+            above_max: 0,
+            below_min: 0,
             generators: vec![PulseGenerator::new(); n],
             selectors: vec![RegisteredSelector::default(); n],
             quadrature: vec![(false, false); n],
@@ -147,6 +156,8 @@ impl PulseBank {
                         "DIR_TIMING" => self.dir_timing[i],
                         "FIFO_LOW_WATER" => self.low_water[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
+                        "SOFT_MIN" => crate::counter::sign_extend(self.soft_min[i], self.width),
+                        "SOFT_MAX" => crate::counter::sign_extend(self.soft_max[i], self.width),
                         "HOME_POSITION" => {
                             crate::counter::sign_extend(self.home_position[i], self.width)
                         }
@@ -179,6 +190,12 @@ impl PulseBank {
     /// safety block's `done` input).
     pub fn move_done(&self, i: usize) -> bool {
         self.engines[i].done() && !self.generators[i].busy()
+    }
+
+    /// Per axis (POSITION >= SOFT_MAX, POSITION <= SOFT_MIN) as the
+    /// flip-flops hold them: the safety block's soft-limit inputs.
+    pub fn soft_levels(&self) -> (u32, u32) {
+        (self.above_max, self.below_min)
     }
 
     /// STATUS.FIFO_LOW of axis `i` (the safety block's `low` input).
@@ -249,6 +266,17 @@ impl PulseBank {
             if stops.home >> i & 1 == 1 {
                 self.home_position[i] = position;
             }
+            // Signed WIDTH-bit compares, registered.
+            let signed = |v: u32| crate::counter::sign_extend(v, self.width) as i32;
+            let bit = 1 << i;
+            self.above_max &= !bit;
+            self.below_min &= !bit;
+            if signed(position) >= signed(self.soft_max[i]) {
+                self.above_max |= bit;
+            }
+            if signed(position) <= signed(self.soft_min[i]) {
+                self.below_min |= bit;
+            }
             let (request, blocked) = self.generators[i].request(&inputs);
             let push = bus.we && self.is(bus.addr, "SEG_PUSH", i);
             let writes: Vec<(SegmentField, u32)> = [
@@ -289,6 +317,12 @@ impl PulseBank {
                     ("STEP_TIMING", Some(i)) => self.step_timing[i as usize] = v,
                     ("DIR_TIMING", Some(i)) => self.dir_timing[i as usize] = v,
                     ("FIFO_LOW_WATER", Some(i)) => self.low_water[i as usize] = v,
+                    ("SOFT_MIN", Some(i)) => {
+                        self.soft_min[i as usize] = crate::counter::wrap(v, self.width)
+                    }
+                    ("SOFT_MAX", Some(i)) => {
+                        self.soft_max[i as usize] = crate::counter::wrap(v, self.width)
+                    }
                     _ => {}
                 }
             }

@@ -207,6 +207,22 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "Live, not through SNAPSHOT: it changes only at a home event, the edge where the safety block sets HOME_ALARM_CAUSE.HOME (an enabled HOME input turning active after its filter). 0 after reset.",
                     vec![field("VALUE", 0, 32, ReadOnly, "Two's complement; wraps modulo 2^WIDTH.")],
                 ),
+                reg(
+                    "SOFT_MIN",
+                    13,
+                    ReadWrite,
+                    "Soft limit: the lowest POSITION the axis may reach (two's complement, WIDTH bits stored, read sign-extended).",
+                    "0 after reset. SAFETY.SOFT_LIMIT_CTRL.MIN turns it on; the comparison POSITION <= SOFT_MIN is a flip-flop, one edge after POSITION.",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; taken modulo 2^WIDTH.")],
+                ),
+                reg(
+                    "SOFT_MAX",
+                    14,
+                    ReadWrite,
+                    "Soft limit: the highest POSITION the axis may reach (two's complement, WIDTH bits stored, read sign-extended).",
+                    "0 after reset. SAFETY.SOFT_LIMIT_CTRL.MAX turns it on; the comparison POSITION >= SOFT_MAX is a flip-flop, one edge after POSITION.",
+                    vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; taken modulo 2^WIDTH.")],
+                ),
             ],
         }],
     }

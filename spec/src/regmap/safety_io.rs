@@ -145,6 +145,8 @@ pub fn safety_io(axes: u32) -> Block {
         .chain(machine_registers(axes))
         .chain(gpio_registers())
         .chain([home_stop_register(axes)])
+        .chain(soft_limit_registers(axes))
+        .chain(counter_event_registers(axes))
         .collect(),
         arrays: vec![],
     }
@@ -223,6 +225,65 @@ fn machine_registers(axes: u32) -> Vec<super::Register> {
             pair(axes, WriteOneToClear, ("HOME", "Per axis: the enabled HOME input turned active."), ("ALARM", "Per axis: stopped by the drive's alarm.")),
         ),
         reg("HOME_ALARM_MASK", 23, ReadWrite, "Which HOME_ALARM_CAUSE bits drive the IRQ pin.", "", pair(axes, ReadWrite, ("HOME", "Per axis."), ("ALARM", "Per axis."))),
+    ]
+}
+
+/// Soft limits: the pulse bank compares each axis's POSITION with its
+/// SOFT_MIN and SOFT_MAX; these registers turn the comparisons into causes
+/// and stops as the limit inputs do.
+fn soft_limit_registers(axes: u32) -> Vec<super::Register> {
+    use Access::*;
+    let halves = |access| {
+        pair(
+            axes,
+            access,
+            ("MAX", "Per axis: POSITION at or above PULSE.AX.SOFT_MAX."),
+            ("MIN", "Per axis: POSITION at or below PULSE.AX.SOFT_MIN."),
+        )
+    };
+    vec![
+        reg(
+            "SOFT_LIMIT_CTRL",
+            32,
+            ReadWrite,
+            "Per axis and direction: 1 = the soft limit acts (sets its cause and stops the axis in that direction).",
+            "0 after reset: no soft limit acts. Set PULSE.AX.SOFT_MIN and SOFT_MAX before turning one on.",
+            halves(ReadWrite),
+        ),
+        reg(
+            "SOFT_LIMIT_CAUSE",
+            33,
+            WriteOneToClear,
+            "Sticky, per axis and direction: an enabled soft limit was reached. While MAX (MIN) is set the axis starts no step up (down) and stops if it heads that way; steps the other way stay allowed, so it can move back inside.",
+            "A level, as LIMIT_CAUSE: a write of 1 clears the bit only once POSITION is back inside the limit.",
+            halves(WriteOneToClear),
+        ),
+        reg("SOFT_LIMIT_MASK", 34, ReadWrite, "Which SOFT_LIMIT_CAUSE bits drive the IRQ pin.", "", halves(ReadWrite)),
+    ]
+}
+
+/// The counter events: rises of each channel's STATUS.ERR and SEEN as
+/// interrupt causes.
+fn counter_event_registers(axes: u32) -> Vec<super::Register> {
+    use Access::*;
+    let halves = |access| {
+        pair(
+            axes,
+            access,
+            ("ERR", "Per counter channel: STATUS.ERR rose (an illegal quadrature transition, with CTRL.ERR_EN)."),
+            ("INDEX", "Per counter channel: STATUS.SEEN rose (an index event)."),
+        )
+    };
+    vec![
+        reg(
+            "COUNTER_CAUSE",
+            35,
+            WriteOneToClear,
+            "Sticky, per counter channel: its STATUS.ERR or STATUS.SEEN rose (live, not through SNAPSHOT).",
+            "An edge: a flag that stays set does not set its cause again; clear the channel's flag (CMD.CLEAR_STATUS) to see the next one. A rise in the same clock as a write of 1 keeps the bit set.",
+            halves(WriteOneToClear),
+        ),
+        reg("COUNTER_MASK", 36, ReadWrite, "Which COUNTER_CAUSE bits drive the IRQ pin.", "", halves(ReadWrite)),
     ]
 }
 

@@ -130,11 +130,22 @@ pub fn bank_rust(clocks: usize, seed: u64) -> CheckReport {
         let mut bad = (got_rdata != model.rdata())
             .then(|| format!("rdata HDL {got_rdata:#x}, model {:#x}", model.rdata()));
         for i in 0..N {
-            let events = (uut.done.val().get_bit(i), uut.low.val().get_bit(i));
-            let want_events = (model.move_done(i), model.fifo_low(i));
+            let (max, min) = model.soft_levels();
+            let events = (
+                uut.done.val().get_bit(i),
+                uut.low.val().get_bit(i),
+                uut.at_soft_max.val().get_bit(i),
+                uut.at_soft_min.val().get_bit(i),
+            );
+            let want_events = (
+                model.move_done(i),
+                model.fifo_low(i),
+                max >> i & 1 == 1,
+                min >> i & 1 == 1,
+            );
             if events != want_events {
                 bad.get_or_insert(format!(
-                    "axis {i}: (done, low) HDL {events:?}, model {want_events:?}"
+                    "axis {i}: (done, low, at_soft_max, at_soft_min) HDL {events:?}, model {want_events:?}"
                 ));
             }
             let f = (uut.f1.val().get_bit(i), uut.f2.val().get_bit(i));

@@ -58,6 +58,7 @@ impl McuOracle {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
         let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
+        let flags = self.bank.flags();
         self.bank.clock(&pins, reset, bus);
         self.safety.clock_with_pulses(
             &mut self.pulses,
@@ -65,6 +66,7 @@ impl McuOracle {
             (pulse_bus, snapshot),
             &BusCycle::default(),
             (true, Default::default()),
+            flags,
         );
     }
 

@@ -72,6 +72,9 @@ mod class {
     pub const STEPS: u8 = 4;
     /// Signed, shifted right 20 (SEG_ACCEL, SEG_JERK).
     pub const ACCEL: u8 = 5;
+    /// 0..=4095 (SOFT_MAX): a limit a few thousand steps up, so the
+    /// random travel meets it now and then rather than at once.
+    pub const NEAR: u8 = 6;
 }
 
 fn shape(c: u8, d: u32, shift: u32) -> u32 {
@@ -81,6 +84,7 @@ fn shape(c: u8, d: u32, shift: u32) -> u32 {
         class::SMALL => d & 7,
         class::STEPS => d & 0xff,
         class::ACCEL => ((d as i32) >> 20) as u32,
+        class::NEAR => d & 0xfff,
         _ => d,
     }
 }
@@ -152,6 +156,7 @@ impl TopStimulus {
                     ("PULSE", "CTRL") => class::SMALL,
                     ("PULSE", "SEG_STEPS") => class::STEPS,
                     ("PULSE", "SEG_ACCEL" | "SEG_JERK") => class::ACCEL,
+                    ("PULSE", "SOFT_MAX") => class::NEAR,
                     // Timeouts of 0..=7 clocks one time in eight (the
                     // watchdog bites), else up to 2^19 (it rarely does);
                     // CLEAR's bits.
@@ -159,10 +164,11 @@ impl TopStimulus {
                     ("SAFETY", "CLEAR") => class::SMALL,
                     // Inputs of axes 0..=2 on, active high: axis 3 never
                     // stops at a limit.
+                    // Likewise the soft limits: MAX of axes 0..=2 only.
                     (
                         "SAFETY",
                         "LIMIT_POS_CTRL" | "LIMIT_NEG_CTRL" | "HOME_CTRL" | "ALARM_CTRL"
-                        | "HOME_STOP",
+                        | "HOME_STOP" | "SOFT_LIMIT_CTRL",
                     ) => class::SMALL,
                     _ => class::RANDOM,
                 };

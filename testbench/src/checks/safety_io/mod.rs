@@ -3,6 +3,7 @@
 //! rust-hdl and as generated Verilog), and its contract, stated apart
 //! from the model (docs/safety_io.md).
 
+pub mod cause_tour;
 pub mod contract;
 pub mod tour;
 
@@ -126,6 +127,20 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         if next().is_multiple_of(8) {
             inputs.low ^= 1 << (next() % AXES as u64);
         }
+        // The pulse bank's soft-limit comparisons come and go per axis.
+        if next().is_multiple_of(32) {
+            inputs.at_soft_max ^= 1 << (next() % AXES as u64);
+        }
+        if next().is_multiple_of(32) {
+            inputs.at_soft_min ^= 1 << (next() % AXES as u64);
+        }
+        // The counter channels' STATUS.ERR and SEEN flags likewise.
+        if next().is_multiple_of(32) {
+            inputs.counter_error ^= 1 << (next() % AXES as u64);
+        }
+        if next().is_multiple_of(32) {
+            inputs.index_seen ^= 1 << (next() % AXES as u64);
+        }
         let bus = match next() % 6 {
             0 => {
                 let (addr, r, _) = decoded[(next() % decoded.len() as u64) as usize];
@@ -196,6 +211,10 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
             uut.home.next = u64::from(m.home).into();
             uut.alarm.next = u64::from(m.alarm).into();
             uut.gpi.next = u64::from(m.gpi).into();
+            uut.at_soft_max.next = u64::from(v.inputs.at_soft_max).into();
+            uut.at_soft_min.next = u64::from(v.inputs.at_soft_min).into();
+            uut.counter_error.next = u64::from(v.inputs.counter_error).into();
+            uut.index_seen.next = u64::from(v.inputs.index_seen).into();
             settle(&mut uut);
             cycle(&mut uut, |u| &mut u.clock);
             Observed {
@@ -276,6 +295,10 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "home",
                 "alarm",
                 "gpi",
+                "at_soft_max",
+                "at_soft_min",
+                "counter_error",
+                "index_seen",
             ],
         ),
         outputs: ports_of(
@@ -309,11 +332,17 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             ]
             .into_iter()
             .chain(v.inputs.machine.kinds().map(u64::from))
-            .chain([u64::from(v.inputs.machine.gpi)])
+            .chain([
+                u64::from(v.inputs.machine.gpi),
+                u64::from(v.inputs.at_soft_max),
+                u64::from(v.inputs.at_soft_min),
+                u64::from(v.inputs.counter_error),
+                u64::from(v.inputs.index_seen),
+            ])
             .collect()
         })
         .collect();
-    rows.push(vec![0; 13]);
+    rows.push(vec![0; 17]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, w) in want.iter().enumerate() {
@@ -347,7 +376,12 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
 /// Verilog in Icarus and Verilator.
 pub fn all(external: bool) -> Vec<CheckReport> {
     use crate::verilog_sim::Simulator;
-    let mut v = vec![random_rust(100_000, 0x5afe_0001), tour::stops_exhaustive()];
+    let mut v = vec![
+        random_rust(100_000, 0x5afe_0001),
+        tour::stops_exhaustive(),
+        cause_tour::soft_limits_exhaustive(),
+        cause_tour::counter_events_exhaustive(),
+    ];
     v.extend(contract::contract(&run_rust(&stimulus(
         100_000,
         0x5afe_0006,

@@ -78,6 +78,7 @@ module top_bench_tb;
                 3'd{c_small}: shape = d & 32'd7;
                 3'd{c_steps}: shape = d & 32'd255;
                 3'd{c_accel}: shape = $signed(d) >>> 20;
+                3'd{c_near}: shape = d & 32'd4095;
                 default: shape = d;
             endcase
         end
@@ -300,6 +301,7 @@ endmodule
         c_small = class::SMALL,
         c_steps = class::STEPS,
         c_accel = class::ACCEL,
+        c_near = class::NEAR,
         idle = IDLE,
         addr = ADDR,
         strobe = STROBE,

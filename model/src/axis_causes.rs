@@ -1,0 +1,119 @@
+//! A pair of per-axis causes in the safety block, with their mask and
+//! optionally an enable register: the soft limits (docs/safety_io.md,
+//! "Soft limits") and the counter events ("Counter events").
+
+use crate::counter::BusCycle;
+use crate::regmap::Block;
+use motionhdl_spec::bus::mask_bits;
+
+/// Which registers a pair of causes has and how its inputs set them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct CauseKind {
+    /// The enable register, if any (without one every cause acts).
+    pub ctrl: Option<&'static str>,
+    pub cause: &'static str,
+    pub mask: &'static str,
+    /// A cause sets on its input's rise (else while the input is high).
+    pub on_rise: bool,
+    /// The causes stop the axis: the first one up, the second one down.
+    pub stops: bool,
+}
+
+/// SOFT_LIMIT_CTRL/CAUSE/MASK: MAX low, MIN high; levels.
+pub const SOFT_LIMITS: CauseKind = CauseKind {
+    ctrl: Some("SOFT_LIMIT_CTRL"),
+    cause: "SOFT_LIMIT_CAUSE",
+    mask: "SOFT_LIMIT_MASK",
+    on_rise: false,
+    stops: true,
+};
+
+/// COUNTER_CAUSE/MASK: ERR low, INDEX high; rises of STATUS.ERR and SEEN.
+pub const COUNTER_EVENTS: CauseKind = CauseKind {
+    ctrl: None,
+    cause: "COUNTER_CAUSE",
+    mask: "COUNTER_MASK",
+    on_rise: true,
+    stops: false,
+};
+
+/// The registers: the first cause in bits N-1:0, the second in N+15:16.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct AxisCauses {
+    kind: CauseKind,
+    axes: u32,
+    ctrl: u32,
+    cause: u32,
+    mask: u32,
+    /// The inputs in the clock before (kept for rises only).
+    before: u32,
+}
+
+impl AxisCauses {
+    pub fn new(axes: u32, kind: CauseKind) -> Self {
+        Self {
+            kind,
+            axes,
+            ctrl: 0,
+            cause: 0,
+            mask: 0,
+            before: 0,
+        }
+    }
+
+    /// Per axis: no step up (the first cause, for a kind that stops).
+    pub fn stop_up(&self) -> u32 {
+        if self.kind.stops {
+            self.cause & mask_bits(self.axes)
+        } else {
+            0
+        }
+    }
+
+    /// Per axis: no step down (the second cause, likewise).
+    pub fn stop_down(&self) -> u32 {
+        if self.kind.stops {
+            self.cause >> 16 & mask_bits(self.axes)
+        } else {
+            0
+        }
+    }
+
+    pub fn irq_active(&self) -> bool {
+        self.cause & self.mask != 0
+    }
+
+    /// What a read of register `name` returns, if it is one of these.
+    pub fn read(&self, name: &str) -> Option<u32> {
+        if Some(name) == self.kind.ctrl {
+            Some(self.ctrl)
+        } else if name == self.kind.cause {
+            Some(self.cause)
+        } else if name == self.kind.mask {
+            Some(self.mask)
+        } else {
+            None
+        }
+    }
+
+    /// One rising edge (not a reset) with the inputs as they stand before
+    /// it. A cause sets while its enabled input is high, or where it
+    /// rises; a 1 written clears it; the input wins.
+    pub fn clock(&mut self, map: &Block, bus: &BusCycle, low: u32, high: u32) {
+        let axes = mask_bits(self.axes);
+        let levels = (low & axes) | (high & axes) << 16;
+        let mut events = match self.kind.ctrl {
+            Some(_) => levels & self.ctrl,
+            None => levels,
+        };
+        if self.kind.on_rise {
+            events &= !self.before;
+            self.before = levels;
+        }
+        self.cause = (self.cause & !bus.cleared(map, self.kind.cause)) | events;
+        if let Some(ctrl) = self.kind.ctrl {
+            self.ctrl = bus.written(map, ctrl, self.ctrl);
+        }
+        self.mask = bus.written(map, self.kind.mask, self.mask);
+    }
+}
