@@ -338,7 +338,7 @@ mod tests {
         assert_eq!(e.exit_code, 2);
         assert!(
             e.message.starts_with(
-                "c: board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 126 (10 per axis for axes = 2, 106 for the rest"
+                "c: board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 127 (10 per axis for axes = 2, 107 for the rest"
             ),
             "{}",
             e.message

@@ -129,6 +129,8 @@ fn isa_header_for(map: &Block) -> String {
     let st_addr = status.field("ADDR");
     let st_auto = status.field("AUTO_INC");
     let st_wrapped = status.field("WRAPPED");
+    let st_irq_en = status.field("IRQ_EN");
+    let st_bell = status.field("BELL");
     let ports = 1u32 << map.address_bits;
     let reg_mask = ports - 1;
     let base_max = u32::from(card::port(u8::MAX, 0));
@@ -171,8 +173,13 @@ fn isa_header_for(map: &Block) -> String {
     let addr_bp = field_name(status, st_addr, "bp");
     let auto_bm = field_name(status, st_auto, "bm");
     let wrapped_bm = field_name(status, st_wrapped, "bm");
-    let sticky = masks(status, |f| f.access == Access::WriteOneToClear);
-    let keep = masks(status, |f| f.access == Access::ReadWrite);
+    let irq_en_bm = field_name(status, st_irq_en, "bm");
+    let bell_bm = field_name(status, st_bell, "bm");
+    let sticky = masks(status, |f| f.access == Access::WriteOneToClear)
+        .replace(" | ", "\n                        | ");
+    // One mask per line: three names do not fit on one.
+    let keep = masks(status, |f| f.access == Access::ReadWrite)
+        .replace(" | ", "\n                          | ");
 
     let mut o = String::new();
     let _ = writeln!(o, "/* {} */", banner());
@@ -226,6 +233,23 @@ fn isa_header_for(map: &Block) -> String {
         &mut o,
         &format!("{p}_ADDR_BITS"),
         &dec(regmap::ISA_ADDR_BITS),
+    );
+    comment(
+        &mut o,
+        "The doorbells' mailbox words, as on a dual-port RAM such as the IDT7130: the DSP side \
+         writes TO_PC to ring the PC (STATUS.BELL, and the IRQ line while STATUS.IRQ_EN is \
+         set); the PC's DATA read of TO_PC (or a 1 written to STATUS.BELL) answers it. The PC \
+         writes TO_DSP to ring the DSP side. The words hold whatever message the sides agree on.",
+    );
+    define(
+        &mut o,
+        &format!("{p}_MAILBOX_TO_PC"),
+        &hex(regmap::ISA_MAILBOX_TO_PC),
+    );
+    define(
+        &mut o,
+        &format!("{p}_MAILBOX_TO_DSP"),
+        &hex(regmap::ISA_MAILBOX_TO_DSP),
     );
     comment(&mut o, "Ports one card decodes, and the highest base port.");
     define(&mut o, &format!("{p}_PORT_COUNT"), &dec(ports));
@@ -293,15 +317,16 @@ uint16_t motionhdl_isa_inw(uint16_t port);
         &mut o,
         &format!(
             "Loads the address counter with `addr` (taken modulo MOTIONHDL_ISA_RAM_WORDS) and \
-         sets AUTO_INC if `auto_inc` is nonzero; the sticky bits are left alone \
-         (one OUT at +{so})."
+         sets AUTO_INC if `auto_inc` is nonzero; keeps IRQ_EN, and the sticky bits are left \
+         alone (one IN and one OUT at +{so})."
         ),
     );
     let _ = write!(
         o,
         "static inline void motionhdl_isa_set_address(uint16_t base_port, uint16_t addr, int auto_inc)
 {{
-    unsigned v = ((unsigned)addr << {addr_bp}) & {addr_bm};
+    unsigned v = (((unsigned)addr << {addr_bp}) & {addr_bm})
+                 | (motionhdl_isa_status(base_port) & {irq_en_bm});
     if (auto_inc) {{
         v |= {auto_bm};
     }}
@@ -313,8 +338,9 @@ uint16_t motionhdl_isa_inw(uint16_t port);
     comment(
         &mut o,
         &format!(
-            "Clears the address counter and STATUS.WRAPPED and keeps AUTO_INC and COLLISION: what \
-         an access to ADDR_CLEAR does, done through STATUS (one IN and one OUT at +{so})."
+            "Clears the address counter and STATUS.WRAPPED and keeps AUTO_INC, IRQ_EN, COLLISION \
+         and BELL: what an access to ADDR_CLEAR does, done through STATUS (one IN and one OUT \
+         at +{so})."
         ),
     );
     let _ = write!(
@@ -322,7 +348,8 @@ uint16_t motionhdl_isa_inw(uint16_t port);
         "static inline void motionhdl_isa_clear_address(uint16_t base_port)
 {{
     unsigned st = motionhdl_isa_status(base_port);
-    unsigned v = (st & {auto_bm}) | {wrapped_bm};
+    unsigned v = (st & ({auto_bm} | {irq_en_bm}))
+                 | {wrapped_bm};
     {p}_OUTW({p}_PORT(base_port, {sp}), (uint16_t)v);
 }}
 
@@ -331,8 +358,8 @@ uint16_t motionhdl_isa_inw(uint16_t port);
     comment(
         &mut o,
         &format!(
-            "Clears the sticky (write-1-to-clear) STATUS bits and keeps the address counter and \
-         AUTO_INC (one IN and one OUT at +{so})."
+            "Clears the sticky (write-1-to-clear) STATUS bits, BELL among them, and keeps the \
+         address counter, IRQ_EN and AUTO_INC (one IN and one OUT at +{so})."
         ),
     );
     let _ = write!(
@@ -351,7 +378,7 @@ uint16_t motionhdl_isa_inw(uint16_t port);
         &mut o,
         &format!(
             "Writes `n` words from `src` to the RAM from word `start` on: sets the address with \
-         AUTO_INC on (one OUT at +{so}), then one OUT at DATA (+{doff}) per word. The counter wraps \
+         AUTO_INC on (motionhdl_isa_set_address), then one OUT at DATA (+{doff}) per word. The counter wraps \
          from the last word to 0 (setting STATUS.WRAPPED); AUTO_INC stays on."
         ),
     );
@@ -374,7 +401,7 @@ uint16_t motionhdl_isa_inw(uint16_t port);
         &mut o,
         &format!(
             "Reads `n` words of the RAM from word `start` on into `dst`: sets the address with \
-         AUTO_INC on (one OUT at +{so}), then one IN at DATA (+{doff}) per word. Wraps as \
+         AUTO_INC on (motionhdl_isa_set_address), then one IN at DATA (+{doff}) per word. Wraps as \
          motionhdl_isa_write_block."
         ),
     );
@@ -391,6 +418,16 @@ uint16_t motionhdl_isa_inw(uint16_t port);
     }}
 }}
 
+"
+    );
+    doorbell_helpers(
+        &mut o,
+        (&format!("+{so}"), &format!("+{doff}")),
+        [&sp, &dp, &addr_bm, &auto_bm, &irq_en_bm, &bell_bm],
+    );
+    let _ = write!(
+        o,
+        "
 #ifdef __cplusplus
 }}
 #endif
@@ -402,4 +439,81 @@ uint16_t motionhdl_isa_inw(uint16_t port);
         assert!(l.chars().count() <= MAX_LINE, "line too long: {l}");
     }
     o
+}
+
+/// The IRQ enable and the two doorbells: `so`/`doff` are the port offsets
+/// of STATUS and DATA for the comments, `names` the macros of the STATUS
+/// and DATA offsets and of the ADDR, AUTO_INC, IRQ_EN and BELL masks.
+fn doorbell_helpers(o: &mut String, (so, doff): (&str, &str), names: [&String; 6]) {
+    let p = PREFIX;
+    let [sp, dp, addr_bm, auto_bm, irq_en_bm, bell_bm] = names;
+    comment(
+        o,
+        &format!(
+            "Sets STATUS.IRQ_EN if `on` is nonzero, else clears it: the card drives its IRQ line \
+             high while BELL and IRQ_EN are both set. Keeps the address counter and AUTO_INC \
+             (one IN and one OUT at {so})."
+        ),
+    );
+    let _ = write!(
+        o,
+        "static inline void motionhdl_isa_enable_irq(uint16_t base_port, int on)
+{{
+    unsigned st = motionhdl_isa_status(base_port);
+    unsigned v = st & ({addr_bm} | {auto_bm});
+    if (on) {{
+        v |= {irq_en_bm};
+    }}
+    {p}_OUTW({p}_PORT(base_port, {sp}), (uint16_t)v);
+}}
+
+"
+    );
+    comment(
+        o,
+        &format!(
+            "Rings the DSP side: writes `message` to word MOTIONHDL_ISA_MAILBOX_TO_DSP. Keeps \
+             IRQ_EN; leaves AUTO_INC off and the counter at that word (one IN and one OUT at \
+             {so}, one OUT at DATA {doff})."
+        ),
+    );
+    let _ = write!(
+        o,
+        "static inline void motionhdl_isa_ring_dsp(uint16_t base_port, uint16_t message)
+{{
+    unsigned st = motionhdl_isa_status(base_port);
+    unsigned v = (st & {irq_en_bm}) | {p}_MAILBOX_TO_DSP;
+    {p}_OUTW({p}_PORT(base_port, {sp}), (uint16_t)v);
+    {p}_OUTW({p}_PORT(base_port, {dp}), message);
+}}
+
+"
+    );
+    comment(
+        o,
+        &format!(
+            "Answers the DSP side's doorbell: if STATUS.BELL is set, reads word \
+             MOTIONHDL_ISA_MAILBOX_TO_PC into `*message` (the read clears BELL, and with it the \
+             IRQ line) and returns 1; else returns 0 and leaves `*message` alone. Keeps IRQ_EN; \
+             when it answers, leaves AUTO_INC off and the counter at that word (one IN at {so}; \
+             when it answers, one OUT at {so} and one IN at DATA {doff})."
+        ),
+    );
+    let _ = write!(
+        o,
+        "static inline int motionhdl_isa_take_bell(uint16_t base_port, uint16_t *message)
+{{
+    unsigned st = motionhdl_isa_status(base_port);
+    if (!(st & {bell_bm})) {{
+        return 0;
+    }}
+    unsigned v = (st & {irq_en_bm}) | {p}_MAILBOX_TO_PC;
+    {p}_OUTW({p}_PORT(base_port, {sp}), (uint16_t)v);
+    *message = (uint16_t){p}_INW({p}_PORT(base_port,
+                                                     {dp}));
+    return 1;
+}}
+
+"
+    );
 }

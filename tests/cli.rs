@@ -128,7 +128,7 @@ fn bad_config_exits_2_names_the_value_and_writes_nothing() {
         ),
         (
             "board = \"cyclone4-de0nano\"\n",
-            "board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 146",
+            "board = \"cyclone4-de0nano\" has 100 user pins; this configuration needs 147",
         ),
         ("axis = 4\n", "axis"),
     ] {

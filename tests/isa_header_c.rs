@@ -9,7 +9,7 @@ use common::isa::{expected, P};
 use common::run;
 use motionhdl::isa_header::{isa_header, FILE_NAME};
 use motionhdl_model::isa_bridge::{self as card, IsaCard};
-use motionhdl_model::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
+use motionhdl_model::regmap::{self, ISA_RAM_WORDS};
 use motionhdl_testbench::harness::require_tool;
 use std::collections::BTreeMap;
 use std::fs;
@@ -26,7 +26,6 @@ const SWITCHES: u8 = 0xa8;
 /// `# helper n`, for the replay on `IsaCard`.
 fn c_program() -> String {
     let map = regmap::isa_bridge();
-    let reg_bits = map.address_bits;
     let mut checks = String::new();
     for (name, value) in expected() {
         checks.push_str(&format!("    EQ({name}, {value}ul);\n"));
@@ -43,132 +42,7 @@ fn c_program() -> String {
         card::port(SWITCHES, 0),
         card::port(1, 0),
     ));
-    let emu = format!(
-        r##"#include <stdio.h>
-#include <stddef.h>
-#include <stdint.h>
-
-/* The card, as motionhdl_model::isa_bridge::IsaCard; plus COLLISION, which
-   only the DSP port sets (emu_collision = 1 stands in for it). */
-#define EMU_SWITCHES {SWITCHES}u
-#define EMU_SWITCH_MASK {switch_mask}u
-#define EMU_REG_BITS {reg_bits}u
-#define EMU_REG_MASK {reg_mask}u
-#define EMU_WORDS {words}u
-#define EMU_ADDR_MASK {addr_mask}u
-#define EMU_DATA {r_data}u
-#define EMU_ADDR_CLEAR {r_clear}u
-#define EMU_ADDR_INC {r_inc}u
-#define EMU_STATUS {r_status}u
-#define EMU_AUTO_INC {s_auto}u
-#define EMU_WRAPPED {s_wrapped}u
-#define EMU_COLLISION {s_collision}u
-#define EMU_UNDRIVEN {undriven}u
-
-static uint16_t emu_ram[EMU_WORDS];
-static unsigned emu_addr;
-static int emu_auto_inc, emu_wrapped, emu_collision;
-static unsigned long emu_misses;
-
-static uint16_t emu_status(void)
-{{
-    return (uint16_t)(emu_addr | (emu_auto_inc ? EMU_AUTO_INC : 0u)
-                      | (emu_wrapped ? EMU_WRAPPED : 0u) | (emu_collision ? EMU_COLLISION : 0u));
-}}
-
-static void emu_advance(void)
-{{
-    if (emu_addr == EMU_ADDR_MASK) {{
-        emu_wrapped = 1;
-    }}
-    emu_addr = (emu_addr + 1u) & EMU_ADDR_MASK;
-}}
-
-static void emu_side_effects(unsigned reg)
-{{
-    if (reg == EMU_DATA && emu_auto_inc) {{
-        emu_advance();
-    }} else if (reg == EMU_ADDR_CLEAR) {{
-        emu_addr = 0;
-        emu_wrapped = 0;
-    }} else if (reg == EMU_ADDR_INC) {{
-        emu_advance();
-    }}
-}}
-
-static int emu_selected(unsigned port)
-{{
-    return ((port >> EMU_REG_BITS) & EMU_SWITCH_MASK) == EMU_SWITCHES;
-}}
-
-static void emu_outw(uint16_t port, uint16_t value)
-{{
-    unsigned reg = port & EMU_REG_MASK;
-    printf("W %u %u\n", (unsigned)port, (unsigned)value);
-    if (!emu_selected(port)) {{
-        emu_misses++;
-        return;
-    }}
-    if (reg == EMU_DATA) {{
-        emu_ram[emu_addr] = value;
-    }} else if (reg == EMU_STATUS) {{
-        emu_addr = value & EMU_ADDR_MASK;
-        emu_auto_inc = (value & EMU_AUTO_INC) != 0;
-        if (value & EMU_WRAPPED) {{
-            emu_wrapped = 0;
-        }}
-        if (value & EMU_COLLISION) {{
-            emu_collision = 0;
-        }}
-    }}
-    emu_side_effects(reg);
-}}
-
-static uint16_t emu_inw(uint16_t port)
-{{
-    unsigned reg = port & EMU_REG_MASK;
-    uint16_t value;
-    if (!emu_selected(port)) {{
-        emu_misses++;
-        value = (uint16_t)EMU_UNDRIVEN;
-    }} else {{
-        value = reg == EMU_DATA ? emu_ram[emu_addr] : emu_status();
-        emu_side_effects(reg);
-    }}
-    printf("R %u %u\n", (unsigned)port, (unsigned)value);
-    return value;
-}}
-
-#ifndef USE_FUNCTIONS
-#define MOTIONHDL_ISA_OUTW(port, value) emu_outw((port), (value))
-#define MOTIONHDL_ISA_INW(port) emu_inw(port)
-#endif
-#include "{FILE_NAME}"
-#include "{FILE_NAME}" /* the include guard must hold */
-#ifdef USE_FUNCTIONS
-void motionhdl_isa_outw(uint16_t port, uint16_t value)
-{{
-    emu_outw(port, value);
-}}
-uint16_t motionhdl_isa_inw(uint16_t port)
-{{
-    return emu_inw(port);
-}}
-#endif
-"##,
-        reg_mask = (1u32 << reg_bits) - 1,
-        words = ISA_RAM_WORDS,
-        addr_mask = (1u32 << ISA_ADDR_BITS) - 1,
-        r_data = card::reg::DATA,
-        r_clear = card::reg::ADDR_CLEAR,
-        r_inc = card::reg::ADDR_INC,
-        r_status = card::reg::STATUS,
-        s_auto = card::status::AUTO_INC,
-        s_wrapped = card::status::WRAPPED,
-        s_collision = card::status::COLLISION,
-        undriven = u16::MAX,
-        switch_mask = u8::MAX,
-    );
+    let emu = common::isa::emulator_c(SWITCHES);
     let main = format!(
         r##"
 static int failures;
@@ -223,6 +97,31 @@ static void read_block(uint16_t base, uint16_t start, uint16_t *dst, size_t n)
     motionhdl_isa_read_block(base, start, dst, n);
 }}
 
+static void enable_irq(uint16_t base, int on)
+{{
+    mark("enable_irq", 0);
+    motionhdl_isa_enable_irq(base, on);
+}}
+
+static void ring_dsp(uint16_t base, uint16_t message)
+{{
+    mark("ring_dsp", 0);
+    motionhdl_isa_ring_dsp(base, message);
+}}
+
+/* n = 1 when the bell is set, so the log's shape can be checked. */
+static int take_bell(uint16_t base, uint16_t *message)
+{{
+    mark("take_bell", (size_t)emu_bell);
+    return motionhdl_isa_take_bell(base, message);
+}}
+
+static void dsp_write(uint16_t addr, uint16_t value)
+{{
+    mark("dsp", 0);
+    emu_dsp_write(addr, value);
+}}
+
 int main(void)
 {{
     static uint16_t src[{P}_RAM_WORDS], dst[{P}_RAM_WORDS];
@@ -231,6 +130,9 @@ int main(void)
     const unsigned wrapped = {P}_STATUS__WRAPPED_bm;
     const unsigned collision = {P}_STATUS__COLLISION_bm;
     const unsigned last = {P}_RAM_WORDS - 1u;
+    const unsigned irq_en = {P}_STATUS__IRQ_EN_bm;
+    const unsigned bell = {P}_STATUS__BELL_bm;
+    uint16_t message = 0;
     size_t i;
 
 {checks}
@@ -305,6 +207,38 @@ int main(void)
     EQ({P}_INW({P}_PORT(base, {P}_PORT_COUNT)), 0xffffu);
     EQ(emu_misses, 1u);
 
+    /* The doorbells. The DSP rings: BELL, and IRQ once enabled. */
+    dsp_write({P}_MAILBOX_TO_PC, 0x1234u);
+    EQ(status(base) & bell, bell);
+    EQ(emu_irq(), 0);
+    enable_irq(base, 1);
+    EQ(emu_irq(), 1);
+    EQ(status(base), auto_inc | irq_en | bell);
+    EQ(take_bell(base, &message), 1);
+    EQ(message, 0x1234u);
+    EQ(emu_irq(), 0);
+    EQ(status(base), {P}_MAILBOX_TO_PC | irq_en);
+    EQ(take_bell(base, &message), 0);
+    /* The PC rings. The full-RAM block above wrote the DSP's mailbox
+       too, so its bell is up already: the DSP takes it first. */
+    EQ(emu_dsp_bell, 1);
+    emu_dsp_bell = 0;
+    ring_dsp(base, 0x55aau);
+    EQ(emu_dsp_bell, 1);
+    EQ(emu_ram[{P}_MAILBOX_TO_DSP], 0x55aau);
+    EQ(status(base), {P}_MAILBOX_TO_DSP | irq_en);
+    /* The address helpers keep IRQ_EN; clear_sticky answers the bell. */
+    set_address(base, 3, 1);
+    EQ(status(base), 3u | auto_inc | irq_en);
+    dsp_write({P}_MAILBOX_TO_PC, 7u);
+    clear_address(base);
+    EQ(status(base), auto_inc | irq_en | bell);
+    clear_sticky(base);
+    EQ(status(base), auto_inc | irq_en);
+    EQ(emu_irq(), 0);
+    enable_irq(base, 0);
+    EQ(status(base), auto_inc);
+
     printf("DONE %d\n", failures);
     return failures == 0 ? 0 : 1;
 }}
@@ -318,12 +252,15 @@ int main(void)
 enum Access {
     Write(u16, u16),
     Read(u16, u16),
+    /// A DSP-side write: word address, value.
+    Dsp(u16, u16),
 }
 
 impl Access {
     fn port(&self) -> u16 {
         match self {
             Access::Write(p, _) | Access::Read(p, _) => *p,
+            Access::Dsp(..) => panic!("a DSP write has no port"),
         }
     }
 }
@@ -345,6 +282,11 @@ fn segments(out: &str) -> Vec<(String, usize, Vec<Access>)> {
                 .unwrap()
                 .2
                 .push(Access::Read(p.parse().unwrap(), v.parse().unwrap())),
+            ["D", a, v] => segs
+                .last_mut()
+                .unwrap()
+                .2
+                .push(Access::Dsp(a.parse().unwrap(), v.parse().unwrap())),
             _ => {}
         }
     }
@@ -375,9 +317,13 @@ fn check_log(out: &str) {
                     let got = if returns_status { v & !collision } else { v };
                     assert_eq!(got, want, "read of port {p:#x} in {helper}");
                 }
+                Access::Dsp(a, v) => {
+                    assert_eq!(helper, "dsp", "a DSP write inside {helper}");
+                    model.dsp_write(a, v);
+                }
             }
         }
-        if helper == "raw" || helper == "start" {
+        if helper == "raw" || helper == "start" || helper == "dsp" {
             continue;
         }
         *helpers.entry(helper.clone()).or_insert(0) += 1;
@@ -394,14 +340,17 @@ fn check_log(out: &str) {
                 match a {
                     Access::Write(..) => format!("OUT {reg}"),
                     Access::Read(..) => format!("IN {reg}"),
+                    Access::Dsp(..) => unreachable!("DSP writes are in dsp segments"),
                 }
             })
             .collect();
         let mut want: Vec<&str> = match helper.as_str() {
             "status" => vec!["IN STATUS"],
-            "set_address" => vec!["OUT STATUS"],
-            "clear_address" | "clear_sticky" => vec!["IN STATUS", "OUT STATUS"],
-            "write_block" | "read_block" => vec!["OUT STATUS"],
+            "set_address" | "clear_address" | "clear_sticky" | "enable_irq" | "write_block"
+            | "read_block" => vec!["IN STATUS", "OUT STATUS"],
+            "ring_dsp" => vec!["IN STATUS", "OUT STATUS", "OUT DATA"],
+            "take_bell" if *n == 1 => vec!["IN STATUS", "OUT STATUS", "IN DATA"],
+            "take_bell" => vec!["IN STATUS"],
             other => panic!("unknown helper {other}"),
         };
         match helper.as_str() {
@@ -418,6 +367,9 @@ fn check_log(out: &str) {
         "clear_sticky",
         "write_block",
         "read_block",
+        "enable_irq",
+        "ring_dsp",
+        "take_bell",
     ] {
         assert!(helpers.contains_key(h), "{h} never called");
     }

@@ -201,13 +201,13 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
 fn svd_parses_back_to_the_table() {
     let (regs, fields) = check_svd(&default_map());
     // 135 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 24,
-    // PULSE 3 + 4 x 24, SAFETY 21 + 20 (the machine inputs' 10 registers
+    // PULSE 3 + 4 x 24, SAFETY 23 + 20 (the machine inputs' 10 registers
     // of two fields each) + 8 (the general-purpose I/O's 7 registers) + 1
     // (HOME_STOP).
     assert_eq!(regs, 135 + 1024);
     assert_eq!(
         fields,
-        13 + 8 + 4 * 24 + 3 + 4 * 24 + 21 + 20 + 8 + 1 + 6 + 4
+        13 + 8 + 4 * 24 + 3 + 4 * 24 + 23 + 20 + 8 + 1 + 6 + 4
     );
     for c in other_configs() {
         check_svd(&mcu_map(&c));
@@ -239,8 +239,9 @@ fn svd_parses_back_to_the_table() {
 
 #[test]
 fn svd_marks_write_one_to_clear() {
-    // SAFETY's cause registers are W1C (8 registers, 13 fields: 21 marks);
-    // the ISA block's STATUS too (2 more), checked through a map holding
+    // SAFETY's cause registers are W1C (8 registers, 14 fields: 22 marks);
+    // the ISA block's STATUS fields WRAPPED, COLLISION and BELL too (3
+    // more), checked through a map holding
     // that block as well.
     let mut map = default_map();
     let mut isa = motionhdl_model::regmap::isa_bridge();
@@ -250,7 +251,7 @@ fn svd_marks_write_one_to_clear() {
     assert_eq!(
         text.matches("<modifiedWriteValues>oneToClear</modifiedWriteValues>")
             .count(),
-        21 + 2
+        22 + 3
     );
     check_svd(&map);
     check_header_numbers(&map);

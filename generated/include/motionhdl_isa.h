@@ -32,6 +32,14 @@ extern "C" {
 /* Words in the shared RAM, and bits of the address counter. */
 #define MOTIONHDL_ISA_RAM_WORDS 1024u
 #define MOTIONHDL_ISA_ADDR_BITS 10u
+/*
+ * The doorbells' mailbox words, as on a dual-port RAM such as the IDT7130: the DSP side writes
+ * TO_PC to ring the PC (STATUS.BELL, and the IRQ line while STATUS.IRQ_EN is set); the PC's DATA
+ * read of TO_PC (or a 1 written to STATUS.BELL) answers it. The PC writes TO_DSP to ring the DSP
+ * side. The words hold whatever message the sides agree on.
+ */
+#define MOTIONHDL_ISA_MAILBOX_TO_PC 0x03feu
+#define MOTIONHDL_ISA_MAILBOX_TO_DSP 0x03ffu
 /* Ports one card decodes, and the highest base port. */
 #define MOTIONHDL_ISA_PORT_COUNT 4u
 #define MOTIONHDL_ISA_BASE_PORT_MAX 0x03fcu
@@ -69,7 +77,7 @@ extern "C" {
 
 /*
  * STATUS, port +3 (odd: see the note on byte cycles above), read-write: Address counter and status.
- * A write loads ADDR and AUTO_INC and clears the sticky bits written as 1.
+ * A write loads ADDR, IRQ_EN and AUTO_INC and clears the sticky bits written as 1.
  */
 #define MOTIONHDL_ISA_STATUS_OFFSET 3u
 #define MOTIONHDL_ISA_STATUS_reset 0x0000u
@@ -80,6 +88,11 @@ extern "C" {
 #define MOTIONHDL_ISA_STATUS__ADDR_bp 0u
 #define MOTIONHDL_ISA_STATUS__ADDR_bw 10u
 #define MOTIONHDL_ISA_STATUS__ADDR_reset 0x0000u
+/* STATUS.IRQ_EN, bit 11, read-write: Drive the card's IRQ line high while BELL is set. */
+#define MOTIONHDL_ISA_STATUS__IRQ_EN_bm 0x0800u
+#define MOTIONHDL_ISA_STATUS__IRQ_EN_bp 11u
+#define MOTIONHDL_ISA_STATUS__IRQ_EN_bw 1u
+#define MOTIONHDL_ISA_STATUS__IRQ_EN_reset 0x0000u
 /*
  * STATUS.AUTO_INC, bit 12, read-write: DATA accesses advance the address counter after the access.
  */
@@ -103,6 +116,14 @@ extern "C" {
 #define MOTIONHDL_ISA_STATUS__COLLISION_bp 14u
 #define MOTIONHDL_ISA_STATUS__COLLISION_bw 1u
 #define MOTIONHDL_ISA_STATUS__COLLISION_reset 0x0000u
+/*
+ * STATUS.BELL, bit 15, read, write 1 to clear: Doorbell: the DSP side wrote the PC's mailbox word
+ * (ISA_MAILBOX_TO_PC). A DATA read of that word clears it too.
+ */
+#define MOTIONHDL_ISA_STATUS__BELL_bm 0x8000u
+#define MOTIONHDL_ISA_STATUS__BELL_bp 15u
+#define MOTIONHDL_ISA_STATUS__BELL_bw 1u
+#define MOTIONHDL_ISA_STATUS__BELL_reset 0x0000u
 
 /*
  * Port I/O: define both MOTIONHDL_ISA_OUTW(port, value) and MOTIONHDL_ISA_INW(port) before
@@ -130,11 +151,13 @@ static inline uint16_t motionhdl_isa_status(uint16_t base_port)
 
 /*
  * Loads the address counter with `addr` (taken modulo MOTIONHDL_ISA_RAM_WORDS) and sets AUTO_INC if
- * `auto_inc` is nonzero; the sticky bits are left alone (one OUT at +3).
+ * `auto_inc` is nonzero; keeps IRQ_EN, and the sticky bits are left alone (one IN and one OUT at
+ * +3).
  */
 static inline void motionhdl_isa_set_address(uint16_t base_port, uint16_t addr, int auto_inc)
 {
-    unsigned v = ((unsigned)addr << MOTIONHDL_ISA_STATUS__ADDR_bp) & MOTIONHDL_ISA_STATUS__ADDR_bm;
+    unsigned v = (((unsigned)addr << MOTIONHDL_ISA_STATUS__ADDR_bp) & MOTIONHDL_ISA_STATUS__ADDR_bm)
+                 | (motionhdl_isa_status(base_port) & MOTIONHDL_ISA_STATUS__IRQ_EN_bm);
     if (auto_inc) {
         v |= MOTIONHDL_ISA_STATUS__AUTO_INC_bm;
     }
@@ -142,32 +165,37 @@ static inline void motionhdl_isa_set_address(uint16_t base_port, uint16_t addr, 
 }
 
 /*
- * Clears the address counter and STATUS.WRAPPED and keeps AUTO_INC and COLLISION: what an access to
- * ADDR_CLEAR does, done through STATUS (one IN and one OUT at +3).
+ * Clears the address counter and STATUS.WRAPPED and keeps AUTO_INC, IRQ_EN, COLLISION and BELL:
+ * what an access to ADDR_CLEAR does, done through STATUS (one IN and one OUT at +3).
  */
 static inline void motionhdl_isa_clear_address(uint16_t base_port)
 {
     unsigned st = motionhdl_isa_status(base_port);
-    unsigned v = (st & MOTIONHDL_ISA_STATUS__AUTO_INC_bm) | MOTIONHDL_ISA_STATUS__WRAPPED_bm;
+    unsigned v = (st & (MOTIONHDL_ISA_STATUS__AUTO_INC_bm | MOTIONHDL_ISA_STATUS__IRQ_EN_bm))
+                 | MOTIONHDL_ISA_STATUS__WRAPPED_bm;
     MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_STATUS_OFFSET), (uint16_t)v);
 }
 
 /*
- * Clears the sticky (write-1-to-clear) STATUS bits and keeps the address counter and AUTO_INC (one
- * IN and one OUT at +3).
+ * Clears the sticky (write-1-to-clear) STATUS bits, BELL among them, and keeps the address counter,
+ * IRQ_EN and AUTO_INC (one IN and one OUT at +3).
  */
 static inline void motionhdl_isa_clear_sticky(uint16_t base_port)
 {
     unsigned st = motionhdl_isa_status(base_port);
-    unsigned keep = st & (MOTIONHDL_ISA_STATUS__ADDR_bm | MOTIONHDL_ISA_STATUS__AUTO_INC_bm);
-    unsigned v = keep | (MOTIONHDL_ISA_STATUS__WRAPPED_bm | MOTIONHDL_ISA_STATUS__COLLISION_bm);
+    unsigned keep = st & (MOTIONHDL_ISA_STATUS__ADDR_bm
+                          | MOTIONHDL_ISA_STATUS__IRQ_EN_bm
+                          | MOTIONHDL_ISA_STATUS__AUTO_INC_bm);
+    unsigned v = keep | (MOTIONHDL_ISA_STATUS__WRAPPED_bm
+                        | MOTIONHDL_ISA_STATUS__COLLISION_bm
+                        | MOTIONHDL_ISA_STATUS__BELL_bm);
     MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_STATUS_OFFSET), (uint16_t)v);
 }
 
 /*
  * Writes `n` words from `src` to the RAM from word `start` on: sets the address with AUTO_INC on
- * (one OUT at +3), then one OUT at DATA (+0) per word. The counter wraps from the last word to 0
- * (setting STATUS.WRAPPED); AUTO_INC stays on.
+ * (motionhdl_isa_set_address), then one OUT at DATA (+0) per word. The counter wraps from the last
+ * word to 0 (setting STATUS.WRAPPED); AUTO_INC stays on.
  */
 static inline void motionhdl_isa_write_block(uint16_t base_port, uint16_t start,
                                              const uint16_t *src, size_t n)
@@ -182,7 +210,8 @@ static inline void motionhdl_isa_write_block(uint16_t base_port, uint16_t start,
 
 /*
  * Reads `n` words of the RAM from word `start` on into `dst`: sets the address with AUTO_INC on
- * (one OUT at +3), then one IN at DATA (+0) per word. Wraps as motionhdl_isa_write_block.
+ * (motionhdl_isa_set_address), then one IN at DATA (+0) per word. Wraps as
+ * motionhdl_isa_write_block.
  */
 static inline void motionhdl_isa_read_block(uint16_t base_port, uint16_t start,
                                             uint16_t *dst, size_t n)
@@ -194,6 +223,52 @@ static inline void motionhdl_isa_read_block(uint16_t base_port, uint16_t start,
         dst[i] = (uint16_t)MOTIONHDL_ISA_INW(port);
     }
 }
+
+/*
+ * Sets STATUS.IRQ_EN if `on` is nonzero, else clears it: the card drives its IRQ line high while
+ * BELL and IRQ_EN are both set. Keeps the address counter and AUTO_INC (one IN and one OUT at +3).
+ */
+static inline void motionhdl_isa_enable_irq(uint16_t base_port, int on)
+{
+    unsigned st = motionhdl_isa_status(base_port);
+    unsigned v = st & (MOTIONHDL_ISA_STATUS__ADDR_bm | MOTIONHDL_ISA_STATUS__AUTO_INC_bm);
+    if (on) {
+        v |= MOTIONHDL_ISA_STATUS__IRQ_EN_bm;
+    }
+    MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_STATUS_OFFSET), (uint16_t)v);
+}
+
+/*
+ * Rings the DSP side: writes `message` to word MOTIONHDL_ISA_MAILBOX_TO_DSP. Keeps IRQ_EN; leaves
+ * AUTO_INC off and the counter at that word (one IN and one OUT at +3, one OUT at DATA +0).
+ */
+static inline void motionhdl_isa_ring_dsp(uint16_t base_port, uint16_t message)
+{
+    unsigned st = motionhdl_isa_status(base_port);
+    unsigned v = (st & MOTIONHDL_ISA_STATUS__IRQ_EN_bm) | MOTIONHDL_ISA_MAILBOX_TO_DSP;
+    MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_STATUS_OFFSET), (uint16_t)v);
+    MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_DATA_OFFSET), message);
+}
+
+/*
+ * Answers the DSP side's doorbell: if STATUS.BELL is set, reads word MOTIONHDL_ISA_MAILBOX_TO_PC
+ * into `*message` (the read clears BELL, and with it the IRQ line) and returns 1; else returns 0
+ * and leaves `*message` alone. Keeps IRQ_EN; when it answers, leaves AUTO_INC off and the counter
+ * at that word (one IN at +3; when it answers, one OUT at +3 and one IN at DATA +0).
+ */
+static inline int motionhdl_isa_take_bell(uint16_t base_port, uint16_t *message)
+{
+    unsigned st = motionhdl_isa_status(base_port);
+    if (!(st & MOTIONHDL_ISA_STATUS__BELL_bm)) {
+        return 0;
+    }
+    unsigned v = (st & MOTIONHDL_ISA_STATUS__IRQ_EN_bm) | MOTIONHDL_ISA_MAILBOX_TO_PC;
+    MOTIONHDL_ISA_OUTW(MOTIONHDL_ISA_PORT(base_port, MOTIONHDL_ISA_STATUS_OFFSET), (uint16_t)v);
+    *message = (uint16_t)MOTIONHDL_ISA_INW(MOTIONHDL_ISA_PORT(base_port,
+                                                     MOTIONHDL_ISA_DATA_OFFSET));
+    return 1;
+}
+
 
 #ifdef __cplusplus
 }

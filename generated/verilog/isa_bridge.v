@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bale, base, iocs16_n, dsp_addr, dsp_wdata, dsp_we, dsp_rdata);
+module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bale, base, iocs16_n, irq, bell_to_dsp, dsp_addr, dsp_wdata, dsp_we, dsp_rdata);
     input wire clock;
     input wire reset;
     input wire [9:0] sa;
@@ -17,16 +17,25 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     input wire bale;
     input wire [7:0] base;
     output wire iocs16_n;
+    output wire irq;
+    output wire bell_to_dsp;
     input wire [9:0] dsp_addr;
     input wire [15:0] dsp_wdata;
     input wire dsp_we;
     output wire [15:0] dsp_rdata;
 
+    localparam mailbox_to_pc = 10'b1111111110;
     localparam core_reg_data = 2'b0;
     localparam core_reg_addr_clear = 2'b1;
     localparam core_reg_addr_inc = 2'b10;
     localparam core_reg_status = 2'b11;
     localparam core_addr_max = 10'b1111111111;
+    localparam core_mailbox_to_pc = 10'b1111111110;
+    localparam core_mailbox_to_dsp = 10'b1111111111;
+    localparam core_irq_en_bit = 4'hb;
+    localparam core_bell_bit = 4'hf;
+    localparam core_irq_en_mask = 16'h800;
+    localparam core_bell_mask = 16'h8000;
     localparam core_auto_inc_bit = 4'hc;
     localparam core_wrapped_bit = 4'hd;
     localparam core_collision_bit = 4'he;
@@ -45,10 +54,13 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     reg core_bale;
     reg [7:0] core_base;
     reg core_iocs16_n;
+    reg core_irq;
+    reg core_bell_to_dsp;
     reg [15:0] core_ram_word;
     reg core_ram_word_valid;
     reg core_write_done;
     reg core_collision_seen;
+    reg core_dsp_rang;
     reg [9:0] core_counter;
     reg core_write_valid;
     reg [9:0] core_write_addr;
@@ -107,6 +119,10 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     reg core_wrapped_q = 1'h0;
     reg core_collision_d;
     reg core_collision_q = 1'h0;
+    reg core_irq_en_d;
+    reg core_irq_en_q = 1'h0;
+    reg core_bell_d;
+    reg core_bell_q = 1'h0;
     reg core_pw_valid_d;
     reg core_pw_valid_q = 1'h0;
     reg [9:0] core_pw_addr_d;
@@ -128,6 +144,8 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     assign sd_out = core_sd_out;
     assign sd_oe = core_sd_oe;
     assign iocs16_n = core_iocs16_n;
+    assign irq = core_irq;
+    assign bell_to_dsp = core_bell_to_dsp;
     assign dsp_rdata = ram_dsp_read_data;
 
     always @(*) begin
@@ -139,6 +157,7 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         core_aen = aen;
         core_bale = bale;
         core_base = base;
+        core_dsp_rang = dsp_we & (dsp_addr == mailbox_to_pc);
         core_ram_word = ram_pc_read_data;
         core_ram_word_valid = 1'b1;
         core_write_done = core_write_valid & ~dsp_we;
@@ -180,6 +199,8 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         core_auto_inc_d = core_auto_inc_q;
         core_wrapped_d = core_wrapped_q;
         core_collision_d = core_collision_q;
+        core_irq_en_d = core_irq_en_q;
+        core_bell_d = core_bell_q;
         core_pw_valid_d = core_pw_valid_q;
         core_pw_addr_d = core_pw_addr_q;
         core_pw_data_d = core_pw_data_q;
@@ -199,6 +220,12 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         end
         if (core_collision_q) begin
             core_status = core_status | core_collision_mask;
+        end
+        if (core_irq_en_q) begin
+            core_status = core_status | core_irq_en_mask;
+        end
+        if (core_bell_q) begin
+            core_status = core_status | core_bell_mask;
         end
         core_sd_oe = core_selected & ~core_ior_n;
         core_sd_out = core_status;
@@ -232,6 +259,7 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         if (core_write_end & (core_cyc_reg_q == core_reg_status)) begin
             core_count_d = core_wdata_q[9:0];
             core_auto_inc_d = core_wdata_q[core_auto_inc_bit];
+            core_irq_en_d = core_wdata_q[core_irq_en_bit];
         end
         else if (core_access_end & (core_cyc_reg_q == core_reg_addr_clear)) begin
             core_count_d = 10'h0;
@@ -251,6 +279,14 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
         else if (core_write_end & (core_cyc_reg_q == core_reg_status) & core_wdata_q[core_collision_bit]) begin
             core_collision_d = 1'b0;
         end
+        if (core_dsp_rang) begin
+            core_bell_d = 1'b1;
+        end
+        else if ((core_read_end & (core_cyc_reg_q == core_reg_data) & (core_count_q == core_mailbox_to_pc)) | (core_write_end & (core_cyc_reg_q == core_reg_status) & core_wdata_q[core_bell_bit])) begin
+            core_bell_d = 1'b0;
+        end
+        core_irq = core_bell_q & core_irq_en_q;
+        core_bell_to_dsp = core_write_done & core_pw_valid_q & (core_pw_addr_q == core_mailbox_to_dsp);
         if (core_write_end & (core_cyc_reg_q == core_reg_data)) begin
             core_pw_valid_d = 1'b1;
             core_pw_addr_d = core_count_q;
@@ -286,6 +322,8 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
             core_auto_inc_d = 1'b0;
             core_wrapped_d = 1'b0;
             core_collision_d = 1'b0;
+            core_irq_en_d = 1'b0;
+            core_bell_d = 1'b0;
             core_pw_valid_d = 1'b0;
         end
     end
@@ -314,6 +352,8 @@ module isa_bridge(clock, reset, sa, sd_in, sd_out, sd_oe, ior_n, iow_n, aen, bal
     always @(posedge clock) core_auto_inc_q <= core_auto_inc_d;
     always @(posedge clock) core_wrapped_q <= core_wrapped_d;
     always @(posedge clock) core_collision_q <= core_collision_d;
+    always @(posedge clock) core_irq_en_q <= core_irq_en_d;
+    always @(posedge clock) core_bell_q <= core_bell_d;
     always @(posedge clock) core_pw_valid_q <= core_pw_valid_d;
     always @(posedge clock) core_pw_addr_q <= core_pw_addr_d;
     always @(posedge clock) core_pw_data_q <= core_pw_data_d;

@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo_out, gpo_oe);
+module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d_in, fsmc_d_out, fsmc_d_oe, isa_sa, isa_sd_in, isa_sd_out, isa_sd_oe, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, isa_irq, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -24,6 +24,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     input wire isa_bale;
     input wire [7:0] isa_base;
     output wire isa_iocs16_n;
+    output wire isa_irq;
     input wire [3:0] enc_a;
     input wire [3:0] enc_b;
     input wire [3:0] enc_z;
@@ -74,7 +75,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'hde26d2e8;
+    localparam mcu_identity_values_7 = 32'h188c98b4;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -552,8 +553,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_status_bitten = 32'h4;
     localparam mcu_safety_status_armed = 32'h8;
     localparam mcu_safety_status_irq = 32'h10;
-    localparam mcu_safety_estop_cause = 2'b1;
-    localparam mcu_safety_watchdog_cause = 2'b10;
+    localparam mcu_safety_estop_cause = 3'b1;
+    localparam mcu_safety_watchdog_cause = 3'b10;
+    localparam mcu_safety_doorbell_cause = 3'b100;
     localparam mcu_safety_machine_single = 1'b0;
     localparam mcu_safety_machine_tick_reload = 24'h30d3;
     localparam mcu_safety_machine_tick_one = 24'h1;
@@ -645,11 +647,18 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_counter_events_addr_ctrl = 7'b100011;
     localparam mcu_safety_counter_events_addr_cause = 7'b100011;
     localparam mcu_safety_counter_events_addr_mask = 7'b100100;
+    localparam pc_bus_mailbox_to_pc = 10'b1111111110;
     localparam pc_bus_core_reg_data = 2'b0;
     localparam pc_bus_core_reg_addr_clear = 2'b1;
     localparam pc_bus_core_reg_addr_inc = 2'b10;
     localparam pc_bus_core_reg_status = 2'b11;
     localparam pc_bus_core_addr_max = 10'b1111111111;
+    localparam pc_bus_core_mailbox_to_pc = 10'b1111111110;
+    localparam pc_bus_core_mailbox_to_dsp = 10'b1111111111;
+    localparam pc_bus_core_irq_en_bit = 4'hb;
+    localparam pc_bus_core_bell_bit = 4'hf;
+    localparam pc_bus_core_irq_en_mask = 16'h800;
+    localparam pc_bus_core_bell_mask = 16'h8000;
     localparam pc_bus_core_auto_inc_bit = 4'hc;
     localparam pc_bus_core_wrapped_bit = 4'hd;
     localparam pc_bus_core_collision_bit = 4'he;
@@ -681,6 +690,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_alarm;
     reg [3:0] mcu_drive_enable;
     reg mcu_irq;
+    reg mcu_doorbell;
     reg [15:0] mcu_gpi;
     reg [15:0] mcu_gpo_out;
     reg [15:0] mcu_gpo_oe;
@@ -695,6 +705,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg pc_bus_bale;
     reg [7:0] pc_bus_base;
     reg pc_bus_iocs16_n;
+    reg pc_bus_irq;
+    reg pc_bus_bell_to_dsp;
     reg [9:0] pc_bus_dsp_addr;
     reg [15:0] pc_bus_dsp_wdata;
     reg pc_bus_dsp_we;
@@ -766,6 +778,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_at_soft_min;
     reg [3:0] mcu_safety_counter_error;
     reg [3:0] mcu_safety_index_seen;
+    reg mcu_safety_doorbell;
     reg mcu_safety_halt;
     reg [3:0] mcu_safety_stop_up;
     reg [3:0] mcu_safety_stop_down;
@@ -2486,10 +2499,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_enable_q = 4'h0;
     reg mcu_safety_active_high_d;
     reg mcu_safety_active_high_q = 1'h0;
-    reg [1:0] mcu_safety_cause_d;
-    reg [1:0] mcu_safety_cause_q = 2'h0;
-    reg [1:0] mcu_safety_cause_mask_d;
-    reg [1:0] mcu_safety_cause_mask_q = 2'h0;
+    reg [2:0] mcu_safety_cause_d;
+    reg [2:0] mcu_safety_cause_q = 3'h0;
+    reg [2:0] mcu_safety_cause_mask_d;
+    reg [2:0] mcu_safety_cause_mask_q = 3'h0;
     reg [3:0] mcu_safety_done_cause_d;
     reg [3:0] mcu_safety_done_cause_q = 4'h0;
     reg [3:0] mcu_safety_done_mask_d;
@@ -2517,9 +2530,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_latch_next;
     reg mcu_safety_bitten_next;
     reg mcu_safety_halting;
-    reg [1:0] mcu_safety_system_events;
+    reg [2:0] mcu_safety_system_events;
     reg mcu_safety_irq_active;
-    reg [1:0] mcu_safety_cause_kept;
+    reg [2:0] mcu_safety_cause_kept;
     reg [3:0] mcu_safety_done_kept;
     reg [3:0] mcu_safety_low_kept;
     reg [31:0] mcu_safety_read_value;
@@ -3008,10 +3021,13 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg pc_bus_core_bale;
     reg [7:0] pc_bus_core_base;
     reg pc_bus_core_iocs16_n;
+    reg pc_bus_core_irq;
+    reg pc_bus_core_bell_to_dsp;
     reg [15:0] pc_bus_core_ram_word;
     reg pc_bus_core_ram_word_valid;
     reg pc_bus_core_write_done;
     reg pc_bus_core_collision_seen;
+    reg pc_bus_core_dsp_rang;
     reg [9:0] pc_bus_core_counter;
     reg pc_bus_core_write_valid;
     reg [9:0] pc_bus_core_write_addr;
@@ -3070,6 +3086,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg pc_bus_core_wrapped_q = 1'h0;
     reg pc_bus_core_collision_d;
     reg pc_bus_core_collision_q = 1'h0;
+    reg pc_bus_core_irq_en_d;
+    reg pc_bus_core_irq_en_q = 1'h0;
+    reg pc_bus_core_bell_d;
+    reg pc_bus_core_bell_q = 1'h0;
     reg pc_bus_core_pw_valid_d;
     reg pc_bus_core_pw_valid_q = 1'h0;
     reg [9:0] pc_bus_core_pw_addr_d;
@@ -3093,6 +3113,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     assign isa_sd_out = pc_bus_sd_out;
     assign isa_sd_oe = pc_bus_sd_oe;
     assign isa_iocs16_n = pc_bus_iocs16_n;
+    assign isa_irq = pc_bus_irq;
     assign pulse_f1 = mcu_pulse_f1;
     assign pulse_f2 = mcu_pulse_f2;
     assign drive_enable = mcu_drive_enable;
@@ -3124,6 +3145,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_aen = isa_aen;
         pc_bus_bale = isa_bale;
         pc_bus_base = isa_base;
+        mcu_doorbell = pc_bus_bell_to_dsp;
         pc_bus_dsp_addr = mcu_ram_addr;
         pc_bus_dsp_wdata = mcu_ram_wdata;
         pc_bus_dsp_we = mcu_ram_we;
@@ -3179,6 +3201,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_at_soft_min = mcu_pulses_at_soft_min;
         mcu_safety_counter_error = mcu_counters_error;
         mcu_safety_index_seen = mcu_counters_index_seen;
+        mcu_safety_doorbell = mcu_doorbell;
         mcu_safety_done = mcu_pulses_done;
         mcu_safety_low = mcu_pulses_low;
         mcu_pulses_halt = mcu_safety_halt;
@@ -7542,16 +7565,19 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_enable_d = 4'h0;
         end
         mcu_safety_gpio_halting = mcu_safety_halting;
-        mcu_safety_system_events = 2'h0;
+        mcu_safety_system_events = 3'h0;
         if (mcu_safety_estop_sync_q & ~mcu_safety_estop_latch_q) begin
             mcu_safety_system_events = mcu_safety_estop_cause;
         end
         if (mcu_safety_bite) begin
             mcu_safety_system_events = mcu_safety_system_events | mcu_safety_watchdog_cause;
         end
+        if (mcu_safety_doorbell) begin
+            mcu_safety_system_events = mcu_safety_system_events | mcu_safety_doorbell_cause;
+        end
         mcu_safety_cause_kept = mcu_safety_cause_q;
         if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_cause)) begin
-            mcu_safety_cause_kept = mcu_safety_cause_q & ~mcu_safety_wdata[1:0];
+            mcu_safety_cause_kept = mcu_safety_cause_q & ~mcu_safety_wdata[2:0];
         end
         mcu_safety_done_kept = mcu_safety_done_cause_q;
         if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_done_cause)) begin
@@ -7568,7 +7594,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_low_before_d = mcu_safety_low;
         if (mcu_safety_we) begin
             if (mcu_safety_addr == mcu_safety_addr_cause_mask) begin
-                mcu_safety_cause_mask_d = mcu_safety_wdata[1:0];
+                mcu_safety_cause_mask_d = mcu_safety_wdata[2:0];
             end
             if (mcu_safety_addr == mcu_safety_addr_done_mask) begin
                 mcu_safety_done_mask_d = mcu_safety_wdata[3:0];
@@ -7620,10 +7646,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_read_value = {31'h0, mcu_safety_active_high_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_cause) begin
-            mcu_safety_read_value = {30'h0, mcu_safety_cause_q};
+            mcu_safety_read_value = {29'h0, mcu_safety_cause_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_cause_mask) begin
-            mcu_safety_read_value = {30'h0, mcu_safety_cause_mask_q};
+            mcu_safety_read_value = {29'h0, mcu_safety_cause_mask_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_done_cause) begin
             mcu_safety_read_value = {28'h0, mcu_safety_done_cause_q};
@@ -7650,8 +7676,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_count_d = 32'h0;
             mcu_safety_enable_d = 4'h0;
             mcu_safety_active_high_d = 1'b0;
-            mcu_safety_cause_d = 2'h0;
-            mcu_safety_cause_mask_d = 2'h0;
+            mcu_safety_cause_d = 3'h0;
+            mcu_safety_cause_mask_d = 3'h0;
             mcu_safety_done_cause_d = 4'h0;
             mcu_safety_done_mask_d = 4'h0;
             mcu_safety_low_cause_d = 4'h0;
@@ -9092,6 +9118,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_sd_out = pc_bus_core_sd_out;
         pc_bus_sd_oe = pc_bus_core_sd_oe;
         pc_bus_iocs16_n = pc_bus_core_iocs16_n;
+        pc_bus_irq = pc_bus_core_irq;
+        pc_bus_bell_to_dsp = pc_bus_core_bell_to_dsp;
+        pc_bus_core_dsp_rang = pc_bus_dsp_we & (pc_bus_dsp_addr == pc_bus_mailbox_to_pc);
         pc_bus_core_ram_word = pc_bus_ram_pc_read_data;
         pc_bus_core_ram_word_valid = 1'b1;
         pc_bus_core_write_done = pc_bus_core_write_valid & ~pc_bus_dsp_we;
@@ -9134,6 +9163,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_core_auto_inc_d = pc_bus_core_auto_inc_q;
         pc_bus_core_wrapped_d = pc_bus_core_wrapped_q;
         pc_bus_core_collision_d = pc_bus_core_collision_q;
+        pc_bus_core_irq_en_d = pc_bus_core_irq_en_q;
+        pc_bus_core_bell_d = pc_bus_core_bell_q;
         pc_bus_core_pw_valid_d = pc_bus_core_pw_valid_q;
         pc_bus_core_pw_addr_d = pc_bus_core_pw_addr_q;
         pc_bus_core_pw_data_d = pc_bus_core_pw_data_q;
@@ -9153,6 +9184,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (pc_bus_core_collision_q) begin
             pc_bus_core_status = pc_bus_core_status | pc_bus_core_collision_mask;
+        end
+        if (pc_bus_core_irq_en_q) begin
+            pc_bus_core_status = pc_bus_core_status | pc_bus_core_irq_en_mask;
+        end
+        if (pc_bus_core_bell_q) begin
+            pc_bus_core_status = pc_bus_core_status | pc_bus_core_bell_mask;
         end
         pc_bus_core_sd_oe = pc_bus_core_selected & ~pc_bus_core_ior_n;
         pc_bus_core_sd_out = pc_bus_core_status;
@@ -9186,6 +9223,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (pc_bus_core_write_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_status)) begin
             pc_bus_core_count_d = pc_bus_core_wdata_q[9:0];
             pc_bus_core_auto_inc_d = pc_bus_core_wdata_q[pc_bus_core_auto_inc_bit];
+            pc_bus_core_irq_en_d = pc_bus_core_wdata_q[pc_bus_core_irq_en_bit];
         end
         else if (pc_bus_core_access_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_addr_clear)) begin
             pc_bus_core_count_d = 10'h0;
@@ -9205,6 +9243,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         else if (pc_bus_core_write_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_status) & pc_bus_core_wdata_q[pc_bus_core_collision_bit]) begin
             pc_bus_core_collision_d = 1'b0;
         end
+        if (pc_bus_core_dsp_rang) begin
+            pc_bus_core_bell_d = 1'b1;
+        end
+        else if ((pc_bus_core_read_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_data) & (pc_bus_core_count_q == pc_bus_core_mailbox_to_pc)) | (pc_bus_core_write_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_status) & pc_bus_core_wdata_q[pc_bus_core_bell_bit])) begin
+            pc_bus_core_bell_d = 1'b0;
+        end
+        pc_bus_core_irq = pc_bus_core_bell_q & pc_bus_core_irq_en_q;
+        pc_bus_core_bell_to_dsp = pc_bus_core_write_done & pc_bus_core_pw_valid_q & (pc_bus_core_pw_addr_q == pc_bus_core_mailbox_to_dsp);
         if (pc_bus_core_write_end & (pc_bus_core_cyc_reg_q == pc_bus_core_reg_data)) begin
             pc_bus_core_pw_valid_d = 1'b1;
             pc_bus_core_pw_addr_d = pc_bus_core_count_q;
@@ -9240,6 +9286,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             pc_bus_core_auto_inc_d = 1'b0;
             pc_bus_core_wrapped_d = 1'b0;
             pc_bus_core_collision_d = 1'b0;
+            pc_bus_core_irq_en_d = 1'b0;
+            pc_bus_core_bell_d = 1'b0;
             pc_bus_core_pw_valid_d = 1'b0;
         end
     end
@@ -9844,6 +9892,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) pc_bus_core_auto_inc_q <= pc_bus_core_auto_inc_d;
     always @(posedge clock) pc_bus_core_wrapped_q <= pc_bus_core_wrapped_d;
     always @(posedge clock) pc_bus_core_collision_q <= pc_bus_core_collision_d;
+    always @(posedge clock) pc_bus_core_irq_en_q <= pc_bus_core_irq_en_d;
+    always @(posedge clock) pc_bus_core_bell_q <= pc_bus_core_bell_d;
     always @(posedge clock) pc_bus_core_pw_valid_q <= pc_bus_core_pw_valid_d;
     always @(posedge clock) pc_bus_core_pw_addr_q <= pc_bus_core_pw_addr_d;
     always @(posedge clock) pc_bus_core_pw_data_q <= pc_bus_core_pw_data_d;

@@ -5,7 +5,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo);
+module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a, fsmc_d, isa_sa, isa_sd, isa_ior_n, isa_iow_n, isa_aen, isa_bale, isa_base, isa_iocs16_n, isa_irq, enc_a, enc_b, enc_z, pulse_f1, pulse_f2, estop_ok, limit_pos, limit_neg, home, alarm, drive_enable, irq, gpi, gpo);
     input wire clock;
     input wire reset;
     input wire fsmc_ne_n;
@@ -21,6 +21,7 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
     input wire isa_bale;
     input wire [7:0] isa_base;
     output wire isa_iocs16_n;
+    output wire isa_irq;
     input wire [3:0] enc_a;
     input wire [3:0] enc_b;
     input wire [3:0] enc_z;
@@ -64,6 +65,7 @@ module motion_controller_board(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, 
         .isa_bale(isa_bale),
         .isa_base(isa_base),
         .isa_iocs16_n(isa_iocs16_n_drive),
+        .isa_irq(isa_irq),
         .enc_a(enc_a),
         .enc_b(enc_b),
         .enc_z(enc_z),

@@ -2,6 +2,7 @@
 //! the FPGA (docs/isa_bridge.md).
 
 use crate::isa_bus_core::IsaBusCore;
+use motionhdl_spec::regmap::ISA_MAILBOX_TO_PC;
 use rust_hdl::prelude::*;
 
 isa_card_block! {
@@ -24,6 +25,7 @@ isa_card_block! {
         // one read and one write port).
         ram_pc: RAM<Bits<16>, 10>,
         ram_dsp: RAM<Bits<16>, 10>,
+        mailbox_to_pc: Constant<Bits<10>>,
     }
 }
 
@@ -43,6 +45,7 @@ impl IsaBridge {
             core: IsaBusCore::new(),
             ram_pc: Default::default(),
             ram_dsp: Default::default(),
+            mailbox_to_pc: Constant::new(u64::from(ISA_MAILBOX_TO_PC).into()),
         })
     }
 
@@ -72,6 +75,10 @@ impl Logic for IsaBridge {
         self.sd_out.next = self.core.sd_out.val();
         self.sd_oe.next = self.core.sd_oe.val();
         self.iocs16_n.next = self.core.iocs16_n.val();
+        self.irq.next = self.core.irq.val();
+        self.bell_to_dsp.next = self.core.bell_to_dsp.val();
+        self.core.dsp_rang.next =
+            self.dsp_we.val() & (self.dsp_addr.val() == self.mailbox_to_pc.val());
 
         // The RAM's one write port: the DSP first.
         self.core.ram_word.next = self.ram_pc.read_data.val();

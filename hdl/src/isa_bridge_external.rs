@@ -111,6 +111,11 @@ impl Logic for IsaBridgeExternal {
         self.sd_out.next = self.core.sd_out.val();
         self.sd_oe.next = self.core.sd_oe.val();
         self.iocs16_n.next = self.core.iocs16_n.val();
+        self.irq.next = self.core.irq.val();
+        self.bell_to_dsp.next = self.core.bell_to_dsp.val();
+        // The DSP sits on the SRAM's other port, out of the FPGA's sight:
+        // the chip's own mailbox interrupts serve it (docs/isa_bridge.md).
+        self.core.dsp_rang.next = false;
 
         self.core.ram_word.next = self.sample.q.val();
         self.core.ram_word_valid.next = (self.state.q.val() == self.st_read.val())

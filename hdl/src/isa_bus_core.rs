@@ -3,7 +3,9 @@
 //! the PC write queue and the read prefetch.
 
 use crate::ls688::Ls688;
-use motionhdl_spec::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
+use motionhdl_spec::regmap::{
+    self, ISA_ADDR_BITS, ISA_MAILBOX_TO_DSP, ISA_MAILBOX_TO_PC, ISA_RAM_WORDS,
+};
 use rust_hdl::prelude::*;
 
 isa_card_block! {
@@ -26,6 +28,8 @@ isa_card_block! {
         pub write_done: Signal<In, Bit>,
         /// Back-end: the DSP wrote the queued write's word at this edge.
         pub collision_seen: Signal<In, Bit>,
+        /// Back-end: the DSP wrote the PC's mailbox word at this edge.
+        pub dsp_rang: Signal<In, Bit>,
         /// The address counter: the RAM's PC-side address.
         pub counter: Signal<Out, Bits<10>>,
         /// A PC write is queued.
@@ -55,6 +59,8 @@ isa_card_block! {
         auto_inc: DFF<Bit>,
         wrapped: DFF<Bit>,
         collision: DFF<Bit>,
+        irq_en: DFF<Bit>,
+        bell: DFF<Bit>,
         pw_valid: DFF<Bit>,
         pw_addr: DFF<Bits<10>>,
         pw_data: DFF<Bits<16>>,
@@ -65,6 +71,12 @@ isa_card_block! {
         reg_addr_inc: Constant<Bits<2>>,
         reg_status: Constant<Bits<2>>,
         addr_max: Constant<Bits<10>>,
+        mailbox_to_pc: Constant<Bits<10>>,
+        mailbox_to_dsp: Constant<Bits<10>>,
+        irq_en_bit: Constant<Bits<4>>,
+        bell_bit: Constant<Bits<4>>,
+        irq_en_mask: Constant<Bits<16>>,
+        bell_mask: Constant<Bits<16>>,
         auto_inc_bit: Constant<Bits<4>>,
         wrapped_bit: Constant<Bits<4>>,
         collision_bit: Constant<Bits<4>>,
@@ -103,6 +115,7 @@ impl IsaBusCore {
             ram_word_valid: Default::default(),
             write_done: Default::default(),
             collision_seen: Default::default(),
+            dsp_rang: Default::default(),
             counter: Default::default(),
             write_valid: Default::default(),
             write_addr: Default::default(),
@@ -128,6 +141,8 @@ impl IsaBusCore {
             auto_inc: Default::default(),
             wrapped: Default::default(),
             collision: Default::default(),
+            irq_en: Default::default(),
+            bell: Default::default(),
             pw_valid: Default::default(),
             pw_addr: Default::default(),
             pw_data: Default::default(),
@@ -138,6 +153,12 @@ impl IsaBusCore {
             reg_addr_inc: reg("ADDR_INC"),
             reg_status: reg("STATUS"),
             addr_max: Constant::new(((ISA_RAM_WORDS - 1) as u64).into()),
+            mailbox_to_pc: Constant::new(u64::from(ISA_MAILBOX_TO_PC).into()),
+            mailbox_to_dsp: Constant::new(u64::from(ISA_MAILBOX_TO_DSP).into()),
+            irq_en_bit: bit("IRQ_EN"),
+            bell_bit: bit("BELL"),
+            irq_en_mask: mask("IRQ_EN"),
+            bell_mask: mask("BELL"),
             auto_inc_bit: bit("AUTO_INC"),
             wrapped_bit: bit("WRAPPED"),
             collision_bit: bit("COLLISION"),
@@ -171,7 +192,7 @@ impl Logic for IsaBusCore {
         dff_setup!(
             self, clock, ior_s1, ior_s2, ior_s3, iow_s1, iow_s2, iow_s3, bale_s1, bale_s2, sel_s1,
             sel_s2, reg_s1, reg_s2, sd_s1, cyc_sel, cyc_reg, wdata, count, auto_inc, wrapped,
-            collision, pw_valid, pw_addr, pw_data, data_q, fresh
+            collision, irq_en, bell, pw_valid, pw_addr, pw_data, data_q, fresh
         );
         // Address decode: the 74LS688 on the pins, G̅ = AEN.
         self.decoder.p.next = self.sa.val().get_bits::<8>(2);
@@ -190,6 +211,12 @@ impl Logic for IsaBusCore {
         }
         if self.collision.q.val() {
             self.status.next = self.status.val() | self.collision_mask.val();
+        }
+        if self.irq_en.q.val() {
+            self.status.next = self.status.val() | self.irq_en_mask.val();
+        }
+        if self.bell.q.val() {
+            self.status.next = self.status.val() | self.bell_mask.val();
         }
         self.sd_oe.next = self.selected.val() & !self.ior_n.val();
         self.sd_out.next = self.status.val();
@@ -234,6 +261,7 @@ impl Logic for IsaBusCore {
         if self.write_end.val() & (self.cyc_reg.q.val() == self.reg_status.val()) {
             self.count.d.next = self.wdata.q.val().get_bits::<10>(0);
             self.auto_inc.d.next = self.wdata.q.val().get_bit(self.auto_inc_bit.val().index());
+            self.irq_en.d.next = self.wdata.q.val().get_bit(self.irq_en_bit.val().index());
         } else if self.access_end.val() & (self.cyc_reg.q.val() == self.reg_addr_clear.val()) {
             self.count.d.next = 0.into();
         } else if self.advance.val() {
@@ -259,6 +287,24 @@ impl Logic for IsaBusCore {
         {
             self.collision.d.next = false;
         }
+        // The doorbells, IDT7130-style: the DSP's write of the PC's mailbox
+        // word rings the PC; the PC's read of that word (or a 1 written to
+        // STATUS.BELL) answers it. A ring in the same clock wins.
+        if self.dsp_rang.val() {
+            self.bell.d.next = true;
+        } else if (self.read_end.val()
+            & (self.cyc_reg.q.val() == self.reg_data.val())
+            & (self.count.q.val() == self.mailbox_to_pc.val()))
+            | (self.write_end.val()
+                & (self.cyc_reg.q.val() == self.reg_status.val())
+                & self.wdata.q.val().get_bit(self.bell_bit.val().index()))
+        {
+            self.bell.d.next = false;
+        }
+        self.irq.next = self.bell.q.val() & self.irq_en.q.val();
+        self.bell_to_dsp.next = self.write_done.val()
+            & self.pw_valid.q.val()
+            & (self.pw_addr.q.val() == self.mailbox_to_dsp.val());
         if self.write_end.val() & (self.cyc_reg.q.val() == self.reg_data.val()) {
             self.pw_valid.d.next = true;
             self.pw_addr.d.next = self.count.q.val();
@@ -297,6 +343,8 @@ impl Logic for IsaBusCore {
             self.auto_inc.d.next = false;
             self.wrapped.d.next = false;
             self.collision.d.next = false;
+            self.irq_en.d.next = false;
+            self.bell.d.next = false;
             self.pw_valid.d.next = false;
         }
     }

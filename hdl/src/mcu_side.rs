@@ -43,6 +43,8 @@ fsmc_host_block! {
         pub drive_enable: Signal<Out, Bits<N>>,
         /// The IRQ pin to the MCU (active low after reset).
         pub irq: Signal<Out, Bit>,
+        /// The PC rang the DSP side's mailbox (ISA bridge): CAUSE.DOORBELL.
+        pub doorbell: Signal<In, Bit>,
         /// General-purpose input pins (asynchronous).
         pub gpi: Signal<In, Bits<16>>,
         /// General-purpose outputs: the level driven while `gpo_oe` is 1.
@@ -123,6 +125,7 @@ impl<const N: usize> McuSide<N> {
             alarm: Default::default(),
             drive_enable: Default::default(),
             irq: Default::default(),
+            doorbell: Default::default(),
             gpi: Default::default(),
             gpo_out: Default::default(),
             gpo_oe: Default::default(),
@@ -239,6 +242,7 @@ impl<const N: usize> Logic for McuSide<N> {
         self.safety.at_soft_min.next = self.pulses.at_soft_min.val();
         self.safety.counter_error.next = self.counters.error.val();
         self.safety.index_seen.next = self.counters.index_seen.val();
+        self.safety.doorbell.next = self.doorbell.val();
         self.safety.done.next = self.pulses.done.val();
         self.safety.low.next = self.pulses.low.val();
         self.pulses.halt.next = self.safety.halt.val();

@@ -58,6 +58,9 @@ macro_rules! top_level {
                 pub isa_base: Signal<In, Bits<8>>,
                 /// ISA IOCS16#, for an open-collector pad.
                 pub isa_iocs16_n: Signal<Out, Bit>,
+                /// ISA IRQ line, active high (STATUS.BELL AND STATUS.IRQ_EN of
+                /// the ISA bridge).
+                pub isa_irq: Signal<Out, Bit>,
                 /// Encoder A inputs, one per axis.
                 pub enc_a: Signal<In, Bits<N>>,
                 /// Encoder B inputs.
@@ -115,6 +118,7 @@ macro_rules! top_level {
                     isa_bale: Default::default(),
                     isa_base: Default::default(),
                     isa_iocs16_n: Default::default(),
+                    isa_irq: Default::default(),
                     enc_a: Default::default(),
                     enc_b: Default::default(),
                     enc_z: Default::default(),
@@ -183,6 +187,9 @@ macro_rules! top_level {
                 self.pc_bus.bale.next = self.isa_bale.val();
                 self.pc_bus.base.next = self.isa_base.val();
                 self.isa_iocs16_n.next = self.pc_bus.iocs16_n.val();
+                self.isa_irq.next = self.pc_bus.irq.val();
+                // The PC rang the MCU's mailbox: a SAFETY cause.
+                self.mcu.doorbell.next = self.pc_bus.bell_to_dsp.val();
                 $( self.$($to).+.next = self.$($from).+.val(); )*
             }
         }

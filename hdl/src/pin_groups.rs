@@ -47,6 +47,12 @@ macro_rules! isa_card_block {
             /// IOCS16#, for an open-collector pad (drive low when 0): the
             /// 74LS688's P=Q̅ output, so 16-bit cycles are not split.
             pub iocs16_n: Signal<Out, Bit>,
+            /// The card's ISA IRQ line, active high: STATUS.BELL AND
+            /// STATUS.IRQ_EN, from flops.
+            pub irq: Signal<Out, Bit>,
+            /// High for the one clock in which the PC's write of the DSP
+            /// mailbox word lands in the RAM: the DSP side's doorbell.
+            pub bell_to_dsp: Signal<Out, Bit>,
             $($fields)*
         }
     };
@@ -69,6 +75,8 @@ macro_rules! isa_card_new {
             bale: Default::default(),
             base: Default::default(),
             iocs16_n: Default::default(),
+            irq: Default::default(),
+            bell_to_dsp: Default::default(),
             $($fields)*
         }
     };

@@ -6,13 +6,18 @@
 use crate::regmap::{self, ISA_ADDR_BITS, ISA_RAM_WORDS};
 pub use motionhdl_spec::isa::*;
 
+mod external;
+pub use external::{IsaBridgeExternalModel, SramPins};
+
 const WORDS: usize = ISA_RAM_WORDS as usize;
 const ADDR_MASK: u16 = (1 << ISA_ADDR_BITS) - 1;
 
-fn status_word(addr: u16, auto_inc: bool, wrapped: bool, collision: bool) -> u16 {
-    addr | if auto_inc { status::AUTO_INC } else { 0 }
-        | if wrapped { status::WRAPPED } else { 0 }
-        | if collision { status::COLLISION } else { 0 }
+/// STATUS from the counter and the (flag, bit) pairs that are set.
+fn status_word(addr: u16, flags: &[(bool, u16)]) -> u16 {
+    flags
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(addr, |word, (_, bit)| word | bit)
 }
 
 /// Transaction-level model: what the PC and the DSP see, one access at a
@@ -26,6 +31,13 @@ pub struct IsaCard {
     addr: u16,
     auto_inc: bool,
     wrapped: bool,
+    irq_en: bool,
+    bell: bool,
+    /// The PC wrote the DSP's mailbox word and the DSP has not taken it.
+    dsp_bell: bool,
+    /// The card sees the DSP's writes (the RAM is inside the FPGA); with
+    /// an external dual-port SRAM it does not, and BELL never sets.
+    sees_dsp: bool,
 }
 
 impl IsaCard {
@@ -38,11 +50,51 @@ impl IsaCard {
             addr: 0,
             auto_inc: false,
             wrapped: false,
+            irq_en: false,
+            bell: false,
+            dsp_bell: false,
+            sees_dsp: true,
         }
     }
 
+    /// A card built for an external dual-port SRAM: the DSP's writes are
+    /// out of its sight, so the DSP cannot ring the PC through it.
+    pub fn with_external_ram(base: u8) -> Self {
+        Self {
+            sees_dsp: false,
+            ..Self::new(base)
+        }
+    }
+
+    /// A reset: every register as at power-up, the RAM kept (block RAM
+    /// and the SRAM keep their contents).
+    pub fn reset(&mut self) {
+        let ram = std::mem::take(&mut self.ram);
+        *self = Self {
+            ram,
+            sees_dsp: self.sees_dsp,
+            ..Self::new(self.base)
+        };
+    }
+
     pub fn status(&self) -> u16 {
-        status_word(self.addr, self.auto_inc, self.wrapped, false)
+        status_word(
+            self.addr,
+            &[
+                (self.irq_en, status::IRQ_EN),
+                (self.auto_inc, status::AUTO_INC),
+                (self.wrapped, status::WRAPPED),
+                (self.bell, status::BELL),
+            ],
+        )
+    }
+    /// The card's IRQ line.
+    pub fn irq(&self) -> bool {
+        self.bell && self.irq_en
+    }
+    /// The DSP side takes its doorbell: whether the PC had rung it.
+    pub fn take_dsp_bell(&mut self) -> bool {
+        std::mem::take(&mut self.dsp_bell)
     }
     pub fn address(&self) -> u16 {
         self.addr
@@ -77,12 +129,19 @@ impl IsaCard {
         }
         let reg = port & 3;
         match reg {
-            reg::DATA => self.ram[usize::from(self.addr)] = data,
+            reg::DATA => {
+                self.ram[usize::from(self.addr)] = data;
+                self.dsp_bell |= self.addr == mailbox::TO_DSP;
+            }
             reg::STATUS => {
                 self.addr = data & status::ADDR_MASK;
                 self.auto_inc = data & status::AUTO_INC != 0;
+                self.irq_en = data & status::IRQ_EN != 0;
                 if data & status::WRAPPED != 0 {
                     self.wrapped = false;
+                }
+                if data & status::BELL != 0 {
+                    self.bell = false;
                 }
             }
             _ => {}
@@ -99,7 +158,12 @@ impl IsaCard {
         }
         let reg = port & 3;
         let value = match reg {
-            reg::DATA => self.ram[usize::from(self.addr)],
+            reg::DATA => {
+                if self.addr == mailbox::TO_PC {
+                    self.bell = false;
+                }
+                self.ram[usize::from(self.addr)]
+            }
             _ => self.status(),
         };
         self.side_effects(reg);
@@ -109,6 +173,7 @@ impl IsaCard {
     /// The DSP side writes one word through its own port.
     pub fn dsp_write(&mut self, addr: u16, data: u16) {
         self.ram[usize::from(addr & ADDR_MASK)] = data;
+        self.bell |= self.sees_dsp && addr & ADDR_MASK == mailbox::TO_PC;
     }
     /// The DSP side reads one word.
     pub fn dsp_read(&self, addr: u16) -> u16 {
@@ -159,6 +224,10 @@ pub struct IsaOutputs {
     pub iocs16_n: bool,
     /// DSP port read data: the word at the `dsp_addr` of the previous edge.
     pub dsp_rdata: u16,
+    /// The ISA IRQ line.
+    pub irq: bool,
+    /// The PC's write of the DSP mailbox word lands at this edge.
+    pub bell_to_dsp: bool,
 }
 
 /// What a RAM back-end tells the bus core in one clock.
@@ -172,6 +241,8 @@ pub struct RamFeedback {
     pub write_done: bool,
     /// The DSP wrote the queued PC write's word at this edge.
     pub collision: bool,
+    /// The DSP wrote the PC's mailbox word at this edge.
+    pub dsp_rang: bool,
 }
 
 /// Cycle-accurate model of `isa_bus_core`: decode, synchronisers, the
@@ -193,6 +264,8 @@ pub struct IsaCoreModel {
     auto_inc: bool,
     wrapped: bool,
     collision: bool,
+    irq_en: bool,
+    bell: bool,
     pw_valid: bool,
     pw_addr: u16,
     pw_data: u16,
@@ -211,7 +284,24 @@ impl IsaCoreModel {
         self.counter
     }
     pub fn status(&self) -> u16 {
-        status_word(self.counter, self.auto_inc, self.wrapped, self.collision)
+        status_word(
+            self.counter,
+            &[
+                (self.irq_en, status::IRQ_EN),
+                (self.auto_inc, status::AUTO_INC),
+                (self.wrapped, status::WRAPPED),
+                (self.collision, status::COLLISION),
+                (self.bell, status::BELL),
+            ],
+        )
+    }
+    /// The ISA IRQ line (from flops).
+    pub fn irq(&self) -> bool {
+        self.bell && self.irq_en
+    }
+    /// The PC's write of the DSP mailbox word lands with `ram` this clock.
+    pub fn bell_to_dsp(&self, ram: &RamFeedback) -> bool {
+        ram.write_done && self.pw_valid && self.pw_addr == mailbox::TO_DSP
     }
     /// A PC write is queued: (address, data).
     pub fn queued_write(&self) -> Option<(u16, u16)> {
@@ -255,6 +345,7 @@ impl IsaCoreModel {
         if write_end && reg == reg::STATUS {
             self.counter = s.wdata & ADDR_MASK;
             self.auto_inc = s.wdata & status::AUTO_INC != 0;
+            self.irq_en = s.wdata & status::IRQ_EN != 0;
         } else if access_end && reg == reg::ADDR_CLEAR {
             self.counter = 0;
         } else if advance {
@@ -272,6 +363,14 @@ impl IsaCoreModel {
             self.collision = true;
         } else if write_end && reg == reg::STATUS && s.wdata & status::COLLISION != 0 {
             self.collision = false;
+        }
+        // The doorbells, IDT7130-style; a ring in the same clock wins.
+        if ram.dsp_rang {
+            self.bell = true;
+        } else if (read_end && reg == reg::DATA && s.counter == mailbox::TO_PC)
+            || (write_end && reg == reg::STATUS && s.wdata & status::BELL != 0)
+        {
+            self.bell = false;
         }
         if write_end && reg == reg::DATA {
             self.pw_valid = true;
@@ -301,6 +400,8 @@ impl IsaCoreModel {
             self.auto_inc = false;
             self.wrapped = false;
             self.collision = false;
+            self.irq_en = false;
+            self.bell = false;
             self.pw_valid = false;
         }
     }
@@ -359,6 +460,23 @@ impl IsaBridgeModel {
             sd_oe,
             iocs16_n,
             dsp_rdata: self.dsp_rdata,
+            irq: self.core.irq(),
+            bell_to_dsp: self.core.bell_to_dsp(&self.feedback(pins)),
+        }
+    }
+
+    /// What the RAM tells the core this clock.
+    fn feedback(&self, pins: &IsaPins) -> RamFeedback {
+        let queued = self.core.queued_write();
+        let dsp_addr = pins.dsp_addr & ADDR_MASK;
+        // The RAM's one write port: the DSP first, a queued PC write in the
+        // first clock the DSP leaves free.
+        RamFeedback {
+            word: self.isa_rd,
+            word_valid: true,
+            write_done: queued.is_some() && !pins.dsp_we,
+            collision: pins.dsp_we && queued.is_some_and(|(a, _)| a == dsp_addr),
+            dsp_rang: pins.dsp_we && dsp_addr == mailbox::TO_PC,
         }
     }
 
@@ -366,14 +484,7 @@ impl IsaBridgeModel {
     pub fn clock(&mut self, pins: &IsaPins, reset: bool) {
         let queued = self.core.queued_write();
         let dsp_addr = pins.dsp_addr & ADDR_MASK;
-        // The RAM's one write port: the DSP first, a queued PC write in the
-        // first clock the DSP leaves free.
-        let feedback = RamFeedback {
-            word: self.isa_rd,
-            word_valid: true,
-            write_done: queued.is_some() && !pins.dsp_we,
-            collision: pins.dsp_we && queued.is_some_and(|(a, _)| a == dsp_addr),
-        };
+        let feedback = self.feedback(pins);
         let counter = self.core.counter();
         self.core.clock(pins, reset, &feedback);
         // Both read ports read before this edge's write lands.
@@ -383,137 +494,6 @@ impl IsaBridgeModel {
             self.ram[usize::from(dsp_addr)] = pins.dsp_wdata;
         } else if let Some((a, d)) = queued {
             self.ram[usize::from(a)] = d;
-        }
-    }
-}
-
-/// The pins between the FPGA and an external dual-port SRAM's left port.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SramPins {
-    pub addr: u16,
-    pub d_out: u16,
-    /// The FPGA drives the data pins.
-    pub d_oe: bool,
-    pub ce_n: bool,
-    pub oe_n: bool,
-    pub we_n: bool,
-}
-
-/// Cycle-accurate model of `isa_bridge` built for an external dual-port
-/// SRAM (IDT7025-style, the DSP on its other port): the bus core and the
-/// sequencer driving the left port. Reads: CE#/OE# low, the address is the
-/// counter, the data pins are sampled every clock and taken once the
-/// address has been stable [`SRAM_READ_SETTLE_CLOCKS`]. A queued PC write:
-/// one clock of address/data set-up with OE# high, WE# low for two clocks,
-/// one clock of hold, all from flops.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct IsaBridgeExternalModel {
-    core: IsaCoreModel,
-    state: u8,
-    pins: SramPins,
-    sample: u16,
-    stable: u8,
-}
-
-impl IsaBridgeExternalModel {
-    pub fn new() -> Self {
-        Self {
-            pins: SramPins {
-                ce_n: false,
-                oe_n: false,
-                we_n: true,
-                ..Default::default()
-            },
-            ..Default::default()
-        }
-    }
-    pub fn core(&self) -> &IsaCoreModel {
-        &self.core
-    }
-    pub fn counter(&self) -> u16 {
-        self.core.counter()
-    }
-    /// The SRAM pins now (all from flops).
-    pub fn sram(&self) -> SramPins {
-        self.pins
-    }
-    /// The bus outputs: (sd_out, sd_oe, iocs16_n).
-    pub fn outputs(&self, pins: &IsaPins) -> (u16, bool, bool) {
-        self.core.outputs(pins)
-    }
-
-    /// The prefetch takes the data sampled at the previous edge at the next
-    /// edge.
-    pub fn takes_sample(&self) -> bool {
-        self.state == sram_state::READ
-            && self.stable >= SRAM_READ_SETTLE_CLOCKS
-            && self.core.queued_write().is_none()
-    }
-
-    /// One rising edge; `ram_d_in` is what the data pins show at it.
-    pub fn clock(&mut self, pins: &IsaPins, reset: bool, ram_d_in: u16) {
-        use sram_state::*;
-        let s = self.clone();
-        let queued = s.core.queued_write();
-        let feedback = RamFeedback {
-            word: s.sample,
-            word_valid: s.takes_sample(),
-            write_done: s.state == HOLD,
-            collision: false,
-        };
-        // The read address is the counter as it was before this edge.
-        let read_addr = s.core.counter();
-        self.core.clock(pins, reset, &feedback);
-        self.sample = ram_d_in;
-        let mut next = s.pins;
-        let state = match s.state {
-            READ if queued.is_some() => SETUP,
-            READ => READ,
-            SETUP => PULSE1,
-            PULSE1 => PULSE2,
-            PULSE2 => HOLD,
-            _ => READ,
-        };
-        match state {
-            READ => {
-                next = SramPins {
-                    addr: read_addr,
-                    d_out: s.pins.d_out,
-                    d_oe: false,
-                    ce_n: false,
-                    oe_n: false,
-                    we_n: true,
-                };
-            }
-            SETUP => {
-                let (a, d) = queued.expect("a queued write");
-                next = SramPins {
-                    addr: a,
-                    d_out: d,
-                    d_oe: true,
-                    ce_n: false,
-                    oe_n: true,
-                    we_n: true,
-                };
-            }
-            PULSE1 | PULSE2 => next.we_n = false,
-            _ => next.we_n = true,
-        }
-        // Count clocks the read address has been on the pins.
-        self.stable = if state == READ && s.state == READ && next.addr == s.pins.addr {
-            s.stable.saturating_add(1).min(SRAM_READ_SETTLE_CLOCKS)
-        } else {
-            0
-        };
-        self.state = state;
-        self.pins = next;
-        if reset {
-            self.state = READ;
-            self.stable = 0;
-            self.pins.d_oe = false;
-            self.pins.we_n = true;
-            self.pins.oe_n = false;
-            self.pins.ce_n = false;
         }
     }
 }
@@ -538,6 +518,44 @@ mod tests {
         assert_eq!(st.field("AUTO_INC").mask(), u32::from(status::AUTO_INC));
         assert_eq!(st.field("WRAPPED").mask(), u32::from(status::WRAPPED));
         assert_eq!(st.field("COLLISION").mask(), u32::from(status::COLLISION));
+        assert_eq!(st.field("IRQ_EN").mask(), u32::from(status::IRQ_EN));
+        assert_eq!(st.field("BELL").mask(), u32::from(status::BELL));
+    }
+
+    #[test]
+    fn doorbells_ring_through_the_mailbox_words() {
+        let mut c = IsaCard::new(2);
+        let b = |r| port(2, r);
+        // DSP -> PC: the IRQ follows BELL only with IRQ_EN.
+        c.dsp_write(mailbox::TO_PC, 0x55);
+        assert_eq!(c.status(), status::BELL);
+        assert!(!c.irq());
+        c.io_write(b(reg::STATUS), false, status::IRQ_EN | mailbox::TO_PC);
+        assert!(c.irq());
+        // Reading another word leaves it; reading the mailbox answers it.
+        c.io_write(b(reg::ADDR_INC), false, 0);
+        c.io_read(b(reg::DATA), false);
+        assert!(c.irq());
+        c.io_write(b(reg::STATUS), false, status::IRQ_EN | mailbox::TO_PC);
+        assert_eq!(c.io_read(b(reg::DATA), false), Some(0x55));
+        assert!(!c.irq());
+        assert_eq!(c.status() & status::BELL, 0);
+        // A 1 written to BELL answers it too.
+        c.dsp_write(mailbox::TO_PC, 0x56);
+        c.io_write(b(reg::STATUS), false, status::BELL);
+        assert_eq!(c.status(), 0);
+        // PC -> DSP: only the mailbox word rings.
+        c.io_write(
+            b(reg::STATUS),
+            false,
+            (mailbox::TO_DSP - 1) | status::AUTO_INC,
+        );
+        c.io_write(b(reg::DATA), false, 1);
+        assert!(!c.take_dsp_bell());
+        c.io_write(b(reg::DATA), false, 2);
+        assert!(c.take_dsp_bell());
+        assert!(!c.take_dsp_bell());
+        assert_eq!(c.dsp_read(mailbox::TO_DSP), 2);
     }
 
     #[test]

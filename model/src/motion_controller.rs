@@ -100,6 +100,8 @@ pub struct TopOutputs {
     pub isa_sd_out: u16,
     pub isa_sd_oe: bool,
     pub isa_iocs16_n: bool,
+    /// The ISA IRQ line.
+    pub isa_irq: bool,
     /// F1 and F2, bit i = axis i.
     pub pulse_f1: u16,
     pub pulse_f2: u16,
@@ -114,13 +116,14 @@ pub struct TopOutputs {
 
 impl TopOutputs {
     /// (pin name, value) of every output, for messages and comparisons.
-    pub fn pins(&self) -> [(&'static str, u32); 11] {
+    pub fn pins(&self) -> [(&'static str, u32); 12] {
         [
             ("fsmc_d_out", u32::from(self.fsmc_d_out)),
             ("fsmc_d_oe", u32::from(self.fsmc_d_oe)),
             ("isa_sd_out", u32::from(self.isa_sd_out)),
             ("isa_sd_oe", u32::from(self.isa_sd_oe)),
             ("isa_iocs16_n", u32::from(self.isa_iocs16_n)),
+            ("isa_irq", u32::from(self.isa_irq)),
             ("pulse_f1", u32::from(self.pulse_f1)),
             ("pulse_f2", u32::from(self.pulse_f2)),
             ("drive_enable", u32::from(self.drive_enable)),
@@ -339,6 +342,7 @@ impl MotionControllerModel {
             isa_sd_out: isa.sd_out,
             isa_sd_oe: isa.sd_oe,
             isa_iocs16_n: isa.iocs16_n,
+            isa_irq: isa.irq,
             pulse_f1: f1,
             pulse_f2: f2,
             drive_enable: self.safety.drive_enable() as u16,
@@ -375,7 +379,8 @@ impl MotionControllerModel {
         let isa_pins = Self::isa_pins(inp, b);
         // Everything below reads the state before the edge: the decode was
         // taken from it, and each block model keeps its own old values.
-        let ram_rdata = self.isa.outputs(&isa_pins).dsp_rdata;
+        let isa_out = self.isa.outputs(&isa_pins);
+        let ram_rdata = isa_out.dsp_rdata;
         self.fsmc.clock(&inp.fsmc(), reset, d.reg_rdata, ram_rdata);
 
         let addr = u32::from(b.reg_addr);
@@ -421,7 +426,7 @@ impl MotionControllerModel {
             (&pulse_bus, snapshot),
             &safety_bus,
             (inp.estop_ok, inp.machine),
-            counter_flags,
+            (counter_flags.0, counter_flags.1, isa_out.bell_to_dsp),
         );
 
         self.isa.clock(&isa_pins, reset);

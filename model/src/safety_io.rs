@@ -29,6 +29,8 @@ pub struct SafetyInputs {
     /// Per counter channel: STATUS.ERR and STATUS.SEEN, live.
     pub counter_error: u32,
     pub index_seen: u32,
+    /// The PC's write of the DSP mailbox word lands (ISA bridge).
+    pub doorbell: bool,
 }
 
 impl SafetyInputs {
@@ -46,6 +48,7 @@ impl SafetyInputs {
             at_soft_min,
             counter_error: 0,
             index_seen: 0,
+            doorbell: false,
         };
         for i in 0..pulses.axes() {
             inputs.done |= u32::from(pulses.move_done(i)) << i;
@@ -249,11 +252,12 @@ impl SafetyIo {
         (pulse_bus, snapshot): (&BusCycle, bool),
         bus: &BusCycle,
         (estop_ok, machine): (bool, MachinePins),
-        (counter_error, index_seen): (u32, u32),
+        (counter_error, index_seen, doorbell): (u32, u32, bool),
     ) {
         let inputs = SafetyInputs {
             counter_error,
             index_seen,
+            doorbell,
             ..SafetyInputs::from_pulses(estop_ok, machine, pulses)
         };
         pulses.clock_stopping(reset, pulse_bus, snapshot, &self.stops());
@@ -315,6 +319,10 @@ impl SafetyIo {
             0
         } | if bite {
             self.field_bit("CAUSE", "WATCHDOG")
+        } else {
+            0
+        } | if inputs.doorbell {
+            self.field_bit("CAUSE", "DOORBELL")
         } else {
             0
         };

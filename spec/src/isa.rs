@@ -13,9 +13,20 @@ pub mod reg {
 /// STATUS bits.
 pub mod status {
     pub const ADDR_MASK: u16 = 0x03ff;
+    pub const IRQ_EN: u16 = 1 << 11;
     pub const AUTO_INC: u16 = 1 << 12;
     pub const WRAPPED: u16 = 1 << 13;
     pub const COLLISION: u16 = 1 << 14;
+    pub const BELL: u16 = 1 << 15;
+}
+
+/// The mailbox words at the top of the shared RAM (from the register map).
+pub mod mailbox {
+    use crate::regmap::{ISA_MAILBOX_TO_DSP, ISA_MAILBOX_TO_PC};
+    /// The DSP side writes it to ring the PC.
+    pub const TO_PC: u16 = ISA_MAILBOX_TO_PC as u16;
+    /// The PC writes it to ring the DSP side.
+    pub const TO_DSP: u16 = ISA_MAILBOX_TO_DSP as u16;
 }
 
 /// The card answers at `port` when SA9..SA2 equal the base switches and AEN

@@ -7,6 +7,13 @@ use super::{field, reg, Access, Block, Memory, MCU_RAM_BYTE_OFFSET};
 pub const ISA_RAM_WORDS: u32 = 1024;
 /// Bits of the ISA bridge's address counter.
 pub const ISA_ADDR_BITS: u32 = 10;
+/// The mailbox word the DSP side writes to ring the PC (STATUS.BELL; the
+/// PC's read of it through DATA clears the bell), as the IDT7130's
+/// left-port mailbox works.
+pub const ISA_MAILBOX_TO_PC: u32 = ISA_RAM_WORDS - 2;
+/// The mailbox word the PC writes to ring the DSP side (the MCU's
+/// SAFETY.CAUSE.DOORBELL), as the IDT7130's right-port mailbox works.
+pub const ISA_MAILBOX_TO_DSP: u32 = ISA_RAM_WORDS - 1;
 
 /// The ISA bridge's four I/O registers, at port offsets 0..=3 from the
 /// card's base port (SA1..SA0 select; SA9..SA2 must equal the base).
@@ -24,6 +31,13 @@ pub fn isa_bridge() -> Block {
         addr.reset = 0;
         vec![
             addr,
+            field(
+                "IRQ_EN",
+                11,
+                1,
+                ReadWrite,
+                "Drive the card's IRQ line high while BELL is set.",
+            ),
             field(
                 "AUTO_INC",
                 12,
@@ -44,6 +58,13 @@ pub fn isa_bridge() -> Block {
                 1,
                 WriteOneToClear,
                 "Sticky: the DSP port wrote the word a PC write was waiting to write.",
+            ),
+            field(
+                "BELL",
+                15,
+                1,
+                WriteOneToClear,
+                "Doorbell: the DSP side wrote the PC's mailbox word (ISA_MAILBOX_TO_PC). A DATA read of that word clears it too.",
             ),
         ]
     };
@@ -82,7 +103,7 @@ pub fn isa_bridge() -> Block {
                 3,
                 ReadWrite,
                 "Address counter and status.",
-                "A write loads ADDR and AUTO_INC and clears the sticky bits written as 1.",
+                "A write loads ADDR, IRQ_EN and AUTO_INC and clears the sticky bits written as 1.",
                 status_fields(),
             ),
         ],

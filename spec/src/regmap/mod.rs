@@ -19,7 +19,9 @@ mod tests;
 
 pub use counter_bank::{counter_bank, counter_bank_with, mode, ERR_COUNT_BITS};
 pub use id::{gateware_version, id_block, ID_MAGIC};
-pub use isa_bridge::{isa_bridge, ISA_ADDR_BITS, ISA_RAM_WORDS};
+pub use isa_bridge::{
+    isa_bridge, ISA_ADDR_BITS, ISA_MAILBOX_TO_DSP, ISA_MAILBOX_TO_PC, ISA_RAM_WORDS,
+};
 pub use pulse_bank::pulse_bank;
 pub use safety_io::safety_io;
 

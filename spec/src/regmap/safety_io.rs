@@ -25,6 +25,13 @@ pub fn safety_io(axes: u32) -> Block {
         vec![
             field("ESTOP", 0, 1, access, "The e-stop latch was set."),
             field("WATCHDOG", 1, 1, access, "The watchdog has bitten."),
+            field(
+                "DOORBELL",
+                2,
+                1,
+                access,
+                "The PC wrote the DSP side's mailbox word of the shared RAM (ISA_MAILBOX_TO_DSP).",
+            ),
         ]
     };
     let mut polarity = field(

@@ -4,7 +4,7 @@ use crate::bfm::isa::{Op, CLOCK_PS};
 use crate::checks::isa_bridge::{
     expected, run_rust, same, standard_read, standard_write, TracePoint, TEST_BASE,
 };
-use motionhdl_model::isa_bridge::{self as m, reg, status};
+use motionhdl_model::isa_bridge::{self as m, mailbox, reg, status};
 use motionhdl_model::IsaRam;
 
 /// A scenario trace of `ops`: the ISA pins at their real times (ps), the
@@ -32,6 +32,8 @@ fn scenario_trace(name: &str, ops: &[Op]) -> crate::trace::Trace {
     let dsp_wdata = t.signal(&top, "dsp_wdata", 16);
     let dsp_we = t.signal(&top, "dsp_we", 1);
     let dsp_rdata = t.signal(&top, "dsp_rdata", 16);
+    let irq = t.signal(&top, "irq", 1);
+    let bell_to_dsp = t.signal(&top, "bell_to_dsp", 1);
     let inside = ["isa_bridge", "state"];
     let counter = t.signal(&inside, "address_counter", 10);
     let pending = t.signal(&inside, "pc_write_waiting", 1);
@@ -52,6 +54,8 @@ fn scenario_trace(name: &str, ops: &[Op]) -> crate::trace::Trace {
             (dsp_wdata, u64::from(p.dsp_wdata)),
             (dsp_we, u64::from(p.dsp_we)),
             (dsp_rdata, u64::from(o.dsp_rdata)),
+            (irq, u64::from(o.irq)),
+            (bell_to_dsp, u64::from(o.bell_to_dsp)),
             (counter, u64::from(tp.counter)),
             (pending, u64::from(tp.write_pending)),
         ] {
@@ -64,7 +68,7 @@ fn scenario_trace(name: &str, ops: &[Op]) -> crate::trace::Trace {
     };
     let run = run_rust(IsaRam::Internal, TEST_BASE, ops, Some(&mut hook));
     assert!(run.mismatches.is_empty(), "{name}: {:?}", run.mismatches);
-    let want = expected(TEST_BASE, ops);
+    let want = expected(IsaRam::Internal, TEST_BASE, ops);
     assert_eq!(run.observations.len(), want.len());
     for (g, w) in run.observations.iter().zip(&want) {
         assert!(
@@ -113,4 +117,41 @@ pub fn block_read_trace() -> crate::trace::Trace {
     }
     ops.push(standard_read(reg::STATUS));
     scenario_trace("isa_block_read", &ops)
+}
+
+/// The doorbells (IDT7130-style mailbox words): the DSP writes 4 words and
+/// rings the PC by writing the PC's mailbox word; the PC, its IRQ enabled,
+/// reads STATUS (BELL set) and the mailbox (which answers the bell and
+/// drops IRQ), reads the block, and rings the DSP back by writing the DSP's
+/// mailbox word (`bell_to_dsp` pulses as the write lands).
+pub fn doorbell_trace() -> crate::trace::Trace {
+    let mut ops = vec![Op::Reset, Op::Align { offset_ps: 7_500 }];
+    ops.push(standard_write(
+        reg::STATUS,
+        status::IRQ_EN | status::AUTO_INC | mailbox::TO_PC,
+    ));
+    ops.extend((0..4).map(|addr| Op::DspWrite {
+        addr,
+        data: 0x3300 + addr,
+    }));
+    ops.push(Op::DspWrite {
+        addr: mailbox::TO_PC,
+        data: 4,
+    });
+    ops.push(Op::Align { offset_ps: 7_500 });
+    ops.push(standard_read(reg::STATUS));
+    ops.push(standard_read(reg::DATA));
+    ops.push(standard_read(reg::STATUS));
+    ops.push(standard_write(reg::ADDR_CLEAR, 0));
+    ops.extend((0..4).map(|_| standard_read(reg::DATA)));
+    ops.push(standard_write(
+        reg::STATUS,
+        status::IRQ_EN | status::AUTO_INC | mailbox::TO_DSP,
+    ));
+    ops.push(standard_write(reg::DATA, 0x00ac));
+    ops.push(standard_read(reg::STATUS));
+    ops.push(Op::DspRead {
+        addr: mailbox::TO_DSP,
+    });
+    scenario_trace("isa_doorbell", &ops)
 }

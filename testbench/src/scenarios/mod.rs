@@ -135,6 +135,12 @@ pub const SCENARIOS: &[Scenario] = &[
         summary: "ISA bridge: the DSP writes 8 words, the PC reads 4 the seed's way (DATA, ADDR_INC) and 4 with AUTO_INC",
         build: |_| isa_bridge::block_read_trace(),
     },
+    Scenario {
+        name: "isa_doorbell",
+        summary: "ISA bridge: the DSP rings the PC through its mailbox word (IRQ up), the PC reads \
+                  the mailbox (IRQ down) and the block, then rings the DSP back",
+        build: |_| isa_bridge::doorbell_trace(),
+    },
 ];
 
 /// Looks a scenario up by name.

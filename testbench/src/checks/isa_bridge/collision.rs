@@ -91,7 +91,17 @@ pub fn collision_ports(
     use crate::verilog_sim::ports_of;
     (
         ports_of(m, &isa::PINS),
-        ports_of(m, &["sd_out", "sd_oe", "iocs16_n", "dsp_rdata"]),
+        ports_of(
+            m,
+            &[
+                "sd_out",
+                "sd_oe",
+                "iocs16_n",
+                "dsp_rdata",
+                "irq",
+                "bell_to_dsp",
+            ],
+        ),
     )
 }
 
@@ -201,6 +211,8 @@ pub fn collision_check(sim: Option<Target>) -> CheckReport {
                             sd_oe: o[1] != 0,
                             iocs16_n: o[2] != 0,
                             dsp_rdata: o[3] as u16,
+                            irq: o[4] != 0,
+                            bell_to_dsp: o[5] != 0,
                         })
                         .collect(),
                     Err(e) if t.available().is_err() => return r.skip(e),

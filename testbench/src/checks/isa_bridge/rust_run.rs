@@ -21,6 +21,10 @@ pub struct RustRun {
     /// HDL/model disagreements and SRAM contract violations (first few),
     /// with the time.
     pub mismatches: Vec<String>,
+    /// Rises of the HDL's `irq` line (the DSP rang, IRQ enabled).
+    pub irq_rises: u64,
+    /// Clocks with the HDL's `bell_to_dsp` high (the PC rang).
+    pub bells_to_dsp: u64,
 }
 
 /// What a trace sees at one instant.
@@ -81,6 +85,8 @@ pub(super) fn hdl_outputs(uut: &IsaBridge) -> m::IsaOutputs {
         sd_oe: uut.sd_oe.val(),
         iocs16_n: uut.iocs16_n.val(),
         dsp_rdata: uut.dsp_rdata.val().index() as u16,
+        irq: uut.irq.val(),
+        bell_to_dsp: uut.bell_to_dsp.val(),
     }
 }
 
@@ -281,6 +287,8 @@ impl ExternalBench {
             sd_oe: self.uut.sd_oe.val(),
             iocs16_n: self.uut.iocs16_n.val(),
             dsp_rdata: self.chip.dsp_rdata,
+            irq: self.uut.irq.val(),
+            bell_to_dsp: self.uut.bell_to_dsp.val(),
         }
     }
 }
@@ -298,6 +306,8 @@ impl Bench for ExternalBench {
                 sd_oe,
                 iocs16_n,
                 dsp_rdata: self.chip.dsp_rdata,
+                irq: self.model.irq(),
+                bell_to_dsp: self.model.bell_to_dsp(),
             },
         )
     }
@@ -381,6 +391,8 @@ fn run_bench(mut bench: impl Bench, base: u8, ops: &[Op], mut hook: Option<EdgeH
         observations: Vec::new(),
         clocks: 0,
         mismatches: Vec::new(),
+        irq_rises: 0,
+        bells_to_dsp: 0,
     };
     let mut pending_setup: Option<(bool, u16)> = None;
     let mut edge = FIRST_EDGE_PS;
@@ -391,6 +403,7 @@ fn run_bench(mut bench: impl Bench, base: u8, ops: &[Op], mut hook: Option<EdgeH
         }
     };
     let mut last_dsp_rdata = 0;
+    let mut last_irq = false;
     while edge <= end || i < events.len() {
         // Events strictly before the edge happen first; none share its time.
         while i < events.len() && events[i].0 < edge {
@@ -444,6 +457,9 @@ fn run_bench(mut bench: impl Bench, base: u8, ops: &[Op], mut hook: Option<EdgeH
             break;
         }
         let (o, mo) = bench.observe(&pins, reset);
+        run.irq_rises += u64::from(o.irq && !last_irq);
+        run.bells_to_dsp += u64::from(o.bell_to_dsp);
+        last_irq = o.irq;
         if o != mo {
             mismatch(
                 &mut run,

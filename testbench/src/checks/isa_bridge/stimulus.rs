@@ -3,7 +3,7 @@
 
 use crate::bfm::isa::{Op, CLOCK_PS, COMMAND_NS, HALF_NS, STANDARD_COMMAND_NS};
 use crate::harness::Rng;
-use motionhdl_model::isa_bridge::{self as m, reg, status};
+use motionhdl_model::isa_bridge::{self as m, mailbox, reg, status};
 use motionhdl_model::regmap::ISA_RAM_WORDS;
 
 /// The base used by the checks: ports 0x300..=0x303, the classic
@@ -205,8 +205,14 @@ pub fn random_ops(seed: u64, n: usize) -> Vec<Op> {
             7 => {
                 ops.push(Op::Align { offset_ps });
                 ops.push(Op::Align { offset_ps });
+                // Half of them to the mailbox words, to ring both bells.
+                let addr = match rng.below(4) {
+                    0 => mailbox::TO_PC,
+                    1 => mailbox::TO_DSP,
+                    _ => rng.below(u64::from(ISA_RAM_WORDS)) as u16,
+                };
                 ops.push(Op::DspWrite {
-                    addr: rng.below(u64::from(ISA_RAM_WORDS)) as u16,
+                    addr,
                     data: rng.next_u64() as u16,
                 });
             }
@@ -214,11 +220,15 @@ pub fn random_ops(seed: u64, n: usize) -> Vec<Op> {
                 addr: rng.below(u64::from(ISA_RAM_WORDS)) as u16,
             }),
             _ => {
-                // Concentrate on a few words so reads meet earlier writes.
+                // Concentrate on a few words so reads meet earlier writes:
+                // the two mailbox words at the top, and 0 and 1 after the
+                // wrap; the IRQ enabled half the time.
+                let word = (rng.below(4) as u16).wrapping_sub(2) & status::ADDR_MASK;
+                let irq_en = if rng.below(2) == 0 { status::IRQ_EN } else { 0 };
                 ops.push(Op::Align { offset_ps });
                 ops.push(standard_write(
                     reg::STATUS,
-                    rng.below(4) as u16 | status::AUTO_INC,
+                    word | irq_en | status::AUTO_INC,
                 ));
             }
         }

@@ -66,7 +66,7 @@ impl McuOracle {
             (pulse_bus, snapshot),
             &BusCycle::default(),
             (true, Default::default()),
-            flags,
+            (flags.0, flags.1, false),
         );
     }
 

@@ -63,6 +63,7 @@ pub fn outputs<const N: usize>(uut: &MotionController<N>) -> TopOutputs {
         isa_sd_out: uut.isa_sd_out.val().index() as u16,
         isa_sd_oe: uut.isa_sd_oe.val(),
         isa_iocs16_n: uut.isa_iocs16_n.val(),
+        isa_irq: uut.isa_irq.val(),
         pulse_f1: uut.pulse_f1.val().index() as u16,
         pulse_f2: uut.pulse_f2.val().index() as u16,
         drive_enable: uut.drive_enable.val().index() as u16,

@@ -447,7 +447,8 @@ impl Sums {
             u32::from(o.fsmc_d_out)
                 | b(o.fsmc_d_oe) << 16
                 | b(o.isa_sd_oe) << 17
-                | b(o.isa_iocs16_n) << 18,
+                | b(o.isa_iocs16_n) << 18
+                | b(o.isa_irq) << 19,
             u32::from(o.isa_sd_out),
             u32::from(o.pulse_f1) | u32::from(o.pulse_f2) << 16,
             u32::from(o.drive_enable) | b(o.irq) << 16,

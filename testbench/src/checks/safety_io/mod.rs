@@ -141,6 +141,8 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         if next().is_multiple_of(32) {
             inputs.index_seen ^= 1 << (next() % AXES as u64);
         }
+        // The ISA bridge's doorbell: one-clock pulses.
+        inputs.doorbell = next().is_multiple_of(64);
         let bus = match next() % 6 {
             0 => {
                 let (addr, r, _) = decoded[(next() % decoded.len() as u64) as usize];
@@ -215,6 +217,7 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
             uut.at_soft_min.next = u64::from(v.inputs.at_soft_min).into();
             uut.counter_error.next = u64::from(v.inputs.counter_error).into();
             uut.index_seen.next = u64::from(v.inputs.index_seen).into();
+            uut.doorbell.next = v.inputs.doorbell;
             settle(&mut uut);
             cycle(&mut uut, |u| &mut u.clock);
             Observed {
@@ -299,6 +302,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "at_soft_min",
                 "counter_error",
                 "index_seen",
+                "doorbell",
             ],
         ),
         outputs: ports_of(
@@ -338,11 +342,12 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 u64::from(v.inputs.at_soft_min),
                 u64::from(v.inputs.counter_error),
                 u64::from(v.inputs.index_seen),
+                u64::from(v.inputs.doorbell),
             ])
             .collect()
         })
         .collect();
-    rows.push(vec![0; 17]);
+    rows.push(vec![0; 18]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
             for (k, w) in want.iter().enumerate() {

@@ -266,7 +266,7 @@ module top_bench_tb;
     end
     // The outputs before the edge acts (the design's flops update after).
     always @(posedge clock) begin
-        sum_out = sum_out * 32'd31 + {{13'd0, isa_iocs16_n, isa_sd_oe, fsmc_d_oe, fsmc_d_out}};
+        sum_out = sum_out * 32'd31 + {{12'd0, isa_irq, isa_iocs16_n, isa_sd_oe, fsmc_d_oe, fsmc_d_out}};
         sum_out = sum_out * 32'd31 + {{16'd0, isa_sd_out}};
         sum_out = sum_out * 32'd31 + {{16'(pulse_f2), 16'(pulse_f1)}};
         sum_out = sum_out * 32'd31 + {{15'd0, irq, 16'(drive_enable)}};
