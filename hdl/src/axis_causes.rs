@@ -7,36 +7,7 @@
 use motionhdl_spec::regmap;
 use rust_hdl::prelude::*;
 
-/// Which registers a pair of causes has and how its inputs set them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CauseKind {
-    /// The enable register, if any (without one every cause acts).
-    pub ctrl: Option<&'static str>,
-    pub cause: &'static str,
-    pub mask: &'static str,
-    /// A cause sets on its input's rise (else while the input is high).
-    pub on_rise: bool,
-    /// The causes stop the axis: the first one up, the second one down.
-    pub stops: bool,
-}
-
-/// The soft limits: SOFT_LIMIT_CTRL/CAUSE/MASK, MAX low, MIN high; levels.
-pub const SOFT_LIMITS: CauseKind = CauseKind {
-    ctrl: Some("SOFT_LIMIT_CTRL"),
-    cause: "SOFT_LIMIT_CAUSE",
-    mask: "SOFT_LIMIT_MASK",
-    on_rise: false,
-    stops: true,
-};
-
-/// The counter events: COUNTER_CAUSE/MASK, ERR low, INDEX high; rises.
-pub const COUNTER_EVENTS: CauseKind = CauseKind {
-    ctrl: None,
-    cause: "COUNTER_CAUSE",
-    mask: "COUNTER_MASK",
-    on_rise: true,
-    stops: false,
-};
+pub use motionhdl_spec::safety_io::{CauseKind, COUNTER_EVENTS, SOFT_LIMITS};
 
 /// Two causes per axis (`low` in bits N-1:0 of every register, `high` in
 /// bits N+15:16), inside the safety block: writes decode `addr`/`we` as

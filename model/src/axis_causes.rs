@@ -6,36 +6,7 @@ use crate::counter::BusCycle;
 use crate::regmap::Block;
 use motionhdl_spec::bus::mask_bits;
 
-/// Which registers a pair of causes has and how its inputs set them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub struct CauseKind {
-    /// The enable register, if any (without one every cause acts).
-    pub ctrl: Option<&'static str>,
-    pub cause: &'static str,
-    pub mask: &'static str,
-    /// A cause sets on its input's rise (else while the input is high).
-    pub on_rise: bool,
-    /// The causes stop the axis: the first one up, the second one down.
-    pub stops: bool,
-}
-
-/// SOFT_LIMIT_CTRL/CAUSE/MASK: MAX low, MIN high; levels.
-pub const SOFT_LIMITS: CauseKind = CauseKind {
-    ctrl: Some("SOFT_LIMIT_CTRL"),
-    cause: "SOFT_LIMIT_CAUSE",
-    mask: "SOFT_LIMIT_MASK",
-    on_rise: false,
-    stops: true,
-};
-
-/// COUNTER_CAUSE/MASK: ERR low, INDEX high; rises of STATUS.ERR and SEEN.
-pub const COUNTER_EVENTS: CauseKind = CauseKind {
-    ctrl: None,
-    cause: "COUNTER_CAUSE",
-    mask: "COUNTER_MASK",
-    on_rise: true,
-    stops: false,
-};
+pub use motionhdl_spec::safety_io::{CauseKind, COUNTER_EVENTS, SOFT_LIMITS};
 
 /// The registers: the first cause in bits N-1:0, the second in N+15:16.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -72,6 +72,37 @@ pub const GPIO_INPUTS: u32 = 16;
 /// state taken on an e-stop or a watchdog bite.
 pub const GPIO_OUTPUTS: u32 = 16;
 
+/// Which registers a pair of causes has and how its inputs set them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct CauseKind {
+    /// The enable register, if any (without one every cause acts).
+    pub ctrl: Option<&'static str>,
+    pub cause: &'static str,
+    pub mask: &'static str,
+    /// A cause sets on its input's rise (else while the input is high).
+    pub on_rise: bool,
+    /// The causes stop the axis: the first one up, the second one down.
+    pub stops: bool,
+}
+
+/// The soft limits: SOFT_LIMIT_CTRL/CAUSE/MASK, MAX low, MIN high; levels.
+pub const SOFT_LIMITS: CauseKind = CauseKind {
+    ctrl: Some("SOFT_LIMIT_CTRL"),
+    cause: "SOFT_LIMIT_CAUSE",
+    mask: "SOFT_LIMIT_MASK",
+    on_rise: false,
+    stops: true,
+};
+
+/// The counter events: COUNTER_CAUSE/MASK, ERR low, INDEX high; rises.
+pub const COUNTER_EVENTS: CauseKind = CauseKind {
+    ctrl: None,
+    cause: "COUNTER_CAUSE",
+    mask: "COUNTER_MASK",
+    on_rise: true,
+    stops: false,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

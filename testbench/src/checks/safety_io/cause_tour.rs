@@ -5,7 +5,7 @@
 
 use crate::harness::{cycle, settle, CheckReport};
 use crate::tour::{explore, tour};
-use motionhdl_hdl::axis_causes::{self as hdl_kinds, AxisCauses as Hdl};
+use motionhdl_hdl::axis_causes::AxisCauses as Hdl;
 use motionhdl_model::axis_causes::{self as kinds, AxisCauses, CauseKind};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap::{self, Block as Registers};
@@ -94,18 +94,18 @@ fn clock_hdl(h: &mut Hdl<1>, bus: &BusCycle, &(max, min, _): &Input) {
 
 /// The soft limits: see [`exhaustive`].
 pub fn soft_limits_exhaustive() -> CheckReport {
-    exhaustive(kinds::SOFT_LIMITS, hdl_kinds::SOFT_LIMITS)
+    exhaustive(kinds::SOFT_LIMITS)
 }
 
 /// The counter events: see [`exhaustive`].
 pub fn counter_events_exhaustive() -> CheckReport {
-    exhaustive(kinds::COUNTER_EVENTS, hdl_kinds::COUNTER_EVENTS)
+    exhaustive(kinds::COUNTER_EVENTS)
 }
 
 /// Every reachable (state, input) pair of one pair of causes from reset.
 /// Covered = distinct pairs visited, asserted equal to the pairs
 /// enumerated.
-fn exhaustive(kind: CauseKind, hdl_kind: hdl_kinds::CauseKind) -> CheckReport {
+fn exhaustive(kind: CauseKind) -> CheckReport {
     let map = regmap::safety_io(1);
     let inputs = inputs();
     let step = |s: &AxisCauses, i: &Input| {
@@ -115,7 +115,7 @@ fn exhaustive(kind: CauseKind, hdl_kind: hdl_kinds::CauseKind) -> CheckReport {
     };
     let init = AxisCauses::new(1, kind);
     let g = explore(init.clone(), &inputs, step, 1 << 16).expect("a small state space");
-    let mut hdl = Hdl::<1>::new(hdl_kind);
+    let mut hdl = Hdl::<1>::new(kind);
     hdl.connect_all();
     hdl.reset.next = true;
     settle(&mut hdl);
