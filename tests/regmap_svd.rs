@@ -200,14 +200,14 @@ fn check_svd(map: &BusMap) -> (usize, usize) {
 #[test]
 fn svd_parses_back_to_the_table() {
     let (regs, fields) = check_svd(&default_map());
-    // 135 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 24,
-    // PULSE 3 + 4 x 24, SAFETY 23 + 20 (the machine inputs' 10 registers
+    // 139 registers and 1024 RAM words; ID 13 fields, COUNTER 8 + 4 x 24,
+    // PULSE 3 + 4 x 26, SAFETY 23 + 20 (the machine inputs' 10 registers
     // of two fields each) + 8 (the general-purpose I/O's 7 registers) + 1
     // (HOME_STOP).
-    assert_eq!(regs, 135 + 1024);
+    assert_eq!(regs, 139 + 1024);
     assert_eq!(
         fields,
-        13 + 8 + 4 * 24 + 3 + 4 * 24 + 23 + 20 + 8 + 1 + 6 + 4
+        13 + 8 + 4 * 24 + 3 + 4 * 26 + 23 + 20 + 8 + 1 + 6 + 4
     );
     for c in other_configs() {
         check_svd(&mcu_map(&c));

@@ -75,7 +75,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h188c98b4;
+    localparam mcu_identity_values_7 = 32'h130616a2;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -359,6 +359,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_addr_soft_max_1 = 9'b101110;
     localparam mcu_pulses_addr_soft_max_2 = 9'b111110;
     localparam mcu_pulses_addr_soft_max_3 = 9'b1001110;
+    localparam mcu_pulses_addr_decel_0 = 9'b11111;
+    localparam mcu_pulses_addr_decel_1 = 9'b101111;
+    localparam mcu_pulses_addr_decel_2 = 9'b111111;
+    localparam mcu_pulses_addr_decel_3 = 9'b1001111;
     localparam mcu_pulses_addr_status_0 = 9'b10101;
     localparam mcu_pulses_addr_status_1 = 9'b100101;
     localparam mcu_pulses_addr_status_2 = 9'b110101;
@@ -395,6 +399,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_two = 32'h2;
     localparam mcu_pulses_four = 32'h4;
     localparam mcu_pulses_low_water_mask = 32'h7f;
+    localparam mcu_pulses_decel_mask = 32'h7fffffff;
     localparam mcu_pulses_axis_bit_0 = 4'h1;
     localparam mcu_pulses_axis_bit_1 = 4'h2;
     localparam mcu_pulses_axis_bit_2 = 4'h4;
@@ -482,6 +487,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_0_done_bit = 32'h40000;
     localparam mcu_pulses_engines_0_overflow_bit = 32'h80000;
     localparam mcu_pulses_engines_0_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_0_braking_bit = 32'h10000000;
     localparam mcu_pulses_engines_0_level_shift = 32'h14;
     localparam mcu_pulses_engines_1_one = 32'h1;
     localparam mcu_pulses_engines_1_two = 32'h2;
@@ -498,6 +504,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_1_done_bit = 32'h40000;
     localparam mcu_pulses_engines_1_overflow_bit = 32'h80000;
     localparam mcu_pulses_engines_1_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_1_braking_bit = 32'h10000000;
     localparam mcu_pulses_engines_1_level_shift = 32'h14;
     localparam mcu_pulses_engines_2_one = 32'h1;
     localparam mcu_pulses_engines_2_two = 32'h2;
@@ -514,6 +521,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_2_done_bit = 32'h40000;
     localparam mcu_pulses_engines_2_overflow_bit = 32'h80000;
     localparam mcu_pulses_engines_2_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_2_braking_bit = 32'h10000000;
     localparam mcu_pulses_engines_2_level_shift = 32'h14;
     localparam mcu_pulses_engines_3_one = 32'h1;
     localparam mcu_pulses_engines_3_two = 32'h2;
@@ -530,6 +538,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_pulses_engines_3_done_bit = 32'h40000;
     localparam mcu_pulses_engines_3_overflow_bit = 32'h80000;
     localparam mcu_pulses_engines_3_low_bit = 32'h8000000;
+    localparam mcu_pulses_engines_3_braking_bit = 32'h10000000;
     localparam mcu_pulses_engines_3_level_shift = 32'h14;
     localparam mcu_safety_addr_info = 7'b0;
     localparam mcu_safety_addr_status = 7'b1;
@@ -1618,6 +1627,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_clear_overflow;
     reg mcu_pulses_engines_0_flush;
     reg [31:0] mcu_pulses_engines_0_low_water;
+    reg mcu_pulses_engines_0_brake;
+    reg [31:0] mcu_pulses_engines_0_brake_rate;
+    reg [31:0] mcu_pulses_engines_0_decel;
+    reg mcu_pulses_engines_0_braking;
     reg [31:0] mcu_pulses_engines_0_rate;
     reg [31:0] mcu_pulses_engines_0_status;
     reg mcu_pulses_engines_1_reset;
@@ -1633,6 +1646,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_clear_overflow;
     reg mcu_pulses_engines_1_flush;
     reg [31:0] mcu_pulses_engines_1_low_water;
+    reg mcu_pulses_engines_1_brake;
+    reg [31:0] mcu_pulses_engines_1_brake_rate;
+    reg [31:0] mcu_pulses_engines_1_decel;
+    reg mcu_pulses_engines_1_braking;
     reg [31:0] mcu_pulses_engines_1_rate;
     reg [31:0] mcu_pulses_engines_1_status;
     reg mcu_pulses_engines_2_reset;
@@ -1648,6 +1665,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_clear_overflow;
     reg mcu_pulses_engines_2_flush;
     reg [31:0] mcu_pulses_engines_2_low_water;
+    reg mcu_pulses_engines_2_brake;
+    reg [31:0] mcu_pulses_engines_2_brake_rate;
+    reg [31:0] mcu_pulses_engines_2_decel;
+    reg mcu_pulses_engines_2_braking;
     reg [31:0] mcu_pulses_engines_2_rate;
     reg [31:0] mcu_pulses_engines_2_status;
     reg mcu_pulses_engines_3_reset;
@@ -1663,6 +1684,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_clear_overflow;
     reg mcu_pulses_engines_3_flush;
     reg [31:0] mcu_pulses_engines_3_low_water;
+    reg mcu_pulses_engines_3_brake;
+    reg [31:0] mcu_pulses_engines_3_brake_rate;
+    reg [31:0] mcu_pulses_engines_3_decel;
+    reg mcu_pulses_engines_3_braking;
     reg [31:0] mcu_pulses_engines_3_rate;
     reg [31:0] mcu_pulses_engines_3_status;
     reg mcu_pulses_selectors_0_reset;
@@ -1691,6 +1716,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_selectors_3_f2;
     reg [3:0] mcu_pulses_run_d;
     reg [3:0] mcu_pulses_run_q = 4'h0;
+    reg [3:0] mcu_pulses_stop_up_q_d;
+    reg [3:0] mcu_pulses_stop_up_q_q = 4'h0;
+    reg [3:0] mcu_pulses_stop_down_q_d;
+    reg [3:0] mcu_pulses_stop_down_q_q = 4'h0;
     reg [2:0] mcu_pulses_ctrl_0_d;
     reg [2:0] mcu_pulses_ctrl_0_q = 3'h0;
     reg [2:0] mcu_pulses_ctrl_1_d;
@@ -1763,6 +1792,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_soft_max_2_q = 32'h0;
     reg [31:0] mcu_pulses_soft_max_3_d;
     reg [31:0] mcu_pulses_soft_max_3_q = 32'h0;
+    reg [31:0] mcu_pulses_decel_0_d;
+    reg [31:0] mcu_pulses_decel_0_q = 32'h0;
+    reg [31:0] mcu_pulses_decel_1_d;
+    reg [31:0] mcu_pulses_decel_1_q = 32'h0;
+    reg [31:0] mcu_pulses_decel_2_d;
+    reg [31:0] mcu_pulses_decel_2_q = 32'h0;
+    reg [31:0] mcu_pulses_decel_3_d;
+    reg [31:0] mcu_pulses_decel_3_q = 32'h0;
     reg mcu_pulses_above_max_0_d;
     reg mcu_pulses_above_max_0_q = 1'h0;
     reg mcu_pulses_above_max_1_d;
@@ -1817,6 +1854,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [8:0] mcu_pulses_read_addr_q = 9'h0;
     reg [31:0] mcu_pulses_read_data_d;
     reg [31:0] mcu_pulses_read_data_q = 32'h0;
+    reg [3:0] mcu_pulses_fresh_up;
+    reg [3:0] mcu_pulses_fresh_down;
     reg [31:0] mcu_pulses_read_value;
     reg [3:0] mcu_pulses_f1_bits;
     reg [3:0] mcu_pulses_f2_bits;
@@ -1829,6 +1868,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_heading_up;
     reg mcu_pulses_heading_down;
     reg mcu_pulses_axis_stopped;
+    reg mcu_pulses_rate_into_stop;
+    reg mcu_pulses_decelerating;
     reg [31:0] mcu_pulses_position_key;
     reg [3:0] mcu_pulses_above_bits;
     reg [3:0] mcu_pulses_below_bits;
@@ -2140,6 +2181,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_done_q_q = 1'h0;
     reg mcu_pulses_engines_0_overflow_q_d;
     reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
+    reg mcu_pulses_engines_0_braking_q_d;
+    reg mcu_pulses_engines_0_braking_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_0_head_d;
     reg [6:0] mcu_pulses_engines_0_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_0_count_d;
@@ -2178,6 +2221,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_0_rate_out;
     reg [47:0] mcu_pulses_engines_0_accel_whole;
     reg [47:0] mcu_pulses_engines_0_jerk_wide;
+    reg [31:0] mcu_pulses_engines_0_rate_whole;
+    reg mcu_pulses_engines_0_brake_valid;
+    reg [31:0] mcu_pulses_engines_0_brake_accel;
+    reg [31:0] mcu_pulses_engines_0_out_whole;
+    reg mcu_pulses_engines_0_out_braking;
     reg mcu_pulses_engines_1_active_q_d;
     reg mcu_pulses_engines_1_active_q_q = 1'h0;
     reg [47:0] mcu_pulses_engines_1_rate_q_d;
@@ -2194,6 +2242,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_done_q_q = 1'h0;
     reg mcu_pulses_engines_1_overflow_q_d;
     reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
+    reg mcu_pulses_engines_1_braking_q_d;
+    reg mcu_pulses_engines_1_braking_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_1_head_d;
     reg [6:0] mcu_pulses_engines_1_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_1_count_d;
@@ -2232,6 +2282,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_1_rate_out;
     reg [47:0] mcu_pulses_engines_1_accel_whole;
     reg [47:0] mcu_pulses_engines_1_jerk_wide;
+    reg [31:0] mcu_pulses_engines_1_rate_whole;
+    reg mcu_pulses_engines_1_brake_valid;
+    reg [31:0] mcu_pulses_engines_1_brake_accel;
+    reg [31:0] mcu_pulses_engines_1_out_whole;
+    reg mcu_pulses_engines_1_out_braking;
     reg mcu_pulses_engines_2_active_q_d;
     reg mcu_pulses_engines_2_active_q_q = 1'h0;
     reg [47:0] mcu_pulses_engines_2_rate_q_d;
@@ -2248,6 +2303,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_done_q_q = 1'h0;
     reg mcu_pulses_engines_2_overflow_q_d;
     reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
+    reg mcu_pulses_engines_2_braking_q_d;
+    reg mcu_pulses_engines_2_braking_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_2_head_d;
     reg [6:0] mcu_pulses_engines_2_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_2_count_d;
@@ -2286,6 +2343,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_2_rate_out;
     reg [47:0] mcu_pulses_engines_2_accel_whole;
     reg [47:0] mcu_pulses_engines_2_jerk_wide;
+    reg [31:0] mcu_pulses_engines_2_rate_whole;
+    reg mcu_pulses_engines_2_brake_valid;
+    reg [31:0] mcu_pulses_engines_2_brake_accel;
+    reg [31:0] mcu_pulses_engines_2_out_whole;
+    reg mcu_pulses_engines_2_out_braking;
     reg mcu_pulses_engines_3_active_q_d;
     reg mcu_pulses_engines_3_active_q_q = 1'h0;
     reg [47:0] mcu_pulses_engines_3_rate_q_d;
@@ -2302,6 +2364,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_done_q_q = 1'h0;
     reg mcu_pulses_engines_3_overflow_q_d;
     reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
+    reg mcu_pulses_engines_3_braking_q_d;
+    reg mcu_pulses_engines_3_braking_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_3_head_d;
     reg [6:0] mcu_pulses_engines_3_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_3_count_d;
@@ -2340,6 +2404,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_3_rate_out;
     reg [47:0] mcu_pulses_engines_3_accel_whole;
     reg [47:0] mcu_pulses_engines_3_jerk_wide;
+    reg [31:0] mcu_pulses_engines_3_rate_whole;
+    reg mcu_pulses_engines_3_brake_valid;
+    reg [31:0] mcu_pulses_engines_3_brake_accel;
+    reg [31:0] mcu_pulses_engines_3_out_whole;
+    reg mcu_pulses_engines_3_out_braking;
     reg mcu_pulses_selectors_0_selector_k;
     reg mcu_pulses_selectors_0_selector_s1;
     reg mcu_pulses_selectors_0_selector_s2;
@@ -5181,9 +5250,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
 
     always @(*) begin
         mcu_pulses_run_d = mcu_pulses_run_q;
+        mcu_pulses_stop_up_q_d = mcu_pulses_stop_up_q_q;
+        mcu_pulses_stop_down_q_d = mcu_pulses_stop_down_q_q;
         mcu_pulses_read_pending_d = mcu_pulses_read_pending_q;
         mcu_pulses_read_addr_d = mcu_pulses_read_addr_q;
         mcu_pulses_read_data_d = mcu_pulses_read_data_q;
+        mcu_pulses_stop_up_q_d = mcu_pulses_stop_up;
+        mcu_pulses_stop_down_q_d = mcu_pulses_stop_down;
+        mcu_pulses_fresh_up = mcu_pulses_stop_up & ~mcu_pulses_stop_up_q_q;
+        mcu_pulses_fresh_down = mcu_pulses_stop_down & ~mcu_pulses_stop_down_q_q;
         mcu_pulses_f1_bits = 4'h0;
         mcu_pulses_f2_bits = 4'h0;
         mcu_pulses_done_bits = 4'h0;
@@ -5207,14 +5282,16 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_above_bits = 4'h0;
         mcu_pulses_below_bits = 4'h0;
         mcu_pulses_axis_rate = mcu_pulses_rate_0_q;
-        if (mcu_pulses_ctrl_0_q[2]) begin
+        if (mcu_pulses_ctrl_0_q[2] | mcu_pulses_engines_0_braking) begin
             mcu_pulses_axis_rate = mcu_pulses_engines_0_rate;
         end
         mcu_pulses_axis_pending = mcu_pulses_generators_0_status[15:0];
         mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
         mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
-        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[0] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[0] & mcu_pulses_heading_down);
-        if (mcu_pulses_axis_stopped) begin
+        mcu_pulses_rate_into_stop = (mcu_pulses_stop_up[0] & (mcu_pulses_fresh_up[0] | mcu_pulses_engines_0_braking) & |mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (mcu_pulses_stop_down[0] & (mcu_pulses_fresh_down[0] | mcu_pulses_engines_0_braking) & mcu_pulses_axis_rate[31]);
+        mcu_pulses_decelerating = ~mcu_pulses_halt & |mcu_pulses_decel_0_q & mcu_pulses_rate_into_stop;
+        mcu_pulses_axis_stopped = (mcu_pulses_halt | (mcu_pulses_stop_up[0] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[0] & mcu_pulses_heading_down)) & ~mcu_pulses_decelerating;
+        if (mcu_pulses_axis_stopped | mcu_pulses_decelerating) begin
             mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_0;
         end
         mcu_pulses_quadrature_a_0_d = mcu_pulses_generators_0_position[0] ^ mcu_pulses_generators_0_position[1];
@@ -5227,6 +5304,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_0_d = mcu_pulses_selectors_0_f1;
             mcu_pulses_out_f2_0_d = mcu_pulses_selectors_0_f2;
         end
+        mcu_pulses_decel_0_d = mcu_pulses_decel_0_q;
         mcu_pulses_soft_min_0_d = mcu_pulses_soft_min_0_q;
         mcu_pulses_soft_max_0_d = mcu_pulses_soft_max_0_q;
         mcu_pulses_position_key = (mcu_pulses_generators_0_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
@@ -5241,7 +5319,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_reset = mcu_pulses_reset;
         mcu_pulses_engines_0_run = mcu_pulses_ctrl_0_q[2] & mcu_pulses_run_q[0];
         mcu_pulses_engines_0_commanded = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_commanded;
-        mcu_pulses_engines_0_advancing = mcu_pulses_ctrl_0_q[2] & mcu_pulses_generators_0_advancing;
+        mcu_pulses_engines_0_advancing = (mcu_pulses_ctrl_0_q[2] | mcu_pulses_engines_0_braking) & mcu_pulses_generators_0_advancing;
         mcu_pulses_engines_0_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_0);
         mcu_pulses_engines_0_wdata = mcu_pulses_wdata;
         mcu_pulses_engines_0_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_0);
@@ -5251,6 +5329,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_0);
         mcu_pulses_engines_0_low_water = mcu_pulses_low_water_0_q;
         mcu_pulses_engines_0_flush = mcu_pulses_axis_stopped;
+        mcu_pulses_engines_0_brake = mcu_pulses_decelerating;
+        mcu_pulses_engines_0_brake_rate = mcu_pulses_axis_rate;
+        mcu_pulses_engines_0_decel = mcu_pulses_decel_0_q;
         if (mcu_pulses_engines_0_status[18] & ~mcu_pulses_generators_0_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_0;
         end
@@ -5265,11 +5346,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_0_d = mcu_pulses_snap_0_q;
         mcu_pulses_home_position_0_d = mcu_pulses_home_position_0_q;
         mcu_pulses_generators_0_reset = mcu_pulses_reset;
-        mcu_pulses_generators_0_enable = mcu_pulses_run_q[0];
+        mcu_pulses_generators_0_enable = mcu_pulses_run_q[0] | mcu_pulses_engines_0_braking;
         mcu_pulses_generators_0_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_0_rate = mcu_pulses_rate_0_q;
         mcu_pulses_generators_0_move_rate = mcu_pulses_engines_0_rate;
-        mcu_pulses_generators_0_moves = mcu_pulses_ctrl_0_q[2];
+        mcu_pulses_generators_0_moves = mcu_pulses_ctrl_0_q[2] | mcu_pulses_engines_0_braking;
         mcu_pulses_generators_0_step_len = mcu_pulses_step_timing_0_q[15:0];
         mcu_pulses_generators_0_step_space = mcu_pulses_step_timing_0_q[31:16];
         mcu_pulses_generators_0_dir_setup = mcu_pulses_dir_timing_0_q[15:0];
@@ -5312,6 +5393,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_0) begin
                 mcu_pulses_low_water_0_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_decel_0) begin
+                mcu_pulses_decel_0_d = mcu_pulses_wdata & mcu_pulses_decel_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_0) begin
             if (mcu_pulses_ctrl_0_q[0]) begin
@@ -5335,6 +5419,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_0) begin
             mcu_pulses_read_value = mcu_pulses_low_water_0_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_decel_0) begin
+            mcu_pulses_read_value = mcu_pulses_decel_0_q;
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_0) begin
             mcu_pulses_read_value = mcu_pulses_snap_0_q;
@@ -5377,18 +5464,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_home_position_0_d = 32'h0;
             mcu_pulses_soft_min_0_d = 32'h0;
             mcu_pulses_soft_max_0_d = 32'h0;
+            mcu_pulses_decel_0_d = 32'h0;
             mcu_pulses_above_max_0_d = 1'b0;
             mcu_pulses_below_min_0_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_1_q;
-        if (mcu_pulses_ctrl_1_q[2]) begin
+        if (mcu_pulses_ctrl_1_q[2] | mcu_pulses_engines_1_braking) begin
             mcu_pulses_axis_rate = mcu_pulses_engines_1_rate;
         end
         mcu_pulses_axis_pending = mcu_pulses_generators_1_status[15:0];
         mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
         mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
-        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[1] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[1] & mcu_pulses_heading_down);
-        if (mcu_pulses_axis_stopped) begin
+        mcu_pulses_rate_into_stop = (mcu_pulses_stop_up[1] & (mcu_pulses_fresh_up[1] | mcu_pulses_engines_1_braking) & |mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (mcu_pulses_stop_down[1] & (mcu_pulses_fresh_down[1] | mcu_pulses_engines_1_braking) & mcu_pulses_axis_rate[31]);
+        mcu_pulses_decelerating = ~mcu_pulses_halt & |mcu_pulses_decel_1_q & mcu_pulses_rate_into_stop;
+        mcu_pulses_axis_stopped = (mcu_pulses_halt | (mcu_pulses_stop_up[1] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[1] & mcu_pulses_heading_down)) & ~mcu_pulses_decelerating;
+        if (mcu_pulses_axis_stopped | mcu_pulses_decelerating) begin
             mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_1;
         end
         mcu_pulses_quadrature_a_1_d = mcu_pulses_generators_1_position[0] ^ mcu_pulses_generators_1_position[1];
@@ -5401,6 +5491,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_1_d = mcu_pulses_selectors_1_f1;
             mcu_pulses_out_f2_1_d = mcu_pulses_selectors_1_f2;
         end
+        mcu_pulses_decel_1_d = mcu_pulses_decel_1_q;
         mcu_pulses_soft_min_1_d = mcu_pulses_soft_min_1_q;
         mcu_pulses_soft_max_1_d = mcu_pulses_soft_max_1_q;
         mcu_pulses_position_key = (mcu_pulses_generators_1_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
@@ -5415,7 +5506,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_reset = mcu_pulses_reset;
         mcu_pulses_engines_1_run = mcu_pulses_ctrl_1_q[2] & mcu_pulses_run_q[1];
         mcu_pulses_engines_1_commanded = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_commanded;
-        mcu_pulses_engines_1_advancing = mcu_pulses_ctrl_1_q[2] & mcu_pulses_generators_1_advancing;
+        mcu_pulses_engines_1_advancing = (mcu_pulses_ctrl_1_q[2] | mcu_pulses_engines_1_braking) & mcu_pulses_generators_1_advancing;
         mcu_pulses_engines_1_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_1);
         mcu_pulses_engines_1_wdata = mcu_pulses_wdata;
         mcu_pulses_engines_1_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_1);
@@ -5425,6 +5516,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_1);
         mcu_pulses_engines_1_low_water = mcu_pulses_low_water_1_q;
         mcu_pulses_engines_1_flush = mcu_pulses_axis_stopped;
+        mcu_pulses_engines_1_brake = mcu_pulses_decelerating;
+        mcu_pulses_engines_1_brake_rate = mcu_pulses_axis_rate;
+        mcu_pulses_engines_1_decel = mcu_pulses_decel_1_q;
         if (mcu_pulses_engines_1_status[18] & ~mcu_pulses_generators_1_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_1;
         end
@@ -5439,11 +5533,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_1_d = mcu_pulses_snap_1_q;
         mcu_pulses_home_position_1_d = mcu_pulses_home_position_1_q;
         mcu_pulses_generators_1_reset = mcu_pulses_reset;
-        mcu_pulses_generators_1_enable = mcu_pulses_run_q[1];
+        mcu_pulses_generators_1_enable = mcu_pulses_run_q[1] | mcu_pulses_engines_1_braking;
         mcu_pulses_generators_1_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_1_rate = mcu_pulses_rate_1_q;
         mcu_pulses_generators_1_move_rate = mcu_pulses_engines_1_rate;
-        mcu_pulses_generators_1_moves = mcu_pulses_ctrl_1_q[2];
+        mcu_pulses_generators_1_moves = mcu_pulses_ctrl_1_q[2] | mcu_pulses_engines_1_braking;
         mcu_pulses_generators_1_step_len = mcu_pulses_step_timing_1_q[15:0];
         mcu_pulses_generators_1_step_space = mcu_pulses_step_timing_1_q[31:16];
         mcu_pulses_generators_1_dir_setup = mcu_pulses_dir_timing_1_q[15:0];
@@ -5486,6 +5580,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_1) begin
                 mcu_pulses_low_water_1_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_decel_1) begin
+                mcu_pulses_decel_1_d = mcu_pulses_wdata & mcu_pulses_decel_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_1) begin
             if (mcu_pulses_ctrl_1_q[0]) begin
@@ -5509,6 +5606,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_1) begin
             mcu_pulses_read_value = mcu_pulses_low_water_1_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_decel_1) begin
+            mcu_pulses_read_value = mcu_pulses_decel_1_q;
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_1) begin
             mcu_pulses_read_value = mcu_pulses_snap_1_q;
@@ -5551,18 +5651,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_home_position_1_d = 32'h0;
             mcu_pulses_soft_min_1_d = 32'h0;
             mcu_pulses_soft_max_1_d = 32'h0;
+            mcu_pulses_decel_1_d = 32'h0;
             mcu_pulses_above_max_1_d = 1'b0;
             mcu_pulses_below_min_1_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_2_q;
-        if (mcu_pulses_ctrl_2_q[2]) begin
+        if (mcu_pulses_ctrl_2_q[2] | mcu_pulses_engines_2_braking) begin
             mcu_pulses_axis_rate = mcu_pulses_engines_2_rate;
         end
         mcu_pulses_axis_pending = mcu_pulses_generators_2_status[15:0];
         mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
         mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
-        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[2] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[2] & mcu_pulses_heading_down);
-        if (mcu_pulses_axis_stopped) begin
+        mcu_pulses_rate_into_stop = (mcu_pulses_stop_up[2] & (mcu_pulses_fresh_up[2] | mcu_pulses_engines_2_braking) & |mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (mcu_pulses_stop_down[2] & (mcu_pulses_fresh_down[2] | mcu_pulses_engines_2_braking) & mcu_pulses_axis_rate[31]);
+        mcu_pulses_decelerating = ~mcu_pulses_halt & |mcu_pulses_decel_2_q & mcu_pulses_rate_into_stop;
+        mcu_pulses_axis_stopped = (mcu_pulses_halt | (mcu_pulses_stop_up[2] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[2] & mcu_pulses_heading_down)) & ~mcu_pulses_decelerating;
+        if (mcu_pulses_axis_stopped | mcu_pulses_decelerating) begin
             mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_2;
         end
         mcu_pulses_quadrature_a_2_d = mcu_pulses_generators_2_position[0] ^ mcu_pulses_generators_2_position[1];
@@ -5575,6 +5678,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_2_d = mcu_pulses_selectors_2_f1;
             mcu_pulses_out_f2_2_d = mcu_pulses_selectors_2_f2;
         end
+        mcu_pulses_decel_2_d = mcu_pulses_decel_2_q;
         mcu_pulses_soft_min_2_d = mcu_pulses_soft_min_2_q;
         mcu_pulses_soft_max_2_d = mcu_pulses_soft_max_2_q;
         mcu_pulses_position_key = (mcu_pulses_generators_2_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
@@ -5589,7 +5693,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_reset = mcu_pulses_reset;
         mcu_pulses_engines_2_run = mcu_pulses_ctrl_2_q[2] & mcu_pulses_run_q[2];
         mcu_pulses_engines_2_commanded = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_commanded;
-        mcu_pulses_engines_2_advancing = mcu_pulses_ctrl_2_q[2] & mcu_pulses_generators_2_advancing;
+        mcu_pulses_engines_2_advancing = (mcu_pulses_ctrl_2_q[2] | mcu_pulses_engines_2_braking) & mcu_pulses_generators_2_advancing;
         mcu_pulses_engines_2_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_2);
         mcu_pulses_engines_2_wdata = mcu_pulses_wdata;
         mcu_pulses_engines_2_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_2);
@@ -5599,6 +5703,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_2);
         mcu_pulses_engines_2_low_water = mcu_pulses_low_water_2_q;
         mcu_pulses_engines_2_flush = mcu_pulses_axis_stopped;
+        mcu_pulses_engines_2_brake = mcu_pulses_decelerating;
+        mcu_pulses_engines_2_brake_rate = mcu_pulses_axis_rate;
+        mcu_pulses_engines_2_decel = mcu_pulses_decel_2_q;
         if (mcu_pulses_engines_2_status[18] & ~mcu_pulses_generators_2_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_2;
         end
@@ -5613,11 +5720,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_2_d = mcu_pulses_snap_2_q;
         mcu_pulses_home_position_2_d = mcu_pulses_home_position_2_q;
         mcu_pulses_generators_2_reset = mcu_pulses_reset;
-        mcu_pulses_generators_2_enable = mcu_pulses_run_q[2];
+        mcu_pulses_generators_2_enable = mcu_pulses_run_q[2] | mcu_pulses_engines_2_braking;
         mcu_pulses_generators_2_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_2_rate = mcu_pulses_rate_2_q;
         mcu_pulses_generators_2_move_rate = mcu_pulses_engines_2_rate;
-        mcu_pulses_generators_2_moves = mcu_pulses_ctrl_2_q[2];
+        mcu_pulses_generators_2_moves = mcu_pulses_ctrl_2_q[2] | mcu_pulses_engines_2_braking;
         mcu_pulses_generators_2_step_len = mcu_pulses_step_timing_2_q[15:0];
         mcu_pulses_generators_2_step_space = mcu_pulses_step_timing_2_q[31:16];
         mcu_pulses_generators_2_dir_setup = mcu_pulses_dir_timing_2_q[15:0];
@@ -5660,6 +5767,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_2) begin
                 mcu_pulses_low_water_2_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_decel_2) begin
+                mcu_pulses_decel_2_d = mcu_pulses_wdata & mcu_pulses_decel_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_2) begin
             if (mcu_pulses_ctrl_2_q[0]) begin
@@ -5683,6 +5793,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_2) begin
             mcu_pulses_read_value = mcu_pulses_low_water_2_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_decel_2) begin
+            mcu_pulses_read_value = mcu_pulses_decel_2_q;
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_2) begin
             mcu_pulses_read_value = mcu_pulses_snap_2_q;
@@ -5725,18 +5838,21 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_home_position_2_d = 32'h0;
             mcu_pulses_soft_min_2_d = 32'h0;
             mcu_pulses_soft_max_2_d = 32'h0;
+            mcu_pulses_decel_2_d = 32'h0;
             mcu_pulses_above_max_2_d = 1'b0;
             mcu_pulses_below_min_2_d = 1'b0;
         end
         mcu_pulses_axis_rate = mcu_pulses_rate_3_q;
-        if (mcu_pulses_ctrl_3_q[2]) begin
+        if (mcu_pulses_ctrl_3_q[2] | mcu_pulses_engines_3_braking) begin
             mcu_pulses_axis_rate = mcu_pulses_engines_3_rate;
         end
         mcu_pulses_axis_pending = mcu_pulses_generators_3_status[15:0];
         mcu_pulses_heading_up = (|mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (|mcu_pulses_axis_pending & ~mcu_pulses_axis_pending[15]);
         mcu_pulses_heading_down = mcu_pulses_axis_rate[31] | mcu_pulses_axis_pending[15];
-        mcu_pulses_axis_stopped = mcu_pulses_halt | (mcu_pulses_stop_up[3] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[3] & mcu_pulses_heading_down);
-        if (mcu_pulses_axis_stopped) begin
+        mcu_pulses_rate_into_stop = (mcu_pulses_stop_up[3] & (mcu_pulses_fresh_up[3] | mcu_pulses_engines_3_braking) & |mcu_pulses_axis_rate & ~mcu_pulses_axis_rate[31]) | (mcu_pulses_stop_down[3] & (mcu_pulses_fresh_down[3] | mcu_pulses_engines_3_braking) & mcu_pulses_axis_rate[31]);
+        mcu_pulses_decelerating = ~mcu_pulses_halt & |mcu_pulses_decel_3_q & mcu_pulses_rate_into_stop;
+        mcu_pulses_axis_stopped = (mcu_pulses_halt | (mcu_pulses_stop_up[3] & mcu_pulses_heading_up) | (mcu_pulses_stop_down[3] & mcu_pulses_heading_down)) & ~mcu_pulses_decelerating;
+        if (mcu_pulses_axis_stopped | mcu_pulses_decelerating) begin
             mcu_pulses_stopped_bits = mcu_pulses_stopped_bits | mcu_pulses_axis_bit_3;
         end
         mcu_pulses_quadrature_a_3_d = mcu_pulses_generators_3_position[0] ^ mcu_pulses_generators_3_position[1];
@@ -5749,6 +5865,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_out_f1_3_d = mcu_pulses_selectors_3_f1;
             mcu_pulses_out_f2_3_d = mcu_pulses_selectors_3_f2;
         end
+        mcu_pulses_decel_3_d = mcu_pulses_decel_3_q;
         mcu_pulses_soft_min_3_d = mcu_pulses_soft_min_3_q;
         mcu_pulses_soft_max_3_d = mcu_pulses_soft_max_3_q;
         mcu_pulses_position_key = (mcu_pulses_generators_3_position & mcu_pulses_width_mask) ^ mcu_pulses_sign_bit;
@@ -5763,7 +5880,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_reset = mcu_pulses_reset;
         mcu_pulses_engines_3_run = mcu_pulses_ctrl_3_q[2] & mcu_pulses_run_q[3];
         mcu_pulses_engines_3_commanded = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_commanded;
-        mcu_pulses_engines_3_advancing = mcu_pulses_ctrl_3_q[2] & mcu_pulses_generators_3_advancing;
+        mcu_pulses_engines_3_advancing = (mcu_pulses_ctrl_3_q[2] | mcu_pulses_engines_3_braking) & mcu_pulses_generators_3_advancing;
         mcu_pulses_engines_3_push = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_push_3);
         mcu_pulses_engines_3_wdata = mcu_pulses_wdata;
         mcu_pulses_engines_3_write_steps = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_seg_steps_3);
@@ -5773,6 +5890,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_clear_overflow = mcu_pulses_we & (mcu_pulses_addr == mcu_pulses_addr_ctrl_3);
         mcu_pulses_engines_3_low_water = mcu_pulses_low_water_3_q;
         mcu_pulses_engines_3_flush = mcu_pulses_axis_stopped;
+        mcu_pulses_engines_3_brake = mcu_pulses_decelerating;
+        mcu_pulses_engines_3_brake_rate = mcu_pulses_axis_rate;
+        mcu_pulses_engines_3_decel = mcu_pulses_decel_3_q;
         if (mcu_pulses_engines_3_status[18] & ~mcu_pulses_generators_3_status[16]) begin
             mcu_pulses_done_bits = mcu_pulses_done_bits | mcu_pulses_axis_bit_3;
         end
@@ -5787,11 +5907,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_snap_3_d = mcu_pulses_snap_3_q;
         mcu_pulses_home_position_3_d = mcu_pulses_home_position_3_q;
         mcu_pulses_generators_3_reset = mcu_pulses_reset;
-        mcu_pulses_generators_3_enable = mcu_pulses_run_q[3];
+        mcu_pulses_generators_3_enable = mcu_pulses_run_q[3] | mcu_pulses_engines_3_braking;
         mcu_pulses_generators_3_halt = mcu_pulses_axis_stopped;
         mcu_pulses_generators_3_rate = mcu_pulses_rate_3_q;
         mcu_pulses_generators_3_move_rate = mcu_pulses_engines_3_rate;
-        mcu_pulses_generators_3_moves = mcu_pulses_ctrl_3_q[2];
+        mcu_pulses_generators_3_moves = mcu_pulses_ctrl_3_q[2] | mcu_pulses_engines_3_braking;
         mcu_pulses_generators_3_step_len = mcu_pulses_step_timing_3_q[15:0];
         mcu_pulses_generators_3_step_space = mcu_pulses_step_timing_3_q[31:16];
         mcu_pulses_generators_3_dir_setup = mcu_pulses_dir_timing_3_q[15:0];
@@ -5834,6 +5954,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             if (mcu_pulses_addr == mcu_pulses_addr_low_water_3) begin
                 mcu_pulses_low_water_3_d = mcu_pulses_wdata & mcu_pulses_low_water_mask;
             end
+            if (mcu_pulses_addr == mcu_pulses_addr_decel_3) begin
+                mcu_pulses_decel_3_d = mcu_pulses_wdata & mcu_pulses_decel_mask;
+            end
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_ctrl_3) begin
             if (mcu_pulses_ctrl_3_q[0]) begin
@@ -5857,6 +5980,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_low_water_3) begin
             mcu_pulses_read_value = mcu_pulses_low_water_3_q;
+        end
+        if (mcu_pulses_read_addr_q == mcu_pulses_addr_decel_3) begin
+            mcu_pulses_read_value = mcu_pulses_decel_3_q;
         end
         if (mcu_pulses_read_addr_q == mcu_pulses_addr_position_3) begin
             mcu_pulses_read_value = mcu_pulses_snap_3_q;
@@ -5899,6 +6025,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_home_position_3_d = 32'h0;
             mcu_pulses_soft_min_3_d = 32'h0;
             mcu_pulses_soft_max_3_d = 32'h0;
+            mcu_pulses_decel_3_d = 32'h0;
             mcu_pulses_above_max_3_d = 1'b0;
             mcu_pulses_below_min_3_d = 1'b0;
         end
@@ -5908,6 +6035,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_reset) begin
             mcu_pulses_run_d = 4'h0;
+            mcu_pulses_stop_up_q_d = 4'h0;
+            mcu_pulses_stop_down_q_d = 4'h0;
             mcu_pulses_read_pending_d = 1'b0;
             mcu_pulses_read_addr_d = 9'h0;
             mcu_pulses_read_data_d = 32'h0;
@@ -6622,6 +6751,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_last_q_q;
         mcu_pulses_engines_0_done_q_d = mcu_pulses_engines_0_done_q_q;
         mcu_pulses_engines_0_overflow_q_d = mcu_pulses_engines_0_overflow_q_q;
+        mcu_pulses_engines_0_braking_q_d = mcu_pulses_engines_0_braking_q_q;
         mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q;
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_q;
         mcu_pulses_engines_0_staged_d = mcu_pulses_engines_0_staged_q;
@@ -6660,6 +6790,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]) begin
             mcu_pulses_engines_0_accel_whole = mcu_pulses_engines_0_accel_whole | mcu_pulses_engines_0_sign_fill;
         end
+        mcu_pulses_engines_0_rate_whole = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
+        mcu_pulses_engines_0_brake_valid = mcu_pulses_engines_0_braking_q_q & |mcu_pulses_engines_0_rate_whole & (mcu_pulses_engines_0_rate_whole[31] ^ mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]);
         mcu_pulses_engines_0_jerk_wide = {16'h0, mcu_pulses_engines_0_jerks_read_data};
         if (mcu_pulses_engines_0_jerks_read_data[31]) begin
             mcu_pulses_engines_0_jerk_wide = mcu_pulses_engines_0_jerk_wide | mcu_pulses_engines_0_sign_fill;
@@ -6682,7 +6814,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_accel_q_q + mcu_pulses_engines_0_jerk_wide;
             end
         end
-        else if (mcu_pulses_engines_0_run & mcu_pulses_engines_0_staged_q) begin
+        else if (mcu_pulses_engines_0_run & mcu_pulses_engines_0_staged_q & ~mcu_pulses_engines_0_braking_q_q) begin
             mcu_pulses_engines_0_popped = 1'b1;
             mcu_pulses_engines_0_staged_d = 1'b0;
             mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q + 7'h1;
@@ -6692,6 +6824,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_accel_q_d = ({16'h0, mcu_pulses_engines_0_ram_read_data} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
             mcu_pulses_engines_0_remaining_d = mcu_pulses_engines_0_staged_steps_q;
             mcu_pulses_engines_0_last_q_d = mcu_pulses_engines_0_staged_steps_q == mcu_pulses_engines_0_one;
+        end
+        if (mcu_pulses_engines_0_braking_q_q) begin
+            if (mcu_pulses_engines_0_advancing) begin
+                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_whole;
+            end
+            mcu_pulses_engines_0_braking_q_d = mcu_pulses_engines_0_brake_valid;
         end
         mcu_pulses_engines_0_count_after_pop = mcu_pulses_engines_0_count_q;
         if (mcu_pulses_engines_0_popped) begin
@@ -6731,14 +6869,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_0_clear_overflow) begin
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
         end
-        if (mcu_pulses_engines_0_flush) begin
+        if (mcu_pulses_engines_0_flush | mcu_pulses_engines_0_brake) begin
             mcu_pulses_engines_0_active_q_d = 1'b0;
+            mcu_pulses_engines_0_remaining_d = 32'h0;
             mcu_pulses_engines_0_commanded_q_d = 1'b0;
             mcu_pulses_engines_0_last_q_d = 1'b0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_count_d = 7'h0;
             mcu_pulses_engines_0_staged_d = 1'b0;
             mcu_pulses_engines_0_fetch_d = 2'h0;
+        end
+        if (mcu_pulses_engines_0_flush) begin
+            mcu_pulses_engines_0_braking_q_d = 1'b0;
+        end
+        mcu_pulses_engines_0_brake_accel = ~mcu_pulses_engines_0_decel + mcu_pulses_engines_0_one;
+        if (mcu_pulses_engines_0_brake_rate[31]) begin
+            mcu_pulses_engines_0_brake_accel = mcu_pulses_engines_0_decel;
+        end
+        if (mcu_pulses_engines_0_brake & ~mcu_pulses_engines_0_braking_q_q) begin
+            mcu_pulses_engines_0_braking_q_d = 1'b1;
+            mcu_pulses_engines_0_rate_q_d = ({16'h0, mcu_pulses_engines_0_brake_rate} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
+            mcu_pulses_engines_0_accel_q_d = ({16'h0, mcu_pulses_engines_0_brake_accel} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
         end
         if (mcu_pulses_engines_0_reset) begin
             mcu_pulses_engines_0_active_q_d = 1'b0;
@@ -6749,14 +6900,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_last_q_d = 1'b0;
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
+            mcu_pulses_engines_0_braking_q_d = 1'b0;
             mcu_pulses_engines_0_head_d = 7'h0;
             mcu_pulses_engines_0_count_d = 7'h0;
             mcu_pulses_engines_0_staged_d = 1'b0;
             mcu_pulses_engines_0_fetch_d = 2'h0;
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
-        if (mcu_pulses_engines_0_active_q_q & ~(mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q)) begin
-            mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
+        mcu_pulses_engines_0_out_whole = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
+        mcu_pulses_engines_0_out_braking = mcu_pulses_engines_0_braking_q_q & |mcu_pulses_engines_0_out_whole & (mcu_pulses_engines_0_out_whole[31] ^ mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]);
+        if ((mcu_pulses_engines_0_active_q_q & ~(mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q)) | mcu_pulses_engines_0_out_braking) begin
+            mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_out_whole;
         end
         mcu_pulses_engines_0_level_word = {25'h0, mcu_pulses_engines_0_count_q};
         mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_level_word << mcu_pulses_engines_0_level_shift;
@@ -6769,10 +6923,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_0_overflow_q_q) begin
             mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_overflow_bit;
         end
+        if (mcu_pulses_engines_0_braking_q_q) begin
+            mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_braking_bit;
+        end
         if (mcu_pulses_engines_0_level_word <= mcu_pulses_engines_0_low_water) begin
             mcu_pulses_engines_0_status_word = mcu_pulses_engines_0_status_word | mcu_pulses_engines_0_low_bit;
         end
         mcu_pulses_engines_0_rate = mcu_pulses_engines_0_rate_out;
+        mcu_pulses_engines_0_braking = mcu_pulses_engines_0_braking_q_q;
         mcu_pulses_engines_0_status = mcu_pulses_engines_0_status_word;
     end
 
@@ -6785,6 +6943,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_last_q_q;
         mcu_pulses_engines_1_done_q_d = mcu_pulses_engines_1_done_q_q;
         mcu_pulses_engines_1_overflow_q_d = mcu_pulses_engines_1_overflow_q_q;
+        mcu_pulses_engines_1_braking_q_d = mcu_pulses_engines_1_braking_q_q;
         mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q;
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_q;
         mcu_pulses_engines_1_staged_d = mcu_pulses_engines_1_staged_q;
@@ -6823,6 +6982,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]) begin
             mcu_pulses_engines_1_accel_whole = mcu_pulses_engines_1_accel_whole | mcu_pulses_engines_1_sign_fill;
         end
+        mcu_pulses_engines_1_rate_whole = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
+        mcu_pulses_engines_1_brake_valid = mcu_pulses_engines_1_braking_q_q & |mcu_pulses_engines_1_rate_whole & (mcu_pulses_engines_1_rate_whole[31] ^ mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]);
         mcu_pulses_engines_1_jerk_wide = {16'h0, mcu_pulses_engines_1_jerks_read_data};
         if (mcu_pulses_engines_1_jerks_read_data[31]) begin
             mcu_pulses_engines_1_jerk_wide = mcu_pulses_engines_1_jerk_wide | mcu_pulses_engines_1_sign_fill;
@@ -6845,7 +7006,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_accel_q_q + mcu_pulses_engines_1_jerk_wide;
             end
         end
-        else if (mcu_pulses_engines_1_run & mcu_pulses_engines_1_staged_q) begin
+        else if (mcu_pulses_engines_1_run & mcu_pulses_engines_1_staged_q & ~mcu_pulses_engines_1_braking_q_q) begin
             mcu_pulses_engines_1_popped = 1'b1;
             mcu_pulses_engines_1_staged_d = 1'b0;
             mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q + 7'h1;
@@ -6855,6 +7016,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_accel_q_d = ({16'h0, mcu_pulses_engines_1_ram_read_data} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
             mcu_pulses_engines_1_remaining_d = mcu_pulses_engines_1_staged_steps_q;
             mcu_pulses_engines_1_last_q_d = mcu_pulses_engines_1_staged_steps_q == mcu_pulses_engines_1_one;
+        end
+        if (mcu_pulses_engines_1_braking_q_q) begin
+            if (mcu_pulses_engines_1_advancing) begin
+                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_whole;
+            end
+            mcu_pulses_engines_1_braking_q_d = mcu_pulses_engines_1_brake_valid;
         end
         mcu_pulses_engines_1_count_after_pop = mcu_pulses_engines_1_count_q;
         if (mcu_pulses_engines_1_popped) begin
@@ -6894,14 +7061,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_clear_overflow) begin
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
         end
-        if (mcu_pulses_engines_1_flush) begin
+        if (mcu_pulses_engines_1_flush | mcu_pulses_engines_1_brake) begin
             mcu_pulses_engines_1_active_q_d = 1'b0;
+            mcu_pulses_engines_1_remaining_d = 32'h0;
             mcu_pulses_engines_1_commanded_q_d = 1'b0;
             mcu_pulses_engines_1_last_q_d = 1'b0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_count_d = 7'h0;
             mcu_pulses_engines_1_staged_d = 1'b0;
             mcu_pulses_engines_1_fetch_d = 2'h0;
+        end
+        if (mcu_pulses_engines_1_flush) begin
+            mcu_pulses_engines_1_braking_q_d = 1'b0;
+        end
+        mcu_pulses_engines_1_brake_accel = ~mcu_pulses_engines_1_decel + mcu_pulses_engines_1_one;
+        if (mcu_pulses_engines_1_brake_rate[31]) begin
+            mcu_pulses_engines_1_brake_accel = mcu_pulses_engines_1_decel;
+        end
+        if (mcu_pulses_engines_1_brake & ~mcu_pulses_engines_1_braking_q_q) begin
+            mcu_pulses_engines_1_braking_q_d = 1'b1;
+            mcu_pulses_engines_1_rate_q_d = ({16'h0, mcu_pulses_engines_1_brake_rate} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
+            mcu_pulses_engines_1_accel_q_d = ({16'h0, mcu_pulses_engines_1_brake_accel} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
         end
         if (mcu_pulses_engines_1_reset) begin
             mcu_pulses_engines_1_active_q_d = 1'b0;
@@ -6912,14 +7092,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_last_q_d = 1'b0;
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
+            mcu_pulses_engines_1_braking_q_d = 1'b0;
             mcu_pulses_engines_1_head_d = 7'h0;
             mcu_pulses_engines_1_count_d = 7'h0;
             mcu_pulses_engines_1_staged_d = 1'b0;
             mcu_pulses_engines_1_fetch_d = 2'h0;
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
-        if (mcu_pulses_engines_1_active_q_q & ~(mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q)) begin
-            mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
+        mcu_pulses_engines_1_out_whole = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
+        mcu_pulses_engines_1_out_braking = mcu_pulses_engines_1_braking_q_q & |mcu_pulses_engines_1_out_whole & (mcu_pulses_engines_1_out_whole[31] ^ mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]);
+        if ((mcu_pulses_engines_1_active_q_q & ~(mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q)) | mcu_pulses_engines_1_out_braking) begin
+            mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_out_whole;
         end
         mcu_pulses_engines_1_level_word = {25'h0, mcu_pulses_engines_1_count_q};
         mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_level_word << mcu_pulses_engines_1_level_shift;
@@ -6932,10 +7115,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_overflow_q_q) begin
             mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_overflow_bit;
         end
+        if (mcu_pulses_engines_1_braking_q_q) begin
+            mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_braking_bit;
+        end
         if (mcu_pulses_engines_1_level_word <= mcu_pulses_engines_1_low_water) begin
             mcu_pulses_engines_1_status_word = mcu_pulses_engines_1_status_word | mcu_pulses_engines_1_low_bit;
         end
         mcu_pulses_engines_1_rate = mcu_pulses_engines_1_rate_out;
+        mcu_pulses_engines_1_braking = mcu_pulses_engines_1_braking_q_q;
         mcu_pulses_engines_1_status = mcu_pulses_engines_1_status_word;
     end
 
@@ -6948,6 +7135,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_last_q_q;
         mcu_pulses_engines_2_done_q_d = mcu_pulses_engines_2_done_q_q;
         mcu_pulses_engines_2_overflow_q_d = mcu_pulses_engines_2_overflow_q_q;
+        mcu_pulses_engines_2_braking_q_d = mcu_pulses_engines_2_braking_q_q;
         mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q;
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_q;
         mcu_pulses_engines_2_staged_d = mcu_pulses_engines_2_staged_q;
@@ -6986,6 +7174,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]) begin
             mcu_pulses_engines_2_accel_whole = mcu_pulses_engines_2_accel_whole | mcu_pulses_engines_2_sign_fill;
         end
+        mcu_pulses_engines_2_rate_whole = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
+        mcu_pulses_engines_2_brake_valid = mcu_pulses_engines_2_braking_q_q & |mcu_pulses_engines_2_rate_whole & (mcu_pulses_engines_2_rate_whole[31] ^ mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]);
         mcu_pulses_engines_2_jerk_wide = {16'h0, mcu_pulses_engines_2_jerks_read_data};
         if (mcu_pulses_engines_2_jerks_read_data[31]) begin
             mcu_pulses_engines_2_jerk_wide = mcu_pulses_engines_2_jerk_wide | mcu_pulses_engines_2_sign_fill;
@@ -7008,7 +7198,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_accel_q_q + mcu_pulses_engines_2_jerk_wide;
             end
         end
-        else if (mcu_pulses_engines_2_run & mcu_pulses_engines_2_staged_q) begin
+        else if (mcu_pulses_engines_2_run & mcu_pulses_engines_2_staged_q & ~mcu_pulses_engines_2_braking_q_q) begin
             mcu_pulses_engines_2_popped = 1'b1;
             mcu_pulses_engines_2_staged_d = 1'b0;
             mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q + 7'h1;
@@ -7018,6 +7208,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_accel_q_d = ({16'h0, mcu_pulses_engines_2_ram_read_data} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
             mcu_pulses_engines_2_remaining_d = mcu_pulses_engines_2_staged_steps_q;
             mcu_pulses_engines_2_last_q_d = mcu_pulses_engines_2_staged_steps_q == mcu_pulses_engines_2_one;
+        end
+        if (mcu_pulses_engines_2_braking_q_q) begin
+            if (mcu_pulses_engines_2_advancing) begin
+                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_whole;
+            end
+            mcu_pulses_engines_2_braking_q_d = mcu_pulses_engines_2_brake_valid;
         end
         mcu_pulses_engines_2_count_after_pop = mcu_pulses_engines_2_count_q;
         if (mcu_pulses_engines_2_popped) begin
@@ -7057,14 +7253,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_clear_overflow) begin
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
         end
-        if (mcu_pulses_engines_2_flush) begin
+        if (mcu_pulses_engines_2_flush | mcu_pulses_engines_2_brake) begin
             mcu_pulses_engines_2_active_q_d = 1'b0;
+            mcu_pulses_engines_2_remaining_d = 32'h0;
             mcu_pulses_engines_2_commanded_q_d = 1'b0;
             mcu_pulses_engines_2_last_q_d = 1'b0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_count_d = 7'h0;
             mcu_pulses_engines_2_staged_d = 1'b0;
             mcu_pulses_engines_2_fetch_d = 2'h0;
+        end
+        if (mcu_pulses_engines_2_flush) begin
+            mcu_pulses_engines_2_braking_q_d = 1'b0;
+        end
+        mcu_pulses_engines_2_brake_accel = ~mcu_pulses_engines_2_decel + mcu_pulses_engines_2_one;
+        if (mcu_pulses_engines_2_brake_rate[31]) begin
+            mcu_pulses_engines_2_brake_accel = mcu_pulses_engines_2_decel;
+        end
+        if (mcu_pulses_engines_2_brake & ~mcu_pulses_engines_2_braking_q_q) begin
+            mcu_pulses_engines_2_braking_q_d = 1'b1;
+            mcu_pulses_engines_2_rate_q_d = ({16'h0, mcu_pulses_engines_2_brake_rate} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
+            mcu_pulses_engines_2_accel_q_d = ({16'h0, mcu_pulses_engines_2_brake_accel} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
         end
         if (mcu_pulses_engines_2_reset) begin
             mcu_pulses_engines_2_active_q_d = 1'b0;
@@ -7075,14 +7284,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_last_q_d = 1'b0;
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
+            mcu_pulses_engines_2_braking_q_d = 1'b0;
             mcu_pulses_engines_2_head_d = 7'h0;
             mcu_pulses_engines_2_count_d = 7'h0;
             mcu_pulses_engines_2_staged_d = 1'b0;
             mcu_pulses_engines_2_fetch_d = 2'h0;
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
-        if (mcu_pulses_engines_2_active_q_q & ~(mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q)) begin
-            mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
+        mcu_pulses_engines_2_out_whole = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
+        mcu_pulses_engines_2_out_braking = mcu_pulses_engines_2_braking_q_q & |mcu_pulses_engines_2_out_whole & (mcu_pulses_engines_2_out_whole[31] ^ mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]);
+        if ((mcu_pulses_engines_2_active_q_q & ~(mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q)) | mcu_pulses_engines_2_out_braking) begin
+            mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_out_whole;
         end
         mcu_pulses_engines_2_level_word = {25'h0, mcu_pulses_engines_2_count_q};
         mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_level_word << mcu_pulses_engines_2_level_shift;
@@ -7095,10 +7307,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_overflow_q_q) begin
             mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_overflow_bit;
         end
+        if (mcu_pulses_engines_2_braking_q_q) begin
+            mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_braking_bit;
+        end
         if (mcu_pulses_engines_2_level_word <= mcu_pulses_engines_2_low_water) begin
             mcu_pulses_engines_2_status_word = mcu_pulses_engines_2_status_word | mcu_pulses_engines_2_low_bit;
         end
         mcu_pulses_engines_2_rate = mcu_pulses_engines_2_rate_out;
+        mcu_pulses_engines_2_braking = mcu_pulses_engines_2_braking_q_q;
         mcu_pulses_engines_2_status = mcu_pulses_engines_2_status_word;
     end
 
@@ -7111,6 +7327,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_last_q_q;
         mcu_pulses_engines_3_done_q_d = mcu_pulses_engines_3_done_q_q;
         mcu_pulses_engines_3_overflow_q_d = mcu_pulses_engines_3_overflow_q_q;
+        mcu_pulses_engines_3_braking_q_d = mcu_pulses_engines_3_braking_q_q;
         mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q;
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_q;
         mcu_pulses_engines_3_staged_d = mcu_pulses_engines_3_staged_q;
@@ -7149,6 +7366,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]) begin
             mcu_pulses_engines_3_accel_whole = mcu_pulses_engines_3_accel_whole | mcu_pulses_engines_3_sign_fill;
         end
+        mcu_pulses_engines_3_rate_whole = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
+        mcu_pulses_engines_3_brake_valid = mcu_pulses_engines_3_braking_q_q & |mcu_pulses_engines_3_rate_whole & (mcu_pulses_engines_3_rate_whole[31] ^ mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]);
         mcu_pulses_engines_3_jerk_wide = {16'h0, mcu_pulses_engines_3_jerks_read_data};
         if (mcu_pulses_engines_3_jerks_read_data[31]) begin
             mcu_pulses_engines_3_jerk_wide = mcu_pulses_engines_3_jerk_wide | mcu_pulses_engines_3_sign_fill;
@@ -7171,7 +7390,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
                 mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_accel_q_q + mcu_pulses_engines_3_jerk_wide;
             end
         end
-        else if (mcu_pulses_engines_3_run & mcu_pulses_engines_3_staged_q) begin
+        else if (mcu_pulses_engines_3_run & mcu_pulses_engines_3_staged_q & ~mcu_pulses_engines_3_braking_q_q) begin
             mcu_pulses_engines_3_popped = 1'b1;
             mcu_pulses_engines_3_staged_d = 1'b0;
             mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q + 7'h1;
@@ -7181,6 +7400,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_accel_q_d = ({16'h0, mcu_pulses_engines_3_ram_read_data} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
             mcu_pulses_engines_3_remaining_d = mcu_pulses_engines_3_staged_steps_q;
             mcu_pulses_engines_3_last_q_d = mcu_pulses_engines_3_staged_steps_q == mcu_pulses_engines_3_one;
+        end
+        if (mcu_pulses_engines_3_braking_q_q) begin
+            if (mcu_pulses_engines_3_advancing) begin
+                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_whole;
+            end
+            mcu_pulses_engines_3_braking_q_d = mcu_pulses_engines_3_brake_valid;
         end
         mcu_pulses_engines_3_count_after_pop = mcu_pulses_engines_3_count_q;
         if (mcu_pulses_engines_3_popped) begin
@@ -7220,14 +7445,27 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_3_clear_overflow) begin
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
         end
-        if (mcu_pulses_engines_3_flush) begin
+        if (mcu_pulses_engines_3_flush | mcu_pulses_engines_3_brake) begin
             mcu_pulses_engines_3_active_q_d = 1'b0;
+            mcu_pulses_engines_3_remaining_d = 32'h0;
             mcu_pulses_engines_3_commanded_q_d = 1'b0;
             mcu_pulses_engines_3_last_q_d = 1'b0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_count_d = 7'h0;
             mcu_pulses_engines_3_staged_d = 1'b0;
             mcu_pulses_engines_3_fetch_d = 2'h0;
+        end
+        if (mcu_pulses_engines_3_flush) begin
+            mcu_pulses_engines_3_braking_q_d = 1'b0;
+        end
+        mcu_pulses_engines_3_brake_accel = ~mcu_pulses_engines_3_decel + mcu_pulses_engines_3_one;
+        if (mcu_pulses_engines_3_brake_rate[31]) begin
+            mcu_pulses_engines_3_brake_accel = mcu_pulses_engines_3_decel;
+        end
+        if (mcu_pulses_engines_3_brake & ~mcu_pulses_engines_3_braking_q_q) begin
+            mcu_pulses_engines_3_braking_q_d = 1'b1;
+            mcu_pulses_engines_3_rate_q_d = ({16'h0, mcu_pulses_engines_3_brake_rate} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
+            mcu_pulses_engines_3_accel_q_d = ({16'h0, mcu_pulses_engines_3_brake_accel} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
         end
         if (mcu_pulses_engines_3_reset) begin
             mcu_pulses_engines_3_active_q_d = 1'b0;
@@ -7238,14 +7476,17 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_last_q_d = 1'b0;
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
+            mcu_pulses_engines_3_braking_q_d = 1'b0;
             mcu_pulses_engines_3_head_d = 7'h0;
             mcu_pulses_engines_3_count_d = 7'h0;
             mcu_pulses_engines_3_staged_d = 1'b0;
             mcu_pulses_engines_3_fetch_d = 2'h0;
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
-        if (mcu_pulses_engines_3_active_q_q & ~(mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q)) begin
-            mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
+        mcu_pulses_engines_3_out_whole = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
+        mcu_pulses_engines_3_out_braking = mcu_pulses_engines_3_braking_q_q & |mcu_pulses_engines_3_out_whole & (mcu_pulses_engines_3_out_whole[31] ^ mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]);
+        if ((mcu_pulses_engines_3_active_q_q & ~(mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q)) | mcu_pulses_engines_3_out_braking) begin
+            mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_out_whole;
         end
         mcu_pulses_engines_3_level_word = {25'h0, mcu_pulses_engines_3_count_q};
         mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_level_word << mcu_pulses_engines_3_level_shift;
@@ -7258,10 +7499,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_3_overflow_q_q) begin
             mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_overflow_bit;
         end
+        if (mcu_pulses_engines_3_braking_q_q) begin
+            mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_braking_bit;
+        end
         if (mcu_pulses_engines_3_level_word <= mcu_pulses_engines_3_low_water) begin
             mcu_pulses_engines_3_status_word = mcu_pulses_engines_3_status_word | mcu_pulses_engines_3_low_bit;
         end
         mcu_pulses_engines_3_rate = mcu_pulses_engines_3_rate_out;
+        mcu_pulses_engines_3_braking = mcu_pulses_engines_3_braking_q_q;
         mcu_pulses_engines_3_status = mcu_pulses_engines_3_status_word;
     end
 
@@ -9572,6 +9817,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_last_q_q <= mcu_pulses_engines_0_last_q_d;
     always @(posedge clock) mcu_pulses_engines_0_done_q_q <= mcu_pulses_engines_0_done_q_d;
     always @(posedge clock) mcu_pulses_engines_0_overflow_q_q <= mcu_pulses_engines_0_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_braking_q_q <= mcu_pulses_engines_0_braking_q_d;
     always @(posedge clock) mcu_pulses_engines_0_head_q <= mcu_pulses_engines_0_head_d;
     always @(posedge clock) mcu_pulses_engines_0_count_q <= mcu_pulses_engines_0_count_d;
     always @(posedge clock) mcu_pulses_engines_0_staged_q <= mcu_pulses_engines_0_staged_d;
@@ -9586,6 +9832,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_last_q_q <= mcu_pulses_engines_1_last_q_d;
     always @(posedge clock) mcu_pulses_engines_1_done_q_q <= mcu_pulses_engines_1_done_q_d;
     always @(posedge clock) mcu_pulses_engines_1_overflow_q_q <= mcu_pulses_engines_1_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_braking_q_q <= mcu_pulses_engines_1_braking_q_d;
     always @(posedge clock) mcu_pulses_engines_1_head_q <= mcu_pulses_engines_1_head_d;
     always @(posedge clock) mcu_pulses_engines_1_count_q <= mcu_pulses_engines_1_count_d;
     always @(posedge clock) mcu_pulses_engines_1_staged_q <= mcu_pulses_engines_1_staged_d;
@@ -9600,6 +9847,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_last_q_q <= mcu_pulses_engines_2_last_q_d;
     always @(posedge clock) mcu_pulses_engines_2_done_q_q <= mcu_pulses_engines_2_done_q_d;
     always @(posedge clock) mcu_pulses_engines_2_overflow_q_q <= mcu_pulses_engines_2_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_braking_q_q <= mcu_pulses_engines_2_braking_q_d;
     always @(posedge clock) mcu_pulses_engines_2_head_q <= mcu_pulses_engines_2_head_d;
     always @(posedge clock) mcu_pulses_engines_2_count_q <= mcu_pulses_engines_2_count_d;
     always @(posedge clock) mcu_pulses_engines_2_staged_q <= mcu_pulses_engines_2_staged_d;
@@ -9614,6 +9862,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_last_q_q <= mcu_pulses_engines_3_last_q_d;
     always @(posedge clock) mcu_pulses_engines_3_done_q_q <= mcu_pulses_engines_3_done_q_d;
     always @(posedge clock) mcu_pulses_engines_3_overflow_q_q <= mcu_pulses_engines_3_overflow_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_braking_q_q <= mcu_pulses_engines_3_braking_q_d;
     always @(posedge clock) mcu_pulses_engines_3_head_q <= mcu_pulses_engines_3_head_d;
     always @(posedge clock) mcu_pulses_engines_3_count_q <= mcu_pulses_engines_3_count_d;
     always @(posedge clock) mcu_pulses_engines_3_staged_q <= mcu_pulses_engines_3_staged_d;
@@ -9629,6 +9878,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_selectors_3_f1_reg_q <= mcu_pulses_selectors_3_f1_reg_d;
     always @(posedge clock) mcu_pulses_selectors_3_f2_reg_q <= mcu_pulses_selectors_3_f2_reg_d;
     always @(posedge clock) mcu_pulses_run_q <= mcu_pulses_run_d;
+    always @(posedge clock) mcu_pulses_stop_up_q_q <= mcu_pulses_stop_up_q_d;
+    always @(posedge clock) mcu_pulses_stop_down_q_q <= mcu_pulses_stop_down_q_d;
     always @(posedge clock) mcu_pulses_ctrl_0_q <= mcu_pulses_ctrl_0_d;
     always @(posedge clock) mcu_pulses_ctrl_1_q <= mcu_pulses_ctrl_1_d;
     always @(posedge clock) mcu_pulses_ctrl_2_q <= mcu_pulses_ctrl_2_d;
@@ -9665,6 +9916,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_soft_max_1_q <= mcu_pulses_soft_max_1_d;
     always @(posedge clock) mcu_pulses_soft_max_2_q <= mcu_pulses_soft_max_2_d;
     always @(posedge clock) mcu_pulses_soft_max_3_q <= mcu_pulses_soft_max_3_d;
+    always @(posedge clock) mcu_pulses_decel_0_q <= mcu_pulses_decel_0_d;
+    always @(posedge clock) mcu_pulses_decel_1_q <= mcu_pulses_decel_1_d;
+    always @(posedge clock) mcu_pulses_decel_2_q <= mcu_pulses_decel_2_d;
+    always @(posedge clock) mcu_pulses_decel_3_q <= mcu_pulses_decel_3_d;
     always @(posedge clock) mcu_pulses_above_max_0_q <= mcu_pulses_above_max_0_d;
     always @(posedge clock) mcu_pulses_above_max_1_q <= mcu_pulses_above_max_1_d;
     always @(posedge clock) mcu_pulses_above_max_2_q <= mcu_pulses_above_max_2_d;

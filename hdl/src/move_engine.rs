@@ -1,7 +1,8 @@
 //! Position moves of one pulse generator axis: a 64-deep FIFO of segments
 //! (steps, start rate, acceleration; the jerks in a ring of their own) in
 //! block RAM, a copy of its head segment in flip-flops, and the running
-//! segment, which sets the NCO's rate (docs/pulse_generator.md).
+//! segment, which sets the NCO's rate, or the brake of a decelerating stop
+//! (docs/pulse_generator.md).
 
 use crate::probe::MoveEngineRegisters;
 use motionhdl_spec::pulse::{
@@ -36,8 +37,10 @@ const JERK_PTR: usize = PTR + 1;
 /// NCO advances its rate (16 fraction bits) grows by the acceleration's
 /// whole part and its acceleration (16 fraction bits) by `jerk`
 /// (`motionhdl_spec::pulse::Segment`); `done` rises when the last
-/// pushed segment has commanded all its steps. Reset clears every flip-flop;
-/// the RAM keeps its words.
+/// pushed segment has commanded all its steps. A `brake` (a decelerating
+/// stop) empties the FIFO and runs the rate down from `brake_rate` by
+/// `decel` each advancing clock until it reaches 0 (`braking`). Reset
+/// clears every flip-flop; the RAM keeps its words.
 ///
 /// The NCO's carry is registered (`commanded_q`) before it is counted, so
 /// no path runs from the NCO's adder into this block's logic. That costs no
@@ -79,6 +82,16 @@ pub struct MoveEngine {
     pub flush: Signal<In, Bit>,
     /// FIFO_LOW_WATER.LEVEL (upper bits 0).
     pub low_water: Signal<In, Bits<32>>,
+    /// A decelerating stop in this clock (the bank's): the FIFO empties as
+    /// at `flush`, and unless braking already, braking starts at this
+    /// edge from `brake_rate` with `decel`.
+    pub brake: Signal<In, Bit>,
+    /// The NCO's rate in this clock (RATE, or the running segment's).
+    pub brake_rate: Signal<In, Bits<32>>,
+    /// AX.DECEL (31 bits, upper bit 0).
+    pub decel: Signal<In, Bits<32>>,
+    /// Braking: the NCO runs at `rate` whatever RUN and CTRL.MOVES say.
+    pub braking: Signal<Out, Bit>,
     /// The NCO rate: the running segment's, or 0.
     pub rate: Signal<Out, Bits<32>>,
     /// STATUS bits MOVING, DONE, OVERFLOW, FIFO_LEVEL and FIFO_LOW in place
@@ -92,6 +105,7 @@ pub struct MoveEngine {
     last_q: DFF<Bit>,
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
+    braking_q: DFF<Bit>,
     /// The head pointer with one more bit: the jerk ring's.
     head: DFF<Bits<JERK_PTR>>,
     count: DFF<Bits<LEVEL>>,
@@ -118,6 +132,7 @@ pub struct MoveEngine {
     done_bit: Constant<Bits<32>>,
     overflow_bit: Constant<Bits<32>>,
     low_bit: Constant<Bits<32>>,
+    braking_bit: Constant<Bits<32>>,
     level_shift: Constant<Bits<32>>,
     tail: Signal<Local, Bits<JERK_PTR>>,
     head_slot: Signal<Local, Bits<PTR>>,
@@ -135,6 +150,11 @@ pub struct MoveEngine {
     rate_out: Signal<Local, Bits<32>>,
     accel_whole: Signal<Local, Bits<RAMP>>,
     jerk_wide: Signal<Local, Bits<RAMP>>,
+    rate_whole: Signal<Local, Bits<32>>,
+    brake_valid: Signal<Local, Bit>,
+    brake_accel: Signal<Local, Bits<32>>,
+    out_whole: Signal<Local, Bits<32>>,
+    out_braking: Signal<Local, Bit>,
 }
 
 impl Default for MoveEngine {
@@ -173,6 +193,10 @@ impl MoveEngine {
             clear_overflow: Default::default(),
             flush: Default::default(),
             low_water: Default::default(),
+            brake: Default::default(),
+            brake_rate: Default::default(),
+            decel: Default::default(),
+            braking: Default::default(),
             rate: Default::default(),
             status: Default::default(),
             active_q: Default::default(),
@@ -183,6 +207,7 @@ impl MoveEngine {
             last_q: Default::default(),
             done_q: Default::default(),
             overflow_q: Default::default(),
+            braking_q: Default::default(),
             head: Default::default(),
             count: Default::default(),
             staged: Default::default(),
@@ -206,6 +231,7 @@ impl MoveEngine {
             done_bit: bit("DONE"),
             overflow_bit: bit("OVERFLOW"),
             low_bit: bit("FIFO_LOW"),
+            braking_bit: bit("BRAKING"),
             level_shift: Constant::new((level.lsb as u64).into()),
             tail: Default::default(),
             head_slot: Default::default(),
@@ -223,6 +249,11 @@ impl MoveEngine {
             rate_out: Default::default(),
             accel_whole: Default::default(),
             jerk_wide: Default::default(),
+            rate_whole: Default::default(),
+            brake_valid: Default::default(),
+            brake_accel: Default::default(),
+            out_whole: Default::default(),
+            out_braking: Default::default(),
         }
     }
 
@@ -250,6 +281,7 @@ impl MoveEngine {
             level: self.count.q.val().index() as u32,
             staged: self.staged.q.val(),
             fetch: self.fetch.q.val().index() as u32,
+            braking: self.braking_q.q.val(),
         }
     }
 }
@@ -268,6 +300,7 @@ impl Logic for MoveEngine {
             last_q,
             done_q,
             overflow_q,
+            braking_q,
             head,
             count,
             staged,
@@ -316,6 +349,17 @@ impl Logic for MoveEngine {
         if self.accel_q.q.val().get_bit(self.ramp_sign.val().index()) {
             self.accel_whole.next = self.accel_whole.val() | self.sign_fill.val();
         }
+        // Braking lasts while the rate still heads the way it started:
+        // against the sign of the braking acceleration.
+        self.rate_whole.next = self
+            .rate_q
+            .q
+            .val()
+            .get_bits::<32>(self.frac_shift.val().index());
+        self.brake_valid.next = self.braking_q.q.val()
+            & self.rate_whole.val().any()
+            & (self.rate_whole.val().get_bit(31)
+                ^ self.accel_q.q.val().get_bit(self.ramp_sign.val().index()));
         self.jerk_wide.next = bit_cast::<RAMP, 32>(self.jerks.read_data.val());
         if self.jerks.read_data.val().get_bit(31) {
             self.jerk_wide.next = self.jerk_wide.val() | self.sign_fill.val();
@@ -339,7 +383,7 @@ impl Logic for MoveEngine {
                 self.rate_q.d.next = self.rate_q.q.val() + self.accel_whole.val();
                 self.accel_q.d.next = self.accel_q.q.val() + self.jerk_wide.val();
             }
-        } else if self.run.val() & self.staged.q.val() {
+        } else if self.run.val() & self.staged.q.val() & !self.braking_q.q.val() {
             self.popped.next = true;
             self.staged.d.next = false;
             self.head.d.next = self.head.q.val() + 1;
@@ -353,6 +397,12 @@ impl Logic for MoveEngine {
                 | self.load_fraction.val();
             self.remaining.d.next = self.staged_steps.q.val();
             self.last_q.d.next = self.staged_steps.q.val() == self.one.val();
+        }
+        if self.braking_q.q.val() {
+            if self.advancing.val() {
+                self.rate_q.d.next = self.rate_q.q.val() + self.accel_whole.val();
+            }
+            self.braking_q.d.next = self.brake_valid.val();
         }
         self.count_after_pop.next = self.count.q.val();
         if self.popped.val() {
@@ -406,14 +456,33 @@ impl Logic for MoveEngine {
         if self.clear_overflow.val() {
             self.overflow_q.d.next = false;
         }
-        if self.flush.val() {
+        if self.flush.val() | self.brake.val() {
             self.active_q.d.next = false;
+            self.remaining.d.next = 0.into();
             self.commanded_q.d.next = false;
             self.last_q.d.next = false;
             self.done_q.d.next = false;
             self.count.d.next = 0.into();
             self.staged.d.next = false;
             self.fetch.d.next = 0.into();
+        }
+        if self.flush.val() {
+            self.braking_q.d.next = false;
+        }
+        // Braking starts: rate and accel load as a segment's would, with
+        // SEG_ACCEL = -DECEL heading up and +DECEL heading down.
+        self.brake_accel.next = !self.decel.val() + self.one.val();
+        if self.brake_rate.val().get_bit(31) {
+            self.brake_accel.next = self.decel.val();
+        }
+        if self.brake.val() & !self.braking_q.q.val() {
+            self.braking_q.d.next = true;
+            self.rate_q.d.next = (bit_cast::<RAMP, 32>(self.brake_rate.val())
+                << self.frac_shift.val())
+                | self.load_fraction.val();
+            self.accel_q.d.next = (bit_cast::<RAMP, 32>(self.brake_accel.val())
+                << self.frac_shift.val())
+                | self.load_fraction.val();
         }
         if self.reset.val() {
             self.active_q.d.next = false;
@@ -424,6 +493,7 @@ impl Logic for MoveEngine {
             self.last_q.d.next = false;
             self.done_q.d.next = false;
             self.overflow_q.d.next = false;
+            self.braking_q.d.next = false;
             self.head.d.next = 0.into();
             self.count.d.next = 0.into();
             self.staged.d.next = false;
@@ -434,12 +504,21 @@ impl Logic for MoveEngine {
         // with the NCO's inputs): Verilator then sees no loop through the
         // NCO.
         self.rate_out.next = 0.into();
-        if self.active_q.q.val() & !(self.commanded_q.q.val() & self.last_q.q.val()) {
-            self.rate_out.next = self
-                .rate_q
-                .q
-                .val()
-                .get_bits::<32>(self.frac_shift.val().index());
+        // (Braking's test again, from its own Locals: Verilator splits
+        // this block only where nothing is shared.)
+        self.out_whole.next = self
+            .rate_q
+            .q
+            .val()
+            .get_bits::<32>(self.frac_shift.val().index());
+        self.out_braking.next = self.braking_q.q.val()
+            & self.out_whole.val().any()
+            & (self.out_whole.val().get_bit(31)
+                ^ self.accel_q.q.val().get_bit(self.ramp_sign.val().index()));
+        if (self.active_q.q.val() & !(self.commanded_q.q.val() & self.last_q.q.val()))
+            | self.out_braking.val()
+        {
+            self.rate_out.next = self.out_whole.val();
         }
         self.level_word.next = bit_cast::<32, LEVEL>(self.count.q.val());
         self.status_word.next = self.level_word.val() << self.level_shift.val();
@@ -452,10 +531,14 @@ impl Logic for MoveEngine {
         if self.overflow_q.q.val() {
             self.status_word.next = self.status_word.val() | self.overflow_bit.val();
         }
+        if self.braking_q.q.val() {
+            self.status_word.next = self.status_word.val() | self.braking_bit.val();
+        }
         if self.level_word.val() <= self.low_water.val() {
             self.status_word.next = self.status_word.val() | self.low_bit.val();
         }
         self.rate.next = self.rate_out.val();
+        self.braking.next = self.braking_q.q.val();
         self.status.next = self.status_word.val();
     }
 }

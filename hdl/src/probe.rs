@@ -80,6 +80,7 @@ pub struct MoveEngineRegisters {
     pub level: u32,
     pub staged: bool,
     pub fetch: u32,
+    pub braking: bool,
 }
 
 /// The safety block's interrupt state: causes, masks and the polarity

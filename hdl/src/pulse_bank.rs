@@ -34,7 +34,7 @@ pub struct PulseBank<const N: usize> {
     pub halt: Signal<In, Bit>,
     /// Per axis: no step in the positive direction. An axis heading that
     /// way (its NCO rate positive, or steps up in its queue) stops as at
-    /// HALT.
+    /// HALT, or brakes at AX.DECEL when that is set and its rate heads up.
     pub stop_up: Signal<In, Bits<N>>,
     /// Per axis: no step in the negative direction.
     pub stop_down: Signal<In, Bits<N>>,
@@ -58,6 +58,12 @@ pub struct PulseBank<const N: usize> {
     engines: Vec<MoveEngine>,
     selectors: Vec<PulseModeSelectorRegistered>,
     run: DFF<Bits<N>>,
+    /// `stop_up` and `stop_down` one clock ago: a stop brakes only in the
+    /// clock it arrives (and while its brake runs).
+    stop_up_q: DFF<Bits<N>>,
+    stop_down_q: DFF<Bits<N>>,
+    fresh_up: Signal<Local, Bits<N>>,
+    fresh_down: Signal<Local, Bits<N>>,
     ctrl: Vec<DFF<Bits<3>>>,
     rate: Vec<DFF<Bits<32>>>,
     step_timing: Vec<DFF<Bits<32>>>,
@@ -67,6 +73,7 @@ pub struct PulseBank<const N: usize> {
     home_position: Vec<DFF<Bits<32>>>,
     soft_min: Vec<DFF<Bits<32>>>,
     soft_max: Vec<DFF<Bits<32>>>,
+    decel: Vec<DFF<Bits<32>>>,
     above_max: Vec<DFF<Bit>>,
     below_min: Vec<DFF<Bit>>,
     quadrature_a: Vec<DFF<Bit>>,
@@ -86,6 +93,7 @@ pub struct PulseBank<const N: usize> {
     addr_home_position: Vec<Constant<Bits<9>>>,
     addr_soft_min: Vec<Constant<Bits<9>>>,
     addr_soft_max: Vec<Constant<Bits<9>>>,
+    addr_decel: Vec<Constant<Bits<9>>>,
     addr_status: Vec<Constant<Bits<9>>>,
     addr_seg_steps: Vec<Constant<Bits<9>>>,
     addr_seg_rate: Vec<Constant<Bits<9>>>,
@@ -101,6 +109,7 @@ pub struct PulseBank<const N: usize> {
     two: Constant<Bits<32>>,
     four: Constant<Bits<32>>,
     low_water_mask: Constant<Bits<32>>,
+    decel_mask: Constant<Bits<32>>,
     read_value: Signal<Local, Bits<32>>,
     axis_bit: Vec<Constant<Bits<N>>>,
     f1_bits: Signal<Local, Bits<N>>,
@@ -114,6 +123,8 @@ pub struct PulseBank<const N: usize> {
     heading_up: Signal<Local, Bit>,
     heading_down: Signal<Local, Bit>,
     axis_stopped: Signal<Local, Bit>,
+    rate_into_stop: Signal<Local, Bit>,
+    decelerating: Signal<Local, Bit>,
     // POSITION and the limits with the sign bit flipped: unsigned order
     // of these is the signed order of the WIDTH-bit values.
     position_key: Signal<Local, Bits<32>>,
@@ -153,6 +164,10 @@ impl<const N: usize> PulseBank<N> {
             snapshot: Default::default(),
             halt: Default::default(),
             stop_up: Default::default(),
+            stop_up_q: Default::default(),
+            stop_down_q: Default::default(),
+            fresh_up: Default::default(),
+            fresh_down: Default::default(),
             stop_down: Default::default(),
             home_capture: Default::default(),
             at_soft_max: Default::default(),
@@ -176,6 +191,7 @@ impl<const N: usize> PulseBank<N> {
             home_position: (0..N).map(|_| Default::default()).collect(),
             soft_min: (0..N).map(|_| Default::default()).collect(),
             soft_max: (0..N).map(|_| Default::default()).collect(),
+            decel: (0..N).map(|_| Default::default()).collect(),
             above_max: (0..N).map(|_| Default::default()).collect(),
             below_min: (0..N).map(|_| Default::default()).collect(),
             quadrature_a: (0..N).map(|_| Default::default()).collect(),
@@ -195,6 +211,7 @@ impl<const N: usize> PulseBank<N> {
             addr_home_position: per_axis("HOME_POSITION"),
             addr_soft_min: per_axis("SOFT_MIN"),
             addr_soft_max: per_axis("SOFT_MAX"),
+            addr_decel: per_axis("DECEL"),
             addr_status: per_axis("STATUS"),
             addr_seg_steps: per_axis("SEG_STEPS"),
             addr_seg_rate: per_axis("SEG_RATE"),
@@ -210,6 +227,7 @@ impl<const N: usize> PulseBank<N> {
             two: k32(2),
             four: k32(4),
             low_water_mask: k32(ax.register("FIFO_LOW_WATER").writable_mask()),
+            decel_mask: k32(ax.register("DECEL").writable_mask()),
             read_value: Default::default(),
             axis_bit: (0..N).map(|i| Constant::new((1u64 << i).into())).collect(),
             f1_bits: Default::default(),
@@ -223,6 +241,8 @@ impl<const N: usize> PulseBank<N> {
             heading_up: Default::default(),
             heading_down: Default::default(),
             axis_stopped: Default::default(),
+            rate_into_stop: Default::default(),
+            decelerating: Default::default(),
             position_key: Default::default(),
             above_bits: Default::default(),
             below_bits: Default::default(),
@@ -243,7 +263,20 @@ impl<const N: usize> PulseBank<N> {
 impl<const N: usize> Logic for PulseBank<N> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, run, read_pending, read_addr, read_data);
+        dff_setup!(
+            self,
+            clock,
+            run,
+            stop_up_q,
+            stop_down_q,
+            read_pending,
+            read_addr,
+            read_data
+        );
+        self.stop_up_q.d.next = self.stop_up.val();
+        self.stop_down_q.d.next = self.stop_down.val();
+        self.fresh_up.next = self.stop_up.val() & !self.stop_up_q.q.val();
+        self.fresh_down.next = self.stop_down.val() & !self.stop_down_q.q.val();
         self.f1_bits.next = 0.into();
         self.f2_bits.next = 0.into();
         self.done_bits.next = 0.into();
@@ -272,7 +305,7 @@ impl<const N: usize> Logic for PulseBank<N> {
             // The direction the axis heads: its NCO rate's sign, or the
             // steps waiting in its queue (PENDING, signed). All flip-flops.
             self.axis_rate.next = self.rate[i].q.val();
-            if self.ctrl[i].q.val().get_bit(2) {
+            if self.ctrl[i].q.val().get_bit(2) | self.engines[i].braking.val() {
                 self.axis_rate.next = self.engines[i].rate.val();
             }
             self.axis_pending.next = self.generators[i].status.val().get_bits::<16>(0);
@@ -280,10 +313,24 @@ impl<const N: usize> Logic for PulseBank<N> {
                 | (self.axis_pending.val().any() & !self.axis_pending.val().get_bit(15));
             self.heading_down.next =
                 self.axis_rate.val().get_bit(31) | self.axis_pending.val().get_bit(15);
-            self.axis_stopped.next = self.halt.val()
+            // A stop the NCO's rate heads into brakes when DECEL is set,
+            // from the clock it arrives until the brake ends (HALT never
+            // does); any other stop is instant, so a move started into a
+            // standing stop is refused.
+            self.rate_into_stop.next = (self.stop_up.val().get_bit(i)
+                & (self.fresh_up.val().get_bit(i) | self.engines[i].braking.val())
+                & self.axis_rate.val().any()
+                & !self.axis_rate.val().get_bit(31))
+                | (self.stop_down.val().get_bit(i)
+                    & (self.fresh_down.val().get_bit(i) | self.engines[i].braking.val())
+                    & self.axis_rate.val().get_bit(31));
+            self.decelerating.next =
+                !self.halt.val() & self.decel[i].q.val().any() & self.rate_into_stop.val();
+            self.axis_stopped.next = (self.halt.val()
                 | (self.stop_up.val().get_bit(i) & self.heading_up.val())
-                | (self.stop_down.val().get_bit(i) & self.heading_down.val());
-            if self.axis_stopped.val() {
+                | (self.stop_down.val().get_bit(i) & self.heading_down.val()))
+                & !self.decelerating.val();
+            if self.axis_stopped.val() | self.decelerating.val() {
                 self.stopped_bits.next = self.stopped_bits.val() | self.axis_bit[i].val();
             }
             self.ctrl[i].clock.next = self.clock.val();
@@ -311,6 +358,8 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.home_position[i].clock.next = self.clock.val();
             self.soft_min[i].clock.next = self.clock.val();
             self.soft_max[i].clock.next = self.clock.val();
+            self.decel[i].clock.next = self.clock.val();
+            self.decel[i].d.next = self.decel[i].q.val();
             self.above_max[i].clock.next = self.clock.val();
             self.below_min[i].clock.next = self.clock.val();
             self.soft_min[i].d.next = self.soft_min[i].q.val();
@@ -335,8 +384,9 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.ctrl[i].q.val().get_bit(2) & self.run.q.val().get_bit(i);
             self.engines[i].commanded.next =
                 self.ctrl[i].q.val().get_bit(2) & self.generators[i].commanded.val();
-            self.engines[i].advancing.next =
-                self.ctrl[i].q.val().get_bit(2) & self.generators[i].advancing.val();
+            self.engines[i].advancing.next = (self.ctrl[i].q.val().get_bit(2)
+                | self.engines[i].braking.val())
+                & self.generators[i].advancing.val();
             self.engines[i].push.next =
                 self.we.val() & (self.addr.val() == self.addr_seg_push[i].val());
             self.engines[i].wdata.next = self.wdata.val();
@@ -352,6 +402,9 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.we.val() & (self.addr.val() == self.addr_ctrl[i].val());
             self.engines[i].low_water.next = self.low_water[i].q.val();
             self.engines[i].flush.next = self.axis_stopped.val();
+            self.engines[i].brake.next = self.decelerating.val();
+            self.engines[i].brake_rate.next = self.axis_rate.val();
+            self.engines[i].decel.next = self.decel[i].q.val();
             if self.engines[i].status.val().get_bit(18)
                 & !self.generators[i].status.val().get_bit(16)
             {
@@ -369,11 +422,13 @@ impl<const N: usize> Logic for PulseBank<N> {
             self.home_position[i].d.next = self.home_position[i].q.val();
             self.generators[i].clock.next = self.clock.val();
             self.generators[i].reset.next = self.reset.val();
-            self.generators[i].enable.next = self.run.q.val().get_bit(i);
+            self.generators[i].enable.next =
+                self.run.q.val().get_bit(i) | self.engines[i].braking.val();
             self.generators[i].halt.next = self.axis_stopped.val();
             self.generators[i].rate.next = self.rate[i].q.val();
             self.generators[i].move_rate.next = self.engines[i].rate.val();
-            self.generators[i].moves.next = self.ctrl[i].q.val().get_bit(2);
+            self.generators[i].moves.next =
+                self.ctrl[i].q.val().get_bit(2) | self.engines[i].braking.val();
             self.generators[i].step_len.next = self.step_timing[i].q.val().get_bits::<16>(0);
             self.generators[i].step_space.next = self.step_timing[i].q.val().get_bits::<16>(16);
             self.generators[i].dir_setup.next = self.dir_timing[i].q.val().get_bits::<16>(0);
@@ -419,6 +474,9 @@ impl<const N: usize> Logic for PulseBank<N> {
                 if self.addr.val() == self.addr_low_water[i].val() {
                     self.low_water[i].d.next = self.wdata.val() & self.low_water_mask.val();
                 }
+                if self.addr.val() == self.addr_decel[i].val() {
+                    self.decel[i].d.next = self.wdata.val() & self.decel_mask.val();
+                }
             }
             if self.read_addr.q.val() == self.addr_ctrl[i].val() {
                 // (bit_cast cannot take a loop index in #[hdl_gen].)
@@ -443,6 +501,9 @@ impl<const N: usize> Logic for PulseBank<N> {
             }
             if self.read_addr.q.val() == self.addr_low_water[i].val() {
                 self.read_value.next = self.low_water[i].q.val();
+            }
+            if self.read_addr.q.val() == self.addr_decel[i].val() {
+                self.read_value.next = self.decel[i].q.val();
             }
             if self.read_addr.q.val() == self.addr_position[i].val() {
                 self.read_value.next = self.snap[i].q.val();
@@ -487,6 +548,7 @@ impl<const N: usize> Logic for PulseBank<N> {
                 self.home_position[i].d.next = 0.into();
                 self.soft_min[i].d.next = 0.into();
                 self.soft_max[i].d.next = 0.into();
+                self.decel[i].d.next = 0.into();
                 self.above_max[i].d.next = false;
                 self.below_min[i].d.next = false;
             }
@@ -497,6 +559,8 @@ impl<const N: usize> Logic for PulseBank<N> {
         }
         if self.reset.val() {
             self.run.d.next = 0.into();
+            self.stop_up_q.d.next = 0.into();
+            self.stop_down_q.d.next = 0.into();
             self.read_pending.d.next = false;
             self.read_addr.d.next = 0.into();
             self.read_data.d.next = 0.into();

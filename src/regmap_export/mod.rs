@@ -317,7 +317,7 @@ mod tests {
                 assert_eq!(size, 0x940);
             }
             let inst = instances(&map);
-            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 15 + 37);
+            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
             assert!(inst.windows(2).all(|w| w[0].byte_offset < w[1].byte_offset));
             let status = inst
                 .iter()

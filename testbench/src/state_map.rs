@@ -90,5 +90,6 @@ pub fn engine(r: MoveEngineRegisters) -> MoveEngineProbe {
         level: r.level,
         staged: r.staged,
         fetch: r.fetch,
+        braking: r.braking,
     }
 }

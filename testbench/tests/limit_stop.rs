@@ -2,7 +2,8 @@
 //! "Direction stops"): the axis stops within the documented latency with
 //! its count exact, the other axis finishes its move, a move further into
 //! the switch is refused, a move away from it runs, and after a clear the
-//! axis moves both ways again.
+//! axis moves both ways again; with AX.DECEL set the axis brakes to rest
+//! past the switch within v²/2a and is then held the same way.
 
 use motionhdl_firmware::scurve_segments::{self, EngineLimits};
 use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
@@ -10,6 +11,7 @@ use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, fast_filter_axes, run};
 use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::pulse_bank::braking::brake_steps_bound;
 
 const CLOCK_HZ: u32 = 50_000_000;
 /// Steps per second at the top of every move here.
@@ -157,4 +159,69 @@ fn home_stop_halts_the_axis_on_the_home_edge_until_the_cause_is_cleared() {
     run(&mut sys, 0, &creep(-5));
     assert_eq!(shaft(&sys, 0), stopped - 5, "after the clear it backs off");
     counts_are_exact(&mut sys);
+}
+
+/// A decelerating stop (AX.DECEL, docs/pulse_generator.md "Direction
+/// stops"): the same kind of move into a switch brakes instead of stopping
+/// at once. STATUS.BRAKING shows while it does, the shaft never steps back,
+/// it comes to rest past the switch by at least most of v²/2a and at most
+/// the instant stop's overshoot plus v²/2a, RUN and BRAKING are clear at
+/// rest, and the switch then holds the axis as an instant stop does.
+#[test]
+fn a_move_into_a_limit_with_decel_brakes_to_rest_and_can_back_off() {
+    let (mut sys, tick) = two_axes_with_fast_filter();
+    let map = sys.map().clone();
+    let status = map.block("PULSE").array("AX").register("STATUS");
+    let switch = 1000;
+    sys.limit_pos_at[0] = Some(switch);
+    sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
+    // 4e9 steps/s² at CLOCK_HZ, in DECEL's 2^-48 steps/clock².
+    let decel = (4e9 / f64::from(CLOCK_HZ).powi(2) * 2f64.powi(48)).round() as u32;
+    sys.write("PULSE", Some(0), "DECEL", decel);
+    assert_eq!(sys.read("PULSE", Some(0), "DECEL"), decel);
+    sys.idle(u64::from(FILTER_TICKS * tick) + 10);
+
+    let far = plan(4000);
+    let top_rate = far.0.iter().map(|s| s.rate).max().unwrap();
+    let expected = VELOCITY / f64::from(CLOCK_HZ) * 2f64.powi(32);
+    assert!(
+        (f64::from(top_rate) / expected - 1.0).abs() < 0.01,
+        "cruise rate {top_rate}"
+    );
+    for s in &far.0 {
+        sys.push(0, s);
+    }
+    sys.write("PULSE", None, "RUN", 1);
+    let (mut peak, mut braked) = (0, 0);
+    for _ in 0..(far.1 + 2_000) / 200 {
+        sys.idle(200);
+        let now = shaft(&sys, 0);
+        assert!(now >= peak, "stepped back from {peak} to {now}");
+        peak = now;
+        let s = sys.read("PULSE", Some(0), "STATUS");
+        braked += status.field("BRAKING").get(s);
+    }
+    assert!(braked > 10, "STATUS.BRAKING seen in {braked} polls");
+    let v2_2a = brake_steps_bound(top_rate, decel) as i32;
+    let latency = 2 + FILTER_TICKS * tick + LIMIT_LATENCY + 2 + 3;
+    let instant = (f64::from(latency) * VELOCITY / f64::from(CLOCK_HZ)).ceil() as i32 + 1;
+    let stopped = shaft(&sys, 0);
+    assert!(
+        (switch + v2_2a * 9 / 10..=switch + instant + v2_2a).contains(&stopped),
+        "stopped at {stopped}: switch {switch}, v²/2a {v2_2a}, instant overshoot {instant}"
+    );
+    counts_are_exact(&mut sys);
+    let s = sys.read("PULSE", Some(0), "STATUS");
+    assert_eq!(status.field("BRAKING").get(s), 0, "at rest: STATUS {s:#x}");
+    assert_eq!(sys.read("PULSE", None, "RUN") & 1, 0, "RUN cleared");
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 1, "POS of axis 0");
+
+    // Past the switch it holds the axis as an instant stop does.
+    run(&mut sys, 0, &creep(50));
+    assert_eq!(shaft(&sys, 0), stopped, "no step further in");
+    run(&mut sys, 0, &creep(-(stopped - switch + 50) as i64));
+    assert_eq!(shaft(&sys, 0), switch - 50, "backed off past the switch");
+    counts_are_exact(&mut sys);
+    sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
+    assert_eq!(sys.read("SAFETY", None, "LIMIT_CAUSE"), 0);
 }

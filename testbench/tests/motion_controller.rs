@@ -47,11 +47,11 @@ fn the_plan_covers_the_map() {
     // Every register word is either writable or among the ignored writes.
     let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
     assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
-    // PRESET, SNAPSHOT and CTRL/CMD of 4 channels; RUN and 12 registers of
+    // PRESET, SNAPSHOT and CTRL/CMD of 4 channels; RUN and 13 registers of
     // 4 pulse axes (CTRL, RATE, two timings, five SEG_*, FIFO_LOW_WATER,
-    // SOFT_MIN, SOFT_MAX); 31 SAFETY registers (all but INFO, STATUS,
+    // SOFT_MIN, SOFT_MAX, DECEL); 31 SAFETY registers (all but INFO, STATUS,
     // WDT_COUNT, the two machine-input level registers and GPI_LEVEL).
-    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 12 + 31);
+    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 13 + 31);
     // The ID block reads its table values after reset.
     let id = o.map().block("ID");
     assert_eq!(o.read32(id.base), regmap::ID_MAGIC);

@@ -6,6 +6,7 @@
 use motionhdl_firmware::segments::segment_clocks;
 use motionhdl_model::pulse_generator::{Segment, StepTiming};
 use motionhdl_testbench::checks::pulse_bank as pb;
+use motionhdl_testbench::checks::pulse_bank::braking;
 use motionhdl_testbench::checks::pulse_generator as pg;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
@@ -331,4 +332,26 @@ proptest! {
         }
         prop_assert!(out.iter().all(|o| !(o.0 && o.1)), "F1 and F2 high together");
     }
+}
+
+/// docs/pulse_generator.md, "Direction stops": a decelerating stop
+/// commands at most RATE²/(2^17·DECEL) + 2 more steps, all the way it was
+/// heading; the same bound with DECEL taken 4 times as large fails.
+#[test]
+fn a_decelerating_stop_commands_at_most_v_squared_over_2a() {
+    let (r, worst) = braking::braking_contract(1_000_000, 0x5eed_0b4a, 1);
+    eprintln!(
+        "{}: {} brakes, the longest used {worst} % of its bound",
+        r.result(),
+        r.covered
+    );
+    r.assert_passed();
+    assert!(r.covered >= 100, "only {} brakes ended", r.covered);
+    assert!(worst >= 50, "no brake came near its bound ({worst} %)");
+    let (broken, _) = braking::braking_contract(1_000_000, 0x5eed_0b4a, 4);
+    assert!(
+        !broken.failures.is_empty(),
+        "a bound 4 times too tight caught {} brakes",
+        broken.failures.len()
+    );
 }

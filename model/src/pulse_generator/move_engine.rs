@@ -35,6 +35,8 @@ pub struct MoveEngineProbe {
     pub staged: bool,
     /// Fields of the head segment read so far (0 = no read under way).
     pub fetch: u32,
+    /// A decelerating stop is under way.
+    pub braking: bool,
 }
 
 /// Position moves: a ring of `SEGMENT_FIFO_DEPTH` segment slots the MCU
@@ -76,6 +78,10 @@ pub struct MoveEngine {
     remaining: u32,
     done: bool,
     overflow: bool,
+    /// A decelerating stop: `rate` falls by `accel` (against the rate's
+    /// sign) on every advancing clock while it still heads the way it
+    /// started.
+    braking: bool,
 }
 
 impl Default for MoveEngine {
@@ -95,18 +101,30 @@ impl Default for MoveEngine {
             remaining: 0,
             done: false,
             overflow: false,
+            braking: false,
         }
     }
 }
 
 impl MoveEngine {
-    /// The NCO rate: the running segment's, or 0.
+    /// The NCO rate: the running segment's, the braking rate while it
+    /// still heads the way the stop started, or 0.
     pub fn rate(&self) -> i32 {
-        if self.active {
+        if self.active || self.brake_heading() {
             (self.rate >> ACCEL_FRAC_BITS) as i32
         } else {
             0
         }
+    }
+    /// Braking, and the rate's whole part still nonzero and of the sign
+    /// opposite to the braking acceleration's.
+    fn brake_heading(&self) -> bool {
+        let whole = self.rate >> ACCEL_FRAC_BITS;
+        self.braking && whole != 0 && (whole < 0) != (self.accel < 0)
+    }
+    /// A decelerating stop is under way (STATUS.BRAKING).
+    pub fn braking(&self) -> bool {
+        self.braking
     }
     pub fn active(&self) -> bool {
         self.active
@@ -138,6 +156,7 @@ impl MoveEngine {
             level: self.count as u32,
             staged: self.staged.is_some(),
             fetch: self.fetch as u32,
+            braking: self.braking,
         }
     }
     pub fn clear_overflow(&mut self) {
@@ -195,6 +214,7 @@ impl MoveEngine {
         let tail = (self.head + self.count) % JERK_RING;
         // A segment loads from the copy as it was before this edge.
         let staged = self.staged;
+        let brake_heading = self.brake_heading();
         self.advance_fetch();
         if self.active {
             if commanded {
@@ -208,7 +228,7 @@ impl MoveEngine {
                 self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
                 self.accel = ramp(self.accel + i64::from(self.jerk));
             }
-        } else if let Some(seg) = staged.filter(|_| run) {
+        } else if let Some(seg) = staged.filter(|_| run && !self.braking) {
             popped = true;
             self.staged = None;
             self.active = seg.steps != 0;
@@ -217,6 +237,12 @@ impl MoveEngine {
             self.accel = (i64::from(seg.accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
             self.jerk = self.jerks[self.head];
             self.remaining = seg.steps;
+        }
+        if self.braking {
+            if advancing {
+                self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
+            }
+            self.braking = brake_heading;
         }
         let count_after_pop = self.count - usize::from(popped);
         if popped {
@@ -251,7 +277,33 @@ impl MoveEngine {
     /// clocked (the safety block's HALT): the FIFO empties, DONE clears;
     /// the slots, the head and OVERFLOW stay.
     pub fn flush(&mut self) {
+        self.drop_segments();
+        self.braking = false;
+    }
+
+    /// A decelerating stop at the edge just clocked, `was_braking` the
+    /// state before it: the FIFO empties as at [`Self::flush`], and unless
+    /// it was braking already, braking starts from `rate` (the NCO's rate
+    /// in the clock before the edge) with SEG_ACCEL = ∓`decel` (against
+    /// the rate's sign), loaded as a segment's fields load.
+    pub fn brake(&mut self, was_braking: bool, rate: i32, decel: u32) {
+        self.drop_segments();
+        if !was_braking {
+            let decel = decel as i32;
+            let accel = if rate < 0 {
+                decel
+            } else {
+                decel.wrapping_neg()
+            };
+            self.braking = true;
+            self.rate = (i64::from(rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+            self.accel = (i64::from(accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+        }
+    }
+
+    fn drop_segments(&mut self) {
         self.active = false;
+        self.remaining = 0;
         self.count = 0;
         self.staged = None;
         self.fetch = 0;

@@ -46,6 +46,10 @@ pub struct PulseBank {
     home_position: Vec<u32>,
     soft_min: Vec<u32>,
     soft_max: Vec<u32>,
+    decel: Vec<u32>,
+    /// The stops (up, down) at the edge before: a stop brakes only from
+    /// the edge it arrives.
+    stops_before: (u32, u32),
     /// Per axis: POSITION >= SOFT_MAX, POSITION <= SOFT_MIN, registered.
     above_max: u32,
     below_min: u32,
@@ -72,9 +76,11 @@ impl PulseBank {
             low_water: vec![0; n],
             engines: vec![MoveEngine::default(); n],
             snap: vec![0; n],
+            stops_before: (0, 0),
             home_position: vec![0; n],
             soft_min: vec![0; n],
             soft_max: vec![0; n],
+            decel: vec![0; n],
             above_max: 0,
             below_min: 0,
             generators: vec![PulseGenerator::new(); n],
@@ -115,10 +121,11 @@ impl PulseBank {
     }
 
     fn inputs(&self, i: usize, halt: bool) -> PulseInputs {
+        let braking = self.engines[i].braking();
         PulseInputs {
-            enable: self.run >> i & 1 == 1,
+            enable: self.run >> i & 1 == 1 || braking,
             halt,
-            rate: if self.moves(i) {
+            rate: if self.moves(i) || braking {
                 self.engines[i].rate()
             } else {
                 self.rate[i] as i32
@@ -155,6 +162,7 @@ impl PulseBank {
                         "STEP_TIMING" => self.step_timing[i],
                         "DIR_TIMING" => self.dir_timing[i],
                         "FIFO_LOW_WATER" => self.low_water[i],
+                        "DECEL" => self.decel[i],
                         "POSITION" => crate::counter::sign_extend(self.snap[i], self.width),
                         "SOFT_MIN" => crate::counter::sign_extend(self.soft_min[i], self.width),
                         "SOFT_MAX" => crate::counter::sign_extend(self.soft_max[i], self.width),
@@ -176,6 +184,7 @@ impl PulseBank {
                                 | u32::from(e.overflow()) << 19
                                 | (e.level() as u32) << 20
                                 | u32::from(e.level() as u32 <= self.low_water[i]) << 27
+                                | u32::from(e.braking()) << 28
                         }
                         _ => unreachable!("PULSE.AX.{name}"),
                     }
@@ -198,6 +207,12 @@ impl PulseBank {
         (self.above_max, self.below_min)
     }
 
+    /// The rate axis `i`'s NCO runs at in this clock: RATE, or with
+    /// CTRL.MOVES or while braking the move engine's.
+    pub fn nco_rate(&self, i: usize) -> i32 {
+        self.inputs(i, false).rate
+    }
+
     /// STATUS.FIFO_LOW of axis `i` (the safety block's `low` input).
     pub fn fifo_low(&self, i: usize) -> bool {
         self.engines[i].level() as u32 <= self.low_water[i]
@@ -216,11 +231,27 @@ impl PulseBank {
         (rate > 0 || pending > 0, rate < 0 || pending < 0)
     }
 
-    /// Whether axis `i` stops at this edge: HALT, or a stop in the
-    /// direction it heads.
+    /// Whether axis `i` stops at once at this edge: HALT, or a stop in
+    /// the direction it heads that does not brake.
     fn stopped(&self, i: usize, stops: &Stops) -> bool {
         let (up, down) = self.heading(i);
-        stops.halt || (up && stops.up >> i & 1 == 1) || (down && stops.down >> i & 1 == 1)
+        let hit =
+            stops.halt || (up && stops.up >> i & 1 == 1) || (down && stops.down >> i & 1 == 1);
+        hit && !self.brakes(i, stops)
+    }
+
+    /// Whether axis `i` brakes at this edge: DECEL set, no HALT, and its
+    /// NCO rate heads into a stop that has just arrived (or that its brake
+    /// is running from).
+    fn brakes(&self, i: usize, stops: &Stops) -> bool {
+        let rate = self.inputs(i, false).rate;
+        // A stop counts from the edge it arrives, or while its brake runs.
+        let live = |now: u32, before: u32| {
+            now >> i & 1 == 1 && (before >> i & 1 == 0 || self.engines[i].braking())
+        };
+        let into = (rate > 0 && live(stops.up, self.stops_before.0))
+            || (rate < 0 && live(stops.down, self.stops_before.1));
+        !stops.halt && self.decel[i] != 0 && into
     }
 
     /// One edge with the safety block's stops. A stopped axis (HALT, or a
@@ -247,6 +278,9 @@ impl PulseBank {
         }
         let stopped = (0..self.axes())
             .filter(|&i| self.stopped(i, stops))
+            .fold(0u32, |mask, i| mask | 1 << i);
+        let braking = (0..self.axes())
+            .filter(|&i| self.brakes(i, stops))
             .fold(0u32, |mask, i| mask | 1 << i);
         for i in 0..self.axes() {
             let halt = stopped >> i & 1 == 1;
@@ -290,15 +324,18 @@ impl PulseBank {
             .map(|(_, f)| (f, bus.wdata))
             .collect();
             let moves = self.moves(i);
+            let was_braking = self.engines[i].braking();
             self.engines[i].clock_bus(
-                moves && inputs.enable,
+                moves && self.run >> i & 1 == 1,
                 moves && request != Request::None,
-                moves && inputs.enable && !halt && !blocked,
+                (moves || was_braking) && inputs.enable && !halt && !blocked,
                 &writes,
                 push,
             );
             if halt {
                 self.engines[i].flush();
+            } else if braking >> i & 1 == 1 {
+                self.engines[i].brake(was_braking, inputs.rate, self.decel[i]);
             }
             self.generators[i].clock(&inputs, false);
         }
@@ -323,10 +360,12 @@ impl PulseBank {
                     ("SOFT_MAX", Some(i)) => {
                         self.soft_max[i as usize] = crate::counter::wrap(v, self.width)
                     }
+                    ("DECEL", Some(i)) => self.decel[i as usize] = v,
                     _ => {}
                 }
             }
         }
-        self.run &= !stopped;
+        self.run &= !(stopped | braking);
+        self.stops_before = (stops.up, stops.down);
     }
 }

@@ -149,6 +149,13 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                         ),
                         field("FIFO_LEVEL", 20, 7, ReadOnly, "Segments pushed and not yet loaded (0..=64)."),
                         field("FIFO_LOW", 27, 1, ReadOnly, "FIFO_LEVEL <= FIFO_LOW_WATER.LEVEL: time to refill."),
+                        field(
+                            "BRAKING",
+                            28,
+                            1,
+                            ReadOnly,
+                            "A decelerating stop is under way: the NCO's rate falls by DECEL each clock it advances, RUN stays 0, until the rate reaches 0.",
+                        ),
                     ],
                 ),
                 reg(
@@ -222,6 +229,14 @@ pub fn pulse_bank(axes: u32, width: u32) -> Block {
                     "Soft limit: the highest POSITION the axis may reach (two's complement, WIDTH bits stored, read sign-extended).",
                     "0 after reset. SAFETY.SOFT_LIMIT_CTRL.MAX turns it on; the comparison POSITION >= SOFT_MAX is a flip-flop, one edge after POSITION.",
                     vec![field("VALUE", 0, 32, ReadWrite, "Two's complement; taken modulo 2^WIDTH.")],
+                ),
+                reg(
+                    "DECEL",
+                    15,
+                    ReadWrite,
+                    "Deceleration of a direction stop (a limit, an alarm, a soft limit or HOME_STOP): 0 stops at once; otherwise the axis brakes from the rate it runs at, by VALUE each clock the NCO advances, to rate 0.",
+                    "0 after reset. A stop brakes only when the axis's NCO rate heads into it; otherwise (and always on HALT) it is instant. While braking STATUS.BRAKING is set; from rate R the NCO commands at most R^2 / (2^17 x VALUE) + 2 steps after the stop, besides those already queued (PENDING).",
+                    vec![field("VALUE", 0, 31, ReadWrite, "Unsigned, in SEG_ACCEL's unit: 2^-48 steps/clock^2 (0: instant stop).")],
                 ),
             ],
         }],

@@ -102,6 +102,12 @@ pub const SCENARIOS: &[Scenario] = &[
         build: crate::checks::motion_controller::limit_stop::trace,
     },
     Scenario {
+        name: "limit_brake",
+        summary: "the whole controller: as limit_stop with AX.DECEL set: axis 0 brakes past the \
+                  switch, the step spacing widening, to rest about v^2/2a beyond it; held, backed off, cleared",
+        build: crate::checks::motion_controller::limit_stop::brake_trace,
+    },
+    Scenario {
         name: "homing",
         summary: "the whole controller: the firmware's homing sequence on axis 0 over FSMC: fast search, \
                   back-off, slow search captured by HOME_POSITION/HOME_COUNT, on to the encoder index",

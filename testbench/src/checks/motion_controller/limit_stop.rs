@@ -1,8 +1,9 @@
 //! A limit switch in the whole controller (docs/safety_io.md, "Direction
 //! stops"): the moves firmware uses around one, and `motionhdl trace
-//! limit_stop`.
+//! limit_stop` and `limit_brake`.
 
 use super::system::{two_axes, System};
+use crate::checks::pulse_bank::braking::brake_steps_bound;
 use crate::trace::Trace;
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
@@ -81,5 +82,46 @@ pub fn trace(config: &Config) -> Trace {
     let p = sys.positions();
     let back = stopped - 10;
     assert_eq!(p[0], (back, back), "limit trace: counted back");
+    sys.take_trace().expect("recording")
+}
+
+/// AX.DECEL of axis 0 in `motionhdl trace limit_brake`, 2^-48 steps per
+/// clock²: from the creep's rate the brake takes about 26 steps.
+pub const TRACE_DECEL: u32 = 1 << 29;
+
+/// `motionhdl trace limit_brake`: as `limit_stop`, but axis 0 has DECEL
+/// set, so the limit brakes it: the step spacing widens past the switch
+/// until the axis comes to rest about v²/2a beyond it (IRQ low from the
+/// switch's edge); a move further in is refused, it backs off to 10 steps
+/// short of the switch, firmware clears the cause and IRQ rises again.
+pub fn brake_trace(config: &Config) -> Trace {
+    let (mut sys, _) = fast_filter_axes(config);
+    sys.limit_pos_at[0] = Some(TRACE_SWITCH);
+    sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
+    sys.write("SAFETY", None, "LIMIT_MASK", 1);
+    sys.write("PULSE", Some(0), "DECEL", TRACE_DECEL);
+    sys.idle(100);
+    sys.record_scenario(config, "limit_brake");
+    let approach = creep(100);
+    run(&mut sys, 0, &approach);
+    let stopped = sys.drives[0].position;
+    let v2_2a = brake_steps_bound(approach.0[0].rate, TRACE_DECEL) as i32;
+    assert!(
+        (TRACE_SWITCH + v2_2a * 3 / 4..=TRACE_SWITCH + v2_2a + 2).contains(&stopped),
+        "brake trace: stopped at {stopped}, v²/2a {v2_2a}"
+    );
+    assert!(!sys.irq(), "brake trace: IRQ low");
+    run(&mut sys, 0, &creep(5));
+    assert_eq!(sys.drives[0].position, stopped, "brake trace: refused");
+    let back = TRACE_SWITCH - 10;
+    run(&mut sys, 0, &creep(i64::from(back - stopped)));
+    sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
+    sys.idle(200);
+    assert!(sys.irq(), "brake trace: cause cleared, IRQ released");
+    assert_eq!(
+        sys.positions()[0],
+        (back, back),
+        "brake trace: counted back"
+    );
     sys.take_trace().expect("recording")
 }

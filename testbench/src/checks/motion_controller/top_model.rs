@@ -172,7 +172,9 @@ impl HaltWatch {
 /// at three edges in a row, axis i's position does not rise at the later
 /// edges while it stays high (a step whose S1 rose at the edge before the
 /// stop acted still counts), and the same downwards for `stop_down[i]`
-/// (docs/pulse_generator.md, "Direction stops").
+/// (docs/pulse_generator.md, "Direction stops"). A decelerating stop
+/// steps on while its axis brakes (its bound is the bank's braking
+/// contract), so the three edges count from the end of the brake.
 #[derive(Clone, Debug, Default)]
 pub struct StopWatch {
     /// Per axis, samples in a row with stop_up / stop_down high.
@@ -181,6 +183,8 @@ pub struct StopWatch {
     pub checked: u64,
     /// Of those, samples where the axis's position changed (it backed off).
     pub moving: u64,
+    /// Axis-samples under a stop that the axis spent braking.
+    pub braking: u64,
     /// (sample, axis) where the position moved into a stop.
     pub violations: Vec<(u64, usize)>,
 }
@@ -190,23 +194,18 @@ impl StopWatch {
     pub fn observe(
         &mut self,
         k: u64,
-        (reset, up, down): (bool, u32, u32),
+        (reset, up, down, braking): (bool, u32, u32, u32),
         now: &[AxisOutputs],
         before: &[AxisOutputs],
     ) {
         self.runs.resize(now.len(), (0, 0));
         for (i, (n, b)) in now.iter().zip(before).enumerate() {
             let run = &mut self.runs[i];
-            run.0 = if up >> i & 1 == 1 && !reset {
-                run.0 + 1
-            } else {
-                0
-            };
-            run.1 = if down >> i & 1 == 1 && !reset {
-                run.1 + 1
-            } else {
-                0
-            };
+            let brakes = braking >> i & 1 == 1;
+            self.braking += u64::from(brakes && (up | down) >> i & 1 == 1);
+            let held = |stop: u32| stop >> i & 1 == 1 && !reset && !brakes;
+            run.0 = if held(up) { run.0 + 1 } else { 0 };
+            run.1 = if held(down) { run.1 + 1 } else { 0 };
             let step = n.position.wrapping_sub(b.position) as i32;
             for (run, into) in [(run.0, step > 0), (run.1, step < 0)] {
                 if run >= 3 {
@@ -323,9 +322,12 @@ pub fn compare<const N: usize>(
         let axes = axis_outputs(&uut);
         stats.halt.observe(k, (p.reset, halt), &axes, &last_axes);
         let (up, down) = uut.mcu().stops();
+        let braking = (0..N)
+            .filter(|&i| uut.mcu().pulses().engine(i).braking.val())
+            .fold(0u32, |m, i| m | 1 << i);
         stats
             .stops
-            .observe(k, (p.reset, up, down), &axes, &last_axes);
+            .observe(k, (p.reset, up, down, braking), &axes, &last_axes);
         last_axes = axes;
         let mut want = model.step(&p);
         fault(k, &mut want);

@@ -4,6 +4,8 @@
 //! segment FIFO. The single axis and its step timer are
 //! `pulse_generator.rs`.
 
+pub mod braking;
+
 use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::state_map;
 use motionhdl_hdl::PulseBank;
