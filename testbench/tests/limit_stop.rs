@@ -42,6 +42,16 @@ fn counts_are_exact(sys: &mut System<2>) {
     }
 }
 
+/// The steps an instant limit stop lets past the switch at VELOCITY with
+/// a filter tick of `tick` clocks. From the shaft reaching the switch: 2
+/// synchroniser edges, at most FILTER_TICKS ticks, LIMIT_LATENCY, 2 pin
+/// registers and the drive's 3-clock pipeline; at most VELOCITY steps per
+/// second meanwhile.
+fn instant_overshoot(tick: u32) -> i32 {
+    let latency = 2 + FILTER_TICKS * tick + LIMIT_LATENCY + 2 + 3;
+    (f64::from(latency) * VELOCITY / f64::from(CLOCK_HZ)).ceil() as i32 + 1
+}
+
 #[test]
 fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
     let (mut sys, tick) = two_axes_with_fast_filter();
@@ -60,11 +70,7 @@ fn a_move_into_a_limit_stops_there_and_the_axis_can_back_off() {
         sys.push(1, s);
     }
     run(&mut sys, 0, &far);
-    // From the shaft reaching the switch: 2 synchroniser edges, at most
-    // FILTER_TICKS ticks, LIMIT_LATENCY, 2 pin registers and the drive's
-    // 3-clock pipeline; at most VELOCITY steps per second meanwhile.
-    let latency = 2 + FILTER_TICKS * tick + LIMIT_LATENCY + 2 + 3;
-    let overshoot = (f64::from(latency) * VELOCITY / f64::from(CLOCK_HZ)).ceil() as i32 + 1;
+    let overshoot = instant_overshoot(tick);
     let stopped = shaft(&sys, 0);
     assert!(
         (switch..=switch + overshoot).contains(&stopped),
@@ -203,8 +209,7 @@ fn a_move_into_a_limit_with_decel_brakes_to_rest_and_can_back_off() {
     }
     assert!(braked > 10, "STATUS.BRAKING seen in {braked} polls");
     let v2_2a = brake_steps_bound(top_rate, decel) as i32;
-    let latency = 2 + FILTER_TICKS * tick + LIMIT_LATENCY + 2 + 3;
-    let instant = (f64::from(latency) * VELOCITY / f64::from(CLOCK_HZ)).ceil() as i32 + 1;
+    let instant = instant_overshoot(tick);
     let stopped = shaft(&sys, 0);
     assert!(
         (switch + v2_2a * 9 / 10..=switch + instant + v2_2a).contains(&stopped),

@@ -225,7 +225,7 @@ impl MoveEngine {
                 }
             }
             if advancing {
-                self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
+                self.advance_rate();
                 self.accel = ramp(self.accel + i64::from(self.jerk));
             }
         } else if let Some(seg) = staged.filter(|_| run && !self.braking) {
@@ -233,14 +233,13 @@ impl MoveEngine {
             self.staged = None;
             self.active = seg.steps != 0;
             ended = seg.steps == 0;
-            self.rate = (i64::from(seg.rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
-            self.accel = (i64::from(seg.accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+            self.load_ramp(seg.rate, seg.accel);
             self.jerk = self.jerks[self.head];
             self.remaining = seg.steps;
         }
         if self.braking {
             if advancing {
-                self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
+                self.advance_rate();
             }
             self.braking = brake_heading;
         }
@@ -296,9 +295,21 @@ impl MoveEngine {
                 decel.wrapping_neg()
             };
             self.braking = true;
-            self.rate = (i64::from(rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
-            self.accel = (i64::from(accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+            self.load_ramp(rate, accel);
         }
+    }
+
+    /// Rate and acceleration as a segment's fields load: 16 fraction bits,
+    /// half an LSB added.
+    fn load_ramp(&mut self, rate: i32, accel: i32) {
+        self.rate = (i64::from(rate) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+        self.accel = (i64::from(accel) << ACCEL_FRAC_BITS) + LOAD_FRACTION;
+    }
+
+    /// One advancing clock of the rate: it takes the acceleration's whole
+    /// part.
+    fn advance_rate(&mut self) {
+        self.rate = ramp(self.rate + (self.accel >> ACCEL_FRAC_BITS));
     }
 
     fn drop_segments(&mut self) {

@@ -244,7 +244,7 @@ impl PulseBank {
     /// NCO rate heads into a stop that has just arrived (or that its brake
     /// is running from).
     fn brakes(&self, i: usize, stops: &Stops) -> bool {
-        let rate = self.inputs(i, false).rate;
+        let rate = self.nco_rate(i);
         // A stop counts from the edge it arrives, or while its brake runs.
         let live = |now: u32, before: u32| {
             now >> i & 1 == 1 && (before >> i & 1 == 0 || self.engines[i].braking())
