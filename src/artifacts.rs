@@ -5,6 +5,7 @@ use motionhdl_hdl::{banner, catalog, VERSION};
 use motionhdl_model::Config;
 use motionhdl_testbench::scenarios;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One generated file: path relative to the output directory, and contents.
 pub struct Artifact {
@@ -22,18 +23,7 @@ pub fn all(config: &Config) -> Vec<Artifact> {
             contents: m.text.clone().into_bytes(),
         });
     }
-    for s in scenarios::SCENARIOS {
-        let trace = s.trace(config);
-        let vcd = format!("{}.vcd", s.name);
-        out.push(Artifact {
-            path: PathBuf::from("vcd").join(format!("{}.gtkw", s.name)),
-            contents: trace.to_gtkw(&vcd).into_bytes(),
-        });
-        out.push(Artifact {
-            path: PathBuf::from("vcd").join(vcd),
-            contents: trace.to_vcd_string().into_bytes(),
-        });
-    }
+    out.extend(traces(config));
     out.push(Artifact {
         path: PathBuf::from("include").join("motionhdl_config.h"),
         contents: config_header(config).into_bytes(),
@@ -49,6 +39,53 @@ pub fn all(config: &Config) -> Vec<Artifact> {
         .expect("the catalog has the top level");
     out.extend(fpga_flow(config, &top.ports));
     out
+}
+
+/// Every scenario's trace and GTKWave save file, in `SCENARIOS` order.
+/// The whole-controller scenarios are most of `generate`'s time and do
+/// not depend on each other, so they run on every core; the files are the
+/// same whatever the thread count.
+fn traces(config: &Config) -> Vec<Artifact> {
+    let list = scenarios::SCENARIOS;
+    let next = AtomicUsize::new(0);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut done: Vec<(usize, [Artifact; 2])> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers.min(list.len()))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(s) = list.get(i) else { break mine };
+                        mine.push((i, trace_files(s, config)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    done.sort_by_key(|(i, _)| *i);
+    assert_eq!(done.len(), list.len(), "every scenario traced once");
+    done.into_iter().flat_map(|(_, files)| files).collect()
+}
+
+/// One scenario's save file and trace.
+fn trace_files(s: &scenarios::Scenario, config: &Config) -> [Artifact; 2] {
+    let trace = s.trace(config);
+    let vcd = format!("{}.vcd", s.name);
+    [
+        Artifact {
+            path: PathBuf::from("vcd").join(format!("{}.gtkw", s.name)),
+            contents: trace.to_gtkw(&vcd).into_bytes(),
+        },
+        Artifact {
+            path: PathBuf::from("vcd").join(vcd),
+            contents: trace.to_vcd_string().into_bytes(),
+        },
+    ]
 }
 
 /// The FPGA flow's files for the top level with ports `top`: the

@@ -1,5 +1,7 @@
 //! The `motionhdl` binary: generate, trace, verify, configuration errors.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -35,9 +37,9 @@ fn files_under(dir: &Path) -> Vec<PathBuf> {
 /// What `generate` writes for the default configuration: the artifacts
 /// and their manifest.
 fn generated_files() -> Vec<(PathBuf, Vec<u8>)> {
-    let files: Vec<(PathBuf, Vec<u8>)> = motionhdl::artifacts::all(&Default::default())
-        .into_iter()
-        .map(|a| (a.path, a.contents))
+    let files: Vec<(PathBuf, Vec<u8>)> = common::artifacts_for("")
+        .iter()
+        .map(|a| (a.path.clone(), a.contents.clone()))
         .collect();
     motionhdl::output::manifest::with_manifest(&files)
 }

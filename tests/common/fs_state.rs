@@ -123,10 +123,9 @@ pub fn inode(path: &Path) -> u64 {
 /// The tree `motionhdl generate` writes for a configuration file's text
 /// (`""` for the default), computed in this process.
 pub fn expected_output(config_text: &str) -> BTreeMap<String, Node> {
-    let config = motionhdl::config_file::parse(config_text, "test").unwrap();
-    let files: Vec<(PathBuf, Vec<u8>)> = motionhdl::artifacts::all(&config)
-        .into_iter()
-        .map(|a| (a.path, a.contents))
+    let files: Vec<(PathBuf, Vec<u8>)> = super::artifacts_for(config_text)
+        .iter()
+        .map(|a| (a.path.clone(), a.contents.clone()))
         .collect();
     let mut out = BTreeMap::new();
     for (path, data) in motionhdl::output::manifest::with_manifest(&files) {

@@ -11,7 +11,22 @@ pub mod fs_state;
 pub mod isa;
 pub mod regmap;
 
+use motionhdl::artifacts::{self, Artifact};
+use std::collections::HashMap;
 use std::process::Command;
+use std::sync::{Mutex, OnceLock};
+
+/// `artifacts::all` for the configuration file text `config_text`,
+/// computed once per test binary: `generate`'s whole output takes seconds
+/// (the whole-controller traces), and the tests only read it.
+pub fn artifacts_for(config_text: &str) -> &'static [Artifact] {
+    static DONE: OnceLock<Mutex<HashMap<String, &'static [Artifact]>>> = OnceLock::new();
+    let mut done = DONE.get_or_init(Default::default).lock().unwrap();
+    done.entry(config_text.to_string()).or_insert_with(|| {
+        let config = motionhdl::config_file::parse(config_text, "test").unwrap();
+        Box::leak(artifacts::all(&config).into_boxed_slice())
+    })
+}
 
 /// Runs `cmd` to completion: (exit status was success, stdout, stderr).
 pub fn run(cmd: &mut Command) -> (bool, String, String) {
