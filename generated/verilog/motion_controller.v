@@ -2183,6 +2183,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_0_overflow_q_q = 1'h0;
     reg mcu_pulses_engines_0_braking_q_d;
     reg mcu_pulses_engines_0_braking_q_q = 1'h0;
+    reg mcu_pulses_engines_0_against_q_d;
+    reg mcu_pulses_engines_0_against_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_0_head_d;
     reg [6:0] mcu_pulses_engines_0_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_0_count_d;
@@ -2221,7 +2223,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_0_rate_out;
     reg [47:0] mcu_pulses_engines_0_accel_whole;
     reg [47:0] mcu_pulses_engines_0_jerk_wide;
-    reg [31:0] mcu_pulses_engines_0_rate_whole;
+    reg [47:0] mcu_pulses_engines_0_rate_stepped;
+    reg [31:0] mcu_pulses_engines_0_stepped_whole;
     reg mcu_pulses_engines_0_brake_valid;
     reg [31:0] mcu_pulses_engines_0_brake_accel;
     reg [31:0] mcu_pulses_engines_0_out_whole;
@@ -2244,6 +2247,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_1_overflow_q_q = 1'h0;
     reg mcu_pulses_engines_1_braking_q_d;
     reg mcu_pulses_engines_1_braking_q_q = 1'h0;
+    reg mcu_pulses_engines_1_against_q_d;
+    reg mcu_pulses_engines_1_against_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_1_head_d;
     reg [6:0] mcu_pulses_engines_1_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_1_count_d;
@@ -2282,7 +2287,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_1_rate_out;
     reg [47:0] mcu_pulses_engines_1_accel_whole;
     reg [47:0] mcu_pulses_engines_1_jerk_wide;
-    reg [31:0] mcu_pulses_engines_1_rate_whole;
+    reg [47:0] mcu_pulses_engines_1_rate_stepped;
+    reg [31:0] mcu_pulses_engines_1_stepped_whole;
     reg mcu_pulses_engines_1_brake_valid;
     reg [31:0] mcu_pulses_engines_1_brake_accel;
     reg [31:0] mcu_pulses_engines_1_out_whole;
@@ -2305,6 +2311,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_2_overflow_q_q = 1'h0;
     reg mcu_pulses_engines_2_braking_q_d;
     reg mcu_pulses_engines_2_braking_q_q = 1'h0;
+    reg mcu_pulses_engines_2_against_q_d;
+    reg mcu_pulses_engines_2_against_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_2_head_d;
     reg [6:0] mcu_pulses_engines_2_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_2_count_d;
@@ -2343,7 +2351,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_2_rate_out;
     reg [47:0] mcu_pulses_engines_2_accel_whole;
     reg [47:0] mcu_pulses_engines_2_jerk_wide;
-    reg [31:0] mcu_pulses_engines_2_rate_whole;
+    reg [47:0] mcu_pulses_engines_2_rate_stepped;
+    reg [31:0] mcu_pulses_engines_2_stepped_whole;
     reg mcu_pulses_engines_2_brake_valid;
     reg [31:0] mcu_pulses_engines_2_brake_accel;
     reg [31:0] mcu_pulses_engines_2_out_whole;
@@ -2366,6 +2375,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_pulses_engines_3_overflow_q_q = 1'h0;
     reg mcu_pulses_engines_3_braking_q_d;
     reg mcu_pulses_engines_3_braking_q_q = 1'h0;
+    reg mcu_pulses_engines_3_against_q_d;
+    reg mcu_pulses_engines_3_against_q_q = 1'h0;
     reg [6:0] mcu_pulses_engines_3_head_d;
     reg [6:0] mcu_pulses_engines_3_head_q = 7'h0;
     reg [6:0] mcu_pulses_engines_3_count_d;
@@ -2404,7 +2415,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [31:0] mcu_pulses_engines_3_rate_out;
     reg [47:0] mcu_pulses_engines_3_accel_whole;
     reg [47:0] mcu_pulses_engines_3_jerk_wide;
-    reg [31:0] mcu_pulses_engines_3_rate_whole;
+    reg [47:0] mcu_pulses_engines_3_rate_stepped;
+    reg [31:0] mcu_pulses_engines_3_stepped_whole;
     reg mcu_pulses_engines_3_brake_valid;
     reg [31:0] mcu_pulses_engines_3_brake_accel;
     reg [31:0] mcu_pulses_engines_3_out_whole;
@@ -6752,6 +6764,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_0_done_q_d = mcu_pulses_engines_0_done_q_q;
         mcu_pulses_engines_0_overflow_q_d = mcu_pulses_engines_0_overflow_q_q;
         mcu_pulses_engines_0_braking_q_d = mcu_pulses_engines_0_braking_q_q;
+        mcu_pulses_engines_0_against_q_d = mcu_pulses_engines_0_against_q_q;
         mcu_pulses_engines_0_head_d = mcu_pulses_engines_0_head_q;
         mcu_pulses_engines_0_count_d = mcu_pulses_engines_0_count_q;
         mcu_pulses_engines_0_staged_d = mcu_pulses_engines_0_staged_q;
@@ -6790,8 +6803,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]) begin
             mcu_pulses_engines_0_accel_whole = mcu_pulses_engines_0_accel_whole | mcu_pulses_engines_0_sign_fill;
         end
-        mcu_pulses_engines_0_rate_whole = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
-        mcu_pulses_engines_0_brake_valid = mcu_pulses_engines_0_braking_q_q & |mcu_pulses_engines_0_rate_whole & (mcu_pulses_engines_0_rate_whole[31] ^ mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]);
+        mcu_pulses_engines_0_brake_valid = mcu_pulses_engines_0_braking_q_q & mcu_pulses_engines_0_against_q_q;
+        mcu_pulses_engines_0_rate_stepped = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_whole;
+        mcu_pulses_engines_0_stepped_whole = mcu_pulses_engines_0_rate_stepped[(mcu_pulses_engines_0_frac_shift)+:(32)];
         mcu_pulses_engines_0_jerk_wide = {16'h0, mcu_pulses_engines_0_jerks_read_data};
         if (mcu_pulses_engines_0_jerks_read_data[31]) begin
             mcu_pulses_engines_0_jerk_wide = mcu_pulses_engines_0_jerk_wide | mcu_pulses_engines_0_sign_fill;
@@ -6810,7 +6824,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_live) begin
             if (mcu_pulses_engines_0_advancing) begin
-                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_whole;
+                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_stepped;
                 mcu_pulses_engines_0_accel_q_d = mcu_pulses_engines_0_accel_q_q + mcu_pulses_engines_0_jerk_wide;
             end
         end
@@ -6827,7 +6841,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_braking_q_q) begin
             if (mcu_pulses_engines_0_advancing) begin
-                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_q_q + mcu_pulses_engines_0_accel_whole;
+                mcu_pulses_engines_0_rate_q_d = mcu_pulses_engines_0_rate_stepped;
+                mcu_pulses_engines_0_against_q_d = |mcu_pulses_engines_0_stepped_whole & (mcu_pulses_engines_0_stepped_whole[31] ^ mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]);
             end
             mcu_pulses_engines_0_braking_q_d = mcu_pulses_engines_0_brake_valid;
         end
@@ -6888,6 +6903,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_0_brake & ~mcu_pulses_engines_0_braking_q_q) begin
             mcu_pulses_engines_0_braking_q_d = 1'b1;
+            mcu_pulses_engines_0_against_q_d = |mcu_pulses_engines_0_brake_rate;
             mcu_pulses_engines_0_rate_q_d = ({16'h0, mcu_pulses_engines_0_brake_rate} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
             mcu_pulses_engines_0_accel_q_d = ({16'h0, mcu_pulses_engines_0_brake_accel} << mcu_pulses_engines_0_frac_shift) | mcu_pulses_engines_0_load_fraction;
         end
@@ -6901,6 +6917,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_0_done_q_d = 1'b0;
             mcu_pulses_engines_0_overflow_q_d = 1'b0;
             mcu_pulses_engines_0_braking_q_d = 1'b0;
+            mcu_pulses_engines_0_against_q_d = 1'b0;
             mcu_pulses_engines_0_head_d = 7'h0;
             mcu_pulses_engines_0_count_d = 7'h0;
             mcu_pulses_engines_0_staged_d = 1'b0;
@@ -6908,7 +6925,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         mcu_pulses_engines_0_rate_out = 32'h0;
         mcu_pulses_engines_0_out_whole = mcu_pulses_engines_0_rate_q_q[(mcu_pulses_engines_0_frac_shift)+:(32)];
-        mcu_pulses_engines_0_out_braking = mcu_pulses_engines_0_braking_q_q & |mcu_pulses_engines_0_out_whole & (mcu_pulses_engines_0_out_whole[31] ^ mcu_pulses_engines_0_accel_q_q[mcu_pulses_engines_0_ramp_sign]);
+        mcu_pulses_engines_0_out_braking = mcu_pulses_engines_0_braking_q_q & mcu_pulses_engines_0_against_q_q;
         if ((mcu_pulses_engines_0_active_q_q & ~(mcu_pulses_engines_0_commanded_q_q & mcu_pulses_engines_0_last_q_q)) | mcu_pulses_engines_0_out_braking) begin
             mcu_pulses_engines_0_rate_out = mcu_pulses_engines_0_out_whole;
         end
@@ -6944,6 +6961,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_1_done_q_d = mcu_pulses_engines_1_done_q_q;
         mcu_pulses_engines_1_overflow_q_d = mcu_pulses_engines_1_overflow_q_q;
         mcu_pulses_engines_1_braking_q_d = mcu_pulses_engines_1_braking_q_q;
+        mcu_pulses_engines_1_against_q_d = mcu_pulses_engines_1_against_q_q;
         mcu_pulses_engines_1_head_d = mcu_pulses_engines_1_head_q;
         mcu_pulses_engines_1_count_d = mcu_pulses_engines_1_count_q;
         mcu_pulses_engines_1_staged_d = mcu_pulses_engines_1_staged_q;
@@ -6982,8 +7000,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]) begin
             mcu_pulses_engines_1_accel_whole = mcu_pulses_engines_1_accel_whole | mcu_pulses_engines_1_sign_fill;
         end
-        mcu_pulses_engines_1_rate_whole = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
-        mcu_pulses_engines_1_brake_valid = mcu_pulses_engines_1_braking_q_q & |mcu_pulses_engines_1_rate_whole & (mcu_pulses_engines_1_rate_whole[31] ^ mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]);
+        mcu_pulses_engines_1_brake_valid = mcu_pulses_engines_1_braking_q_q & mcu_pulses_engines_1_against_q_q;
+        mcu_pulses_engines_1_rate_stepped = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_whole;
+        mcu_pulses_engines_1_stepped_whole = mcu_pulses_engines_1_rate_stepped[(mcu_pulses_engines_1_frac_shift)+:(32)];
         mcu_pulses_engines_1_jerk_wide = {16'h0, mcu_pulses_engines_1_jerks_read_data};
         if (mcu_pulses_engines_1_jerks_read_data[31]) begin
             mcu_pulses_engines_1_jerk_wide = mcu_pulses_engines_1_jerk_wide | mcu_pulses_engines_1_sign_fill;
@@ -7002,7 +7021,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_1_live) begin
             if (mcu_pulses_engines_1_advancing) begin
-                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_whole;
+                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_stepped;
                 mcu_pulses_engines_1_accel_q_d = mcu_pulses_engines_1_accel_q_q + mcu_pulses_engines_1_jerk_wide;
             end
         end
@@ -7019,7 +7038,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_1_braking_q_q) begin
             if (mcu_pulses_engines_1_advancing) begin
-                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_q_q + mcu_pulses_engines_1_accel_whole;
+                mcu_pulses_engines_1_rate_q_d = mcu_pulses_engines_1_rate_stepped;
+                mcu_pulses_engines_1_against_q_d = |mcu_pulses_engines_1_stepped_whole & (mcu_pulses_engines_1_stepped_whole[31] ^ mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]);
             end
             mcu_pulses_engines_1_braking_q_d = mcu_pulses_engines_1_brake_valid;
         end
@@ -7080,6 +7100,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_1_brake & ~mcu_pulses_engines_1_braking_q_q) begin
             mcu_pulses_engines_1_braking_q_d = 1'b1;
+            mcu_pulses_engines_1_against_q_d = |mcu_pulses_engines_1_brake_rate;
             mcu_pulses_engines_1_rate_q_d = ({16'h0, mcu_pulses_engines_1_brake_rate} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
             mcu_pulses_engines_1_accel_q_d = ({16'h0, mcu_pulses_engines_1_brake_accel} << mcu_pulses_engines_1_frac_shift) | mcu_pulses_engines_1_load_fraction;
         end
@@ -7093,6 +7114,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_1_done_q_d = 1'b0;
             mcu_pulses_engines_1_overflow_q_d = 1'b0;
             mcu_pulses_engines_1_braking_q_d = 1'b0;
+            mcu_pulses_engines_1_against_q_d = 1'b0;
             mcu_pulses_engines_1_head_d = 7'h0;
             mcu_pulses_engines_1_count_d = 7'h0;
             mcu_pulses_engines_1_staged_d = 1'b0;
@@ -7100,7 +7122,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         mcu_pulses_engines_1_rate_out = 32'h0;
         mcu_pulses_engines_1_out_whole = mcu_pulses_engines_1_rate_q_q[(mcu_pulses_engines_1_frac_shift)+:(32)];
-        mcu_pulses_engines_1_out_braking = mcu_pulses_engines_1_braking_q_q & |mcu_pulses_engines_1_out_whole & (mcu_pulses_engines_1_out_whole[31] ^ mcu_pulses_engines_1_accel_q_q[mcu_pulses_engines_1_ramp_sign]);
+        mcu_pulses_engines_1_out_braking = mcu_pulses_engines_1_braking_q_q & mcu_pulses_engines_1_against_q_q;
         if ((mcu_pulses_engines_1_active_q_q & ~(mcu_pulses_engines_1_commanded_q_q & mcu_pulses_engines_1_last_q_q)) | mcu_pulses_engines_1_out_braking) begin
             mcu_pulses_engines_1_rate_out = mcu_pulses_engines_1_out_whole;
         end
@@ -7136,6 +7158,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_2_done_q_d = mcu_pulses_engines_2_done_q_q;
         mcu_pulses_engines_2_overflow_q_d = mcu_pulses_engines_2_overflow_q_q;
         mcu_pulses_engines_2_braking_q_d = mcu_pulses_engines_2_braking_q_q;
+        mcu_pulses_engines_2_against_q_d = mcu_pulses_engines_2_against_q_q;
         mcu_pulses_engines_2_head_d = mcu_pulses_engines_2_head_q;
         mcu_pulses_engines_2_count_d = mcu_pulses_engines_2_count_q;
         mcu_pulses_engines_2_staged_d = mcu_pulses_engines_2_staged_q;
@@ -7174,8 +7197,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]) begin
             mcu_pulses_engines_2_accel_whole = mcu_pulses_engines_2_accel_whole | mcu_pulses_engines_2_sign_fill;
         end
-        mcu_pulses_engines_2_rate_whole = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
-        mcu_pulses_engines_2_brake_valid = mcu_pulses_engines_2_braking_q_q & |mcu_pulses_engines_2_rate_whole & (mcu_pulses_engines_2_rate_whole[31] ^ mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]);
+        mcu_pulses_engines_2_brake_valid = mcu_pulses_engines_2_braking_q_q & mcu_pulses_engines_2_against_q_q;
+        mcu_pulses_engines_2_rate_stepped = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_whole;
+        mcu_pulses_engines_2_stepped_whole = mcu_pulses_engines_2_rate_stepped[(mcu_pulses_engines_2_frac_shift)+:(32)];
         mcu_pulses_engines_2_jerk_wide = {16'h0, mcu_pulses_engines_2_jerks_read_data};
         if (mcu_pulses_engines_2_jerks_read_data[31]) begin
             mcu_pulses_engines_2_jerk_wide = mcu_pulses_engines_2_jerk_wide | mcu_pulses_engines_2_sign_fill;
@@ -7194,7 +7218,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_2_live) begin
             if (mcu_pulses_engines_2_advancing) begin
-                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_whole;
+                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_stepped;
                 mcu_pulses_engines_2_accel_q_d = mcu_pulses_engines_2_accel_q_q + mcu_pulses_engines_2_jerk_wide;
             end
         end
@@ -7211,7 +7235,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_2_braking_q_q) begin
             if (mcu_pulses_engines_2_advancing) begin
-                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_q_q + mcu_pulses_engines_2_accel_whole;
+                mcu_pulses_engines_2_rate_q_d = mcu_pulses_engines_2_rate_stepped;
+                mcu_pulses_engines_2_against_q_d = |mcu_pulses_engines_2_stepped_whole & (mcu_pulses_engines_2_stepped_whole[31] ^ mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]);
             end
             mcu_pulses_engines_2_braking_q_d = mcu_pulses_engines_2_brake_valid;
         end
@@ -7272,6 +7297,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_2_brake & ~mcu_pulses_engines_2_braking_q_q) begin
             mcu_pulses_engines_2_braking_q_d = 1'b1;
+            mcu_pulses_engines_2_against_q_d = |mcu_pulses_engines_2_brake_rate;
             mcu_pulses_engines_2_rate_q_d = ({16'h0, mcu_pulses_engines_2_brake_rate} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
             mcu_pulses_engines_2_accel_q_d = ({16'h0, mcu_pulses_engines_2_brake_accel} << mcu_pulses_engines_2_frac_shift) | mcu_pulses_engines_2_load_fraction;
         end
@@ -7285,6 +7311,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_2_done_q_d = 1'b0;
             mcu_pulses_engines_2_overflow_q_d = 1'b0;
             mcu_pulses_engines_2_braking_q_d = 1'b0;
+            mcu_pulses_engines_2_against_q_d = 1'b0;
             mcu_pulses_engines_2_head_d = 7'h0;
             mcu_pulses_engines_2_count_d = 7'h0;
             mcu_pulses_engines_2_staged_d = 1'b0;
@@ -7292,7 +7319,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         mcu_pulses_engines_2_rate_out = 32'h0;
         mcu_pulses_engines_2_out_whole = mcu_pulses_engines_2_rate_q_q[(mcu_pulses_engines_2_frac_shift)+:(32)];
-        mcu_pulses_engines_2_out_braking = mcu_pulses_engines_2_braking_q_q & |mcu_pulses_engines_2_out_whole & (mcu_pulses_engines_2_out_whole[31] ^ mcu_pulses_engines_2_accel_q_q[mcu_pulses_engines_2_ramp_sign]);
+        mcu_pulses_engines_2_out_braking = mcu_pulses_engines_2_braking_q_q & mcu_pulses_engines_2_against_q_q;
         if ((mcu_pulses_engines_2_active_q_q & ~(mcu_pulses_engines_2_commanded_q_q & mcu_pulses_engines_2_last_q_q)) | mcu_pulses_engines_2_out_braking) begin
             mcu_pulses_engines_2_rate_out = mcu_pulses_engines_2_out_whole;
         end
@@ -7328,6 +7355,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_engines_3_done_q_d = mcu_pulses_engines_3_done_q_q;
         mcu_pulses_engines_3_overflow_q_d = mcu_pulses_engines_3_overflow_q_q;
         mcu_pulses_engines_3_braking_q_d = mcu_pulses_engines_3_braking_q_q;
+        mcu_pulses_engines_3_against_q_d = mcu_pulses_engines_3_against_q_q;
         mcu_pulses_engines_3_head_d = mcu_pulses_engines_3_head_q;
         mcu_pulses_engines_3_count_d = mcu_pulses_engines_3_count_q;
         mcu_pulses_engines_3_staged_d = mcu_pulses_engines_3_staged_q;
@@ -7366,8 +7394,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]) begin
             mcu_pulses_engines_3_accel_whole = mcu_pulses_engines_3_accel_whole | mcu_pulses_engines_3_sign_fill;
         end
-        mcu_pulses_engines_3_rate_whole = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
-        mcu_pulses_engines_3_brake_valid = mcu_pulses_engines_3_braking_q_q & |mcu_pulses_engines_3_rate_whole & (mcu_pulses_engines_3_rate_whole[31] ^ mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]);
+        mcu_pulses_engines_3_brake_valid = mcu_pulses_engines_3_braking_q_q & mcu_pulses_engines_3_against_q_q;
+        mcu_pulses_engines_3_rate_stepped = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_whole;
+        mcu_pulses_engines_3_stepped_whole = mcu_pulses_engines_3_rate_stepped[(mcu_pulses_engines_3_frac_shift)+:(32)];
         mcu_pulses_engines_3_jerk_wide = {16'h0, mcu_pulses_engines_3_jerks_read_data};
         if (mcu_pulses_engines_3_jerks_read_data[31]) begin
             mcu_pulses_engines_3_jerk_wide = mcu_pulses_engines_3_jerk_wide | mcu_pulses_engines_3_sign_fill;
@@ -7386,7 +7415,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_live) begin
             if (mcu_pulses_engines_3_advancing) begin
-                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_whole;
+                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_stepped;
                 mcu_pulses_engines_3_accel_q_d = mcu_pulses_engines_3_accel_q_q + mcu_pulses_engines_3_jerk_wide;
             end
         end
@@ -7403,7 +7432,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_braking_q_q) begin
             if (mcu_pulses_engines_3_advancing) begin
-                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_q_q + mcu_pulses_engines_3_accel_whole;
+                mcu_pulses_engines_3_rate_q_d = mcu_pulses_engines_3_rate_stepped;
+                mcu_pulses_engines_3_against_q_d = |mcu_pulses_engines_3_stepped_whole & (mcu_pulses_engines_3_stepped_whole[31] ^ mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]);
             end
             mcu_pulses_engines_3_braking_q_d = mcu_pulses_engines_3_brake_valid;
         end
@@ -7464,6 +7494,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         if (mcu_pulses_engines_3_brake & ~mcu_pulses_engines_3_braking_q_q) begin
             mcu_pulses_engines_3_braking_q_d = 1'b1;
+            mcu_pulses_engines_3_against_q_d = |mcu_pulses_engines_3_brake_rate;
             mcu_pulses_engines_3_rate_q_d = ({16'h0, mcu_pulses_engines_3_brake_rate} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
             mcu_pulses_engines_3_accel_q_d = ({16'h0, mcu_pulses_engines_3_brake_accel} << mcu_pulses_engines_3_frac_shift) | mcu_pulses_engines_3_load_fraction;
         end
@@ -7477,6 +7508,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_pulses_engines_3_done_q_d = 1'b0;
             mcu_pulses_engines_3_overflow_q_d = 1'b0;
             mcu_pulses_engines_3_braking_q_d = 1'b0;
+            mcu_pulses_engines_3_against_q_d = 1'b0;
             mcu_pulses_engines_3_head_d = 7'h0;
             mcu_pulses_engines_3_count_d = 7'h0;
             mcu_pulses_engines_3_staged_d = 1'b0;
@@ -7484,7 +7516,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         end
         mcu_pulses_engines_3_rate_out = 32'h0;
         mcu_pulses_engines_3_out_whole = mcu_pulses_engines_3_rate_q_q[(mcu_pulses_engines_3_frac_shift)+:(32)];
-        mcu_pulses_engines_3_out_braking = mcu_pulses_engines_3_braking_q_q & |mcu_pulses_engines_3_out_whole & (mcu_pulses_engines_3_out_whole[31] ^ mcu_pulses_engines_3_accel_q_q[mcu_pulses_engines_3_ramp_sign]);
+        mcu_pulses_engines_3_out_braking = mcu_pulses_engines_3_braking_q_q & mcu_pulses_engines_3_against_q_q;
         if ((mcu_pulses_engines_3_active_q_q & ~(mcu_pulses_engines_3_commanded_q_q & mcu_pulses_engines_3_last_q_q)) | mcu_pulses_engines_3_out_braking) begin
             mcu_pulses_engines_3_rate_out = mcu_pulses_engines_3_out_whole;
         end
@@ -9818,6 +9850,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_0_done_q_q <= mcu_pulses_engines_0_done_q_d;
     always @(posedge clock) mcu_pulses_engines_0_overflow_q_q <= mcu_pulses_engines_0_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_0_braking_q_q <= mcu_pulses_engines_0_braking_q_d;
+    always @(posedge clock) mcu_pulses_engines_0_against_q_q <= mcu_pulses_engines_0_against_q_d;
     always @(posedge clock) mcu_pulses_engines_0_head_q <= mcu_pulses_engines_0_head_d;
     always @(posedge clock) mcu_pulses_engines_0_count_q <= mcu_pulses_engines_0_count_d;
     always @(posedge clock) mcu_pulses_engines_0_staged_q <= mcu_pulses_engines_0_staged_d;
@@ -9833,6 +9866,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_1_done_q_q <= mcu_pulses_engines_1_done_q_d;
     always @(posedge clock) mcu_pulses_engines_1_overflow_q_q <= mcu_pulses_engines_1_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_1_braking_q_q <= mcu_pulses_engines_1_braking_q_d;
+    always @(posedge clock) mcu_pulses_engines_1_against_q_q <= mcu_pulses_engines_1_against_q_d;
     always @(posedge clock) mcu_pulses_engines_1_head_q <= mcu_pulses_engines_1_head_d;
     always @(posedge clock) mcu_pulses_engines_1_count_q <= mcu_pulses_engines_1_count_d;
     always @(posedge clock) mcu_pulses_engines_1_staged_q <= mcu_pulses_engines_1_staged_d;
@@ -9848,6 +9882,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_2_done_q_q <= mcu_pulses_engines_2_done_q_d;
     always @(posedge clock) mcu_pulses_engines_2_overflow_q_q <= mcu_pulses_engines_2_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_2_braking_q_q <= mcu_pulses_engines_2_braking_q_d;
+    always @(posedge clock) mcu_pulses_engines_2_against_q_q <= mcu_pulses_engines_2_against_q_d;
     always @(posedge clock) mcu_pulses_engines_2_head_q <= mcu_pulses_engines_2_head_d;
     always @(posedge clock) mcu_pulses_engines_2_count_q <= mcu_pulses_engines_2_count_d;
     always @(posedge clock) mcu_pulses_engines_2_staged_q <= mcu_pulses_engines_2_staged_d;
@@ -9863,6 +9898,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_pulses_engines_3_done_q_q <= mcu_pulses_engines_3_done_q_d;
     always @(posedge clock) mcu_pulses_engines_3_overflow_q_q <= mcu_pulses_engines_3_overflow_q_d;
     always @(posedge clock) mcu_pulses_engines_3_braking_q_q <= mcu_pulses_engines_3_braking_q_d;
+    always @(posedge clock) mcu_pulses_engines_3_against_q_q <= mcu_pulses_engines_3_against_q_d;
     always @(posedge clock) mcu_pulses_engines_3_head_q <= mcu_pulses_engines_3_head_d;
     always @(posedge clock) mcu_pulses_engines_3_count_q <= mcu_pulses_engines_3_count_d;
     always @(posedge clock) mcu_pulses_engines_3_staged_q <= mcu_pulses_engines_3_staged_d;

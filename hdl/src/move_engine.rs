@@ -106,6 +106,10 @@ pub struct MoveEngine {
     done_q: DFF<Bit>,
     overflow_q: DFF<Bit>,
     braking_q: DFF<Bit>,
+    /// While braking: the rate's whole part is not 0 and heads against the
+    /// acceleration (braking's test, registered: set from the rate that
+    /// `rate_q` loads, so it holds for its output in this clock).
+    against_q: DFF<Bit>,
     /// The head pointer with one more bit: the jerk ring's.
     head: DFF<Bits<JERK_PTR>>,
     count: DFF<Bits<LEVEL>>,
@@ -150,7 +154,8 @@ pub struct MoveEngine {
     rate_out: Signal<Local, Bits<32>>,
     accel_whole: Signal<Local, Bits<RAMP>>,
     jerk_wide: Signal<Local, Bits<RAMP>>,
-    rate_whole: Signal<Local, Bits<32>>,
+    rate_stepped: Signal<Local, Bits<RAMP>>,
+    stepped_whole: Signal<Local, Bits<32>>,
     brake_valid: Signal<Local, Bit>,
     brake_accel: Signal<Local, Bits<32>>,
     out_whole: Signal<Local, Bits<32>>,
@@ -208,6 +213,7 @@ impl MoveEngine {
             done_q: Default::default(),
             overflow_q: Default::default(),
             braking_q: Default::default(),
+            against_q: Default::default(),
             head: Default::default(),
             count: Default::default(),
             staged: Default::default(),
@@ -249,7 +255,8 @@ impl MoveEngine {
             rate_out: Default::default(),
             accel_whole: Default::default(),
             jerk_wide: Default::default(),
-            rate_whole: Default::default(),
+            rate_stepped: Default::default(),
+            stepped_whole: Default::default(),
             brake_valid: Default::default(),
             brake_accel: Default::default(),
             out_whole: Default::default(),
@@ -301,6 +308,7 @@ impl Logic for MoveEngine {
             done_q,
             overflow_q,
             braking_q,
+            against_q,
             head,
             count,
             staged,
@@ -351,15 +359,15 @@ impl Logic for MoveEngine {
         }
         // Braking lasts while the rate still heads the way it started:
         // against the sign of the braking acceleration.
-        self.rate_whole.next = self
-            .rate_q
-            .q
+        self.brake_valid.next = self.braking_q.q.val() & self.against_q.q.val();
+        // One rate step, shared by the running segment and the brake; its
+        // braking test is computed before the NCO says whether it is taken
+        // (`advancing` only selects it).
+        self.rate_stepped.next = self.rate_q.q.val() + self.accel_whole.val();
+        self.stepped_whole.next = self
+            .rate_stepped
             .val()
             .get_bits::<32>(self.frac_shift.val().index());
-        self.brake_valid.next = self.braking_q.q.val()
-            & self.rate_whole.val().any()
-            & (self.rate_whole.val().get_bit(31)
-                ^ self.accel_q.q.val().get_bit(self.ramp_sign.val().index()));
         self.jerk_wide.next = bit_cast::<RAMP, 32>(self.jerks.read_data.val());
         if self.jerks.read_data.val().get_bit(31) {
             self.jerk_wide.next = self.jerk_wide.val() | self.sign_fill.val();
@@ -380,7 +388,7 @@ impl Logic for MoveEngine {
         }
         if self.live.val() {
             if self.advancing.val() {
-                self.rate_q.d.next = self.rate_q.q.val() + self.accel_whole.val();
+                self.rate_q.d.next = self.rate_stepped.val();
                 self.accel_q.d.next = self.accel_q.q.val() + self.jerk_wide.val();
             }
         } else if self.run.val() & self.staged.q.val() & !self.braking_q.q.val() {
@@ -400,7 +408,10 @@ impl Logic for MoveEngine {
         }
         if self.braking_q.q.val() {
             if self.advancing.val() {
-                self.rate_q.d.next = self.rate_q.q.val() + self.accel_whole.val();
+                self.rate_q.d.next = self.rate_stepped.val();
+                self.against_q.d.next = self.stepped_whole.val().any()
+                    & (self.stepped_whole.val().get_bit(31)
+                        ^ self.accel_q.q.val().get_bit(self.ramp_sign.val().index()));
             }
             self.braking_q.d.next = self.brake_valid.val();
         }
@@ -477,6 +488,8 @@ impl Logic for MoveEngine {
         }
         if self.brake.val() & !self.braking_q.q.val() {
             self.braking_q.d.next = true;
+            // The brake's acceleration is against the rate by construction.
+            self.against_q.d.next = self.brake_rate.val().any();
             self.rate_q.d.next = (bit_cast::<RAMP, 32>(self.brake_rate.val())
                 << self.frac_shift.val())
                 | self.load_fraction.val();
@@ -494,6 +507,7 @@ impl Logic for MoveEngine {
             self.done_q.d.next = false;
             self.overflow_q.d.next = false;
             self.braking_q.d.next = false;
+            self.against_q.d.next = false;
             self.head.d.next = 0.into();
             self.count.d.next = 0.into();
             self.staged.d.next = false;
@@ -504,17 +518,15 @@ impl Logic for MoveEngine {
         // with the NCO's inputs): Verilator then sees no loop through the
         // NCO.
         self.rate_out.next = 0.into();
-        // (Braking's test again, from its own Locals: Verilator splits
-        // this block only where nothing is shared.)
         self.out_whole.next = self
             .rate_q
             .q
             .val()
             .get_bits::<32>(self.frac_shift.val().index());
-        self.out_braking.next = self.braking_q.q.val()
-            & self.out_whole.val().any()
-            & (self.out_whole.val().get_bit(31)
-                ^ self.accel_q.q.val().get_bit(self.ramp_sign.val().index()));
+        // Braking's test from flip-flops only: a 32-bit OR of the rate here
+        // would sit on the path through the NCO into this block's enables
+        // (a fifth of the 4-axis top's Fmax on the ECP5, docs/benchmarks.md).
+        self.out_braking.next = self.braking_q.q.val() & self.against_q.q.val();
         if (self.active_q.q.val() & !(self.commanded_q.q.val() & self.last_q.q.val()))
             | self.out_braking.val()
         {
