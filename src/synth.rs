@@ -536,6 +536,7 @@ pub fn all_blocks(config: &Config) -> Vec<Design> {
             config.axes(),
             config.filter_tick_clocks(),
         )),
+        block_design(catalog::servo_dac(config.clock_hz())),
         block_design(catalog::motion_controller(config)),
     ]
 }

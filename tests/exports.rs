@@ -60,7 +60,8 @@ fn module_names_are_the_file_names_and_carry_no_dollar() {
             "fsmc_bridge",
             "motion_controller",
             "pulse_generator",
-            "safety_io"
+            "safety_io",
+            "servo_dac"
         ]
     );
     for m in &modules {

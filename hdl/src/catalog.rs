@@ -192,6 +192,18 @@ pub fn safety_io(axes: u32, tick_clocks: u32) -> VerilogModule {
     block!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
 }
 
+/// The servo DAC block for a clock of `clock_hz`: the DAC7744-style
+/// interface and the servo tick.
+pub fn servo_dac(clock_hz: u64) -> VerilogModule {
+    module(
+        crate::servo_dac::ServoDac::new(clock_hz),
+        "servo_dac",
+        "servo DAC block: four staged codes to a DAC7744-style parallel DAC, all \
+         outputs updated by one LOADDACS rise a fixed time after the servo tick; \
+         safe code on reset and e-stop (docs/servo_dac.md)",
+    )
+}
+
 /// Every exported module for `config`.
 pub fn all(config: &Config) -> Vec<VerilogModule> {
     vec![
@@ -210,5 +222,6 @@ pub fn all(config: &Config) -> Vec<VerilogModule> {
         motion_controller(config),
         pulse_generator(),
         safety_io(config.axes(), config.filter_tick_clocks()),
+        servo_dac(config.clock_hz()),
     ]
 }

@@ -31,6 +31,7 @@ pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod quadrature_core;
 pub mod safety_io;
+pub mod servo_dac;
 pub mod step_decoder;
 pub mod step_timer;
 pub mod up_down_counter;

@@ -19,5 +19,6 @@ pub mod motion_controller;
 pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod safety_io;
+pub mod servo_dac;
 
 pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

@@ -15,5 +15,6 @@ pub mod isa;
 pub mod pulse;
 pub mod regmap;
 pub mod safety_io;
+pub mod servo_dac;
 
 pub use config::{Config, ConfigError, CounterFeatures, IsaRam};

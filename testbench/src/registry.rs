@@ -5,7 +5,7 @@
 use crate::checks::{
     counter_bank, counter_channel, fsmc_bridge, input_filter, isa_bridge, ls153, ls688,
     motion_controller, move_engine, pulse_bank, pulse_generator, pulse_mode_selector,
-    quadrature_core, safety_io,
+    quadrature_core, safety_io, servo_dac,
 };
 use crate::CheckReport;
 
@@ -19,7 +19,7 @@ pub struct Group {
 
 /// Every group, in the order `motionhdl verify` prints them. The netlist
 /// runs need the external tools, so they run only with `external`.
-pub const GROUPS: [Group; 10] = [
+pub const GROUPS: [Group; 11] = [
     Group {
         name: "selector",
         run: |external| [ls153::all(external), pulse_mode_selector::all(external)].concat(),
@@ -69,6 +69,10 @@ pub const GROUPS: [Group; 10] = [
     Group {
         name: "safety_io",
         run: safety_io::all,
+    },
+    Group {
+        name: "servo_dac",
+        run: servo_dac::all,
     },
     Group {
         name: "netlist",
@@ -148,6 +152,7 @@ pub fn netlist_checks() -> Vec<CheckReport> {
     v.push(fsmc_bridge::sweep_verilog(t));
     v.push(fsmc_bridge::random_verilog(t));
     v.push(safety_io::random_verilog(t, 20_000, 0x5afe_0004));
+    v.push(servo_dac::random_verilog(t, 20_000, 0xdac0_0004));
     for ram in [IsaRam::Internal, IsaRam::External] {
         v.push(motion_controller::check_verilog(
             t,

@@ -486,3 +486,34 @@ pub fn compare_vectors<I>(
         }
     }
 }
+
+/// Runs one row per clock through the clocked `design` (an idle row more
+/// shows the last edge's outputs) and compares each clock's outputs with
+/// `want`, one case per clock; `describe(k)` names clock k's inputs.
+pub fn compare_clocked(
+    r: CheckReport,
+    t: Target,
+    design: &Design,
+    mut rows: Vec<Vec<u64>>,
+    want: &[Vec<u64>],
+    describe: impl Fn(usize) -> String,
+) -> CheckReport {
+    let width = rows.first().map_or(0, Vec::len);
+    rows.push(vec![0; width]);
+    match run_vectors(t.sim, design, &rows) {
+        Err(e) => sim_failure(r, t, e),
+        Ok(out) => {
+            let mut r = r;
+            for (k, expect) in want.iter().enumerate() {
+                let got = &out[k + 1];
+                r.case((got[..] != expect[..]).then(|| {
+                    format!(
+                        "clock {k} {}: Verilog {got:?}, model {expect:?}",
+                        describe(k)
+                    )
+                }));
+            }
+            r
+        }
+    }
+}

@@ -24,7 +24,7 @@ fn every_checks_module_is_a_block_and_in_the_registry() {
     let checks = modules(&root.join("src/checks"));
     let blocks = modules(&root.join("../hdl/src"));
     let registry = fs::read_to_string(root.join("src/registry.rs")).unwrap();
-    assert_eq!(checks.len(), 14, "{checks:?}");
+    assert_eq!(checks.len(), 15, "{checks:?}");
     for m in &checks {
         assert!(
             blocks.contains(m),

@@ -14,6 +14,7 @@ mod id;
 mod isa_bridge;
 mod pulse_bank;
 mod safety_io;
+mod servo_dac;
 #[cfg(test)]
 mod tests;
 
@@ -24,6 +25,7 @@ pub use isa_bridge::{
 };
 pub use pulse_bank::pulse_bank;
 pub use safety_io::safety_io;
+pub use servo_dac::servo_dac;
 
 /// Access type of a register or field, as firmware sees it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

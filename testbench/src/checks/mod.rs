@@ -16,3 +16,4 @@ pub mod pulse_generator;
 pub mod pulse_mode_selector;
 pub mod quadrature_core;
 pub mod safety_io;
+pub mod servo_dac;

@@ -8,7 +8,7 @@ pub mod contract;
 pub mod tour;
 
 use crate::harness::{cycle, settle, CheckReport, Rng};
-use crate::verilog_sim::{ports_of, run_vectors, sim_failure, Design, Target};
+use crate::verilog_sim::{compare_clocked, ports_of, sim_failure, Design, Target};
 use motionhdl_hdl::probe::SafetyRegisters;
 use motionhdl_hdl::{catalog, SafetyIo};
 use motionhdl_model::counter::BusCycle;
@@ -264,7 +264,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
 /// The generated Verilog (or its netlist) against the model every clock.
 pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> CheckReport {
     let target = target.into();
-    let mut r = CheckReport::new(
+    let r = CheckReport::new(
         "safety_io",
         &format!(
             "{AXES} axes, {clocks} random clocks: {} vs model",
@@ -321,7 +321,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
         ),
         clock: Some("clock"),
     };
-    let mut rows: Vec<Vec<u64>> = vectors
+    let rows: Vec<Vec<u64>> = vectors
         .iter()
         .map(|v| {
             vec![
@@ -347,33 +347,25 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
             .collect()
         })
         .collect();
-    rows.push(vec![0; 18]);
-    match run_vectors(target.sim, &design, &rows) {
-        Ok(out) => {
-            for (k, w) in want.iter().enumerate() {
-                let got = &out[k + 1];
-                let expect = [
-                    u64::from(w.rdata),
-                    u64::from(w.halt),
-                    u64::from(w.drive_enable),
-                    u64::from(w.irq),
-                    u64::from(w.stop_up),
-                    u64::from(w.stop_down),
-                    u64::from(w.home_event),
-                    u64::from(w.gpo.out),
-                    u64::from(w.gpo.oe),
-                ];
-                r.case((got[..] != expect[..]).then(|| {
-                    format!(
-                        "clock {k} {:?}: Verilog {got:?}, model {expect:?}",
-                        vectors[k]
-                    )
-                }));
-            }
-        }
-        Err(e) => return sim_failure(r, target, e),
-    }
-    r
+    let want: Vec<Vec<u64>> = want
+        .iter()
+        .map(|w| {
+            vec![
+                u64::from(w.rdata),
+                u64::from(w.halt),
+                u64::from(w.drive_enable),
+                u64::from(w.irq),
+                u64::from(w.stop_up),
+                u64::from(w.stop_down),
+                u64::from(w.home_event),
+                u64::from(w.gpo.out),
+                u64::from(w.gpo.oe),
+            ]
+        })
+        .collect();
+    compare_clocked(r, target, &design, rows, &want, |k| {
+        format!("{:?}", vectors[k])
+    })
 }
 
 /// The block's checks `motionhdl verify` runs: the model comparison, the

@@ -1,0 +1,260 @@
+//! The servo DAC block (docs/servo_dac.md): four staged DAC codes written
+//! to a DAC7744-style parallel interface and latched together by one
+//! LOADDACS rise, started by the servo tick, an UPDATE write or the safe
+//! input, behind the register bus (`regmap::servo_dac`).
+
+use crate::counter::BusCycle;
+use crate::regmap::Block;
+use motionhdl_spec::bus::mask_bits;
+pub use motionhdl_spec::servo_dac::{update_latency, DAC_CHANNELS, SAFE_CODE};
+
+const CHANNELS: usize = DAC_CHANNELS as usize;
+
+/// The DAC interface's pins as the block drives them (every one a
+/// flip-flop in the HDL). R/W is always low: the block only writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DacPins {
+    pub data: u32,
+    /// A1:A0, the channel written.
+    pub addr: u32,
+    pub cs_n: bool,
+    pub rw_n: bool,
+    pub ldac_n: bool,
+}
+
+/// Where a transfer is: per channel a setup clock, CS low, a hold clock;
+/// then LOADDACS low.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    Setup,
+    Write,
+    Hold,
+    Load,
+}
+
+/// The block's state: every flip-flop of the HDL twin, by meaning.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ServoDac {
+    clock_hz: u64,
+    map: Block,
+    period: u32,
+    count: u32,
+    tick: bool,
+    events: u32,
+    cs_low: u32,
+    ldac_low: u32,
+    code: [u32; CHANNELS],
+    output: [u32; CHANNELS],
+    busy: bool,
+    pending: bool,
+    /// The codes of the running transfer, latched at its start.
+    shadow: [u32; CHANNELS],
+    /// The running transfer's CS_LOW and LDAC_LOW, latched at its start.
+    run_cs_low: u32,
+    run_ldac_low: u32,
+    channel: usize,
+    phase: Phase,
+    /// Clocks left in the phase after this one (Write and Load).
+    wait: u32,
+    safe: bool,
+    read_pending: bool,
+    read_addr: u32,
+    rdata: u32,
+}
+
+impl ServoDac {
+    /// The block as reset leaves it, for a clock of `clock_hz` (TIMING's
+    /// reset value). Reset asks for a transfer: the DAC is driven to the
+    /// staged codes, SAFE_CODE after reset, without waiting for a tick.
+    pub fn new(clock_hz: u64) -> Self {
+        let map = crate::regmap::servo_dac(clock_hz);
+        let timing = map.register("TIMING");
+        let (cs_low, ldac_low) = (timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset);
+        Self {
+            clock_hz,
+            map,
+            period: 0,
+            count: 0,
+            tick: false,
+            events: 0,
+            cs_low,
+            ldac_low,
+            code: [SAFE_CODE; CHANNELS],
+            output: [SAFE_CODE; CHANNELS],
+            busy: false,
+            pending: true,
+            shadow: [SAFE_CODE; CHANNELS],
+            run_cs_low: cs_low,
+            run_ldac_low: ldac_low,
+            channel: 0,
+            phase: Phase::Setup,
+            wait: 0,
+            safe: false,
+            read_pending: false,
+            read_addr: 0,
+            rdata: 0,
+        }
+    }
+
+    /// The servo tick: high for one clock every TICK_PERIOD clocks. The
+    /// counter bank's snapshot strobe in the top; a transfer starts at the
+    /// edge that ends this clock.
+    pub fn tick(&self) -> bool {
+        self.tick
+    }
+
+    /// The interface's pins now.
+    pub fn pins(&self) -> DacPins {
+        DacPins {
+            data: self.shadow[self.channel],
+            addr: self.channel as u32,
+            cs_n: !(self.busy && self.phase == Phase::Write),
+            rw_n: false,
+            ldac_n: !(self.busy && self.phase == Phase::Load),
+        }
+    }
+
+    /// What the DAC outputs (CH[n].OUTPUT): the codes of the last LOADDACS
+    /// rise.
+    pub fn outputs(&self) -> [u32; CHANNELS] {
+        self.output
+    }
+
+    pub fn rdata(&self) -> u32 {
+        self.rdata
+    }
+
+    fn bit(&self, register: &str, field: &str) -> u32 {
+        self.map.register(register).field(field).mask()
+    }
+
+    /// What a read of `addr` returns now (0 where nothing is decoded).
+    pub fn read_value(&self, addr: u32) -> u32 {
+        let Some((_, r, index)) = self.map.decoded().into_iter().find(|d| d.0 == addr) else {
+            return 0;
+        };
+        let on = |register, field, set: bool| if set { self.bit(register, field) } else { 0 };
+        match (r.name, index) {
+            ("INFO", None) => r.reset,
+            ("STATUS", None) => {
+                on("STATUS", "BUSY", self.busy)
+                    | on("STATUS", "PENDING", self.pending)
+                    | on("STATUS", "SAFE", self.safe)
+            }
+            ("EVENTS", None) => self.events,
+            ("TICK_PERIOD", None) => self.period,
+            ("TIMING", None) => self.cs_low | self.ldac_low << 8,
+            ("CODE", Some(i)) => self.code[i as usize],
+            ("OUTPUT", Some(i)) => self.output[i as usize],
+            ("UPDATE", None) => 0,
+            (name, _) => unreachable!("SERVO.{name}"),
+        }
+    }
+
+    /// The register `bus` writes at this edge, if any.
+    fn written(&self, bus: &BusCycle) -> Option<(&'static str, Option<u32>)> {
+        let addr = bus.addr & mask_bits(self.map.address_bits);
+        bus.we.then_some(())?;
+        let (_, r, index) = self.map.decoded().into_iter().find(|d| d.0 == addr)?;
+        Some((r.name, index))
+    }
+
+    /// One rising clock edge; `safe` is the e-stop / bite input.
+    pub fn clock(&mut self, reset: bool, bus: &BusCycle, safe: bool) {
+        if reset {
+            *self = Self::new(self.clock_hz);
+            return;
+        }
+        if self.read_pending {
+            self.rdata = self.read_value(self.read_addr);
+        }
+        self.read_pending = bus.re;
+        if bus.re {
+            self.read_addr = bus.addr & mask_bits(self.map.address_bits);
+        }
+        let written = self.written(bus);
+        let wrote = |name: &str| written.is_some_and(|(n, _)| n == name);
+        // The transfer: a request (tick, UPDATE, the safe input's rise, or
+        // one waiting) starts one at an edge where none runs or the running
+        // one ends; else it waits, one deep.
+        let ending = self.busy && self.phase == Phase::Load && self.wait == 0;
+        let asked = self.tick || wrote("UPDATE") || (safe && !self.safe);
+        let free = !self.busy || ending;
+        let mut events_set = 0;
+        if self.tick {
+            events_set |= self.bit("EVENTS", "TICK");
+            if !free {
+                events_set |= self.bit("EVENTS", "OVERRUN");
+            }
+        }
+        if ending {
+            self.output = self.shadow;
+        }
+        if free && (asked || self.pending) {
+            self.busy = true;
+            self.pending = false;
+            self.shadow = if safe {
+                [SAFE_CODE; CHANNELS]
+            } else {
+                self.code
+            };
+            self.run_cs_low = self.cs_low;
+            self.run_ldac_low = self.ldac_low;
+            self.channel = 0;
+            self.phase = Phase::Setup;
+            self.wait = 0;
+        } else {
+            self.pending |= asked;
+            if self.busy {
+                self.step();
+            }
+        }
+        // The servo tick: every PERIOD clocks; a write restarts it.
+        if wrote("TICK_PERIOD") {
+            self.period = bus.wdata;
+            self.count = bus.wdata.saturating_sub(1);
+            self.tick = false;
+        } else {
+            self.tick = self.period != 0 && self.count == 0;
+            self.count = match (self.period, self.count) {
+                (0, _) => 0,
+                (p, 0) => p - 1,
+                (_, c) => c - 1,
+            };
+        }
+        // A new event wins over a clear in the same clock.
+        let cleared = if wrote("EVENTS") { bus.wdata } else { 0 };
+        self.events = (self.events & !cleared) | events_set;
+        match written {
+            Some(("TIMING", None)) => {
+                self.cs_low = bus.wdata & 0xff;
+                self.ldac_low = bus.wdata >> 8 & 0xff;
+            }
+            Some(("CODE", Some(i))) => self.code[i as usize] = bus.wdata & 0xffff,
+            _ => {}
+        }
+        self.safe = safe;
+    }
+
+    /// One edge of the running transfer.
+    fn step(&mut self) {
+        match self.phase {
+            Phase::Setup => {
+                self.phase = Phase::Write;
+                self.wait = self.run_cs_low;
+            }
+            Phase::Write if self.wait > 0 => self.wait -= 1,
+            Phase::Write => self.phase = Phase::Hold,
+            Phase::Hold if self.channel + 1 < CHANNELS => {
+                self.channel += 1;
+                self.phase = Phase::Setup;
+            }
+            Phase::Hold => {
+                self.phase = Phase::Load;
+                self.wait = self.run_ldac_low;
+            }
+            Phase::Load if self.wait > 0 => self.wait -= 1,
+            Phase::Load => self.busy = false,
+        }
+    }
+}

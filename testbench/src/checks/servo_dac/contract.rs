@@ -1,0 +1,275 @@
+//! The servo DAC block's contract, stated from its bus and its DAC pins
+//! alone (never from the model), checked over runs of the HDL. Each
+//! property counts the clocks where its antecedent held, and [`Breakage`]
+//! shows each one able to fail.
+
+use super::{run_rust, word_address, Observed, Vector, CLOCK_HZ};
+use crate::harness::{CheckReport, Rng};
+use motionhdl_model::counter::BusCycle;
+use motionhdl_model::regmap;
+use motionhdl_model::servo_dac::{update_latency, DAC_CHANNELS, SAFE_CODE};
+
+const CH: usize = DAC_CHANNELS as usize;
+
+/// The properties, in the order [`contract`] reports them.
+pub const PROPERTIES: [&str; 4] = [
+    "R/W is low at every clock",
+    "CS and LOADDACS are never low together",
+    "address and data hold from the clock before CS falls to the clock after it rises",
+    "between two LOADDACS rises channels 0..3 are written once each, in order, each with \
+     the code staged before its transfer started (SAFE_CODE while safe)",
+];
+
+/// The zero-jitter property of [`zero_jitter`].
+pub const ZERO_JITTER: &str =
+    "every tick that finds the interface idle is followed by LOADDACS rising exactly \
+     update_latency(TIMING) edges later, and by no other rise";
+
+/// The CODE registers after each vector's edge, as the bus wrote them
+/// (reset: SAFE_CODE).
+fn staged_codes(trace: &[Observed]) -> Vec<[u32; CH]> {
+    let ch = regmap::servo_dac(CLOCK_HZ).array("CH").clone();
+    let mut codes = [SAFE_CODE; CH];
+    trace
+        .iter()
+        .map(|o| {
+            let v = o.vector;
+            if v.reset {
+                codes = [SAFE_CODE; CH];
+            } else if v.bus.we {
+                for (c, code) in codes.iter_mut().enumerate() {
+                    if word_address(v.bus.addr) == ch.address(c as u32, "CODE") {
+                        *code = v.bus.wdata & 0xffff;
+                    }
+                }
+            }
+            codes
+        })
+        .collect()
+}
+
+/// Every property over `trace`: one report each, a case per antecedent.
+pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
+    let mut r: Vec<CheckReport> = PROPERTIES
+        .iter()
+        .map(|p| CheckReport::new("servo_dac", p, 0))
+        .collect();
+    let pins = |k: usize| trace[k].outputs.pins;
+    let reset_in = |a: usize, b: usize| trace[a..=b].iter().any(|o| o.vector.reset);
+    for k in 0..trace.len() {
+        r[0].case(pins(k).rw_n.then(|| format!("clock {k}: R/W high")));
+        if !pins(k).ldac_n || !pins(k).cs_n {
+            r[1].case(
+                (!pins(k).ldac_n && !pins(k).cs_n)
+                    .then(|| format!("clock {k}: CS and LOADDACS both low")),
+            );
+        }
+    }
+    for k in 1..trace.len().saturating_sub(1) {
+        if pins(k).cs_n || reset_in(k - 1, k + 1) {
+            continue;
+        }
+        let held = [k - 1, k + 1]
+            .iter()
+            .all(|&j| (pins(j).data, pins(j).addr) == (pins(k).data, pins(k).addr));
+        r[2].case((!held).then(|| {
+            format!(
+                "clock {k}: CS low, address/data {:?} {:?} {:?}",
+                pins(k - 1),
+                pins(k),
+                pins(k + 1)
+            )
+        }));
+    }
+    transfers(trace, &mut r[3]);
+    // Coverage is the antecedent count itself; the tests bound it below.
+    for report in &mut r {
+        report.expected = report.covered;
+    }
+    r
+}
+
+/// Property 3: each LOADDACS rise ends a transfer of four writes in
+/// channel order carrying the codes staged before the transfer's start
+/// (the edge before the first write's setup clock).
+fn transfers(trace: &[Observed], r: &mut CheckReport) {
+    let codes = staged_codes(trace);
+    let pins = |k: usize| trace[k].outputs.pins;
+    // (channel, data) of each write since the last LOADDACS rise, and
+    // the codes the running transfer must carry.
+    let mut writes: Vec<(u32, u32)> = Vec::new();
+    let mut want: Option<[u32; CH]> = None;
+    for k in 3..trace.len() {
+        if trace[k].vector.reset {
+            writes.clear();
+            want = None;
+            continue;
+        }
+        let cs_fell = pins(k - 1).cs_n && !pins(k).cs_n;
+        if cs_fell {
+            if writes.is_empty() {
+                // The start edge is k - 1 (the setup clock follows it):
+                // the codes written up to edge k - 2, or SAFE_CODE if the
+                // safe input was high at the start edge.
+                let start = k - 1;
+                want = Some(if trace[start].vector.safe {
+                    [SAFE_CODE; CH]
+                } else {
+                    codes[start - 1]
+                });
+            }
+            writes.push((pins(k).addr, pins(k).data));
+        }
+        if !pins(k - 1).ldac_n && pins(k).ldac_n {
+            let order: Vec<u32> = writes.iter().map(|w| w.0).collect();
+            let data: Vec<u32> = writes.iter().map(|w| w.1).collect();
+            let ok = order == [0, 1, 2, 3] && want.is_some_and(|w| data[..] == w[..]);
+            r.case((!ok).then(|| {
+                format!("LOADDACS rise at clock {k}: writes {writes:x?}, staged {want:x?}")
+            }));
+            writes.clear();
+            want = None;
+        }
+    }
+}
+
+/// A servo loop as firmware runs one: TIMING at its reset value, the
+/// tick at a period longer than a transfer, new codes written at random
+/// clocks of each period; `ticks` periods.
+pub fn servo_run(ticks: usize) -> Vec<Observed> {
+    let map = regmap::servo_dac(CLOCK_HZ);
+    let ch = map.array("CH");
+    let timing = map.register("TIMING");
+    let latency =
+        update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize;
+    let period = latency + 7;
+    let mut next = Rng::stream(0xdac0_0007);
+    let mut v = vec![
+        Vector {
+            reset: true,
+            ..Default::default()
+        };
+        2
+    ];
+    v.push(Vector {
+        bus: BusCycle::write(map.register("TICK_PERIOD").offset, period as u32),
+        ..Default::default()
+    });
+    while v.len() < 3 + ticks * period {
+        let bus = if next().is_multiple_of(4) {
+            let c = (next() % CH as u64) as u32;
+            BusCycle::write(ch.address(c, "CODE"), next() as u32)
+        } else {
+            BusCycle::default()
+        };
+        v.push(Vector {
+            bus,
+            ..Default::default()
+        });
+    }
+    run_rust(&v)
+}
+
+/// The zero-jitter property over a run without UPDATE writes, safe
+/// changes or TIMING writes (TIMING at its reset value).
+pub fn zero_jitter(trace: &[Observed]) -> CheckReport {
+    let timing = regmap::servo_dac(CLOCK_HZ).register("TIMING").clone();
+    let latency =
+        update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize;
+    let mut r = CheckReport::new("servo_dac", ZERO_JITTER, 0);
+    let rises: Vec<usize> = (1..trace.len())
+        .filter(|&k| !trace[k - 1].outputs.pins.ldac_n && trace[k].outputs.pins.ldac_n)
+        .collect();
+    let mut busy_until = 0;
+    for t in (0..trace.len()).filter(|&t| trace[t].outputs.tick) {
+        // The transfer starts at the edge after the tick's clock.
+        let start = t + 1;
+        if start < busy_until || start + latency >= trace.len() {
+            continue;
+        }
+        busy_until = start + latency;
+        let after: Vec<usize> = rises
+            .iter()
+            .copied()
+            .filter(|&k| k > start && k <= start + latency)
+            .collect();
+        r.case((after != [start + latency]).then(|| {
+            format!(
+                "tick at clock {t}: LOADDACS rises at {after:?}, want {}",
+                start + latency
+            )
+        }));
+    }
+    r.expected = r.covered;
+    r
+}
+
+/// A deliberate fault put into a trace, to show a property can fail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Breakage {
+    /// R/W high for one clock.
+    ReadCycle,
+    /// LOADDACS low in a clock where CS is low.
+    LoadDuringWrite,
+    /// The data change in the last clock of a CS low.
+    DataChangesUnderCs,
+    /// Channel 1's write addressed to channel 2.
+    WrongChannel,
+    /// LOADDACS rises one clock late after some tick.
+    LateLoad,
+}
+
+impl Breakage {
+    pub const ALL: [Breakage; 5] = [
+        Breakage::ReadCycle,
+        Breakage::LoadDuringWrite,
+        Breakage::DataChangesUnderCs,
+        Breakage::WrongChannel,
+        Breakage::LateLoad,
+    ];
+
+    /// The property this breakage must make fail (an index into
+    /// [`PROPERTIES`], or `None` for [`ZERO_JITTER`]).
+    pub fn property(self) -> Option<usize> {
+        match self {
+            Breakage::ReadCycle => Some(0),
+            Breakage::LoadDuringWrite => Some(1),
+            Breakage::DataChangesUnderCs => Some(2),
+            Breakage::WrongChannel => Some(3),
+            Breakage::LateLoad => None,
+        }
+    }
+
+    /// `trace` with this fault put in once, somewhere past `from`.
+    pub fn apply(self, trace: &[Observed], from: usize) -> Vec<Observed> {
+        let mut t = trace.to_vec();
+        let cs_low = |t: &[Observed], k: usize| !t[k].outputs.pins.cs_n;
+        let k = (from..t.len() - 1)
+            .find(|&k| match self {
+                Breakage::ReadCycle => true,
+                Breakage::LoadDuringWrite | Breakage::DataChangesUnderCs => {
+                    cs_low(&t, k) && !cs_low(&t, k + 1)
+                }
+                Breakage::WrongChannel => cs_low(&t, k) && t[k].outputs.pins.addr == 1,
+                Breakage::LateLoad => !t[k].outputs.pins.ldac_n && t[k + 1].outputs.pins.ldac_n,
+            })
+            .expect("the trace has the event to break");
+        match self {
+            Breakage::ReadCycle => t[k].outputs.pins.rw_n = true,
+            Breakage::LoadDuringWrite => t[k].outputs.pins.ldac_n = false,
+            Breakage::DataChangesUnderCs => t[k].outputs.pins.data ^= 1,
+            Breakage::WrongChannel => {
+                // The whole write, so the hold property still holds.
+                let mut j = k;
+                while cs_low(&t, j) {
+                    j -= 1;
+                }
+                for o in &mut t[j..=k + 1] {
+                    o.outputs.pins.addr = 2;
+                }
+            }
+            Breakage::LateLoad => t[k + 1].outputs.pins.ldac_n = false,
+        }
+        t
+    }
+}
