@@ -5,6 +5,7 @@
 pub mod counter_bank;
 pub mod isa_bridge;
 pub mod pulse_generator;
+pub mod servo_dac;
 
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
@@ -146,6 +147,13 @@ pub const SCENARIOS: &[Scenario] = &[
         summary: "ISA bridge: the DSP rings the PC through its mailbox word (IRQ up), the PC reads \
                   the mailbox (IRQ down) and the block, then rings the DSP back",
         build: |_| isa_bridge::doorbell_trace(),
+    },
+    Scenario {
+        name: "servo_dac",
+        summary: "servo DAC block: a tick every 40 clocks, four new codes staged each period and \
+                  written to the DAC pins after each tick, all four outputs moving at one \
+                  LOADDACS rise; the safe input drives them to mid-scale (0 V)",
+        build: |_| servo_dac::trace(),
     },
 ];
 
