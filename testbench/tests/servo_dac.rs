@@ -64,3 +64,75 @@ fn every_property_fails_on_a_broken_trace() {
         assert!(failed, "{b:?} went unnoticed");
     }
 }
+
+/// The register table and the numbers in docs/servo_dac.md are the map's
+/// and the spec's: acceptance testbenches are written from that page.
+#[test]
+fn the_docs_state_the_map_and_the_latency() {
+    use motionhdl_model::regmap::{self, Access};
+    use motionhdl_model::servo_dac::{update_latency, SAFE_CODE};
+    use motionhdl_testbench::checks::servo_dac::CLOCK_HZ;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/servo_dac.md");
+    let doc = std::fs::read_to_string(path).unwrap();
+    let table = doc.split("## Registers").nth(1).unwrap();
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .skip_while(|l| !l.starts_with("| word"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .collect();
+    let map = regmap::servo_dac(CLOCK_HZ);
+    let ch = map.array("CH");
+    let wanted = map
+        .registers
+        .iter()
+        .map(|r| (r.offset.to_string(), r.name.to_string(), r))
+        .chain(ch.registers.iter().map(|r| {
+            let word = format!("{} + {}n", ch.offset + r.offset, ch.stride);
+            (word, format!("CH[n].{}", r.name), r)
+        }));
+    let mut checked = 0;
+    for ((word, name, r), row) in wanted.zip(&rows) {
+        let access = match r.access {
+            Access::ReadOnly => "RO",
+            Access::WriteOnly => "WO",
+            Access::ReadWrite => "RW",
+            Access::WriteOneToClear => "W1C",
+        };
+        assert_eq!(row[..3], [word.as_str(), name.as_str(), access], "{row:?}");
+        for f in &r.fields {
+            let bits = match f.width {
+                1 => format!("{} {}", f.name, f.lsb),
+                w => format!("{} {}:{}", f.name, f.lsb + w - 1, f.lsb),
+            };
+            assert!(row[3].contains(&bits), "{name}: `{bits}` not in {row:?}");
+        }
+        if r.reset != 0 && r.name != "INFO" && r.name != "TIMING" {
+            let reset = format!("reset {:#x}", r.reset);
+            assert!(row[3].contains(&reset), "{name}: `{reset}` not in {row:?}");
+        }
+        checked += 1;
+    }
+    assert_eq!(rows.len(), checked, "one row per register");
+    assert_eq!(checked, map.registers.len() + ch.registers.len());
+    let timing = map.register("TIMING");
+    let (cs, ldac) = (timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset);
+    let flat = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+    for fact in [
+        format!("({cs} and {ldac} at 50 MHz)"),
+        format!("{} clocks, 460 ns at 50 MHz", update_latency(cs, ldac)),
+        "**4·(W + 2) + L clocks after the start edge**".to_string(),
+        format!("SAFE_CODE = {SAFE_CODE:#x}"),
+    ] {
+        assert!(
+            flat.contains(&fact),
+            "docs/servo_dac.md does not say {fact:?}"
+        );
+    }
+}
