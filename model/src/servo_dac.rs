@@ -24,7 +24,7 @@ pub struct DacPins {
 
 /// Where a transfer is: per channel a setup clock, CS low, a hold clock;
 /// then LOADDACS low.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Phase {
     Setup,
     Write,
@@ -62,7 +62,48 @@ pub struct ServoDac {
     rdata: u32,
 }
 
+/// Ordered by the flip-flops alone (the map and the clock are the
+/// instance's), so the checks can enumerate the reachable states.
+impl Ord for ServoDac {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.flops().cmp(&other.flops())
+    }
+}
+
+impl PartialOrd for ServoDac {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// Every flip-flop's value, grouped: the tick, the registers, the
+/// transfer, the read path.
+type Flops = (
+    (u32, u32, bool, u32),
+    (u32, u32, [u32; CHANNELS], [u32; CHANNELS]),
+    (bool, bool, [u32; CHANNELS], u32, u32, usize, Phase, u32),
+    (bool, bool, u32, u32),
+);
+
 impl ServoDac {
+    fn flops(&self) -> Flops {
+        (
+            (self.period, self.count, self.tick, self.events),
+            (self.cs_low, self.ldac_low, self.code, self.output),
+            (
+                self.busy,
+                self.pending,
+                self.shadow,
+                self.run_cs_low,
+                self.run_ldac_low,
+                self.channel,
+                self.phase,
+                self.wait,
+            ),
+            (self.safe, self.read_pending, self.read_addr, self.rdata),
+        )
+    }
+
     /// The block as reset leaves it, for a clock of `clock_hz` (TIMING's
     /// reset value). Reset asks for a transfer: the DAC is driven to the
     /// staged codes, SAFE_CODE after reset, without waiting for a tick.

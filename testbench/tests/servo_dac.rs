@@ -15,6 +15,15 @@ fn block_against_model_in_rust_hdl() {
 }
 
 #[test]
+fn interface_control_every_reachable_state_and_input() {
+    let r = motionhdl_testbench::checks::servo_dac::tour::control_exhaustive();
+    eprintln!("{}: {} of {} pairs", r.check, r.covered, r.expected);
+    r.assert_passed();
+    assert_eq!(r.covered, r.expected, "every pair visited");
+    assert!(r.expected > 10_000, "{} pairs", r.expected);
+}
+
+#[test]
 fn generated_verilog_against_model() {
     random_verilog(Simulator::Icarus, 50_000, 0xdac0_0002).assert_passed();
     random_verilog(Simulator::Verilator, 500_000, 0xdac0_0003).assert_passed();

@@ -4,6 +4,7 @@
 //! the model (docs/servo_dac.md).
 
 pub mod contract;
+pub mod tour;
 
 use crate::harness::{cycle, settle, CheckReport, Rng};
 use crate::verilog_sim::{compare_clocked, ports_of, sim_failure, Design, Target};
@@ -237,7 +238,10 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
 /// Verilog in Icarus and Verilator.
 pub fn all(external: bool) -> Vec<CheckReport> {
     use crate::verilog_sim::Simulator;
-    let mut v = vec![random_rust(100_000, 0xdac0_0001)];
+    let mut v = vec![
+        random_rust(100_000, 0xdac0_0001),
+        tour::control_exhaustive(),
+    ];
     v.extend(contract::contract(&run_rust(&stimulus(
         100_000,
         0xdac0_0006,
