@@ -310,3 +310,17 @@ fn every_subcommand_has_help() {
     let o = motionhdl(&["frobnicate"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// README's `verify` row names every group `--only` accepts (it had
+/// drifted: `safety_io` was missing).
+#[test]
+fn the_readme_names_every_verify_group() {
+    let readme = include_str!("../README.md");
+    let row = readme
+        .lines()
+        .find(|l| l.contains("`motionhdl verify [--no-external]"))
+        .expect("README has the verify row");
+    for g in motionhdl_testbench::registry::group_names() {
+        assert!(row.contains(&format!("`{g}`")), "README's verify row lacks `{g}`");
+    }
+}
