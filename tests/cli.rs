@@ -321,6 +321,9 @@ fn the_readme_names_every_verify_group() {
         .find(|l| l.contains("`motionhdl verify [--no-external]"))
         .expect("README has the verify row");
     for g in motionhdl_testbench::registry::group_names() {
-        assert!(row.contains(&format!("`{g}`")), "README's verify row lacks `{g}`");
+        assert!(
+            row.contains(&format!("`{g}`")),
+            "README's verify row lacks `{g}`"
+        );
     }
 }

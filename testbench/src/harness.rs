@@ -222,6 +222,30 @@ impl Rng {
     }
 }
 
+/// One clock of random register traffic on a block: in one clock of
+/// `every` a write of a register of `map` (its data from `write_data`,
+/// given the register's name), in one a read (an eighth of the time of
+/// any word the block decodes, else of a register), else idle.
+pub fn random_bus_cycle(
+    map: &motionhdl_model::regmap::Block,
+    every: u64,
+    next: &mut dyn FnMut() -> u64,
+    write_data: fn(&str, &mut dyn FnMut() -> u64) -> u32,
+) -> motionhdl_model::counter::BusCycle {
+    use motionhdl_model::counter::BusCycle;
+    let decoded = map.decoded();
+    let pick = |next: &mut dyn FnMut() -> u64| decoded[(next() % decoded.len() as u64) as usize];
+    match next() % every {
+        0 => {
+            let (addr, r, _) = pick(next);
+            BusCycle::write(addr, write_data(r.name, next))
+        }
+        1 if next().is_multiple_of(8) => BusCycle::read((next() % (1 << map.address_bits)) as u32),
+        1 => BusCycle::read(pick(next).0),
+        _ => BusCycle::default(),
+    }
+}
+
 #[cfg(test)]
 mod skip_log_tests {
     use super::append_skip;

@@ -7,7 +7,7 @@ pub mod cause_tour;
 pub mod contract;
 pub mod tour;
 
-use crate::harness::{cycle, settle, CheckReport, Rng};
+use crate::harness::{cycle, random_bus_cycle, settle, CheckReport, Rng};
 use crate::verilog_sim::{compare_clocked, ports_of, sim_failure, Design, Target};
 use motionhdl_hdl::probe::SafetyRegisters;
 use motionhdl_hdl::{catalog, SafetyIo};
@@ -51,7 +51,7 @@ pub struct Outputs {
     pub gpo: GpoPins,
 }
 
-fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
+fn write_data(register: &str, next: &mut dyn FnMut() -> u64) -> u32 {
     match register {
         "CLEAR" => (next() % 4) as u32,
         // Mostly short, so the watchdog bites within a run; sometimes off.
@@ -70,7 +70,6 @@ fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
 /// move-done and FIFO-low levels toggling, and rare resets.
 pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
     let map = regmap::safety_io(AXES as u32);
-    let decoded = map.decoded();
     let mut next = Rng::stream(seed);
     let mut v = vec![
         Vector {
@@ -143,15 +142,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         }
         // The ISA bridge's doorbell: one-clock pulses.
         inputs.doorbell = next().is_multiple_of(64);
-        let bus = match next() % 6 {
-            0 => {
-                let (addr, r, _) = decoded[(next() % decoded.len() as u64) as usize];
-                BusCycle::write(addr, write_data(r.name, &mut next))
-            }
-            1 if next().is_multiple_of(8) => BusCycle::read((next() % 128) as u32),
-            1 => BusCycle::read(decoded[(next() % decoded.len() as u64) as usize].0),
-            _ => BusCycle::default(),
-        };
+        let bus = random_bus_cycle(&map, 6, &mut next, write_data);
         v.push(Vector {
             reset: next().is_multiple_of(3000),
             bus,

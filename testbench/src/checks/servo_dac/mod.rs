@@ -6,7 +6,7 @@
 pub mod contract;
 pub mod tour;
 
-use crate::harness::{cycle, settle, CheckReport, Rng};
+use crate::harness::{cycle, random_bus_cycle, settle, CheckReport, Rng};
 use crate::verilog_sim::{compare_clocked, ports_of, sim_failure, Design, Target};
 use motionhdl_hdl::catalog;
 use motionhdl_hdl::servo_dac::{ServoDac, SERVO_ADDRESS_BITS};
@@ -39,7 +39,7 @@ pub struct Outputs {
     pub pins: DacPins,
 }
 
-fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
+fn write_data(register: &str, next: &mut dyn FnMut() -> u64) -> u32 {
     match register {
         // Periods around a transfer's length, so ticks find it idle, busy
         // or ending; sometimes off.
@@ -58,7 +58,6 @@ fn write_data(register: &str, next: &mut impl FnMut() -> u64) -> u32 {
 /// safe episodes from one clock long, and rare resets.
 pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
     let map = regmap::servo_dac(CLOCK_HZ);
-    let decoded = map.decoded();
     let mut next = Rng::stream(seed);
     let mut v = vec![
         Vector {
@@ -74,15 +73,7 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         }
         let safe = safe_for > 0;
         safe_for = safe_for.saturating_sub(1);
-        let bus = match next() % 8 {
-            0 => {
-                let (addr, r, _) = decoded[(next() % decoded.len() as u64) as usize];
-                BusCycle::write(addr, write_data(r.name, &mut next))
-            }
-            1 if next().is_multiple_of(8) => BusCycle::read((next() % 16) as u32),
-            1 => BusCycle::read(decoded[(next() % decoded.len() as u64) as usize].0),
-            _ => BusCycle::default(),
-        };
+        let bus = random_bus_cycle(&map, 8, &mut next, write_data);
         v.push(Vector {
             reset: next().is_multiple_of(5000),
             bus,
