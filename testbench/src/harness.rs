@@ -222,6 +222,28 @@ impl Rng {
     }
 }
 
+/// The cells of a Markdown table in `doc`: the first table after the
+/// line `heading` whose header row starts with `header`, one `Vec` of
+/// trimmed non-empty cells per body row (docs tests read their pages so).
+pub fn doc_table_rows<'a>(doc: &'a str, heading: &str, header: &str) -> Vec<Vec<&'a str>> {
+    let section = doc
+        .split(heading)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {heading:?} in the page"));
+    section
+        .lines()
+        .skip_while(|l| !l.starts_with(header))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .collect()
+}
+
 /// One clock of random register traffic on a block: in one clock of
 /// `every` a write of a register of `map` (its data from `write_data`,
 /// given the register's name), in one a read (an eighth of the time of

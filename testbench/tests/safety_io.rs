@@ -4,6 +4,7 @@
 
 use motionhdl_testbench::checks::safety_io::contract::{contract, Breakage, PROPERTIES};
 use motionhdl_testbench::checks::safety_io::{random_rust, random_verilog, run_rust, stimulus};
+use motionhdl_testbench::harness::doc_table_rows;
 use motionhdl_testbench::verilog_sim::{Simulator, Target};
 
 #[test]
@@ -93,19 +94,7 @@ fn the_docs_state_the_map_and_the_latencies() {
     use motionhdl_model::safety_io::{ESTOP_LATENCY, IRQ_LATENCY, WATCHDOG_KEY};
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/safety_io.md");
     let doc = std::fs::read_to_string(path).unwrap();
-    let table = doc.split("## Registers").nth(1).unwrap();
-    let rows: Vec<Vec<&str>> = table
-        .lines()
-        .skip_while(|l| !l.starts_with("| offset"))
-        .skip(2)
-        .take_while(|l| l.starts_with('|'))
-        .map(|l| {
-            l.split('|')
-                .map(str::trim)
-                .filter(|c| !c.is_empty())
-                .collect()
-        })
-        .collect();
+    let rows = doc_table_rows(&doc, "## Registers", "| offset");
     let map = regmap::safety_io(4);
     assert_eq!(rows.len(), map.registers.len(), "one row per register");
     for (row, r) in rows.iter().zip(&map.registers) {

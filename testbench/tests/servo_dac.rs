@@ -7,6 +7,7 @@ use motionhdl_testbench::checks::servo_dac::contract::{
     contract, servo_run, zero_jitter, Breakage, PROPERTIES,
 };
 use motionhdl_testbench::checks::servo_dac::{random_rust, random_verilog, run_rust, stimulus};
+use motionhdl_testbench::harness::doc_table_rows;
 use motionhdl_testbench::verilog_sim::{Simulator, Target};
 
 #[test]
@@ -83,19 +84,7 @@ fn the_docs_state_the_map_and_the_latency() {
     use motionhdl_testbench::checks::servo_dac::CLOCK_HZ;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/servo_dac.md");
     let doc = std::fs::read_to_string(path).unwrap();
-    let table = doc.split("## Registers").nth(1).unwrap();
-    let rows: Vec<Vec<&str>> = table
-        .lines()
-        .skip_while(|l| !l.starts_with("| word"))
-        .skip(2)
-        .take_while(|l| l.starts_with('|'))
-        .map(|l| {
-            l.split('|')
-                .map(str::trim)
-                .filter(|c| !c.is_empty())
-                .collect()
-        })
-        .collect();
+    let rows = doc_table_rows(&doc, "## Registers", "| word");
     let map = regmap::servo_dac(CLOCK_HZ);
     let ch = map.array("CH");
     let wanted = map

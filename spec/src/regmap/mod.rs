@@ -195,6 +195,12 @@ fn field(
     }
 }
 
+/// `f` with the reset value `reset`.
+fn with_reset(mut f: Field, reset: u32) -> Field {
+    f.reset = reset;
+    f
+}
+
 fn reg(
     name: &'static str,
     offset: u32,

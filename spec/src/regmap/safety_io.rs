@@ -1,13 +1,8 @@
 //! The SAFETY block: e-stop, watchdog, drive enables and the interrupt
 //! line's causes and masks (docs/safety_io.md).
 
-use super::{field, reg, Access, Block, EnumValue, Field};
+use super::{field, reg, with_reset, Access, Block, EnumValue, Field};
 use crate::safety_io::{GPIO_INPUTS, GPIO_OUTPUTS, WATCHDOG_KEY};
-
-fn with_reset(mut f: Field, reset: u32) -> Field {
-    f.reset = reset;
-    f
-}
 
 /// One bit per axis, `access`, with `description`.
 fn axes_field(axes: u32, access: Access, description: &'static str) -> Vec<Field> {

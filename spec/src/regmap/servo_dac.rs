@@ -1,13 +1,8 @@
 //! The SERVO block: the DAC7744-style DAC output and the servo tick
 //! (docs/servo_dac.md).
 
-use super::{field, reg, Access, Block, Field, RegisterArray};
+use super::{field, reg, with_reset, Access, Block, RegisterArray};
 use crate::servo_dac::{clocks_for_ns, CS_LOW_NS, DAC_CHANNELS, LDAC_LOW_NS, SAFE_CODE};
-
-fn with_reset(mut f: Field, reset: u32) -> Field {
-    f.reset = reset;
-    f
-}
 
 /// The servo DAC block for a clock of `clock_hz`: TIMING's reset values
 /// are the data sheet's minimum times in clocks.

@@ -133,16 +133,21 @@ fn transfers(trace: &[Observed], r: &mut CheckReport) {
     }
 }
 
+/// Clocks from a transfer's start to its LOADDACS rise with TIMING at its
+/// reset value.
+fn reset_latency() -> usize {
+    let map = regmap::servo_dac(CLOCK_HZ);
+    let timing = map.register("TIMING");
+    update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize
+}
+
 /// A servo loop as firmware runs one: TIMING at its reset value, the
 /// tick at a period longer than a transfer, new codes written at random
 /// clocks of each period; `ticks` periods.
 pub fn servo_run(ticks: usize) -> Vec<Observed> {
     let map = regmap::servo_dac(CLOCK_HZ);
     let ch = map.array("CH");
-    let timing = map.register("TIMING");
-    let latency =
-        update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize;
-    let period = latency + 7;
+    let period = reset_latency() + 7;
     let mut next = Rng::stream(0xdac0_0007);
     let mut v = vec![
         Vector {
@@ -173,9 +178,7 @@ pub fn servo_run(ticks: usize) -> Vec<Observed> {
 /// The zero-jitter property over a run without UPDATE writes, safe
 /// changes or TIMING writes (TIMING at its reset value).
 pub fn zero_jitter(trace: &[Observed]) -> CheckReport {
-    let timing = regmap::servo_dac(CLOCK_HZ).register("TIMING").clone();
-    let latency =
-        update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize;
+    let latency = reset_latency();
     let mut r = CheckReport::new("servo_dac", ZERO_JITTER, 0);
     let rises: Vec<usize> = (1..trace.len())
         .filter(|&k| !trace[k - 1].outputs.pins.ldac_n && trace[k].outputs.pins.ldac_n)
