@@ -49,12 +49,15 @@
 //!   and the identifiers of a statement line;
 //! * `flatten` inlines every child into one flat module and
 //!   wires flops and RAMs to the clock port;
+//! * `prune` takes out nets and parameters nothing reads (an inlined
+//!   block's unused output);
 //! * `emit` writes the flat module: continuous assignments for outputs
 //!   set once, literals sized from context, no `$` in any name.
 
 mod emit;
 mod flatten;
 mod parse;
+mod prune;
 
 use regex::Regex;
 use rust_hdl::prelude::{generate_verilog, Block};
@@ -101,12 +104,27 @@ fn rewrite(raw: &str, top: &str) -> String {
         .expect("rust-hdl output has a top module");
     let mut flat = flatten::flatten(root, &modules, &dffs, &rams);
     flatten::resolve_flop_clocks(&mut flat, &root.args);
+    let flat = prune::prune_unread(flat);
     emit::render(top, root, &flat)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn nets_nothing_reads_are_taken_out_with_what_only_they_read() {
+        let raw = "module top(a, y);\n    input wire a;\n    output reg y;\n    \
+                   localparam k = 1'b1;\n    localparam used = 1'b0;\n    reg dead;\n    \
+                   reg feeds_dead;\n    reg live;\n    always @(*) begin\n        \
+                   feeds_dead = a & k;\n        dead = feeds_dead;\n        \
+                   live = a ^ used;\n        y = live;\n    end\nendmodule\n";
+        let out = rewrite(raw, "t");
+        assert!(!out.contains("dead"), "{out}");
+        assert!(!out.contains("localparam k"), "{out}");
+        assert!(out.contains("live = a ^ used;"), "{out}");
+        assert!(out.contains("localparam used"), "{out}");
+    }
 
     #[test]
     #[should_panic(expected = "unexpected line in rust-hdl module top: `initial begin`")]
