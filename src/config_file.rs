@@ -14,6 +14,7 @@
 //! input_filter_us = 1000   # 1..=50000: limit, home and alarm input filter
 //! gpio_inputs = 16         # 0..=16 general-purpose inputs on the board's pins
 //! gpio_outputs = 16        # 0..=16 general-purpose outputs on the board's pins
+//! servo_dac = false        # the SERVO block: DAC pins, servo tick (needs isa_ram = "internal")
 //! board = "ice40-hx8k"     # optional: the board must take every pin (else exit 2)
 //! ```
 
@@ -36,7 +37,7 @@ enum Kind {
 }
 
 /// Every key, with what it accepts (messages name the allowed values).
-const KEYS: [(&str, Kind); 12] = [
+const KEYS: [(&str, Kind); 13] = [
     ("axes", Kind::Integer(Config::AXES)),
     ("counter_width", Kind::Integer(Config::COUNTER_WIDTH)),
     ("clock_hz", Kind::Integer(Config::CLOCK_HZ)),
@@ -48,6 +49,7 @@ const KEYS: [(&str, Kind); 12] = [
     ("input_filter_us", Kind::Integer(Config::INPUT_FILTER_US)),
     ("gpio_inputs", Kind::Integer(Config::GPIO_INPUT_PINS)),
     ("gpio_outputs", Kind::Integer(Config::GPIO_OUTPUT_PINS)),
+    ("servo_dac", Kind::Boolean),
     ("board", Kind::Choice(&crate::constraints::BOARD_NAMES)),
 ];
 
@@ -65,6 +67,7 @@ struct RawConfig {
     input_filter_us: Option<Spanned<Value>>,
     gpio_inputs: Option<Spanned<Value>>,
     gpio_outputs: Option<Spanned<Value>>,
+    servo_dac: Option<Spanned<Value>>,
     board: Option<Spanned<Value>>,
 }
 
@@ -169,10 +172,29 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         error: boolean(error, &raw.counter_error)?,
         snapshot: boolean(snapshot, &raw.counter_snapshot)?,
     };
+    let servo_dac = match &raw.servo_dac {
+        None => false,
+        Some(v) => {
+            let on = v.get_ref().as_bool();
+            let on = on.ok_or_else(|| refusal(origin, "servo_dac", &written(v)))?;
+            if on && isa_ram == IsaRam::External {
+                return Err(CliError::input(format!(
+                    "{origin}: servo_dac = true needs isa_ram = \"internal\" (the servo \
+                     card's top has the shared RAM inside); with isa_ram = \"external\" \
+                     use servo_dac = false"
+                )));
+            }
+            on
+        }
+    };
     let config = Config::new(axes, width, clock)
         .and_then(|c| c.with_input_filter_us(filter_us))
         .and_then(|c| c.with_gpio_pins(gpio_inputs, gpio_outputs))
-        .map(|c| c.with_isa_ram(isa_ram).with_counter_features(features))
+        .map(|c| {
+            c.with_isa_ram(isa_ram)
+                .with_counter_features(features)
+                .with_servo_dac(servo_dac)
+        })
         .map_err(|e| CliError::input(format!("{origin}: {e}")))?;
     if let Some(b) = board {
         check_fit(b, &config).map_err(|why| CliError::input(format!("{origin}: {why}")))?;
@@ -274,6 +296,26 @@ mod tests {
         let e = parse("isa_ram = \"sram\"\n", "t").unwrap_err().to_string();
         assert!(e.contains("isa_ram = \"sram\""), "{e}");
         assert!(e.contains("\"internal\", \"external\""), "{e}");
+    }
+
+    #[test]
+    fn servo_dac_is_read_and_checked() {
+        assert!(!parse("", "t").unwrap().servo_dac());
+        assert!(parse("servo_dac = true\n", "t").unwrap().servo_dac());
+        let e = parse("servo_dac = 1\n", "t").unwrap_err().to_string();
+        assert!(
+            e.contains("servo_dac = 1 is not allowed: use true or false"),
+            "{e}"
+        );
+        let e = parse("servo_dac = true\nisa_ram = \"external\"\n", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("servo_dac = true needs isa_ram = \"internal\""),
+            "{e}"
+        );
+        let c = parse("servo_dac = false\nisa_ram = \"external\"\n", "t").unwrap();
+        assert!(!c.servo_dac());
     }
 
     #[test]

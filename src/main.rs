@@ -43,8 +43,10 @@ enum Command {
         /// Configuration file (TOML): axes (1..=16), counter_width (8..=32),
         /// clock_hz (1000000..=400000000), isa_ram ("internal" or
         /// "external"), counter_* build options, input_filter_us
-        /// (1..=50000), gpio_inputs and gpio_outputs (0..=16), board (one
-        /// that must take every pin). Missing keys keep their defaults.
+        /// (1..=50000), gpio_inputs and gpio_outputs (0..=16), servo_dac
+        /// (true: the servo card's top, with the DAC and the servo tick),
+        /// board (one that must take every pin). Missing keys keep their
+        /// defaults.
         #[arg(long)]
         config: Option<PathBuf>,
         /// Write even though the directory holds files motionhdl did not

@@ -112,9 +112,13 @@ fn every_build() -> Vec<catalog::VerilogModule> {
     // The DSP seed card's counter options: no filter, index or error logic.
     let counter_options =
         motionhdl_model::Config::default().with_counter_features(CounterFeatures::from_bits(8));
+    // The servo card's top (SERVO block and DAC pins); its blocks are the
+    // default's.
+    let servo_card = motionhdl_model::Config::default().with_servo_dac(true);
     for (config, changed) in [
-        (external_config(), ["isa_bridge", "motion_controller"]),
-        (counter_options, ["counter_bank", "motion_controller"]),
+        (external_config(), &["isa_bridge", "motion_controller"][..]),
+        (counter_options, &["counter_bank", "motion_controller"][..]),
+        (servo_card, &["motion_controller"][..]),
     ] {
         let built: Vec<_> = catalog::all(&config)
             .into_iter()
@@ -305,8 +309,12 @@ fn synthesises_cleanly(flow: &str) {
     });
     if flow != "synth" {
         modules.retain(|m| m.name != "motion_controller");
-        for ram in ["internal", "external"] {
-            let text = format!("axes = 1\nisa_ram = \"{ram}\"\n");
+        for extra in [
+            "isa_ram = \"internal\"",
+            "isa_ram = \"external\"",
+            "servo_dac = true",
+        ] {
+            let text = format!("axes = 1\n{extra}\n");
             let config = motionhdl::config_file::parse(&text, "t").unwrap();
             modules.push(catalog::motion_controller(&config));
         }

@@ -17,23 +17,23 @@ use std::process::Command;
 fn header_defines_every_number_of_the_table() {
     let map = default_map();
     let n = check_header_numbers(&map);
-    // 4 globals and 5 FSMC settings; ID: 2 + 9 registers x 2 + 13 fields x 4 + 2 enum values;
+    // 4 globals and 5 FSMC settings; ID: 2 + 10 registers x 2 + 14 fields x 4 + 2 enum values;
     // COUNTER: 2 + 3 x 2 + 8 fields x 4, CH: 2 + 6 x 2 + 24 fields x 4 +
     // 5 enum values; PULSE: 2 + 2 x 2 + 3 fields x 4, AX: 2 + 16 x 2 +
-    // 26 fields x 4 + 2 enum values; SAFETY: 2 + 37 x 2 + 62 fields x 4
+    // 26 fields x 4 + 2 enum values; SAFETY: 2 + 37 x 2 + 64 fields x 4
     // + 2 enum values; SHARED_RAM: 4.
     assert_eq!(
         n,
         4 + 5
-            + (2 + 18 + 52 + 2)
+            + (2 + 20 + 56 + 2)
             + (2 + 6 + 32)
             + (2 + 12 + 96 + 5)
             + (2 + 4 + 12)
             + (2 + 32 + 104 + 2)
-            + (2 + 74 + 248 + 2)
+            + (2 + 74 + 256 + 2)
             + 4
     );
-    assert_eq!(n, 726);
+    assert_eq!(n, 740);
     for c in other_configs() {
         check_header_numbers(&mcu_map(&c));
     }

@@ -17,11 +17,11 @@ use std::path::PathBuf;
 fn default_table_has_the_registers_the_issue_describes() {
     let map = default_map();
     let set = table_set(&map);
-    // ID: 9 registers; COUNTER: INFO, SNAPSHOT, PRESET + 4 x 6 CH
+    // ID: 10 registers; COUNTER: INFO, SNAPSHOT, PRESET + 4 x 6 CH
     // registers; PULSE: INFO, RUN + 4 x 16 AX registers; SAFETY: 37;
     // SHARED_RAM: 1024 words.
-    assert_eq!(table_counts(&map).0, 9 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
-    assert_eq!(set.len(), 9 + 3 + 4 * 6 + 2 + 4 * 16 + 37 + 1024);
+    assert_eq!(table_counts(&map).0, 10 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
+    assert_eq!(set.len(), 10 + 3 + 4 * 6 + 2 + 4 * 16 + 37 + 1024);
     assert_eq!(set[&0x208].path, "SAFETY.CLEAR");
     assert_eq!(set[&0x840].path, "PULSE.AX[0].CTRL");
     assert_eq!(set[&0x420].path, "COUNTER.CH[0].CTRL");

@@ -9,7 +9,7 @@ use motionhdl_model::regmap::mcu_map;
 
 #[test]
 fn json_parses_back_to_the_table() {
-    assert_eq!(check_json(&default_map()), 139 + 1024);
+    assert_eq!(check_json(&default_map()), 140 + 1024);
     for c in other_configs() {
         check_json(&mcu_map(&c));
     }

@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata, error, index_seen);
+module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata, snapshot_strobe, error, index_seen);
     input wire clock;
     input wire reset;
     input wire [3:0] a;
@@ -16,6 +16,7 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata, err
     input wire we;
     input wire re;
     output wire [31:0] rdata;
+    input wire snapshot_strobe;
     output wire [3:0] error;
     output wire [3:0] index_seen;
 
@@ -958,7 +959,7 @@ module counter_bank(clock, reset, a, b, z, home, addr, wdata, we, re, rdata, err
         read_pending_d = read_pending_q;
         read_sel_d = read_sel_q;
         read_word_d = read_word_q;
-        snapshot = we & (addr == addr_snapshot) & has_snapshot;
+        snapshot = ((we & (addr == addr_snapshot)) | snapshot_strobe) & has_snapshot;
         error_bits = 4'h0;
         seen_bits = 4'h0;
         if (channels_0_error) begin

@@ -45,6 +45,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_counter_page = 2'b1;
     localparam mcu_pulse_page = 1'b1;
     localparam mcu_safety_page = 3'b1;
+    localparam mcu_servo_page = 6'b1;
     localparam mcu_counter_snapshot = 8'h1;
     localparam mcu_mcu_bus_src_ram = 2'b0;
     localparam mcu_mcu_bus_src_reg_low = 2'b1;
@@ -75,7 +76,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_identity_values_4 = 32'h400;
     localparam mcu_identity_values_5 = 32'h1000;
     localparam mcu_identity_values_6 = 32'h400;
-    localparam mcu_identity_values_7 = 32'h130616a2;
+    localparam mcu_identity_values_7 = 32'h64b357b8;
     localparam mcu_identity_values_8 = 32'h800;
     localparam mcu_identity_values_9 = 32'h0;
     localparam mcu_identity_values_10 = 32'h0;
@@ -562,9 +563,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     localparam mcu_safety_status_bitten = 32'h4;
     localparam mcu_safety_status_armed = 32'h8;
     localparam mcu_safety_status_irq = 32'h10;
-    localparam mcu_safety_estop_cause = 3'b1;
-    localparam mcu_safety_watchdog_cause = 3'b10;
-    localparam mcu_safety_doorbell_cause = 3'b100;
+    localparam mcu_safety_estop_cause = 4'h1;
+    localparam mcu_safety_watchdog_cause = 4'h2;
+    localparam mcu_safety_doorbell_cause = 4'h4;
+    localparam mcu_safety_servo_tick_cause = 4'h8;
     localparam mcu_safety_machine_single = 1'b0;
     localparam mcu_safety_machine_tick_reload = 24'h30d3;
     localparam mcu_safety_machine_tick_one = 24'h1;
@@ -700,6 +702,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_drive_enable;
     reg mcu_irq;
     reg mcu_doorbell;
+    reg [31:0] mcu_servo_rdata;
+    reg mcu_servo_tick;
     reg [15:0] mcu_gpi;
     reg [15:0] mcu_gpo_out;
     reg [15:0] mcu_gpo_oe;
@@ -751,6 +755,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_counters_we;
     reg mcu_counters_re;
     reg [31:0] mcu_counters_rdata;
+    reg mcu_counters_snapshot_strobe;
     reg [3:0] mcu_counters_error;
     reg [3:0] mcu_counters_index_seen;
     reg mcu_pulses_reset;
@@ -788,6 +793,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_counter_error;
     reg [3:0] mcu_safety_index_seen;
     reg mcu_safety_doorbell;
+    reg mcu_safety_servo_tick;
     reg mcu_safety_halt;
     reg [3:0] mcu_safety_stop_up;
     reg [3:0] mcu_safety_stop_down;
@@ -805,10 +811,14 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_read_from_pulses_q = 1'h0;
     reg mcu_read_from_safety_d;
     reg mcu_read_from_safety_q = 1'h0;
+    reg mcu_read_from_servo_d;
+    reg mcu_read_from_servo_q = 1'h0;
     reg mcu_select_id;
     reg mcu_select_counters;
     reg mcu_select_pulses;
     reg mcu_select_safety;
+    reg mcu_select_servo;
+    reg mcu_counter_snapshot_write;
     reg mcu_mcu_bus_ne_s1_d;
     reg mcu_mcu_bus_ne_s1_q = 1'h0;
     reg mcu_mcu_bus_noe_s1_d;
@@ -2580,10 +2590,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg [3:0] mcu_safety_enable_q = 4'h0;
     reg mcu_safety_active_high_d;
     reg mcu_safety_active_high_q = 1'h0;
-    reg [2:0] mcu_safety_cause_d;
-    reg [2:0] mcu_safety_cause_q = 3'h0;
-    reg [2:0] mcu_safety_cause_mask_d;
-    reg [2:0] mcu_safety_cause_mask_q = 3'h0;
+    reg [3:0] mcu_safety_cause_d;
+    reg [3:0] mcu_safety_cause_q = 4'h0;
+    reg [3:0] mcu_safety_cause_mask_d;
+    reg [3:0] mcu_safety_cause_mask_q = 4'h0;
     reg [3:0] mcu_safety_done_cause_d;
     reg [3:0] mcu_safety_done_cause_q = 4'h0;
     reg [3:0] mcu_safety_done_mask_d;
@@ -2611,9 +2621,9 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     reg mcu_safety_latch_next;
     reg mcu_safety_bitten_next;
     reg mcu_safety_halting;
-    reg [2:0] mcu_safety_system_events;
+    reg [3:0] mcu_safety_system_events;
     reg mcu_safety_irq_active;
-    reg [2:0] mcu_safety_cause_kept;
+    reg [3:0] mcu_safety_cause_kept;
     reg [3:0] mcu_safety_done_kept;
     reg [3:0] mcu_safety_low_kept;
     reg [31:0] mcu_safety_read_value;
@@ -3227,6 +3237,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         pc_bus_bale = isa_bale;
         pc_bus_base = isa_base;
         mcu_doorbell = pc_bus_bell_to_dsp;
+        mcu_servo_rdata = 32'h0;
+        mcu_servo_tick = 1'b0;
         pc_bus_dsp_addr = mcu_ram_addr;
         pc_bus_dsp_wdata = mcu_ram_wdata;
         pc_bus_dsp_we = mcu_ram_we;
@@ -3238,6 +3250,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_read_from_counters_d = mcu_read_from_counters_q;
         mcu_read_from_pulses_d = mcu_read_from_pulses_q;
         mcu_read_from_safety_d = mcu_read_from_safety_q;
+        mcu_read_from_servo_d = mcu_read_from_servo_q;
         mcu_safety_reset = mcu_reset;
         mcu_pulses_reset = mcu_reset;
         mcu_mcu_bus_reset = mcu_reset;
@@ -3263,7 +3276,11 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_pulses_wdata = mcu_mcu_bus_reg_wdata;
         mcu_pulses_we = mcu_mcu_bus_reg_we & mcu_select_pulses;
         mcu_pulses_re = mcu_mcu_bus_reg_re & mcu_select_pulses;
-        mcu_pulses_snapshot = mcu_mcu_bus_reg_we & mcu_select_counters & (mcu_mcu_bus_reg_addr[7:0] == mcu_counter_snapshot);
+        mcu_counter_snapshot_write = mcu_mcu_bus_reg_we & mcu_select_counters & (mcu_mcu_bus_reg_addr[7:0] == mcu_counter_snapshot);
+        mcu_pulses_snapshot = mcu_counter_snapshot_write | mcu_servo_tick;
+        mcu_counters_snapshot_strobe = mcu_servo_tick;
+        mcu_select_servo = mcu_mcu_bus_reg_addr[9:4] == mcu_servo_page;
+        mcu_safety_servo_tick = mcu_servo_tick;
         mcu_select_safety = mcu_mcu_bus_reg_addr[9:7] == mcu_safety_page;
         mcu_safety_addr = mcu_mcu_bus_reg_addr[6:0];
         mcu_safety_wdata = mcu_mcu_bus_reg_wdata;
@@ -3298,6 +3315,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_read_from_counters_d = mcu_select_counters;
             mcu_read_from_pulses_d = mcu_select_pulses;
             mcu_read_from_safety_d = mcu_select_safety;
+            mcu_read_from_servo_d = mcu_select_servo;
         end
         mcu_mcu_bus_reg_rdata = 32'h0;
         if (mcu_read_from_id_q) begin
@@ -3312,11 +3330,15 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_read_from_safety_q) begin
             mcu_mcu_bus_reg_rdata = mcu_safety_rdata;
         end
+        if (mcu_read_from_servo_q) begin
+            mcu_mcu_bus_reg_rdata = mcu_servo_rdata;
+        end
         if (mcu_reset) begin
             mcu_read_from_id_d = 1'b0;
             mcu_read_from_counters_d = 1'b0;
             mcu_read_from_pulses_d = 1'b0;
             mcu_read_from_safety_d = 1'b0;
+            mcu_read_from_servo_d = 1'b0;
         end
         mcu_ram_addr = mcu_mcu_bus_ram_addr;
         mcu_ram_wdata = mcu_mcu_bus_ram_wdata;
@@ -3511,7 +3533,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_counters_read_pending_d = mcu_counters_read_pending_q;
         mcu_counters_read_sel_d = mcu_counters_read_sel_q;
         mcu_counters_read_word_d = mcu_counters_read_word_q;
-        mcu_counters_snapshot = mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot) & mcu_counters_has_snapshot;
+        mcu_counters_snapshot = ((mcu_counters_we & (mcu_counters_addr == mcu_counters_addr_snapshot)) | mcu_counters_snapshot_strobe) & mcu_counters_has_snapshot;
         mcu_counters_error_bits = 4'h0;
         mcu_counters_seen_bits = 4'h0;
         if (mcu_counters_channels_0_error) begin
@@ -7842,7 +7864,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_enable_d = 4'h0;
         end
         mcu_safety_gpio_halting = mcu_safety_halting;
-        mcu_safety_system_events = 3'h0;
+        mcu_safety_system_events = 4'h0;
         if (mcu_safety_estop_sync_q & ~mcu_safety_estop_latch_q) begin
             mcu_safety_system_events = mcu_safety_estop_cause;
         end
@@ -7852,9 +7874,12 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         if (mcu_safety_doorbell) begin
             mcu_safety_system_events = mcu_safety_system_events | mcu_safety_doorbell_cause;
         end
+        if (mcu_safety_servo_tick) begin
+            mcu_safety_system_events = mcu_safety_system_events | mcu_safety_servo_tick_cause;
+        end
         mcu_safety_cause_kept = mcu_safety_cause_q;
         if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_cause)) begin
-            mcu_safety_cause_kept = mcu_safety_cause_q & ~mcu_safety_wdata[2:0];
+            mcu_safety_cause_kept = mcu_safety_cause_q & ~mcu_safety_wdata[3:0];
         end
         mcu_safety_done_kept = mcu_safety_done_cause_q;
         if (mcu_safety_we & (mcu_safety_addr == mcu_safety_addr_done_cause)) begin
@@ -7871,7 +7896,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
         mcu_safety_low_before_d = mcu_safety_low;
         if (mcu_safety_we) begin
             if (mcu_safety_addr == mcu_safety_addr_cause_mask) begin
-                mcu_safety_cause_mask_d = mcu_safety_wdata[2:0];
+                mcu_safety_cause_mask_d = mcu_safety_wdata[3:0];
             end
             if (mcu_safety_addr == mcu_safety_addr_done_mask) begin
                 mcu_safety_done_mask_d = mcu_safety_wdata[3:0];
@@ -7923,10 +7948,10 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_read_value = {31'h0, mcu_safety_active_high_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_cause) begin
-            mcu_safety_read_value = {29'h0, mcu_safety_cause_q};
+            mcu_safety_read_value = {28'h0, mcu_safety_cause_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_cause_mask) begin
-            mcu_safety_read_value = {29'h0, mcu_safety_cause_mask_q};
+            mcu_safety_read_value = {28'h0, mcu_safety_cause_mask_q};
         end
         if (mcu_safety_read_addr_q == mcu_safety_addr_done_cause) begin
             mcu_safety_read_value = {28'h0, mcu_safety_done_cause_q};
@@ -7953,8 +7978,8 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
             mcu_safety_count_d = 32'h0;
             mcu_safety_enable_d = 4'h0;
             mcu_safety_active_high_d = 1'b0;
-            mcu_safety_cause_d = 3'h0;
-            mcu_safety_cause_mask_d = 3'h0;
+            mcu_safety_cause_d = 4'h0;
+            mcu_safety_cause_mask_d = 4'h0;
             mcu_safety_done_cause_d = 4'h0;
             mcu_safety_done_mask_d = 4'h0;
             mcu_safety_low_cause_d = 4'h0;
@@ -10163,6 +10188,7 @@ module motion_controller(clock, reset, fsmc_ne_n, fsmc_noe_n, fsmc_nwe_n, fsmc_a
     always @(posedge clock) mcu_read_from_counters_q <= mcu_read_from_counters_d;
     always @(posedge clock) mcu_read_from_pulses_q <= mcu_read_from_pulses_d;
     always @(posedge clock) mcu_read_from_safety_q <= mcu_read_from_safety_d;
+    always @(posedge clock) mcu_read_from_servo_q <= mcu_read_from_servo_d;
     always @(posedge clock) pc_bus_core_ior_s1_q <= pc_bus_core_ior_s1_d;
     always @(posedge clock) pc_bus_core_ior_s2_q <= pc_bus_core_ior_s2_d;
     always @(posedge clock) pc_bus_core_ior_s3_q <= pc_bus_core_ior_s3_d;

@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, at_soft_max, at_soft_min, counter_error, index_seen, doorbell, halt, stop_up, stop_down, home_event, drive_enable, irq, gpi, gpo_out, gpo_oe);
+module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, limit_pos, limit_neg, home, alarm, at_soft_max, at_soft_min, counter_error, index_seen, doorbell, servo_tick, halt, stop_up, stop_down, home_event, drive_enable, irq, gpi, gpo_out, gpo_oe);
     input wire clock;
     input wire reset;
     input wire [6:0] addr;
@@ -24,6 +24,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     input wire [3:0] counter_error;
     input wire [3:0] index_seen;
     input wire doorbell;
+    input wire servo_tick;
     output wire halt;
     output wire [3:0] stop_up;
     output wire [3:0] stop_down;
@@ -56,9 +57,10 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     localparam status_bitten = 32'h4;
     localparam status_armed = 32'h8;
     localparam status_irq = 32'h10;
-    localparam estop_cause = 3'b1;
-    localparam watchdog_cause = 3'b10;
-    localparam doorbell_cause = 3'b100;
+    localparam estop_cause = 4'h1;
+    localparam watchdog_cause = 4'h2;
+    localparam doorbell_cause = 4'h4;
+    localparam servo_tick_cause = 4'h8;
     localparam machine_single = 1'b0;
     localparam machine_tick_reload = 24'h30d3;
     localparam machine_tick_one = 24'h1;
@@ -218,10 +220,10 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg [3:0] enable_q = 4'h0;
     reg active_high_d;
     reg active_high_q = 1'h0;
-    reg [2:0] cause_d;
-    reg [2:0] cause_q = 3'h0;
-    reg [2:0] cause_mask_d;
-    reg [2:0] cause_mask_q = 3'h0;
+    reg [3:0] cause_d;
+    reg [3:0] cause_q = 4'h0;
+    reg [3:0] cause_mask_d;
+    reg [3:0] cause_mask_q = 4'h0;
     reg [3:0] done_cause_d;
     reg [3:0] done_cause_q = 4'h0;
     reg [3:0] done_mask_d;
@@ -249,9 +251,9 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
     reg latch_next;
     reg bitten_next;
     reg halting;
-    reg [2:0] system_events;
+    reg [3:0] system_events;
     reg irq_active;
-    reg [2:0] cause_kept;
+    reg [3:0] cause_kept;
     reg [3:0] done_kept;
     reg [3:0] low_kept;
     reg [31:0] read_value;
@@ -824,7 +826,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             enable_d = 4'h0;
         end
         gpio_halting = halting;
-        system_events = 3'h0;
+        system_events = 4'h0;
         if (estop_sync_q & ~estop_latch_q) begin
             system_events = estop_cause;
         end
@@ -834,9 +836,12 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         if (doorbell) begin
             system_events = system_events | doorbell_cause;
         end
+        if (servo_tick) begin
+            system_events = system_events | servo_tick_cause;
+        end
         cause_kept = cause_q;
         if (we & (addr == addr_cause)) begin
-            cause_kept = cause_q & ~wdata[2:0];
+            cause_kept = cause_q & ~wdata[3:0];
         end
         done_kept = done_cause_q;
         if (we & (addr == addr_done_cause)) begin
@@ -853,7 +858,7 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
         low_before_d = low;
         if (we) begin
             if (addr == addr_cause_mask) begin
-                cause_mask_d = wdata[2:0];
+                cause_mask_d = wdata[3:0];
             end
             if (addr == addr_done_mask) begin
                 done_mask_d = wdata[3:0];
@@ -905,10 +910,10 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             read_value = {31'h0, active_high_q};
         end
         if (read_addr_q == addr_cause) begin
-            read_value = {29'h0, cause_q};
+            read_value = {28'h0, cause_q};
         end
         if (read_addr_q == addr_cause_mask) begin
-            read_value = {29'h0, cause_mask_q};
+            read_value = {28'h0, cause_mask_q};
         end
         if (read_addr_q == addr_done_cause) begin
             read_value = {28'h0, done_cause_q};
@@ -935,8 +940,8 @@ module safety_io(clock, reset, addr, wdata, we, re, rdata, estop_ok, done, low, 
             count_d = 32'h0;
             enable_d = 4'h0;
             active_high_d = 1'b0;
-            cause_d = 3'h0;
-            cause_mask_d = 3'h0;
+            cause_d = 4'h0;
+            cause_mask_d = 4'h0;
             done_cause_d = 4'h0;
             done_mask_d = 4'h0;
             low_cause_d = 4'h0;

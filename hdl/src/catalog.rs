@@ -3,8 +3,8 @@
 use crate::ports::Port;
 use crate::{
     banner, verilog, CounterBank, FsmcBridge, IsaBridge, IsaBridgeExternal, Ls153, Ls688,
-    MotionController, MotionControllerExternal, PulseGenerator, PulseModeSelector,
-    PulseModeSelectorRegistered, QuadratureCore, SafetyIo,
+    MotionController, MotionControllerExternal, MotionControllerServo, PulseGenerator,
+    PulseModeSelector, PulseModeSelectorRegistered, QuadratureCore, SafetyIo,
 };
 use motionhdl_spec::{Config, CounterFeatures, IsaRam};
 use rust_hdl::prelude::Block;
@@ -157,6 +157,9 @@ pub fn motion_controller(config: &Config) -> VerilogModule {
         };
     }
     match config.isa_ram() {
+        IsaRam::Internal if config.servo_dac() => {
+            top!(MotionControllerServo, 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+        }
         IsaRam::Internal => top!(MotionController, 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16),
         IsaRam::External => {
             top!(MotionControllerExternal, 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)

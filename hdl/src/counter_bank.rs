@@ -39,6 +39,9 @@ pub struct CounterBank<const N: usize> {
     pub re: Signal<In, Bit>,
     /// Read data, valid from the second clock edge after `re`.
     pub rdata: Signal<Out, Bits<32>>,
+    /// Take the snapshot at this edge, as a write of SNAPSHOT does (the
+    /// servo tick in the servo card's top; tie low elsewhere).
+    pub snapshot_strobe: Signal<In, Bit>,
     /// Per channel: STATUS.ERR, live (flip-flops).
     pub error: Signal<Out, Bits<N>>,
     /// Per channel: STATUS.SEEN, live (flip-flops).
@@ -117,6 +120,7 @@ impl<const N: usize> CounterBank<N> {
             we: Default::default(),
             re: Default::default(),
             rdata: Default::default(),
+            snapshot_strobe: Default::default(),
             error: Default::default(),
             index_seen: Default::default(),
             channels: (0..N as u32)
@@ -172,8 +176,9 @@ impl<const N: usize> Logic for CounterBank<N> {
             read_sel,
             read_word
         );
-        self.snapshot.next =
-            self.we.val() & (self.addr.val() == self.addr_snapshot.val()) & self.has_snapshot.val();
+        self.snapshot.next = ((self.we.val() & (self.addr.val() == self.addr_snapshot.val()))
+            | self.snapshot_strobe.val())
+            & self.has_snapshot.val();
         self.error_bits.next = 0.into();
         self.seen_bits.next = 0.into();
         for i in 0..N {

@@ -48,7 +48,7 @@ pub use isa_bus_core::IsaBusCore;
 pub use ls153::Ls153;
 pub use ls688::Ls688;
 pub use mcu_side::McuSide;
-pub use motion_controller::{MotionController, MotionControllerExternal};
+pub use motion_controller::{MotionController, MotionControllerExternal, MotionControllerServo};
 pub use move_engine::MoveEngine;
 pub use pulse_bank::PulseBank;
 pub use pulse_generator::PulseGenerator;

@@ -45,6 +45,22 @@ fsmc_host_block! {
         pub irq: Signal<Out, Bit>,
         /// The PC rang the DSP side's mailbox (ISA bridge): CAUSE.DOORBELL.
         pub doorbell: Signal<In, Bit>,
+        /// SERVO block register port (the servo card's top): word address.
+        pub servo_addr: Signal<Out, Bits<4>>,
+        /// SERVO register write data.
+        pub servo_wdata: Signal<Out, Bits<32>>,
+        /// SERVO register write strobe.
+        pub servo_we: Signal<Out, Bit>,
+        /// SERVO register read strobe.
+        pub servo_re: Signal<Out, Bit>,
+        /// SERVO read data (tie to 0 without the block: its page reads 0).
+        pub servo_rdata: Signal<In, Bits<32>>,
+        /// The servo tick (one clock; tie low without the block): the
+        /// counters' and pulse positions' snapshot at its edge, and
+        /// SAFETY's CAUSE.SERVO_TICK.
+        pub servo_tick: Signal<In, Bit>,
+        /// The SERVO block's `safe` input: SAFETY's HALT.
+        pub servo_safe: Signal<Out, Bit>,
         /// General-purpose input pins (asynchronous).
         pub gpi: Signal<In, Bits<16>>,
         /// General-purpose outputs: the level driven while `gpo_oe` is 1.
@@ -61,15 +77,19 @@ fsmc_host_block! {
         read_from_counters: DFF<Bit>,
         read_from_pulses: DFF<Bit>,
         read_from_safety: DFF<Bit>,
+        read_from_servo: DFF<Bit>,
         id_page: Constant<Bits<6>>,
         counter_page: Constant<Bits<2>>,
         pulse_page: Constant<Bits<1>>,
         safety_page: Constant<Bits<3>>,
+        servo_page: Constant<Bits<6>>,
         counter_snapshot: Constant<Bits<8>>,
         select_id: Signal<Local, Bit>,
         select_counters: Signal<Local, Bit>,
         select_pulses: Signal<Local, Bit>,
         select_safety: Signal<Local, Bit>,
+        select_servo: Signal<Local, Bit>,
+        counter_snapshot_write: Signal<Local, Bit>,
     }
 }
 
@@ -94,7 +114,19 @@ impl<const N: usize> McuSide<N> {
         assert_eq!(counter.address_bits, 8);
         assert_eq!(pulse.address_bits, 9);
         assert_eq!(safety.address_bits, 7);
-        assert_eq!(map.blocks.len(), 4, "a block the decode does not know");
+        // SERVO's page (reg_addr[9:4]) is decoded in every build; without
+        // the block its port reads 0 and its writes go nowhere.
+        let servo_page = regmap::MCU_SERVO_WORD_BASE >> 4;
+        let servo_blocks = usize::from(config.servo_dac());
+        if config.servo_dac() {
+            let servo = map.block("SERVO");
+            assert_eq!((servo.base, servo.address_bits), (servo_page << 4, 4));
+        }
+        assert_eq!(
+            map.blocks.len(),
+            4 + servo_blocks,
+            "a block the decode does not know"
+        );
         assert_eq!(regmap::MCU_HALFWORD_ADDRESS_BITS, 12);
         // The bridge sends every A11 = 1 access to the RAM port.
         assert!(map.memories.len() <= 1);
@@ -130,6 +162,17 @@ impl<const N: usize> McuSide<N> {
             gpo_out: Default::default(),
             gpo_oe: Default::default(),
             read_from_safety: Default::default(),
+            read_from_servo: Default::default(),
+            servo_page: Constant::new((servo_page as u64).into()),
+            select_servo: Default::default(),
+            counter_snapshot_write: Default::default(),
+            servo_addr: Default::default(),
+            servo_wdata: Default::default(),
+            servo_we: Default::default(),
+            servo_re: Default::default(),
+            servo_rdata: Default::default(),
+            servo_tick: Default::default(),
+            servo_safe: Default::default(),
             safety_page: Constant::new(((safety.base >> 7) as u64).into()),
             select_safety: Default::default(),
             pulse_f1: Default::default(),
@@ -181,7 +224,8 @@ impl<const N: usize> Logic for McuSide<N> {
             read_from_id,
             read_from_counters,
             read_from_pulses,
-            read_from_safety
+            read_from_safety,
+            read_from_servo
         );
         self.safety.clock.next = self.clock.val();
         self.safety.reset.next = self.reset.val();
@@ -218,10 +262,21 @@ impl<const N: usize> Logic for McuSide<N> {
         self.pulses.we.next = self.mcu_bus.reg_we.val() & self.select_pulses.val();
         self.pulses.re.next = self.mcu_bus.reg_re.val() & self.select_pulses.val();
         // The counter bank's SNAPSHOT also captures the pulse positions, so
-        // commanded and counted positions are read as one coherent set.
-        self.pulses.snapshot.next = self.mcu_bus.reg_we.val()
+        // commanded and counted positions are read as one coherent set; the
+        // servo tick takes both at its edge, as the write does.
+        self.counter_snapshot_write.next = self.mcu_bus.reg_we.val()
             & self.select_counters.val()
             & (self.mcu_bus.reg_addr.val().get_bits::<8>(0) == self.counter_snapshot.val());
+        self.pulses.snapshot.next = self.counter_snapshot_write.val() | self.servo_tick.val();
+        self.counters.snapshot_strobe.next = self.servo_tick.val();
+        self.select_servo.next =
+            self.mcu_bus.reg_addr.val().get_bits::<6>(4) == self.servo_page.val();
+        self.servo_addr.next = self.mcu_bus.reg_addr.val().get_bits::<4>(0);
+        self.servo_wdata.next = self.mcu_bus.reg_wdata.val();
+        self.servo_we.next = self.mcu_bus.reg_we.val() & self.select_servo.val();
+        self.servo_re.next = self.mcu_bus.reg_re.val() & self.select_servo.val();
+        self.servo_safe.next = self.safety.halt.val();
+        self.safety.servo_tick.next = self.servo_tick.val();
         self.select_safety.next =
             self.mcu_bus.reg_addr.val().get_bits::<3>(7) == self.safety_page.val();
         self.safety.addr.next = self.mcu_bus.reg_addr.val().get_bits::<7>(0);
@@ -258,6 +313,7 @@ impl<const N: usize> Logic for McuSide<N> {
             self.read_from_counters.d.next = self.select_counters.val();
             self.read_from_pulses.d.next = self.select_pulses.val();
             self.read_from_safety.d.next = self.select_safety.val();
+            self.read_from_servo.d.next = self.select_servo.val();
         }
         self.mcu_bus.reg_rdata.next = 0.into();
         if self.read_from_id.q.val() {
@@ -272,11 +328,15 @@ impl<const N: usize> Logic for McuSide<N> {
         if self.read_from_safety.q.val() {
             self.mcu_bus.reg_rdata.next = self.safety.rdata.val();
         }
+        if self.read_from_servo.q.val() {
+            self.mcu_bus.reg_rdata.next = self.servo_rdata.val();
+        }
         if self.reset.val() {
             self.read_from_id.d.next = false;
             self.read_from_counters.d.next = false;
             self.read_from_pulses.d.next = false;
             self.read_from_safety.d.next = false;
+            self.read_from_servo.d.next = false;
         }
         // The RAM window.
         self.ram_addr.next = self.mcu_bus.ram_addr.val();

@@ -3,6 +3,7 @@
 //! builds, as the ISA bridge has two: the RAM inside the FPGA, or an
 //! external dual-port SRAM.
 
+use crate::servo_dac::ServoDac;
 use crate::{IsaBridge, IsaBridgeExternal, McuSide};
 use motionhdl_spec::{Config, IsaRam};
 use rust_hdl::prelude::*;
@@ -29,8 +30,9 @@ macro_rules! top_level {
             )*
         }
         pc_bus: $bridge:ident,
+        blocks { $( $block:ident: $block_ty:ty = $block_new:path; )* }
         $(#[$new_attr:meta])*
-        fn new asserts $ram:ident, $ram_why:literal;
+        fn new asserts $ram:ident, servo_dac = $servo:literal, $ram_why:literal;
         wiring {
             $( $($to:ident).+ = $($from:ident).+; )*
         }
@@ -100,6 +102,7 @@ macro_rules! top_level {
                 )*
                 mcu: McuSide<N>,
                 pc_bus: $bridge,
+                $( $block: $block_ty, )*
             }
         }
 
@@ -107,6 +110,7 @@ macro_rules! top_level {
             $(#[$new_attr])*
             pub fn new(config: &Config) -> Self {
                 assert_eq!(config.isa_ram(), IsaRam::$ram, $ram_why);
+                assert_eq!(config.servo_dac(), $servo, "servo_dac: the top with(out) SERVO");
                 fsmc_host_new!({
                     isa_sa: Default::default(),
                     isa_sd_in: Default::default(),
@@ -137,6 +141,7 @@ macro_rules! top_level {
                     $( $port: Default::default(), )*
                     mcu: McuSide::new(config),
                     pc_bus: $bridge::new(),
+                    $( $block: $block_new(config), )*
                 })
             }
 
@@ -190,6 +195,10 @@ macro_rules! top_level {
                 self.isa_irq.next = self.pc_bus.irq.val();
                 // The PC rang the MCU's mailbox: a SAFETY cause.
                 self.mcu.doorbell.next = self.pc_bus.bell_to_dsp.val();
+                // No SERVO block unless the build's wiring below has one:
+                // its page reads 0, no tick.
+                self.mcu.servo_rdata.next = 0.into();
+                self.mcu.servo_tick.next = false;
                 $( self.$($to).+.next = self.$($from).+.val(); )*
             }
         }
@@ -202,8 +211,9 @@ top_level! {
     /// window.
     pub struct MotionController {}
     pc_bus: IsaBridge,
+    blocks {}
     /// The top level for `config` (axis count `N`, RAM inside).
-    fn new asserts Internal, "this top has the RAM inside";
+    fn new asserts Internal, servo_dac = false, "this top has the RAM inside";
     wiring {
         // The shared RAM's second port is the MCU's RAM window.
         pc_bus.dsp_addr = mcu.ram_addr;
@@ -246,8 +256,9 @@ top_level! {
         pub window_rdata: Signal<In, Bits<16>>,
     }
     pc_bus: IsaBridgeExternal,
+    blocks {}
     /// The top level for `config` (axis count `N`, RAM external).
-    fn new asserts External, "this top has the RAM outside";
+    fn new asserts External, servo_dac = false, "this top has the RAM outside";
     wiring {
         // The MCU window goes to the board.
         window_addr = mcu.ram_addr;
@@ -263,4 +274,60 @@ top_level! {
         sram_oe_n = pc_bus.ram_oe_n;
         sram_we_n = pc_bus.ram_we_n;
     }
+}
+
+top_level! {
+    /// The servo card (the TMS320C32 seed's SH-2000TH): [`MotionController`]
+    /// with the SERVO block (docs/servo_dac.md) on the MCU bus. Its tick
+    /// takes the counters' and pulse positions' snapshot at the edge where
+    /// its transfer of the staged codes starts, and is SAFETY's
+    /// CAUSE.SERVO_TICK; SAFETY's HALT sends the DAC its safe code.
+    pub struct MotionControllerServo {
+        /// DAC7744-style parallel DAC: data D15..D0.
+        pub dac_data: Signal<Out, Bits<16>>,
+        /// DAC channel address A1:A0.
+        pub dac_addr: Signal<Out, Bits<2>>,
+        /// DAC chip select, active low.
+        pub dac_cs_n: Signal<Out, Bit>,
+        /// DAC R/W: always low (write).
+        pub dac_rw_n: Signal<Out, Bit>,
+        /// DAC LOADDACS: its rise moves all four input registers to the
+        /// outputs.
+        pub dac_ldac_n: Signal<Out, Bit>,
+    }
+    pc_bus: IsaBridge,
+    blocks {
+        servo: ServoDac = servo_dac_for;
+    }
+    /// The top level for `config` (axis count `N`, RAM inside, SERVO).
+    fn new asserts Internal, servo_dac = true, "the servo card's top has the RAM inside";
+    wiring {
+        pc_bus.dsp_addr = mcu.ram_addr;
+        pc_bus.dsp_wdata = mcu.ram_wdata;
+        pc_bus.dsp_we = mcu.ram_we;
+        mcu.ram_rdata = pc_bus.dsp_rdata;
+        servo.clock = clock;
+        servo.reset = reset;
+        servo.addr = mcu.servo_addr;
+        servo.wdata = mcu.servo_wdata;
+        servo.we = mcu.servo_we;
+        servo.re = mcu.servo_re;
+        mcu.servo_rdata = servo.rdata;
+        servo.safe = mcu.servo_safe;
+        mcu.servo_tick = servo.tick;
+        dac_data = servo.dac_data;
+        dac_addr = servo.dac_addr;
+        dac_cs_n = servo.dac_cs_n;
+        dac_rw_n = servo.dac_rw_n;
+        dac_ldac_n = servo.dac_ldac_n;
+    }
+}
+
+/// The SERVO block for `config`'s clock.
+fn servo_dac_for(config: &Config) -> ServoDac {
+    assert!(
+        config.servo_dac(),
+        "a servo top for a configuration without it"
+    );
+    ServoDac::new(config.clock_hz())
 }

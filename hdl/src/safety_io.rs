@@ -63,6 +63,9 @@ pub struct SafetyIo<const N: usize> {
     /// The PC's write of the DSP mailbox word lands (a one-clock pulse from
     /// the ISA bridge): CAUSE.DOORBELL.
     pub doorbell: Signal<In, Bit>,
+    /// The servo tick (the SERVO block's `tick`, one clock; tie low in a
+    /// build without it): CAUSE.SERVO_TICK.
+    pub servo_tick: Signal<In, Bit>,
     /// Stop every axis now: the e-stop latch or the bite flag is set.
     pub halt: Signal<Out, Bit>,
     /// Per axis: no step in the positive direction (a limit, an alarm or
@@ -97,8 +100,8 @@ pub struct SafetyIo<const N: usize> {
     count: DFF<Bits<32>>,
     enable: DFF<Bits<N>>,
     active_high: DFF<Bit>,
-    cause: DFF<Bits<3>>,
-    cause_mask: DFF<Bits<3>>,
+    cause: DFF<Bits<4>>,
+    cause_mask: DFF<Bits<4>>,
     done_cause: DFF<Bits<N>>,
     done_mask: DFF<Bits<N>>,
     low_cause: DFF<Bits<N>>,
@@ -131,9 +134,10 @@ pub struct SafetyIo<const N: usize> {
     status_bitten: Constant<Bits<32>>,
     status_armed: Constant<Bits<32>>,
     status_irq: Constant<Bits<32>>,
-    estop_cause: Constant<Bits<3>>,
-    watchdog_cause: Constant<Bits<3>>,
-    doorbell_cause: Constant<Bits<3>>,
+    estop_cause: Constant<Bits<4>>,
+    watchdog_cause: Constant<Bits<4>>,
+    doorbell_cause: Constant<Bits<4>>,
+    servo_tick_cause: Constant<Bits<4>>,
     write_clear: Signal<Local, Bit>,
     write_timeout: Signal<Local, Bit>,
     reload: Signal<Local, Bit>,
@@ -141,9 +145,9 @@ pub struct SafetyIo<const N: usize> {
     latch_next: Signal<Local, Bit>,
     bitten_next: Signal<Local, Bit>,
     halting: Signal<Local, Bit>,
-    system_events: Signal<Local, Bits<3>>,
+    system_events: Signal<Local, Bits<4>>,
     irq_active: Signal<Local, Bit>,
-    cause_kept: Signal<Local, Bits<3>>,
+    cause_kept: Signal<Local, Bits<4>>,
     done_kept: Signal<Local, Bits<N>>,
     low_kept: Signal<Local, Bits<N>>,
     read_value: Signal<Local, Bits<32>>,
@@ -161,11 +165,12 @@ impl<const N: usize> SafetyIo<N> {
         let status = map.register("STATUS");
         let bit32 = |f: &str| k32(status.field(f).mask());
         let cause = map.register("CAUSE");
-        // The cause flip-flops hold the register's bits 2:0; CLEAR's fields
+        // The cause flip-flops hold the register's bits 3:0; CLEAR's fields
         // are tested at bits 0 and 1 below.
         assert_eq!(cause.field("ESTOP").lsb, 0);
         assert_eq!(cause.field("WATCHDOG").lsb, 1);
         assert_eq!(cause.field("DOORBELL").lsb, 2);
+        assert_eq!(cause.field("SERVO_TICK").lsb, 3);
         assert_eq!(map.register("CLEAR").field("ESTOP").lsb, 0);
         assert_eq!(map.register("CLEAR").field("BITTEN").lsb, 1);
         assert_eq!(map.register("IRQ_CTRL").field("ACTIVE_HIGH").lsb, 0);
@@ -188,6 +193,7 @@ impl<const N: usize> SafetyIo<N> {
             at_soft_min: Default::default(),
             counter_error: Default::default(),
             doorbell: Default::default(),
+            servo_tick: Default::default(),
             index_seen: Default::default(),
             halt: Default::default(),
             stop_up: Default::default(),
@@ -248,6 +254,7 @@ impl<const N: usize> SafetyIo<N> {
             estop_cause: Constant::new(1.into()),
             watchdog_cause: Constant::new(2.into()),
             doorbell_cause: Constant::new(4.into()),
+            servo_tick_cause: Constant::new(8.into()),
             write_clear: Default::default(),
             write_timeout: Default::default(),
             reload: Default::default(),
@@ -408,10 +415,13 @@ impl<const N: usize> Logic for SafetyIo<N> {
         if self.doorbell.val() {
             self.system_events.next = self.system_events.val() | self.doorbell_cause.val();
         }
+        if self.servo_tick.val() {
+            self.system_events.next = self.system_events.val() | self.servo_tick_cause.val();
+        }
         // (A DFF's `d` reads back its old value: the kept bits are Locals.)
         self.cause_kept.next = self.cause.q.val();
         if self.we.val() & (self.addr.val() == self.addr_cause.val()) {
-            self.cause_kept.next = self.cause.q.val() & !self.wdata.val().get_bits::<3>(0);
+            self.cause_kept.next = self.cause.q.val() & !self.wdata.val().get_bits::<4>(0);
         }
         self.done_kept.next = self.done_cause.q.val();
         if self.we.val() & (self.addr.val() == self.addr_done_cause.val()) {
@@ -429,7 +439,7 @@ impl<const N: usize> Logic for SafetyIo<N> {
         self.low_before.d.next = self.low.val();
         if self.we.val() {
             if self.addr.val() == self.addr_cause_mask.val() {
-                self.cause_mask.d.next = self.wdata.val().get_bits::<3>(0);
+                self.cause_mask.d.next = self.wdata.val().get_bits::<4>(0);
             }
             if self.addr.val() == self.addr_done_mask.val() {
                 self.done_mask.d.next = self.wdata.val().get_bits::<N>(0);
@@ -495,10 +505,10 @@ impl<const N: usize> Logic for SafetyIo<N> {
             self.read_value.next = bit_cast::<32, 1>(self.active_high.q.val().into());
         }
         if self.read_addr.q.val() == self.addr_cause.val() {
-            self.read_value.next = bit_cast::<32, 3>(self.cause.q.val());
+            self.read_value.next = bit_cast::<32, 4>(self.cause.q.val());
         }
         if self.read_addr.q.val() == self.addr_cause_mask.val() {
-            self.read_value.next = bit_cast::<32, 3>(self.cause_mask.q.val());
+            self.read_value.next = bit_cast::<32, 4>(self.cause_mask.q.val());
         }
         if self.read_addr.q.val() == self.addr_done_cause.val() {
             self.read_value.next = bit_cast::<32, N>(self.done_cause.q.val());

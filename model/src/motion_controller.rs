@@ -17,6 +17,7 @@ use crate::machine_inputs::MachinePins;
 use crate::pulse_generator::PulseBank;
 use crate::regmap::{self, ERR_COUNT_BITS};
 use crate::safety_io::SafetyIo;
+use crate::servo_dac::ServoDac;
 use crate::{Config, IsaRam};
 
 /// Every input pin of the top at one rising edge (the clock aside).
@@ -112,11 +113,17 @@ pub struct TopOutputs {
     /// General-purpose outputs: levels, and which pins drive.
     pub gpo_out: u16,
     pub gpo_oe: u16,
+    /// The servo card's DAC pins (all 0 in a top without SERVO).
+    pub dac_data: u16,
+    pub dac_addr: u8,
+    pub dac_cs_n: bool,
+    pub dac_rw_n: bool,
+    pub dac_ldac_n: bool,
 }
 
 impl TopOutputs {
     /// (pin name, value) of every output, for messages and comparisons.
-    pub fn pins(&self) -> [(&'static str, u32); 12] {
+    pub fn pins(&self) -> [(&'static str, u32); 17] {
         [
             ("fsmc_d_out", u32::from(self.fsmc_d_out)),
             ("fsmc_d_oe", u32::from(self.fsmc_d_oe)),
@@ -128,6 +135,11 @@ impl TopOutputs {
             ("pulse_f2", u32::from(self.pulse_f2)),
             ("drive_enable", u32::from(self.drive_enable)),
             ("irq", u32::from(self.irq)),
+            ("dac_data", u32::from(self.dac_data)),
+            ("dac_addr", u32::from(self.dac_addr)),
+            ("dac_cs_n", u32::from(self.dac_cs_n)),
+            ("dac_rw_n", u32::from(self.dac_rw_n)),
+            ("dac_ldac_n", u32::from(self.dac_ldac_n)),
             ("gpo_out", u32::from(self.gpo_out)),
             ("gpo_oe", u32::from(self.gpo_oe)),
         ]
@@ -184,6 +196,7 @@ struct Decode {
     select_counters: bool,
     select_pulses: bool,
     select_safety: bool,
+    select_servo: bool,
     reg_rdata: u32,
 }
 
@@ -199,15 +212,19 @@ pub struct MotionControllerModel {
     pulses: PulseBank,
     safety: SafetyIo,
     isa: IsaBridgeModel,
+    /// The SERVO block, in the servo card's top.
+    servo: Option<ServoDac>,
     // Which block the last register read went to (McuSide's read mux).
     read_from_id: bool,
     read_from_counters: bool,
     read_from_pulses: bool,
     read_from_safety: bool,
+    read_from_servo: bool,
     id_page: u32,
     counter_page: u32,
     pulse_page: u32,
     safety_page: u32,
+    servo_page: u32,
     snapshot_offset: u32,
     axis_mask: u16,
     // Reused every clock: (a, b, z) per channel for the counter bank.
@@ -239,7 +256,17 @@ impl MotionControllerModel {
         assert_eq!(counter.address_bits, 8);
         assert_eq!(pulse.address_bits, 9);
         assert_eq!(safety.address_bits, 7);
-        assert_eq!(map.blocks.len(), 4, "a block the decode does not know");
+        let servo_page = regmap::MCU_SERVO_WORD_BASE >> 4;
+        let servo = config.servo_dac().then(|| {
+            let block = map.block("SERVO");
+            assert_eq!((block.base, block.address_bits), (servo_page << 4, 4));
+            ServoDac::new(config.clock_hz()).at_power_up()
+        });
+        assert_eq!(
+            map.blocks.len(),
+            4 + usize::from(servo.is_some()),
+            "a block the decode does not know"
+        );
         Self {
             fsmc: FsmcBridgeModel::new(),
             id: IdBlockModel::new(id),
@@ -251,6 +278,9 @@ impl MotionControllerModel {
             pulses: PulseBank::new(axes, config.counter_width()),
             safety: SafetyIo::new(axes, config.filter_tick_clocks()),
             isa: IsaBridgeModel::new(),
+            servo,
+            read_from_servo: false,
+            servo_page,
             read_from_id: false,
             read_from_counters: false,
             read_from_pulses: false,
@@ -283,6 +313,10 @@ impl MotionControllerModel {
     pub fn isa(&self) -> &IsaBridgeModel {
         &self.isa
     }
+    /// The SERVO block, in the servo card's top.
+    pub fn servo(&self) -> Option<&ServoDac> {
+        self.servo.as_ref()
+    }
 
     fn decode(&self, inp: &TopInputs) -> Decode {
         let bridge = self.fsmc.outputs(&inp.fsmc());
@@ -302,12 +336,16 @@ impl MotionControllerModel {
         if self.read_from_safety {
             reg_rdata = self.safety.rdata();
         }
+        if self.read_from_servo {
+            reg_rdata = self.servo.as_ref().map_or(0, ServoDac::rdata);
+        }
         Decode {
             bridge,
             select_id: (a >> 4) & 0x3f == self.id_page,
             select_counters: (a >> 8) & 3 == self.counter_page,
             select_pulses: (a >> 9) & 1 == self.pulse_page,
             select_safety: (a >> 7) & 7 == self.safety_page,
+            select_servo: (a >> 4) & 0x3f == self.servo_page,
             reg_rdata,
         }
     }
@@ -336,7 +374,13 @@ impl MotionControllerModel {
             f1 |= u16::from(a) << i;
             f2 |= u16::from(b) << i;
         }
+        let dac = self.servo.as_ref().map(ServoDac::pins);
         TopOutputs {
+            dac_data: dac.map_or(0, |p| p.data as u16),
+            dac_addr: dac.map_or(0, |p| p.addr as u8),
+            dac_cs_n: dac.is_some_and(|p| p.cs_n),
+            dac_rw_n: dac.is_some_and(|p| p.rw_n),
+            dac_ldac_n: dac.is_some_and(|p| p.ldac_n),
             fsmc_d_out: d.bridge.d_out,
             fsmc_d_oe: d.bridge.d_oe,
             isa_sd_out: isa.sd_out,
@@ -403,11 +447,15 @@ impl MotionControllerModel {
         // states before the edge).
         let home = self.safety.home_event();
         let counter_flags = self.counters.flags();
+        // The servo tick takes both snapshots at its edge; HALT is the
+        // SERVO block's safe input (both as they stand before the edge).
+        let servo_tick = self.servo.as_ref().is_some_and(ServoDac::tick);
+        let halt = self.safety.halted();
         self.counters
-            .clock_homing(&self.enc, reset, &counter_bus, home);
+            .clock_strobed(&self.enc, reset, &counter_bus, (home, servo_tick));
 
         // The counter bank's SNAPSHOT also captures the pulse positions.
-        let snapshot = counter_bus.we && counter_bus.addr == self.snapshot_offset;
+        let snapshot = counter_bus.we && counter_bus.addr == self.snapshot_offset || servo_tick;
         let pulse_bus = BusCycle {
             addr: addr & 0x1ff,
             wdata: b.reg_wdata,
@@ -426,8 +474,22 @@ impl MotionControllerModel {
             (&pulse_bus, snapshot),
             &safety_bus,
             (inp.estop_ok, inp.machine),
-            (counter_flags.0, counter_flags.1, isa_out.bell_to_dsp),
+            (
+                counter_flags.0,
+                counter_flags.1,
+                isa_out.bell_to_dsp,
+                servo_tick,
+            ),
         );
+        if let Some(servo) = &mut self.servo {
+            let servo_bus = BusCycle {
+                addr: addr & 0xf,
+                wdata: b.reg_wdata,
+                we: b.reg_we && d.select_servo,
+                re: b.reg_re && d.select_servo,
+            };
+            servo.clock(reset, &servo_bus, halt);
+        }
 
         self.isa.clock(&isa_pins, reset);
 
@@ -436,12 +498,14 @@ impl MotionControllerModel {
             self.read_from_counters = d.select_counters;
             self.read_from_pulses = d.select_pulses;
             self.read_from_safety = d.select_safety;
+            self.read_from_servo = d.select_servo;
         }
         if reset {
             self.read_from_id = false;
             self.read_from_counters = false;
             self.read_from_pulses = false;
             self.read_from_safety = false;
+            self.read_from_servo = false;
         }
     }
 

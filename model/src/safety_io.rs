@@ -31,6 +31,8 @@ pub struct SafetyInputs {
     pub index_seen: u32,
     /// The PC's write of the DSP mailbox word lands (ISA bridge).
     pub doorbell: bool,
+    /// The SERVO block's tick (one clock).
+    pub servo_tick: bool,
 }
 
 impl SafetyInputs {
@@ -49,6 +51,7 @@ impl SafetyInputs {
             counter_error: 0,
             index_seen: 0,
             doorbell: false,
+            servo_tick: false,
         };
         for i in 0..pulses.axes() {
             inputs.done |= u32::from(pulses.move_done(i)) << i;
@@ -252,12 +255,13 @@ impl SafetyIo {
         (pulse_bus, snapshot): (&BusCycle, bool),
         bus: &BusCycle,
         (estop_ok, machine): (bool, MachinePins),
-        (counter_error, index_seen, doorbell): (u32, u32, bool),
+        (counter_error, index_seen, doorbell, servo_tick): (u32, u32, bool, bool),
     ) {
         let inputs = SafetyInputs {
             counter_error,
             index_seen,
             doorbell,
+            servo_tick,
             ..SafetyInputs::from_pulses(estop_ok, machine, pulses)
         };
         pulses.clock_stopping(reset, pulse_bus, snapshot, &self.stops());
@@ -323,6 +327,10 @@ impl SafetyIo {
             0
         } | if inputs.doorbell {
             self.field_bit("CAUSE", "DOORBELL")
+        } else {
+            0
+        } | if inputs.servo_tick {
+            self.field_bit("CAUSE", "SERVO_TICK")
         } else {
             0
         };

@@ -137,6 +137,19 @@ impl ServoDac {
         }
     }
 
+    /// The block's register map.
+    pub fn map(&self) -> &Block {
+        &self.map
+    }
+
+    /// The pins as the HDL's flip-flops power up, before the first reset
+    /// (the data pins at 0; the rest as after reset): for a top compared
+    /// from its first clock.
+    pub fn at_power_up(mut self) -> Self {
+        self.shadow = [0; CHANNELS];
+        self
+    }
+
     /// The servo tick: high for one clock every TICK_PERIOD clocks. The
     /// counter bank's snapshot strobe in the top; a transfer starts at the
     /// edge that ends this clock.

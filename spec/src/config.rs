@@ -19,6 +19,9 @@ pub struct Config {
     input_filter_us: u32,
     /// General-purpose (inputs, outputs) the board wrapper brings to pins.
     gpio_pins: (u32, u32),
+    /// The SERVO block (docs/servo_dac.md) in the top: the DAC pins, the
+    /// servo tick as the counters' snapshot and an interrupt cause.
+    servo_dac: bool,
 }
 
 /// The counter channel's optional features (docs/counter_bank.md, "Build
@@ -145,6 +148,7 @@ impl Config {
             counter_features: CounterFeatures::ALL,
             input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
             gpio_pins: (GPIO_INPUTS, GPIO_OUTPUTS),
+            servo_dac: false,
         })
     }
 
@@ -222,6 +226,19 @@ impl Config {
         self.counter_features
     }
 
+    /// The same configuration with the SERVO block (the DAC output and the
+    /// servo tick) in the top, or without it. The servo card's top has the
+    /// shared RAM inside (the configuration file refuses `isa_ram =
+    /// "external"` with it; the top's constructor panics).
+    pub fn with_servo_dac(self, servo_dac: bool) -> Self {
+        Self { servo_dac, ..self }
+    }
+
+    /// The top has the SERVO block.
+    pub fn servo_dac(&self) -> bool {
+        self.servo_dac
+    }
+
     pub fn axes(&self) -> u32 {
         self.axes
     }
@@ -247,6 +264,7 @@ impl Default for Config {
             counter_features: CounterFeatures::ALL,
             input_filter_us: DEFAULT_INPUT_FILTER_US as u32,
             gpio_pins: (GPIO_INPUTS, GPIO_OUTPUTS),
+            servo_dac: false,
         }
     }
 }

@@ -302,22 +302,22 @@ mod tests {
             let map = mcu_map(&Config::default().with_isa_ram(ram));
             let (members, size) = window_layout(&map);
             let offsets: Vec<u32> = members.iter().map(|m| m.0).collect();
-            // ID (9 words) and padding, SAFETY at 0x200 (37 words, to
+            // ID (10 words) and padding, SAFETY at 0x200 (37 words, to
             // 0x294) and padding, COUNTER at 0x400 (to 0x4a0) and padding,
             // PULSE at 0x800 (16 + 4 x 16 words, to 0x940), then padding
             // and the RAM at 0x1000.
             if ram == IsaRam::Internal {
                 assert_eq!(
                     offsets,
-                    vec![0, 0x24, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
+                    vec![0, 0x28, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
                 );
                 assert_eq!(size, 0x1800);
             } else {
-                assert_eq!(offsets, vec![0, 0x24, 0x200, 0x294, 0x400, 0x4a0, 0x800]);
+                assert_eq!(offsets, vec![0, 0x28, 0x200, 0x294, 0x400, 0x4a0, 0x800]);
                 assert_eq!(size, 0x940);
             }
             let inst = instances(&map);
-            assert_eq!(inst.len(), 9 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
+            assert_eq!(inst.len(), 10 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
             assert!(inst.windows(2).all(|w| w[0].byte_offset < w[1].byte_offset));
             let status = inst
                 .iter()
@@ -325,6 +325,21 @@ mod tests {
                 .unwrap();
             assert_eq!(status.byte_offset, 0x400 + 0x20 + 3 * 0x20 + 0x10);
         }
+        // The servo card's map: SERVO at 0x40 (6 registers, 2 reserved
+        // words, CH[4] of CODE and OUTPUT: 16 words, to 0x80) after ID.
+        let map = mcu_map(&Config::default().with_servo_dac(true));
+        let (members, size) = window_layout(&map);
+        let offsets: Vec<u32> = members.iter().map(|m| m.0).collect();
+        assert_eq!(
+            offsets,
+            vec![0, 0x28, 0x40, 0x80, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
+        );
+        assert_eq!(size, 0x1800);
+        let code = instances(&map)
+            .into_iter()
+            .find(|i| i.path() == "SERVO.CH[3].CODE")
+            .unwrap();
+        assert_eq!(code.byte_offset, 0x40 + (8 + 3 * 2) * 4);
     }
 
     #[test]

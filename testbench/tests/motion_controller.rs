@@ -7,6 +7,7 @@
 
 use motionhdl_hdl::catalog;
 use motionhdl_model::regmap;
+use motionhdl_model::servo_dac::SAFE_CODE;
 use motionhdl_model::{Config, IsaRam};
 use motionhdl_testbench::checks::motion_controller::{self as top, McuOracle, Plan};
 use motionhdl_testbench::harness;
@@ -178,6 +179,67 @@ fn external_ram_build_registers_and_no_ram_window() {
         r.assert_passed();
         if r.skipped.is_none() {
             assert_eq!(r.covered, EXPECTED_READS_EXTERNAL);
+        }
+    }
+}
+
+fn servo() -> Config {
+    Config::default()
+        .with_axes(2)
+        .expect("2 axes")
+        .with_servo_dac(true)
+}
+
+#[test]
+fn servo_card_build_registers_through_fsmc() {
+    // The servo card's top: the plan covers SERVO too (TIMING, the codes,
+    // UPDATE, TICK_PERIOD, EVENTS), read back through the same decode.
+    let config = servo();
+    let p = top::plan(&config);
+    assert_eq!(p.expected.len() as u64, EXPECTED_READS);
+    let o = McuOracle::new(&config);
+    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
+    // 2 channels, 2 axes, SAFETY as above; SERVO: EVENTS, TICK_PERIOD,
+    // UPDATE, TIMING and the 4 CODE registers.
+    assert_eq!(writable, 2 + 2 * 2 + 1 + 2 * 13 + 31 + 8);
+    let servo = o.map().block("SERVO");
+    assert_eq!(servo.base, regmap::MCU_SERVO_WORD_BASE);
+    // The e-stop latch is set from reset (HALT), so the plan's UPDATE sent
+    // the safe code: OUTPUT reads SAFE_CODE, CODE the staged value.
+    let last = &p.expected[4 * top::REGISTER_WORDS as usize..6 * top::REGISTER_WORDS as usize];
+    let word = |w: u32| u32::from(last[2 * w as usize]) | u32::from(last[2 * w as usize + 1]) << 16;
+    let ch = servo.array("CH");
+    for i in 0..ch.count {
+        let code = word(servo.base + ch.address(i, "CODE"));
+        assert_eq!(
+            word(servo.base + ch.address(i, "OUTPUT")),
+            SAFE_CODE,
+            "CH[{i}]"
+        );
+        assert_ne!(
+            code, SAFE_CODE,
+            "CH[{i}]: the plan's code is not the reset value"
+        );
+    }
+    let safe = servo.register("STATUS").field("SAFE").mask();
+    assert_eq!(
+        word(servo.base + servo.register("STATUS").offset) & safe,
+        safe
+    );
+    let (obs, _) = top::run_rust::<2>(&config, &p.ops);
+    let r = check("servo card build, rust-hdl", &p, Ok(obs), None);
+    r.assert_passed();
+    assert_eq!(r.covered, EXPECTED_READS);
+    for sim in [Simulator::Icarus, Simulator::Verilator] {
+        let r = check(
+            &format!("servo card build, {}", sim.name()),
+            &p,
+            top::run_verilog(sim, &config, &p.ops),
+            Some(sim),
+        );
+        r.assert_passed();
+        if r.skipped.is_none() {
+            assert_eq!(r.covered, EXPECTED_READS);
         }
     }
 }

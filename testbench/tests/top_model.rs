@@ -74,6 +74,35 @@ fn every_pin_every_clock_under_generated_stimulus() {
 }
 
 #[test]
+fn servo_card_top_every_pin_every_clock() {
+    // The servo card's top (2 axes): the random register writes reach
+    // SERVO too (periods of 0..=255 clocks, short DAC timings, codes,
+    // UPDATE), SAFETY's CLEAR lifts the e-stop now and then; the DAC pins
+    // are compared with the model's every clock like every other pin.
+    let c = config().with_axes(2).unwrap().with_servo_dac(true);
+    let clocks = 100_000;
+    let (r, stats) = compare::<2>(&c, Pins::Generated(3), clocks, |_, _| {});
+    r.assert_passed();
+    assert_eq!(r.covered, clocks, "clocks compared");
+    assert!(stats.ldac_rises > 100, "{stats:?}");
+    assert!(stats.unsafe_dac_writes > 10, "{stats:?}");
+    // The tick's contract: exact periods, snapshots at the tick's edge,
+    // LOADDACS update_latency edges after a tick that found the DAC free.
+    let tick = stats.tick.as_ref().expect("the servo card's watch");
+    assert!(
+        tick.violations.is_empty(),
+        "{:?}",
+        &tick.violations[..tick.violations.len().min(5)]
+    );
+    assert!(
+        tick.on_time > 100 && tick.snapshots >= 2 * tick.ticks,
+        "{tick:?}"
+    );
+    assert!(tick.loads > 50, "{tick:?}");
+    eprintln!("{clocks} clocks: {stats:?}");
+}
+
+#[test]
 fn every_pin_every_clock_under_the_fsmc_bus_functional_model() {
     // A position move and the four-axis loopback run as the firmware
     // would, then random traffic at random phases against the FPGA clock.

@@ -27,6 +27,8 @@ pub fn other_configs() -> Vec<Config> {
         // The DSP seed card's counter features: no filter, index or error
         // detection (the exports drop their fields and the INDEX register).
         Config::default().with_counter_features(CounterFeatures::from_bits(8)),
+        // The servo card: SERVO at byte 0x40 (CH[4] of CODE and OUTPUT).
+        Config::default().with_servo_dac(true),
     ]
 }
 

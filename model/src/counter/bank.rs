@@ -173,6 +173,19 @@ impl Bank {
         bus: &BusCycle,
         home: u32,
     ) {
+        self.clock_strobed(pins, reset, bus, (home, false));
+    }
+
+    /// One rising clock edge with the `home` input and the snapshot strobe
+    /// (the servo tick): high, it takes the snapshot as a SNAPSHOT write
+    /// does.
+    pub fn clock_strobed(
+        &mut self,
+        pins: &[(bool, bool, bool)],
+        reset: bool,
+        bus: &BusCycle,
+        (home, snapshot_strobe): (u32, bool),
+    ) {
         assert_eq!(
             pins.len(),
             self.channels.len(),
@@ -210,7 +223,7 @@ impl Bank {
                 reset,
                 ctrl_write: (written == Slot::Channel(i, ChReg::Ctrl)).then_some(bus.wdata),
                 cmd_write: (written == Slot::Channel(i, ChReg::Cmd)).then_some(bus.wdata),
-                snapshot: written == Slot::Snapshot,
+                snapshot: written == Slot::Snapshot || snapshot_strobe,
                 preset,
             });
         }

@@ -2,7 +2,7 @@
 
 use super::{
     field, reg, Access, Block, EnumValue, Field, ISA_RAM_WORDS, MCU_COUNTER_WORD_BASE,
-    MCU_ID_WORD_BASE, MCU_PULSE_WORD_BASE, MCU_RAM_BYTE_OFFSET,
+    MCU_ID_WORD_BASE, MCU_PULSE_WORD_BASE, MCU_RAM_BYTE_OFFSET, MCU_SERVO_WORD_BASE,
 };
 
 /// ID.MAGIC: "MHDL" in ASCII, most significant byte first.
@@ -86,6 +86,8 @@ pub fn id_block(config: &crate::Config, map_hash: u32) -> Block {
                 ro_value("VALUE", 0, 32, if ram_internal { MCU_RAM_BYTE_OFFSET } else { 0 }, "Bytes.")),
             one("RAM_WORDS", 6, "16-bit words in the shared RAM window; 0 when the RAM is external.",
                 ro_value("VALUE", 0, 32, if ram_internal { ISA_RAM_WORDS } else { 0 }, "Words.")),
+            one("SERVO_BASE", 9, "Byte offset of the SERVO block (servo DAC and tick); 0 in a build without it.",
+                ro_value("VALUE", 0, 32, if config.servo_dac() { MCU_SERVO_WORD_BASE * 4 } else { 0 }, "Bytes.")),
             one("MAP_HASH", 7, "FNV-1a hash of the register map (every block, register and field, without this value).",
                 ro_value("VALUE", 0, 32, map_hash, "Compare with MOTIONHDL_MAP_HASH from the generated header.")),
         ],

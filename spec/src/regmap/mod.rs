@@ -276,11 +276,15 @@ pub const MCU_COUNTER_WORD_BASE: u32 = 0x100;
 pub const MCU_PULSE_WORD_BASE: u32 = 0x200;
 /// Word address of the safety block on the MCU bus (byte 0x0200).
 pub const MCU_SAFETY_WORD_BASE: u32 = 0x080;
+/// Word address of the servo DAC block on the MCU bus (byte 0x0040), in a
+/// build with `servo_dac`.
+pub const MCU_SERVO_WORD_BASE: u32 = 0x010;
 /// Byte offset of the shared RAM's MCU port (halfword address 0x800: pin A11).
 pub const MCU_RAM_BYTE_OFFSET: u32 = 0x1000;
 
 /// The MCU's view of the gateware for `config`: ID, COUNTER, PULSE,
-/// SAFETY and, with the internal RAM, the shared RAM window.
+/// SAFETY, SERVO with `servo_dac` and, with the internal RAM, the shared
+/// RAM window.
 pub fn mcu_map(config: &crate::Config) -> BusMap {
     let build = |hash| {
         let mut counter = counter_bank_with(
@@ -293,6 +297,12 @@ pub fn mcu_map(config: &crate::Config) -> BusMap {
         pulse.base = MCU_PULSE_WORD_BASE;
         let mut safety = safety_io(config.axes());
         safety.base = MCU_SAFETY_WORD_BASE;
+        let mut blocks = vec![id_block(config, hash), counter, pulse, safety];
+        if config.servo_dac() {
+            let mut servo = servo_dac(config.clock_hz());
+            servo.base = MCU_SERVO_WORD_BASE;
+            blocks.push(servo);
+        }
         let mut memories = Vec::new();
         if config.isa_ram() == crate::IsaRam::Internal {
             memories.push(isa_bridge::shared_ram());
@@ -301,7 +311,7 @@ pub fn mcu_map(config: &crate::Config) -> BusMap {
             name: "MOTIONHDL",
             description: "motionhdl motion-controller gateware, MCU bus (FSMC, 16-bit)",
             halfword_address_bits: MCU_HALFWORD_ADDRESS_BITS,
-            blocks: vec![id_block(config, hash), counter, pulse, safety],
+            blocks,
             memories,
         }
     };

@@ -27,6 +27,13 @@ pub fn safety_io(axes: u32) -> Block {
                 access,
                 "The PC wrote the DSP side's mailbox word of the shared RAM (ISA_MAILBOX_TO_DSP).",
             ),
+            field(
+                "SERVO_TICK",
+                3,
+                1,
+                access,
+                "A servo tick (SERVO.TICK_PERIOD): the counters' snapshot was taken and the staged DAC codes started out. Never set in a build without the SERVO block.",
+            ),
         ]
     };
     let mut polarity = field(

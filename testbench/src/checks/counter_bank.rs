@@ -21,6 +21,8 @@ pub struct BankPair<const N: usize> {
     /// The `home` input for the next steps (bit i captures channel i's
     /// count into HOME_COUNT).
     pub home: u32,
+    /// The `snapshot_strobe` input for the next steps.
+    pub snapshot_strobe: bool,
 }
 
 impl<const N: usize> BankPair<N> {
@@ -40,6 +42,7 @@ impl<const N: usize> BankPair<N> {
             map: regmap::counter_bank(N as u32, params.width),
             cycles: 0,
             home: 0,
+            snapshot_strobe: false,
         }
     }
 
@@ -65,6 +68,7 @@ impl<const N: usize> BankPair<N> {
         self.hdl.b.next = word(|p| p.1);
         self.hdl.z.next = word(|p| p.2);
         self.hdl.home.next = u64::from(self.home).into();
+        self.hdl.snapshot_strobe.next = self.snapshot_strobe;
         self.hdl.reset.next = reset;
         self.hdl.addr.next = (bus.addr as u64).into();
         self.hdl.wdata.next = (bus.wdata as u64).into();
@@ -72,7 +76,8 @@ impl<const N: usize> BankPair<N> {
         self.hdl.re.next = bus.re;
         settle(&mut self.hdl);
         cycle(&mut self.hdl, |h| &mut h.clock);
-        self.model.clock_homing(pins, reset, bus, self.home);
+        self.model
+            .clock_strobed(pins, reset, bus, (self.home, self.snapshot_strobe));
         self.cycles += 1;
         self.compare()
     }
@@ -186,6 +191,7 @@ pub fn long_stimulus_hdl_built(cycles: u64, seed: u32, features: CounterFeatures
     for n in 0..cycles {
         let c = s.clock();
         p.home = c.home;
+        p.snapshot_strobe = c.snapshot_strobe;
         if let Err(e) = p.step(&c.pins, c.reset, &c.bus) {
             r.failures.push(format!("clock {n}: {e}"));
             break;

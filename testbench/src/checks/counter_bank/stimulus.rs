@@ -40,6 +40,8 @@ pub struct Clock {
     pub bus: BusCycle,
     /// The `home` input: bit i captures channel i's count.
     pub home: u32,
+    /// The `snapshot_strobe` input (the servo tick in the card's top).
+    pub snapshot_strobe: bool,
 }
 
 impl Stimulus {
@@ -101,12 +103,15 @@ impl Stimulus {
         } else {
             0
         };
+        // One clock in 16, on any bus cycle (a SNAPSHOT write too).
+        let snapshot_strobe = (r2 >> 12) & 15 == 0;
         self.cycle += 1;
         Clock {
             pins,
             reset,
             bus,
             home,
+            snapshot_strobe,
         }
     }
 }
@@ -140,6 +145,7 @@ impl Sums {
         );
         self.stimulus = mix(self.stimulus, c.bus.wdata);
         self.stimulus = mix(self.stimulus, c.home);
+        self.stimulus = mix(self.stimulus, u32::from(c.snapshot_strobe));
         self.rdata = mix(self.rdata, rdata_after);
     }
 }
@@ -158,7 +164,7 @@ pub fn model_sums(
     let mut sums = Sums::default();
     for _ in 0..cycles {
         let c = s.clock();
-        bank.clock_homing(&c.pins, c.reset, &c.bus, c.home);
+        bank.clock_strobed(&c.pins, c.reset, &c.bus, (c.home, c.snapshot_strobe));
         sums.add(&c, bank.rdata());
     }
     sums
@@ -206,7 +212,7 @@ module counter_bank_tb;
         sum_rdata = 32'd0;
         cycle = 64'd0;
         for (i = 0; i < {n}; i = i + 1) phase[i] = 2'd0;
-        a = {n}'d0; b = {n}'d0; z = {n}'d0; home = {n}'d0; reset = 1'b1; we = 1'b0; re = 1'b0; addr = 8'd0; wdata = 32'd0;
+        a = {n}'d0; b = {n}'d0; z = {n}'d0; home = {n}'d0; snapshot_strobe = 1'b0; reset = 1'b1; we = 1'b0; re = 1'b0; addr = 8'd0; wdata = 32'd0;
     end
     always @(negedge clock) begin
         if (cycle != 64'd0) sum_rdata = sum_rdata * 32'd31 + rdata;
@@ -243,10 +249,12 @@ module counter_bank_tb;
             endcase
             home16 = ((r2 >> 4) & 32'd15) == 32'd0 ? 16'(r3 >> 16) & 16'd{home_mask} : 16'd0;
             home = home16[{top}:0];
+            snapshot_strobe = ((r2 >> 12) & 32'd15) == 32'd0;
             sum_stim = sum_stim * 32'd31 + ({{16'd0, b16}} << 16 | {{16'd0, a16}});
             sum_stim = sum_stim * 32'd31 + ({{16'd0, z16}} | ({{24'd0, addr}} << 16) | ({{31'd0, we}} << 24) | ({{31'd0, re}} << 25) | ({{31'd0, reset}} << 26));
             sum_stim = sum_stim * 32'd31 + wdata;
             sum_stim = sum_stim * 32'd31 + {{16'd0, home16}};
+            sum_stim = sum_stim * 32'd31 + {{31'd0, snapshot_strobe}};
             cycle = cycle + 64'd1;
         end
     end

@@ -10,7 +10,7 @@ use crate::bfm::fsmc::{
 use crate::harness::{settle, CheckReport};
 use crate::player::{PinStream, Rig};
 use crate::verilog_sim::{Simulator, Source, Target};
-use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal};
+use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal, MotionControllerServo};
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
@@ -21,6 +21,7 @@ pub mod irq_refill;
 pub mod limit_stop;
 mod loopback;
 mod oracle;
+pub mod servo_tick;
 pub mod system;
 pub mod top_model;
 pub mod top_stimulus;
@@ -71,10 +72,14 @@ macro_rules! mcu_top {
 }
 mcu_top!(MotionController);
 mcu_top!(MotionControllerExternal);
+mcu_top!(MotionControllerServo);
 
 /// Steps the rust-hdl top for `config` (either build) through `ops`.
 pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation>, u64) {
     match config.isa_ram() {
+        IsaRam::Internal if config.servo_dac() => {
+            run_top(MotionControllerServo::<N>::new(config), ops, false)
+        }
         IsaRam::Internal => run_top(MotionController::<N>::new(config), ops, false),
         IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops, false),
     }

@@ -7,6 +7,7 @@ use motionhdl_model::counter::{Bank, BusCycle, CounterParams};
 use motionhdl_model::pulse_generator::PulseBank;
 use motionhdl_model::regmap::{self, Access, BusMap, ERR_COUNT_BITS};
 use motionhdl_model::safety_io::SafetyIo;
+use motionhdl_model::servo_dac::ServoDac;
 use motionhdl_model::Config;
 
 /// Register word addresses the MCU bus decodes into (A[10:1]).
@@ -24,6 +25,7 @@ pub struct McuOracle {
     bank: Bank,
     pulses: PulseBank,
     safety: SafetyIo,
+    servo: Option<ServoDac>,
     axes: usize,
     ram: Vec<u16>,
 }
@@ -42,6 +44,7 @@ impl McuOracle {
             bank,
             pulses: PulseBank::new(config.axes(), config.counter_width()),
             safety: SafetyIo::new(config.axes(), config.filter_tick_clocks()),
+            servo: config.servo_dac().then(|| ServoDac::new(config.clock_hz())),
             axes: config.axes() as usize,
             ram: vec![0; words],
         }
@@ -52,26 +55,38 @@ impl McuOracle {
     }
 
     /// One clock of the counter bank (bus `bus`), the pulse bank (bus
-    /// `pulse_bus`) and the safety block (idle bus, the e-stop chain
-    /// closed); the counter's SNAPSHOT also captures the pulses.
-    fn clock_both(&mut self, reset: bool, bus: &BusCycle, pulse_bus: &BusCycle) {
+    /// `pulse_bus`), the safety block (idle bus, the e-stop chain closed)
+    /// and the SERVO block if any (bus `servo_bus`); the counter's
+    /// SNAPSHOT and the servo tick also capture the pulses.
+    fn clock_all(
+        &mut self,
+        reset: bool,
+        bus: &BusCycle,
+        (pulse_bus, servo_bus): (&BusCycle, &BusCycle),
+    ) {
         let pins = vec![(false, false, false); self.axes];
         let counter = self.map.block("COUNTER");
-        let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset;
+        let tick = self.servo.as_ref().is_some_and(ServoDac::tick);
+        let halt = self.safety.halted();
+        let snapshot = bus.we && bus.addr == counter.register("SNAPSHOT").offset || tick;
         let flags = self.bank.flags();
-        self.bank.clock(&pins, reset, bus);
+        self.bank.clock_strobed(&pins, reset, bus, (0, tick));
         self.safety.clock_with_pulses(
             &mut self.pulses,
             reset,
             (pulse_bus, snapshot),
             &BusCycle::default(),
             (true, Default::default()),
-            (flags.0, flags.1, false),
+            (flags.0, flags.1, false, tick),
         );
+        if let Some(servo) = &mut self.servo {
+            servo.clock(reset, servo_bus, halt);
+        }
     }
 
     fn clock_bank(&mut self, reset: bool, bus: &BusCycle) {
-        self.clock_both(reset, bus, &BusCycle::default());
+        let idle = BusCycle::default();
+        self.clock_all(reset, bus, (&idle, &idle));
     }
 
     /// The synchronous reset: registers to their reset values, RAM kept.
@@ -96,7 +111,7 @@ impl McuOracle {
     /// Whether a write to `word` may change what any read returns.
     pub fn writable(&self, word: u32) -> bool {
         match self.decode(word) {
-            Some((block @ ("COUNTER" | "PULSE" | "SAFETY"), offset)) => self
+            Some((block @ ("COUNTER" | "PULSE" | "SAFETY" | "SERVO"), offset)) => self
                 .map
                 .block(block)
                 .decoded()
@@ -111,10 +126,13 @@ impl McuOracle {
         let idle = BusCycle::default();
         match self.decode(word) {
             Some(("COUNTER", offset)) => {
-                self.clock_both(false, &BusCycle::write(offset, data), &idle)
+                self.clock_all(false, &BusCycle::write(offset, data), (&idle, &idle))
             }
             Some(("PULSE", offset)) => {
-                self.clock_both(false, &idle, &BusCycle::write(offset, data))
+                self.clock_all(false, &idle, (&BusCycle::write(offset, data), &idle))
+            }
+            Some(("SERVO", offset)) => {
+                self.clock_all(false, &idle, (&idle, &BusCycle::write(offset, data)))
             }
             _ => return,
         }
@@ -136,6 +154,11 @@ impl McuOracle {
             Some(("COUNTER", offset)) => self.bank.read_value(offset),
             Some(("PULSE", offset)) => self.pulses.read_value(offset),
             Some(("SAFETY", offset)) => self.safety.read_value(offset),
+            Some(("SERVO", offset)) => self
+                .servo
+                .as_ref()
+                .expect("SERVO in the map")
+                .read_value(offset),
             Some((other, _)) => panic!("oracle has no model of block {other}"),
             None => 0,
         }
@@ -148,6 +171,24 @@ impl McuOracle {
     pub fn ram_read(&self, word: usize) -> u16 {
         self.ram[word]
     }
+}
+
+/// The SERVO writes of the plan: short TIMING (so a transfer ends within
+/// the oracle's settling clocks), a code per channel, UPDATE (one
+/// transfer: OUTPUT reads the codes back), a TICK_PERIOD too long to end
+/// within the run (a tick's snapshot would move nothing here, but its
+/// clock is the bus's, not the oracle's), and EVENTS cleared.
+fn servo_writes(servo: &regmap::Block) -> Vec<(u32, u32)> {
+    let word = |name: &str| servo.base + servo.register(name).offset;
+    let ch = servo.array("CH");
+    let mut writes = vec![(word("TIMING"), 0x0201)];
+    for i in 0..ch.count {
+        writes.push((servo.base + ch.address(i, "CODE"), pattern(i, 0x1357_9bdf)));
+    }
+    writes.push((word("UPDATE"), 1));
+    writes.push((word("TICK_PERIOD"), pattern(7, 0) | 0x4000_0000));
+    writes.push((word("EVENTS"), 3));
+    writes
 }
 
 /// The op list and, per read access (halfword), the value it must return.
@@ -246,6 +287,15 @@ pub fn plan(config: &Config) -> Plan {
             writes.push((pulse.base + pax.address(i, "SEG_PUSH"), 0));
         }
         for (w, data) in writes {
+            ops.push(Op::Write32 {
+                a: (w * 2) as u16,
+                data,
+            });
+            o.write32(w, data);
+        }
+    }
+    if o.map().blocks.iter().any(|b| b.name == "SERVO") {
+        for (w, data) in servo_writes(o.map().block("SERVO")) {
             ops.push(Op::Write32 {
                 a: (w * 2) as u16,
                 data,

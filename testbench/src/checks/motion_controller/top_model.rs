@@ -5,12 +5,13 @@
 //! the stimulus's Verilog twin, whose checksums must equal the model's.
 
 use crate::bfm::fsmc::{timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
+use crate::checks::motion_controller::servo_tick::{self, TickSample, TickWatch};
 use crate::checks::motion_controller::top_stimulus::{
     verilog_testbench, Sums, TopStimulus, RESET_CLOCKS,
 };
 use crate::harness::{settle, CheckReport};
 use crate::verilog_sim::{run_for_sums, Target};
-use motionhdl_hdl::MotionController;
+use motionhdl_hdl::{McuSide, MotionController, MotionControllerServo};
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::motion_controller::{MotionControllerModel, TopInputs, TopOutputs};
 use motionhdl_model::Config;
@@ -29,59 +30,108 @@ pub fn model_sums(config: &Config, seed: u32, cycles: u64) -> Sums {
     sums
 }
 
+/// A rust-hdl top the model twins pin for pin (the RAM-inside builds:
+/// without and with SERVO).
+pub trait ModelledTop<const N: usize>: Block {
+    fn build(config: &Config) -> Self;
+    /// Puts `p` on the input pins.
+    fn drive(&mut self, p: &TopInputs);
+    /// The output pins (the DAC's 0 on a top without one, as the model).
+    fn outputs(&self) -> TopOutputs;
+    fn mcu(&self) -> &McuSide<N>;
+    fn clock_pin(&mut self) -> &mut Signal<In, Clock>;
+}
+
+macro_rules! modelled_top {
+    ($top:ident, |$uut:ident, $o:ident| $dac:block) => {
+        impl<const N: usize> ModelledTop<N> for $top<N> {
+            fn build(config: &Config) -> Self {
+                $top::<N>::new(config)
+            }
+            fn drive(&mut self, p: &TopInputs) {
+                self.reset.next = p.reset;
+                self.fsmc_ne_n.next = p.fsmc_ne_n;
+                self.fsmc_noe_n.next = p.fsmc_noe_n;
+                self.fsmc_nwe_n.next = p.fsmc_nwe_n;
+                self.fsmc_a.next = u64::from(p.fsmc_a & 0xfff).into();
+                self.fsmc_d_in.next = u64::from(p.fsmc_d_in).into();
+                self.isa_sa.next = u64::from(p.isa_sa & 0x3ff).into();
+                self.isa_sd_in.next = u64::from(p.isa_sd_in).into();
+                self.isa_ior_n.next = p.isa_ior_n;
+                self.isa_iow_n.next = p.isa_iow_n;
+                self.isa_aen.next = p.isa_aen;
+                self.isa_bale.next = p.isa_bale;
+                self.isa_base.next = u64::from(p.isa_base).into();
+                self.enc_a.next = u64::from(p.enc_a).into();
+                self.enc_b.next = u64::from(p.enc_b).into();
+                self.enc_z.next = u64::from(p.enc_z).into();
+                self.estop_ok.next = p.estop_ok;
+                self.limit_pos.next = u64::from(p.machine.limit_pos).into();
+                self.limit_neg.next = u64::from(p.machine.limit_neg).into();
+                self.home.next = u64::from(p.machine.home).into();
+                self.alarm.next = u64::from(p.machine.alarm).into();
+                self.gpi.next = u64::from(p.machine.gpi).into();
+            }
+            fn outputs(&self) -> TopOutputs {
+                #[allow(unused_mut)]
+                let mut $o = TopOutputs {
+                    fsmc_d_out: self.fsmc_d_out.val().index() as u16,
+                    fsmc_d_oe: self.fsmc_d_oe.val(),
+                    isa_sd_out: self.isa_sd_out.val().index() as u16,
+                    isa_sd_oe: self.isa_sd_oe.val(),
+                    isa_iocs16_n: self.isa_iocs16_n.val(),
+                    isa_irq: self.isa_irq.val(),
+                    pulse_f1: self.pulse_f1.val().index() as u16,
+                    pulse_f2: self.pulse_f2.val().index() as u16,
+                    drive_enable: self.drive_enable.val().index() as u16,
+                    irq: self.irq.val(),
+                    gpo_out: self.gpo_out.val().index() as u16,
+                    gpo_oe: self.gpo_oe.val().index() as u16,
+                    ..Default::default()
+                };
+                let $uut = self;
+                $dac
+                $o
+            }
+            fn mcu(&self) -> &McuSide<N> {
+                $top::mcu(self)
+            }
+            fn clock_pin(&mut self) -> &mut Signal<In, Clock> {
+                &mut self.clock
+            }
+        }
+    };
+}
+
+// No DAC on this top: the model's DAC pins read 0.
+modelled_top!(MotionController, |_uut, o| {});
+modelled_top!(MotionControllerServo, |uut, o| {
+    o.dac_data = uut.dac_data.val().index() as u16;
+    o.dac_addr = uut.dac_addr.val().index() as u8;
+    o.dac_cs_n = uut.dac_cs_n.val();
+    o.dac_rw_n = uut.dac_rw_n.val();
+    o.dac_ldac_n = uut.dac_ldac_n.val();
+});
+
 /// Puts `p` on the rust-hdl top's input pins.
-pub fn drive<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) {
-    uut.reset.next = p.reset;
-    uut.fsmc_ne_n.next = p.fsmc_ne_n;
-    uut.fsmc_noe_n.next = p.fsmc_noe_n;
-    uut.fsmc_nwe_n.next = p.fsmc_nwe_n;
-    uut.fsmc_a.next = u64::from(p.fsmc_a & 0xfff).into();
-    uut.fsmc_d_in.next = u64::from(p.fsmc_d_in).into();
-    uut.isa_sa.next = u64::from(p.isa_sa & 0x3ff).into();
-    uut.isa_sd_in.next = u64::from(p.isa_sd_in).into();
-    uut.isa_ior_n.next = p.isa_ior_n;
-    uut.isa_iow_n.next = p.isa_iow_n;
-    uut.isa_aen.next = p.isa_aen;
-    uut.isa_bale.next = p.isa_bale;
-    uut.isa_base.next = u64::from(p.isa_base).into();
-    uut.enc_a.next = u64::from(p.enc_a).into();
-    uut.enc_b.next = u64::from(p.enc_b).into();
-    uut.enc_z.next = u64::from(p.enc_z).into();
-    uut.estop_ok.next = p.estop_ok;
-    uut.limit_pos.next = u64::from(p.machine.limit_pos).into();
-    uut.limit_neg.next = u64::from(p.machine.limit_neg).into();
-    uut.home.next = u64::from(p.machine.home).into();
-    uut.alarm.next = u64::from(p.machine.alarm).into();
-    uut.gpi.next = u64::from(p.machine.gpi).into();
+pub fn drive<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) {
+    uut.drive(p);
 }
 
 /// The rust-hdl top's output pins.
-pub fn outputs<const N: usize>(uut: &MotionController<N>) -> TopOutputs {
-    TopOutputs {
-        fsmc_d_out: uut.fsmc_d_out.val().index() as u16,
-        fsmc_d_oe: uut.fsmc_d_oe.val(),
-        isa_sd_out: uut.isa_sd_out.val().index() as u16,
-        isa_sd_oe: uut.isa_sd_oe.val(),
-        isa_iocs16_n: uut.isa_iocs16_n.val(),
-        isa_irq: uut.isa_irq.val(),
-        pulse_f1: uut.pulse_f1.val().index() as u16,
-        pulse_f2: uut.pulse_f2.val().index() as u16,
-        drive_enable: uut.drive_enable.val().index() as u16,
-        irq: uut.irq.val(),
-        gpo_out: uut.gpo_out.val().index() as u16,
-        gpo_oe: uut.gpo_oe.val().index() as u16,
-    }
+pub fn outputs<const N: usize>(uut: &impl ModelledTop<N>) -> TopOutputs {
+    uut.outputs()
 }
 
 /// One clock of the rust-hdl top: `p` on the pins, settle, the outputs
 /// before the edge, then the rising and falling edges.
-pub fn step_rust<const N: usize>(uut: &mut MotionController<N>, p: &TopInputs) -> TopOutputs {
-    drive(uut, p);
+pub fn step_rust<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) -> TopOutputs {
+    uut.drive(p);
     settle(uut);
-    let o = outputs(uut);
-    uut.clock.next = Clock::from(true);
+    let o = uut.outputs();
+    uut.clock_pin().next = Clock::from(true);
     settle(uut);
-    uut.clock.next = Clock::from(false);
+    uut.clock_pin().next = Clock::from(false);
     settle(uut);
     o
 }
@@ -221,7 +271,7 @@ impl StopWatch {
 }
 
 /// The generator outputs of every axis of the rust-hdl top.
-pub fn axis_outputs<const N: usize>(uut: &MotionController<N>) -> Vec<AxisOutputs> {
+pub fn axis_outputs<const N: usize>(uut: &impl ModelledTop<N>) -> Vec<AxisOutputs> {
     (0..N)
         .map(|i| {
             let g = uut.mcu().pulses().generator(i);
@@ -251,6 +301,11 @@ pub struct RunStats {
     pub halts_while_busy: u64,
     /// The direction-stop contract over the HDL's axes.
     pub stops: StopWatch,
+    /// The servo card's top: the tick's contract, LOADDACS rises, and DAC
+    /// writes (CS low) of a code other than the safe one.
+    pub tick: Option<TickWatch>,
+    pub ldac_rises: u64,
+    pub unsafe_dac_writes: u64,
 }
 
 /// Where a comparison's per-clock pins come from.
@@ -272,6 +327,20 @@ pub fn compare<const N: usize>(
     config: &Config,
     pins: Pins,
     cycles: u64,
+    fault: impl FnMut(u64, &mut TopOutputs),
+) -> (CheckReport, RunStats) {
+    if config.servo_dac() {
+        compare_on::<MotionControllerServo<N>, N>(config, pins, cycles, fault)
+    } else {
+        compare_on::<MotionController<N>, N>(config, pins, cycles, fault)
+    }
+}
+
+/// [`compare`] on the top `T`.
+fn compare_on<T: ModelledTop<N>, const N: usize>(
+    config: &Config,
+    pins: Pins,
+    cycles: u64,
     mut fault: impl FnMut(u64, &mut TopOutputs),
 ) -> (CheckReport, RunStats) {
     let what = match pins {
@@ -285,6 +354,7 @@ pub fn compare<const N: usize>(
     );
     let mut stats = RunStats {
         f1_edges: vec![0; N],
+        tick: config.servo_dac().then(TickWatch::default),
         ..Default::default()
     };
     let (seed, bfm) = match pins {
@@ -293,7 +363,7 @@ pub fn compare<const N: usize>(
     };
     let mut stim = TopStimulus::new(config, seed);
     let mut model = MotionControllerModel::new(config);
-    let mut uut = MotionController::<N>::new(config);
+    let mut uut = T::build(config);
     uut.connect_all();
     let mut last = TopOutputs::default();
     let mut last_halt = false;
@@ -315,7 +385,20 @@ pub fn compare<const N: usize>(
             p.enc_b = last.pulse_f2;
         }
         let busy = (0..N).any(|i| model.pulses().generator(i).busy());
-        let got = step_rust(&mut uut, &p);
+        // step_rust, with the tick's watch on both sides of the edge.
+        uut.drive(&p);
+        settle(&mut uut);
+        let got = uut.outputs();
+        if let Some(w) = &mut stats.tick {
+            w.before_edge(k, &TickSample::of(&uut, &model, p.reset, got.dac_ldac_n));
+        }
+        uut.clock_pin().next = Clock::from(true);
+        settle(&mut uut);
+        uut.clock_pin().next = Clock::from(false);
+        settle(&mut uut);
+        if let Some(w) = &mut stats.tick {
+            w.after_edge(k, &servo_tick::counts(&uut, |s| s.snap_count));
+        }
         let halt = uut.mcu().halt();
         stats.halts_while_busy += u64::from(halt && !last_halt && busy);
         last_halt = halt;
@@ -345,6 +428,8 @@ pub fn compare<const N: usize>(
         for (i, e) in stats.f1_edges.iter_mut().enumerate() {
             *e += u64::from(got.pulse_f1 >> i & 1 == 1 && last.pulse_f1 >> i & 1 == 0);
         }
+        stats.ldac_rises += u64::from(got.dac_ldac_n && !last.dac_ldac_n && config.servo_dac());
+        stats.unsafe_dac_writes += u64::from(!got.dac_cs_n && got.dac_data != 0x8000);
         stats.fsmc_reads += u64::from(got.fsmc_d_oe);
         stats.isa_reads += u64::from(got.isa_sd_oe);
         stats.move_clocks += u64::from((0..N).any(|i| model.pulses().engine(i).active()));

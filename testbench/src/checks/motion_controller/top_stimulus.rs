@@ -161,6 +161,10 @@ impl TopStimulus {
                     // watchdog bites), else up to 2^19 (it rarely does);
                     // CLEAR's bits.
                     ("SAFETY", "WDT_TIMEOUT") => class::TIMING,
+                    // Servo periods of 0..=255 clocks (shorter than a
+                    // transfer too: overruns) and short DAC timings.
+                    ("SERVO", "TICK_PERIOD") => class::STEPS,
+                    ("SERVO", "TIMING") => class::SMALL,
                     ("SAFETY", "CLEAR") => class::SMALL,
                     // Inputs of axes 0..=2 on, active high: axis 3 never
                     // stops at a limit.

@@ -140,8 +140,11 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
         if next().is_multiple_of(32) {
             inputs.index_seen ^= 1 << (next() % AXES as u64);
         }
-        // The ISA bridge's doorbell: one-clock pulses.
-        inputs.doorbell = next().is_multiple_of(64);
+        // The ISA bridge's doorbell and the servo tick: one-clock pulses
+        // (one draw for both, so the other inputs' stream is unchanged).
+        let ring = next() % 64;
+        inputs.doorbell = ring == 0;
+        inputs.servo_tick = ring == 1;
         let bus = random_bus_cycle(&map, 6, &mut next, write_data);
         v.push(Vector {
             reset: next().is_multiple_of(3000),
@@ -209,6 +212,7 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
             uut.counter_error.next = u64::from(v.inputs.counter_error).into();
             uut.index_seen.next = u64::from(v.inputs.index_seen).into();
             uut.doorbell.next = v.inputs.doorbell;
+            uut.servo_tick.next = v.inputs.servo_tick;
             settle(&mut uut);
             cycle(&mut uut, |u| &mut u.clock);
             Observed {
@@ -294,6 +298,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "counter_error",
                 "index_seen",
                 "doorbell",
+                "servo_tick",
             ],
         ),
         outputs: ports_of(
@@ -334,6 +339,7 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 u64::from(v.inputs.counter_error),
                 u64::from(v.inputs.index_seen),
                 u64::from(v.inputs.doorbell),
+                u64::from(v.inputs.servo_tick),
             ])
             .collect()
         })
