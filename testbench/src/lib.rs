@@ -27,6 +27,7 @@ pub mod netlist;
 pub mod player;
 pub mod registry;
 pub mod scenarios;
+pub mod servo_loop;
 pub mod state_map;
 pub mod tour;
 pub mod trace;
