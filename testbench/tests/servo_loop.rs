@@ -199,7 +199,9 @@ fn the_loop_runs_the_same_on_the_rust_hdl_top() {
         let log = dsp::run(&mut card, &fine, 12, |_, _| {});
         (log, card.clocks)
     };
+    let t0 = std::time::Instant::now();
     let (hdl, hdl_clocks) = run(ServoCard::on_rust_hdl());
+    eprintln!("rust-hdl: {hdl_clocks} clocks in {:?}", t0.elapsed());
     let (model, model_clocks) = run(ServoCard::new());
     assert_eq!(hdl_clocks, model_clocks);
     assert!(hdl_clocks > 30_000, "{hdl_clocks} clocks");
