@@ -1,7 +1,8 @@
 //! The top level: the MCU (FSMC) and the PC (ISA) reach the counter bank,
-//! the identity block and the shared RAM (docs/motion_controller.md). Two
-//! builds, as the ISA bridge has two: the RAM inside the FPGA, or an
-//! external dual-port SRAM.
+//! the identity block and the shared RAM (docs/motion_controller.md). Three
+//! builds: the RAM inside the FPGA or an external dual-port SRAM (as the
+//! ISA bridge has two), and the servo card's, with the RAM inside and the
+//! SERVO block.
 
 use crate::servo_dac::ServoDac;
 use crate::{IsaBridge, IsaBridgeExternal, McuSide};
