@@ -214,3 +214,51 @@ fn the_loop_runs_the_same_on_the_rust_hdl_top() {
         model.last()
     );
 }
+
+#[test]
+fn a_hung_dsp_is_bitten_by_the_watchdog_and_the_dac_goes_to_0_v() {
+    use motionhdl_model::safety_io::WATCHDOG_KEY;
+    // The firmware reloads the watchdog every period; at period 300 it
+    // hangs for 20 000 clocks (8 periods): the watchdog (3 periods) bites,
+    // HALT sends the safe code, and the slides coast although the firmware
+    // runs again afterwards (the bite holds until SAFETY.CLEAR).
+    const TIMEOUT: u32 = 3 * dsp::TICK_CLOCKS;
+    let (mut card, fine) = card_with(&circle(24), 40);
+    card.write("SAFETY", None, "WDT_TIMEOUT", TIMEOUT);
+    let mut last_reload = 0;
+    let mut safe_after = None;
+    let log = dsp::run(&mut card, &fine, 2700, |k, card| {
+        if k < 300 {
+            card.write("SAFETY", None, "WDT_RELOAD", WATCHDOG_KEY);
+            last_reload = card.clocks;
+        } else if k == 300 {
+            let start = card.clocks;
+            while card.clocks < start + 20_000 {
+                card.idle(1);
+                if safe_after.is_none() && card.dac.output == [SAFE_CODE as u16; 4] {
+                    safe_after = Some(card.clocks - last_reload);
+                }
+            }
+        }
+    });
+    let safe_after = safe_after.expect("the DAC went to 0 V while the DSP hung");
+    let bound = u64::from(TIMEOUT + 2 * update_latency(2, 2) + 6);
+    eprintln!(
+        "watchdog: 0 V on all outputs {safe_after} clocks after the last reload (bound {bound})"
+    );
+    assert!(
+        safe_after > u64::from(TIMEOUT),
+        "{safe_after}: not before the timeout"
+    );
+    assert!(safe_after <= bound, "{safe_after} clocks");
+    assert!(log[301..].iter().all(|t| t.dac == [SAFE_CODE as u16; 2]));
+    assert!(
+        log[299].velocity.iter().any(|v| v.abs() > 0.01),
+        "was moving"
+    );
+    let end = log.last().unwrap();
+    assert!(
+        end.velocity.iter().all(|v| v.abs() < 1e-5),
+        "coasted to rest: {end:?}"
+    );
+}
