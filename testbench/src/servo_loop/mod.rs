@@ -19,8 +19,7 @@ pub mod plant;
 
 use crate::bfm::fsmc::{self, documented_timing, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::bfm::isa;
-use crate::checks::motion_controller::top_model::{step_rust, ModelledTop};
-use crate::harness::settle;
+use crate::checks::motion_controller::top_model::{sample, step_rust};
 use motionhdl_hdl::MotionControllerServo;
 use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::motion_controller::{MotionControllerModel, TopInputs, TopOutputs};
@@ -65,9 +64,7 @@ pub struct RustHdlTop(MotionControllerServo<AXES>);
 
 impl TopEngine for RustHdlTop {
     fn outputs(&mut self, p: &TopInputs) -> TopOutputs {
-        self.0.drive(p);
-        settle(&mut self.0);
-        self.0.outputs()
+        sample(&mut self.0, p)
     }
     fn step(&mut self, p: &TopInputs) -> TopOutputs {
         step_rust(&mut self.0, p)

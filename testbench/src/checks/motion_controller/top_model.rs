@@ -113,26 +113,26 @@ modelled_top!(MotionControllerServo, |uut, o| {
     o.dac_ldac_n = uut.dac_ldac_n.val();
 });
 
-/// Puts `p` on the rust-hdl top's input pins.
-pub fn drive<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) {
+/// The rust-hdl top's output pins with `p` on its input pins, before the
+/// edge.
+pub fn sample<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) -> TopOutputs {
     uut.drive(p);
-}
-
-/// The rust-hdl top's output pins.
-pub fn outputs<const N: usize>(uut: &impl ModelledTop<N>) -> TopOutputs {
+    settle(uut);
     uut.outputs()
 }
 
-/// One clock of the rust-hdl top: `p` on the pins, settle, the outputs
-/// before the edge, then the rising and falling edges.
-pub fn step_rust<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) -> TopOutputs {
-    uut.drive(p);
-    settle(uut);
-    let o = uut.outputs();
+/// The rising and falling clock edges of the rust-hdl top.
+pub fn clock_edge<const N: usize>(uut: &mut impl ModelledTop<N>) {
     uut.clock_pin().next = Clock::from(true);
     settle(uut);
     uut.clock_pin().next = Clock::from(false);
     settle(uut);
+}
+
+/// One clock of the rust-hdl top: [`sample`], then [`clock_edge`].
+pub fn step_rust<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) -> TopOutputs {
+    let o = sample(uut, p);
+    clock_edge(uut);
     o
 }
 
@@ -386,16 +386,11 @@ fn compare_on<T: ModelledTop<N>, const N: usize>(
         }
         let busy = (0..N).any(|i| model.pulses().generator(i).busy());
         // step_rust, with the tick's watch on both sides of the edge.
-        uut.drive(&p);
-        settle(&mut uut);
-        let got = uut.outputs();
+        let got = sample(&mut uut, &p);
         if let Some(w) = &mut stats.tick {
             w.before_edge(k, &TickSample::of(&uut, &model, p.reset, got.dac_ldac_n));
         }
-        uut.clock_pin().next = Clock::from(true);
-        settle(&mut uut);
-        uut.clock_pin().next = Clock::from(false);
-        settle(&mut uut);
+        clock_edge(&mut uut);
         if let Some(w) = &mut stats.tick {
             w.after_edge(k, &servo_tick::counts(&uut, |s| s.snap_count));
         }
