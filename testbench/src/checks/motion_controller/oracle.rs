@@ -205,6 +205,18 @@ fn pattern(word: u32, salt: u32) -> u32 {
     x ^ (x >> 15) ^ (x << 7)
 }
 
+/// 32-bit writes of (register word, data), into the plan's ops and the
+/// oracle.
+fn write_all(o: &mut McuOracle, ops: &mut Vec<Op>, writes: impl IntoIterator<Item = (u32, u32)>) {
+    for (w, data) in writes {
+        ops.push(Op::Write32 {
+            a: (w * 2) as u16,
+            data,
+        });
+        o.write32(w, data);
+    }
+}
+
 /// Every register word read after reset; a pattern written to every word
 /// that decodes to nothing writable (reserved, ID, read-only) and every word
 /// read again; PRESET, LOAD, CTRL and SNAPSHOT written for every channel,
@@ -250,13 +262,7 @@ pub fn plan(config: &Config) -> Plan {
             (word(ch.address(i, "CMD")), load),
             (word(ch.address(i, "CTRL")), pattern(i, 0x7654_3210)),
         ];
-        for (w, data) in writes {
-            ops.push(Op::Write32 {
-                a: (w * 2) as u16,
-                data,
-            });
-            o.write32(w, data);
-        }
+        write_all(&mut o, &mut ops, writes);
     }
     // Every PULSE register but RUN (with RUN 0 nothing moves, so every
     // read is predictable): modes, rates, timings, segment staging, and
@@ -286,29 +292,14 @@ pub fn plan(config: &Config) -> Plan {
         for _ in 0..=i.min(4) {
             writes.push((pulse.base + pax.address(i, "SEG_PUSH"), 0));
         }
-        for (w, data) in writes {
-            ops.push(Op::Write32 {
-                a: (w * 2) as u16,
-                data,
-            });
-            o.write32(w, data);
-        }
+        write_all(&mut o, &mut ops, writes);
     }
     if o.map().blocks.iter().any(|b| b.name == "SERVO") {
-        for (w, data) in servo_writes(o.map().block("SERVO")) {
-            ops.push(Op::Write32 {
-                a: (w * 2) as u16,
-                data,
-            });
-            o.write32(w, data);
-        }
+        let writes = servo_writes(o.map().block("SERVO"));
+        write_all(&mut o, &mut ops, writes);
     }
     let snapshot = word(counter.register("SNAPSHOT").offset);
-    ops.push(Op::Write32 {
-        a: (snapshot * 2) as u16,
-        data: 0,
-    });
-    o.write32(snapshot, 0);
+    write_all(&mut o, &mut ops, [(snapshot, 0)]);
     read_all(&o, &mut ops, &mut expected);
     let ram_words = o.ram.len();
     if ram_words == 0 {
