@@ -172,21 +172,15 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, CliError> {
         error: boolean(error, &raw.counter_error)?,
         snapshot: boolean(snapshot, &raw.counter_snapshot)?,
     };
-    let servo_dac = match &raw.servo_dac {
-        None => false,
-        Some(v) => {
-            let on = v.get_ref().as_bool();
-            let on = on.ok_or_else(|| refusal(origin, "servo_dac", &written(v)))?;
-            if on && isa_ram == IsaRam::External {
-                return Err(CliError::input(format!(
-                    "{origin}: servo_dac = true needs isa_ram = \"internal\" (the servo \
-                     card's top has the shared RAM inside); with isa_ram = \"external\" \
-                     use servo_dac = false"
-                )));
-            }
-            on
-        }
-    };
+    // Off unless given (the counter options are on unless given).
+    let servo_dac = raw.servo_dac.is_some() && boolean("servo_dac", &raw.servo_dac)?;
+    if servo_dac && isa_ram == IsaRam::External {
+        return Err(CliError::input(format!(
+            "{origin}: servo_dac = true needs isa_ram = \"internal\" (the servo \
+             card's top has the shared RAM inside); with isa_ram = \"external\" \
+             use servo_dac = false"
+        )));
+    }
     let config = Config::new(axes, width, clock)
         .and_then(|c| c.with_input_filter_us(filter_us))
         .and_then(|c| c.with_gpio_pins(gpio_inputs, gpio_outputs))
