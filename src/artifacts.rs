@@ -49,7 +49,7 @@ fn traces(config: &Config) -> Vec<Artifact> {
     let list = scenarios::SCENARIOS;
     let next = AtomicUsize::new(0);
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut done: Vec<(usize, [Artifact; 2])> = std::thread::scope(|scope| {
+    let mut done: Vec<(usize, Vec<Artifact>)> = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..workers.min(list.len()))
             .map(|_| {
                 scope.spawn(|| {
@@ -72,20 +72,25 @@ fn traces(config: &Config) -> Vec<Artifact> {
     done.into_iter().flat_map(|(_, files)| files).collect()
 }
 
-/// One scenario's save file and trace.
-fn trace_files(s: &scenarios::Scenario, config: &Config) -> [Artifact; 2] {
+/// One scenario's save file, its plot if it draws one, and its trace.
+fn trace_files(s: &scenarios::Scenario, config: &Config) -> Vec<Artifact> {
     let trace = s.trace(config);
     let vcd = format!("{}.vcd", s.name);
-    [
-        Artifact {
-            path: PathBuf::from("vcd").join(format!("{}.gtkw", s.name)),
-            contents: trace.to_gtkw(&vcd).into_bytes(),
-        },
-        Artifact {
-            path: PathBuf::from("vcd").join(vcd),
-            contents: trace.to_vcd_string().into_bytes(),
-        },
-    ]
+    let mut files = vec![Artifact {
+        path: PathBuf::from("vcd").join(format!("{}.gtkw", s.name)),
+        contents: trace.to_gtkw(&vcd).into_bytes(),
+    }];
+    if let Some(svg) = trace.plot() {
+        files.push(Artifact {
+            path: PathBuf::from("vcd").join(format!("{}.svg", s.name)),
+            contents: svg.as_bytes().to_vec(),
+        });
+    }
+    files.push(Artifact {
+        path: PathBuf::from("vcd").join(vcd),
+        contents: trace.to_vcd_string().into_bytes(),
+    });
+    files
 }
 
 /// The FPGA flow's files for the top level with ports `top`: the

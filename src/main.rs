@@ -342,27 +342,30 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     scenarios::names().join(", ")
                 ))
             })?;
-            // The GTKWave save file beside the trace, naming it relatively.
+            // The GTKWave save file (and a plot) beside the trace, naming
+            // it relatively.
             let gtkw = out.with_extension("gtkw");
-            output::check_files(&[&out, &gtkw], force)?;
+            let svg = out.with_extension("svg");
+            let mut paths = vec![out.as_path(), gtkw.as_path()];
+            if scenario.plot {
+                paths.push(svg.as_path());
+            }
+            output::check_files(&paths, force)?;
             let trace = scenario.trace(&config);
             let vcd_name = out
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            output::write_files(
-                &[
-                    (out.clone(), trace.to_vcd_string().into_bytes()),
-                    (gtkw.clone(), trace.to_gtkw(&vcd_name).into_bytes()),
-                ],
-                force,
-            )?;
-            println!(
-                "wrote {} and {} ({})",
-                out.display(),
-                gtkw.display(),
-                scenario.summary
-            );
+            let mut files = vec![
+                (out.clone(), trace.to_vcd_string().into_bytes()),
+                (gtkw.clone(), trace.to_gtkw(&vcd_name).into_bytes()),
+            ];
+            if let Some(plot) = trace.plot() {
+                files.push((svg, plot.as_bytes().to_vec()));
+            }
+            output::write_files(&files, force)?;
+            let written: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
+            println!("wrote {} ({})", written.join(", "), scenario.summary);
             Ok(())
         }
     }

@@ -230,6 +230,24 @@ fn trace_writes_a_named_scenario_and_rejects_unknown_names() {
     assert_eq!(fs::read_to_string(&f).unwrap(), want);
     let save = fs::read_to_string(t.path().join("sel.gtkw")).unwrap();
     assert!(save.contains("[dumpfile] \"sel.vcd\""), "{save}");
+    assert!(!t.path().join("sel.svg").exists(), "no plot for this one");
+
+    // A scenario with a plot writes it beside, and a foreign file there
+    // stops it before any file is written.
+    let f = t.path().join("loop.vcd");
+    let svg = t.path().join("loop.svg");
+    fs::write(&svg, "<svg>mine</svg>").unwrap();
+    let o = motionhdl(&["trace", "servo_loop", "--out", f.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("loop.svg"), "{}", stderr(&o));
+    assert_eq!(fs::read_to_string(&svg).unwrap(), "<svg>mine</svg>");
+    assert!(!f.exists());
+    fs::remove_file(&svg).unwrap();
+    let o = motionhdl(&["trace", "servo_loop", "--out", f.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let plot = fs::read_to_string(&svg).unwrap();
+    assert!(plot.starts_with(&format!("<!-- {} -->", motionhdl_hdl::banner())));
+    assert!(fs::read_to_string(&f).unwrap().contains("$var wire 32"));
 
     let g = t.path().join("nope.vcd");
     let o = motionhdl(&["trace", "no_such_scenario", "--out", g.to_str().unwrap()]);

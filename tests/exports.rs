@@ -45,6 +45,33 @@ fn every_generated_file_starts_with_the_banner() {
 }
 
 #[test]
+fn every_trace_has_every_value_at_time_0() {
+    let mut traces = 0;
+    for a in common::artifacts_for("") {
+        if a.path.extension().is_none_or(|e| e != "vcd") {
+            continue;
+        }
+        let text = String::from_utf8(a.contents.clone()).unwrap();
+        let body = &text[text.find("$enddefinitions $end\n").expect("a VCD") + 21..];
+        assert!(
+            body.starts_with("#0\n"),
+            "{}: first time {:?}",
+            a.path.display(),
+            body.lines().next()
+        );
+        let vars = text.matches("$var ").count();
+        let at_0 = body
+            .lines()
+            .skip(1)
+            .take_while(|l| !l.starts_with('#'))
+            .count();
+        assert_eq!(at_0, vars, "{}: values at time 0", a.path.display());
+        traces += 1;
+    }
+    assert_eq!(traces, motionhdl_testbench::scenarios::SCENARIOS.len());
+}
+
+#[test]
 fn module_names_are_the_file_names_and_carry_no_dollar() {
     let modules = catalog::all(&Default::default());
     assert_eq!(
@@ -491,13 +518,35 @@ fn gtkw_save_files_show_every_signal_grouped_by_scope() {
         assert!(gtkw.contains(&format!("[dumpfile] \"{}.vcd\"", s.name)));
         let listed: Vec<&str> = gtkw
             .lines()
-            .filter(|l| !l.starts_with(['@', '[', '-']))
+            .filter(|l| !l.starts_with(['@', '[', '-', '*']))
             .collect();
         let mut want: Vec<&str> = names.iter().map(String::as_str).collect();
         let mut got = listed.clone();
         want.sort();
         got.sort();
         assert_eq!(got, want, "{}: signals in the save file", s.name);
+        // Zoomed to fit: 2^-zoom time units per pixel, the whole run in
+        // 1000 pixels and more than half of them.
+        let zoom: f64 = gtkw
+            .lines()
+            .find_map(|l| l.strip_prefix('*'))
+            .and_then(|l| l.split(' ').next())
+            .and_then(|z| z.parse().ok())
+            .unwrap_or_else(|| panic!("{}: no zoom line", s.name));
+        let vcd = text(&format!("{}.vcd", s.name));
+        let end: f64 = vcd
+            .lines()
+            .filter_map(|l| l.strip_prefix('#'))
+            .next_back()
+            .unwrap()
+            .parse()
+            .unwrap();
+        let per_pixel = (-zoom).exp2();
+        assert!(
+            end <= 1000.0 * per_pixel && end > 500.0 * per_pixel,
+            "{}: zoom {zoom} for a run of {end}",
+            s.name
+        );
         let begins = gtkw.lines().filter(|l| *l == "@800200").count();
         let ends = gtkw.lines().filter(|l| *l == "@1000200").count();
         assert!(begins > 0 && begins == ends, "{}: groups", s.name);

@@ -174,7 +174,7 @@ pub fn check_files(
         let target = resolve(path)?;
         if resolved.contains(&target) {
             return Err(CliError::input(format!(
-                "{} would be written twice (a trace and its .gtkw save file): \
+                "{} would be written twice (a trace and its .gtkw save file or .svg plot): \
                  give the trace a name ending in .vcd",
                 path.display()
             )));

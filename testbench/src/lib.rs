@@ -25,6 +25,7 @@ pub mod checks;
 pub mod harness;
 pub mod netlist;
 pub mod player;
+pub mod plot;
 pub mod registry;
 pub mod scenarios;
 pub mod servo_loop;

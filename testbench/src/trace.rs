@@ -13,6 +13,8 @@ struct SignalDef {
     scope: Vec<String>,
     name: String,
     width: u32,
+    /// Shown as an analog curve in the save file: `Some(signed)`.
+    analog: Option<bool>,
 }
 
 /// A trace under construction: declare signals, then record values at
@@ -25,6 +27,8 @@ pub struct Trace {
     /// Time unit: nanoseconds, or picoseconds for traces with events
     /// between whole nanoseconds.
     unit: TimescaleUnit,
+    /// A picture of the run (SVG), written beside the trace.
+    plot: Option<String>,
 }
 
 impl Trace {
@@ -34,6 +38,7 @@ impl Trace {
             signals: Vec::new(),
             changes: BTreeMap::new(),
             unit: TimescaleUnit::NS,
+            plot: None,
         }
     }
 
@@ -56,8 +61,60 @@ impl Trace {
             scope: scope.iter().map(|s| s.to_string()).collect(),
             name: name.into(),
             width,
+            analog: None,
         });
         SignalId(self.signals.len() - 1)
+    }
+
+    /// A signal for a quantity (a position, a voltage): recorded with
+    /// [`Trace::set_quantity`], shown as a signed decimal analog curve.
+    pub fn analog(&mut self, scope: &[&str], name: &str, width: u32) -> SignalId {
+        let id = self.signal(scope, name, width);
+        self.signals[id.0].analog = Some(true);
+        id
+    }
+
+    /// A quantity that is never negative (a DAC code): an unsigned
+    /// decimal analog curve.
+    pub fn analog_unsigned(&mut self, scope: &[&str], name: &str, width: u32) -> SignalId {
+        let id = self.signal(scope, name, width);
+        self.signals[id.0].analog = Some(false);
+        id
+    }
+
+    /// Records the quantity `value` on `id` at `time_ns`: two's
+    /// complement on a signed signal ([`Trace::analog`]), as it is on the
+    /// others, which it must fit.
+    pub fn set_quantity(&mut self, time_ns: u64, id: SignalId, value: i64) {
+        let s = &self.signals[id.0];
+        if s.analog != Some(true) {
+            let v = u64::try_from(value)
+                .unwrap_or_else(|_| panic!("{}: {value} on an unsigned signal", s.name));
+            return self.set(time_ns, id, v);
+        }
+        let half = 1i128 << (s.width - 1);
+        assert!(
+            (-half..half).contains(&i128::from(value)),
+            "value {value} does not fit {} ({} bits, signed)",
+            s.name,
+            s.width
+        );
+        let mask = if s.width == 64 {
+            u64::MAX
+        } else {
+            (1u64 << s.width) - 1
+        };
+        self.set(time_ns, id, value as u64 & mask);
+    }
+
+    /// Attaches a picture of the run (an SVG document).
+    pub fn set_plot(&mut self, svg: String) {
+        self.plot = Some(svg);
+    }
+
+    /// The picture of the run, if the scenario draws one.
+    pub fn plot(&self) -> Option<&str> {
+        self.plot.as_deref()
     }
 
     /// Records `value` on `id` at `time_ns` (picoseconds for a trace made
@@ -165,19 +222,26 @@ impl Trace {
 
     /// A GTKWave save file for this trace written as `vcd_file`: every
     /// signal, one group per scope (per axis, per block), in declaration
-    /// order, one-bit signals in binary and wider ones in hex, so the trace
-    /// opens ready to read (`gtkwave NAME.gtkw`).
+    /// order, one-bit signals in binary, wider ones in hex and quantities
+    /// as analog curves, zoomed to show the whole run, so the trace opens
+    /// ready to read (`gtkwave NAME.gtkw`).
     pub fn to_gtkw(&self, vcd_file: &str) -> String {
         // GTKWave trace flags: 0x20 right-justify, 0x8 binary, 0x2 hex;
         // group begin 0x800000 and end 0x1000000, each with blank 0x200.
         const BINARY: &str = "@28";
         const HEX: &str = "@22";
+        // Analog step 0x8000, (signed 0x400,) decimal 0x4, right-justify;
+        // each blank-stretch line 0x20000 makes the curve a row taller.
+        const ANALOG_SIGNED: &str = "@8424";
+        const ANALOG_UNSIGNED: &str = "@8024";
+        const TALLER: &str = "@20000\n-\n-\n-\n-\n-\n";
         const GROUP_BEGIN: &str = "@800200";
         const GROUP_END: &str = "@1000200";
         let mut out = format!(
             "[*] {}\n[dumpfile] \"{vcd_file}\"\n[timestart] 0\n[size] 1600 900\n\
-             [signals_width] 260\n[sst_expanded] 1\n[sst_width] 220\n",
-            self.banner
+             [signals_width] 260\n[sst_expanded] 1\n[sst_width] 220\n{}\n",
+            self.banner,
+            self.zoom_to_fit()
         );
         let mut order: Vec<usize> = (0..self.signals.len()).collect();
         order.sort_by(|a, b| {
@@ -202,7 +266,14 @@ impl Trace {
             } else {
                 format!("{scope}.")
             };
-            if s.width == 1 {
+            if let Some(signed) = s.analog {
+                let flags = if signed {
+                    ANALOG_SIGNED
+                } else {
+                    ANALOG_UNSIGNED
+                };
+                out += &format!("{flags}\n{prefix}{}[{}:0]\n{TALLER}", s.name, s.width - 1);
+            } else if s.width == 1 {
                 out += &format!("{BINARY}\n{prefix}{}\n", s.name);
             } else {
                 out += &format!("{HEX}\n{prefix}{}[{}:0]\n", s.name, s.width - 1);
@@ -212,6 +283,17 @@ impl Trace {
             out += &format!("{GROUP_END}\n-{g}\n");
         }
         out
+    }
+
+    /// GTKWave's zoom line: time units per pixel are 2^-zoom, so the run
+    /// from 0 to its last change fits the ~1100 pixels of wave area the
+    /// save file's window has; no marker, none of the 26 named ones.
+    fn zoom_to_fit(&self) -> String {
+        const WAVE_PIXELS: f64 = 1000.0;
+        let end = self.changes.keys().next_back().copied().unwrap_or(0).max(1);
+        // (+ 0.0: no "-0" in the file.)
+        let zoom = -(end as f64 / WAVE_PIXELS).log2().ceil() + 0.0;
+        format!("*{zoom:.6} -1{}", " -1".repeat(26))
     }
 
     /// Every signal as GTKWave names it (`scope.name`, `[msb:0]` on

@@ -5,23 +5,7 @@
 
 use motionhdl_model::servo_dac::{update_latency, SAFE_CODE};
 use motionhdl_testbench::servo_loop::dsp::{self, Tick};
-use motionhdl_testbench::servo_loop::{plant, ServoCard};
-use std::f64::consts::TAU;
-
-/// The card set up, `coarse` sent by the PC and received by the DSP, and
-/// the fine setpoints (`n` per span).
-fn card_with(coarse: &[[i32; 2]], n: u32) -> (ServoCard, Vec<[f64; 2]>) {
-    let mut card = ServoCard::new();
-    dsp::setup(&mut card);
-    card.pc_send(&dsp::encode_points(coarse));
-    let got = dsp::receive_points(&mut card);
-    assert_eq!(
-        got, coarse,
-        "the points through ISA, the RAM and the DSP bus"
-    );
-    let fine = dsp::fine_setpoints(&got, n);
-    (card, fine)
-}
+use motionhdl_testbench::servo_loop::{card_with, circle, plant, ServoCard};
 
 /// The largest |setpoint − count| of `axis` over `log`.
 fn following_error(log: &[Tick], axis: usize) -> f64 {
@@ -40,20 +24,6 @@ fn settled_from(log: &[Tick], axis: usize, target: i32, band: i32) -> Option<usi
         Some(k) => Some(k + 1),
         None => Some(0),
     }
-}
-
-/// `points` + 1 coarse points of a circle of radius 500 counts, 24 per
-/// turn, starting at the origin where the slides stand.
-fn circle(points: u32) -> Vec<[i32; 2]> {
-    (0..=points)
-        .map(|k| {
-            let a = TAU * f64::from(k) / 24.0;
-            [
-                (500.0 * (a.cos() - 1.0)).round() as i32,
-                (500.0 * a.sin()).round() as i32,
-            ]
-        })
-        .collect()
 }
 
 #[test]
@@ -261,4 +231,42 @@ fn a_hung_dsp_is_bitten_by_the_watchdog_and_the_dac_goes_to_0_v() {
         end.velocity.iter().all(|v| v.abs() < 1e-5),
         "coasted to rest: {end:?}"
     );
+}
+
+#[test]
+fn the_trace_shows_the_circle_run_per_tick_with_its_plot() {
+    use motionhdl_testbench::servo_loop::trace;
+    let log = trace::run();
+    let t = trace::trace();
+    let vcd = t.to_vcd_string();
+    // Values from time 0, at rest; then one sample per tick (20 ns a
+    // clock), the last one the run's last tick.
+    let body = &vcd[vcd.find("$enddefinitions").unwrap()..];
+    assert!(body.contains("\n#0\n"), "no values at time 0");
+    let last = log.last().unwrap();
+    assert!(
+        vcd.contains(&format!("\n#{}\n", last.clock * 20)),
+        "last tick's sample"
+    );
+    let gtkw = t.to_gtkw("servo_loop.vcd");
+    assert_eq!(gtkw.matches("@8424\n").count(), 10, "signed analog curves");
+    assert_eq!(gtkw.matches("@8024\n").count(), 2, "the codes, unsigned");
+    let svg = t.plot().expect("a plot");
+    // 4 panels of 2 curves, each with its legend swatch.
+    assert_eq!(motionhdl_testbench::plot::curves(svg), 16);
+    // The DAC chatter the plot shows (docs/servo_loop.md, "Trace"): the
+    // derivative term on a one-count error step is Kp·τd/T codes.
+    let kick = dsp::KP * dsp::TAU_D_S / (f64::from(dsp::TICK_CLOCKS) * 20e-9);
+    let steps: Vec<i32> = log
+        .windows(2)
+        .map(|w| (i32::from(w[1].code[0]) - i32::from(w[0].code[0])).abs())
+        .collect();
+    let big = steps.iter().filter(|&&d| f64::from(d) > kick / 2.0).count();
+    eprintln!(
+        "servo_loop trace: {} ticks; X code steps over Kp*td/T/2 = {:.0}: {big}; largest {}",
+        log.len(),
+        kick / 2.0,
+        steps.iter().max().unwrap()
+    );
+    assert!(big > 0, "the derivative kick is in the run");
 }

@@ -1,6 +1,9 @@
 //! Named scenario traces, written by `motionhdl trace NAME` and by
 //! `motionhdl generate` into `generated/vcd/`. Every value in a trace comes
-//! from stepping the rust-hdl blocks; nothing is drawn from the model.
+//! from stepping the rust-hdl blocks; nothing is drawn from the model, but
+//! for `servo_loop`, whose 2.9 M clocks run on the model of the servo
+//! card's top (held to the rust-hdl top every clock by the checks; see
+//! `servo_loop::trace`).
 
 pub mod counter_bank;
 pub mod isa_bridge;
@@ -18,12 +21,16 @@ use rust_hdl::prelude::*;
 pub struct Scenario {
     pub name: &'static str,
     pub summary: &'static str,
+    /// Whether the trace carries a plot (an `.svg` beside the `.vcd`).
+    pub plot: bool,
     build: fn(&Config) -> Trace,
 }
 
 impl Scenario {
     pub fn trace(&self, config: &Config) -> Trace {
-        (self.build)(config)
+        let trace = (self.build)(config);
+        assert_eq!(trace.plot().is_some(), self.plot, "{}: plot", self.name);
+        trace
     }
 }
 
@@ -33,119 +40,141 @@ pub const SCENARIOS: &[Scenario] = &[
         name: "pulse_mode_selector",
         summary: "all 8 (K,S2,S1) inputs in both modes, then pulse trains with a direction change, \
                   through the combinational and the registered selector",
+        plot: false,
         build: pulse_mode_selector,
     },
     Scenario {
         name: "counter_slow_reversal",
         summary: "counter bank, X4: a slow encoder 12 steps forward and 8 back, then snapshot and read",
+        plot: false,
         build: cs::slow_reversal,
     },
     Scenario {
         name: "counter_x4_x2_x1",
         summary: "counter bank: one encoder on three channels counting X4, X2 and X1 side by side",
+        plot: false,
         build: cs::x4_x2_x1,
     },
     Scenario {
         name: "counter_pulse_dir",
         summary: "counter bank, pulse+direction: 5 pulses forward, 3 back",
+        plot: false,
         build: cs::pulse_direction,
     },
     Scenario {
         name: "counter_cw_ccw",
         summary: "counter bank, CW/CCW: 5 pulses on A (up), 3 on B (down)",
+        plot: false,
         build: cs::cw_ccw,
     },
     Scenario {
         name: "counter_index",
         summary: "counter bank: gated index latching every turn, then one-shot clear-on-index after ARM",
+        plot: false,
         build: cs::index_latch_clear,
     },
     Scenario {
         name: "counter_illegal",
         summary: "counter bank: an illegal A+B transition latches ERR, the count holds, CLEAR_STATUS clears",
+        plot: false,
         build: cs::illegal_transition,
     },
     Scenario {
         name: "counter_filter",
         summary: "counter bank, FILTER_AB=3: a 2-clock glitch on A is rejected, a real step accepted",
+        plot: false,
         build: cs::filter_glitch,
     },
     Scenario {
         name: "pulse_acceleration",
         summary: "pulse generator: a move through the segment FIFO: accelerate, cruise, decelerate, DONE",
+        plot: false,
         build: pulse_generator::acceleration,
     },
     Scenario {
         name: "pulse_reversal",
         summary: "pulse generator, pulse+direction: a reversal with direction hold and set-up visible",
+        plot: false,
         build: pulse_generator::reversal,
     },
     Scenario {
         name: "pulse_cw_ccw",
         summary: "pulse generator, CW/CCW: the same reversal, F1 then F2 pulses, no runt at the switch",
+        plot: false,
         build: pulse_generator::cw_ccw,
     },
     Scenario {
         name: "pulse_quadrature",
         summary: "pulse generator, quadrature output: A leads B forward, B leads A after the reversal",
+        plot: false,
         build: pulse_generator::quadrature,
     },
     Scenario {
         name: "system",
         summary: "the whole controller: an S-curve on axis 0 and a follower at K = -1/2 on axis 1, \
                   streamed over FSMC, out to simulated drives, counted back from their encoders",
+        plot: false,
         build: crate::checks::motion_controller::system::trace,
     },
     Scenario {
         name: "limit_stop",
         summary: "the whole controller: axis 0 creeps into a LIMIT_POS switch (1 us filter), stops \
                   on it with IRQ low, a move further in is refused, it backs off, the cause is cleared",
+        plot: false,
         build: crate::checks::motion_controller::limit_stop::trace,
     },
     Scenario {
         name: "limit_brake",
         summary: "the whole controller: as limit_stop with AX.DECEL set: axis 0 brakes past the \
                   switch, the step spacing widening, to rest about v^2/2a beyond it; held, backed off, cleared",
+        plot: false,
         build: crate::checks::motion_controller::limit_stop::brake_trace,
     },
     Scenario {
         name: "homing",
         summary: "the whole controller: the firmware's homing sequence on axis 0 over FSMC: fast search, \
                   back-off, slow search captured by HOME_POSITION/HOME_COUNT, on to the encoder index",
+        plot: false,
         build: crate::checks::motion_controller::homing::trace,
     },
     Scenario {
         name: "estop",
         summary: "the whole controller: two axes creep, the e-stop chain opens: both stop, drives off, \
                   outputs safe, IRQ low; the chain closes, firmware clears the latch",
+        plot: false,
         build: crate::checks::motion_controller::estop::trace,
     },
     Scenario {
         name: "watchdog_bite",
         summary: "the whole controller: two axes creep, firmware feeds the watchdog four times and \
                   stops; it bites, steps and drive enables stop, the outputs take their safe state, IRQ falls",
+        plot: false,
         build: crate::checks::motion_controller::watchdog_bite::trace,
     },
     Scenario {
         name: "irq_refill",
         summary: "the whole controller: two axes stream 96 segments each, the firmware refilling \
                   the FIFOs on the FIFO-low interrupt alone, never reading STATUS",
+        plot: false,
         build: crate::checks::motion_controller::irq_refill::trace,
     },
     Scenario {
         name: "isa_block_write",
         summary: "ISA bridge: the PC writes 8 words with AUTO_INC (real ISA timing, ps), the DSP reads them",
+        plot: false,
         build: |_| isa_bridge::block_write_trace(),
     },
     Scenario {
         name: "isa_block_read",
         summary: "ISA bridge: the DSP writes 8 words, the PC reads 4 the seed's way (DATA, ADDR_INC) and 4 with AUTO_INC",
+        plot: false,
         build: |_| isa_bridge::block_read_trace(),
     },
     Scenario {
         name: "isa_doorbell",
         summary: "ISA bridge: the DSP rings the PC through its mailbox word (IRQ up), the PC reads \
                   the mailbox (IRQ down) and the block, then rings the DSP back",
+        plot: false,
         build: |_| isa_bridge::doorbell_trace(),
     },
     Scenario {
@@ -153,7 +182,16 @@ pub const SCENARIOS: &[Scenario] = &[
         summary: "servo DAC block: a tick every 40 clocks, four new codes staged each period and \
                   written to the DAC pins after each tick, all four outputs moving at one \
                   LOADDACS rise; the safe input drives them to mid-scale (0 V)",
+        plot: false,
         build: |_| servo_dac::trace(),
+    },
+    Scenario {
+        name: "servo_loop",
+        summary: "the servo card's loop closed: the PC sends a circle over ISA, the DSP's B-spline and \
+                  PID run per tick, the DAC drives the motors, the rulers count back; one sample per \
+                  tick, with a plot (.svg) of commanded versus measured position and the DAC outputs",
+        plot: true,
+        build: |_| crate::servo_loop::trace::trace(),
     },
 ];
 

@@ -16,6 +16,7 @@
 
 pub mod dsp;
 pub mod plant;
+pub mod trace;
 
 use crate::bfm::fsmc::{self, documented_timing, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::bfm::isa;
@@ -41,6 +42,35 @@ pub fn config() -> Config {
 pub const CLOCK_S: f64 = 20e-9;
 /// The ISA card's base switches (I/O ports 0x300..0x303).
 pub const ISA_BASE: u8 = 0xC0;
+
+/// `points` + 1 coarse points of a circle of radius 500 counts, 24 per
+/// turn, starting at the origin where the slides stand.
+pub fn circle(points: u32) -> Vec<[i32; AXES]> {
+    (0..=points)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / 24.0;
+            [
+                (500.0 * (a.cos() - 1.0)).round() as i32,
+                (500.0 * a.sin()).round() as i32,
+            ]
+        })
+        .collect()
+}
+
+/// The card (the model top) set up, `coarse` sent by the PC and received
+/// by the DSP, and the fine setpoints (`n` per span).
+pub fn card_with(coarse: &[[i32; AXES]], n: u32) -> (ServoCard, Vec<[f64; AXES]>) {
+    let mut card = ServoCard::new();
+    dsp::setup(&mut card);
+    card.pc_send(&dsp::encode_points(coarse));
+    let got = dsp::receive_points(&mut card);
+    assert_eq!(
+        got, coarse,
+        "the points through ISA, the RAM and the DSP bus"
+    );
+    let fine = dsp::fine_setpoints(&got, n);
+    (card, fine)
+}
 
 /// The FPGA the bench drives: the model or the rust-hdl top.
 pub trait TopEngine {

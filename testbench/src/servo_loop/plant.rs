@@ -58,10 +58,15 @@ impl Dac7744 {
         self.last = Some((o.dac_data, o.dac_addr, o.dac_cs_n, o.dac_ldac_n));
     }
 
-    /// Output `channel`'s voltage (straight binary, 0x8000 = 0 V).
+    /// Output `channel`'s voltage.
     pub fn volts(&self, channel: usize) -> f64 {
-        (f64::from(self.output[channel]) - f64::from(SAFE_CODE as u16)) * DAC_FULL_SCALE_V / 32768.0
+        code_volts(self.output[channel])
     }
+}
+
+/// The voltage of a DAC code (straight binary, 0x8000 = 0 V).
+pub fn code_volts(code: u16) -> f64 {
+    (f64::from(code) - f64::from(SAFE_CODE as u16)) * DAC_FULL_SCALE_V / 32768.0
 }
 
 /// One axis: the motor's slide and the ruler on it.

@@ -72,6 +72,8 @@ impl Drive {
 struct Probes {
     trace: Trace,
     half_ns: u64,
+    /// The clock recorded at time 0.
+    first_clock: u64,
     bus: [SignalId; 5],
     /// drive_enable, gpo_out, gpo_oe.
     machine: [SignalId; 3],
@@ -131,8 +133,14 @@ impl<const N: usize> System<N> {
     }
 
     /// Record a VCD trace of the pins and shafts, one scope per axis.
+    /// Recording starts now (after reset and setup): the trace's time 0 is
+    /// this clock, which the banner names.
     pub fn record_trace(&mut self, banner: impl Into<String>, half_ns: u64) {
-        let mut trace = Trace::new(banner);
+        let mut trace = Trace::new(format!(
+            "{} | time 0 = clock {} after reset",
+            banner.into(),
+            self.clocks
+        ));
         let bus = [
             trace.signal(&["fsmc"], "nwe_n", 1),
             trace.signal(&["fsmc"], "ne_n", 1),
@@ -165,6 +173,7 @@ impl<const N: usize> System<N> {
         self.probes = Some(Probes {
             trace,
             half_ns,
+            first_clock: self.clocks,
             bus,
             machine,
             axes,
@@ -255,7 +264,7 @@ impl<const N: usize> System<N> {
             path.push(self.drives.iter().map(|d| d.position).collect());
         }
         if let Some(p) = &mut self.probes {
-            let t = self.clocks * 2 * p.half_ns;
+            let t = (self.clocks - p.first_clock) * 2 * p.half_ns;
             p.trace.set(t, p.bus[0], u64::from(pins.nwe_n));
             p.trace.set(t, p.bus[1], u64::from(pins.ne_n));
             p.trace.set(t, p.bus[2], u64::from(pins.a & 0xfff));
