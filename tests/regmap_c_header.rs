@@ -55,7 +55,9 @@ fn header_defines_every_number_of_the_table() {
         "} MOTIONHDL_COUNTER_TypeDef;",
         "} MOTIONHDL_ID_TypeDef;",
         "} MOTIONHDL_TypeDef;",
-        "    MOTIONHDL_COUNTER_CH_TypeDef CH[MOTIONHDL_COUNTER_CH_COUNT]; /* +0x020 */",
+        "    MOTIONHDL_COUNTER_CH_TypeDef CH[MOTIONHDL_COUNTER_CH_NUM]; /* +0x020 */",
+        // Every byte of the 8 KB window: the RAM's mirror ends it.
+        "    __IO uint16_t SHARED_RAM_MIRROR[1024]; /* 0x1800 */",
         "#define MOTIONHDL(base) ((MOTIONHDL_TypeDef *)(uintptr_t)(base))",
         "    __O  uint32_t SNAPSHOT;",
         "    __I  uint32_t COUNT;",

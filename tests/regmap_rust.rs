@@ -45,7 +45,7 @@ fn rust_module_included_matches_the_table() {
     assert_eq!(regs::id::BASE_OFFSET as u32, id.base * 4);
     assert_eq!(regs::counter::BASE_OFFSET as u32, counter.base * 4);
     assert_eq!(regs::counter::SIZE as u32, (1 << counter.address_bits) * 4);
-    assert_eq!(regs::counter::ch::COUNT as u32, ch.count);
+    assert_eq!(regs::counter::ch::LEN as u32, ch.count);
     assert_eq!(regs::counter::ch::STRIDE as u32, ch.stride * 4);
     for i in 0..ch.count {
         assert_eq!(
@@ -152,7 +152,7 @@ fn rust_expected(map: &BusMap) -> Vec<(String, u64)> {
         }
         for a in &b.arrays {
             let ap = format!("{bp}::{}", m(a.name));
-            v.push((format!("{ap}::COUNT"), u64::from(a.count)));
+            v.push((format!("{ap}::LEN"), u64::from(a.count)));
             v.push((format!("{ap}::STRIDE"), u64::from(a.stride * 4)));
             v.push((format!("{ap}::OFFSET"), u64::from(a.offset * 4)));
             for i in 0..a.count {
@@ -201,27 +201,22 @@ fn rust_module_builds_no_std_and_every_constant_is_the_tables() {
         let dir = tempfile::tempdir().unwrap();
         fs::write(dir.path().join(rust_module::FILE_NAME), &module).unwrap();
 
-        // A no_std library holding the module.
+        // A no_std library holding the module, in the edition a firmware
+        // crate has (2024 is what `cargo new` picks).
         let lib = dir.path().join("lib.rs");
         fs::write(&lib, "#![no_std]\n#![deny(missing_docs)]\n//! Firmware crate.\n\n/// Registers.\npub mod motionhdl_regs;\n").unwrap();
-        let (ok, out, err) = run(Command::new(&rustc)
-            .args([
-                "--crate-type",
-                "lib",
-                "--edition",
-                "2021",
-                "-D",
-                "warnings",
-                "--crate-name",
-                "fw",
-            ])
-            .arg("--out-dir")
-            .arg(dir.path())
-            .arg(&lib));
-        assert!(
-            ok && err.is_empty(),
-            "config {k}: rustc no_std lib:\n{out}{err}"
-        );
+        for edition in ["2021", "2024"] {
+            let (ok, out, err) = run(Command::new(&rustc)
+                .args(["--crate-type", "lib", "--edition", edition])
+                .args(["-D", "warnings", "--crate-name", "fw"])
+                .arg("--out-dir")
+                .arg(dir.path())
+                .arg(&lib));
+            assert!(
+                ok && err.is_empty(),
+                "config {k}: rustc --edition {edition} no_std lib:\n{out}{err}"
+            );
+        }
 
         // A program comparing every constant with the table's value.
         let expected = rust_expected(&map);

@@ -286,7 +286,7 @@ extern "C" {
 #define MOTIONHDL_COUNTER_PRESET__VALUE_reset 0x0000u
 
 /* CH[0..3]: 4 elements of 32 bytes from block +0x020. */
-#define MOTIONHDL_COUNTER_CH_COUNT 4u
+#define MOTIONHDL_COUNTER_CH_NUM 4u
 #define MOTIONHDL_COUNTER_CH_STRIDE 0x0020u
 /* Byte offset of CH[n] within COUNTER. */
 #define MOTIONHDL_COUNTER_CH_OFFSET(n) (0x0020u + (uint32_t)(n) * MOTIONHDL_COUNTER_CH_STRIDE)
@@ -503,7 +503,7 @@ extern "C" {
 #define MOTIONHDL_PULSE_RUN__AXES_reset 0x0000u
 
 /* AX[0..3]: 4 elements of 64 bytes from block +0x040. */
-#define MOTIONHDL_PULSE_AX_COUNT 4u
+#define MOTIONHDL_PULSE_AX_NUM 4u
 #define MOTIONHDL_PULSE_AX_STRIDE 0x0040u
 /* Byte offset of AX[n] within PULSE. */
 #define MOTIONHDL_PULSE_AX_OFFSET(n) (0x0040u + (uint32_t)(n) * MOTIONHDL_PULSE_AX_STRIDE)
@@ -1495,7 +1495,7 @@ typedef struct {
     __O  uint32_t SNAPSHOT; /* +0x004 WO */
     __IO uint32_t PRESET; /* +0x008 RW */
     uint32_t RESERVED0[5]; /* +0x00c */
-    MOTIONHDL_COUNTER_CH_TypeDef CH[MOTIONHDL_COUNTER_CH_COUNT]; /* +0x020 */
+    MOTIONHDL_COUNTER_CH_TypeDef CH[MOTIONHDL_COUNTER_CH_NUM]; /* +0x020 */
 } MOTIONHDL_COUNTER_TypeDef;
 
 /* One element of PULSE.AX: 64 bytes. */
@@ -1523,7 +1523,7 @@ typedef struct {
     __I  uint32_t INFO; /* +0x000 RO */
     __IO uint32_t RUN; /* +0x004 RW */
     uint32_t RESERVED0[14]; /* +0x008 */
-    MOTIONHDL_PULSE_AX_TypeDef AX[MOTIONHDL_PULSE_AX_COUNT]; /* +0x040 */
+    MOTIONHDL_PULSE_AX_TypeDef AX[MOTIONHDL_PULSE_AX_NUM]; /* +0x040 */
 } MOTIONHDL_PULSE_TypeDef;
 
 /* SAFETY: E-stop, watchdog, drive enables and the interrupt line (docs/safety_io.md). */
@@ -1578,6 +1578,8 @@ typedef struct {
     MOTIONHDL_PULSE_TypeDef PULSE; /* 0x0800 */
     uint32_t RESERVED3[432]; /* 0x0940 */
     __IO uint16_t SHARED_RAM[MOTIONHDL_SHARED_RAM_WORDS]; /* 0x1000 */
+    /* SHARED_RAM again: the RAM port does not decode A10. Do not use. */
+    __IO uint16_t SHARED_RAM_MIRROR[1024]; /* 0x1800 */
 } MOTIONHDL_TypeDef;
 
 /* The window at `base`, e.g. MOTIONHDL(MOTIONHDL_FSMC_NE1_BASE)->COUNTER.CH[0].COUNT. */

@@ -29,7 +29,9 @@ pub const ID_MAGIC: u32 = 0x4d48_444c;
 /// the byte offset of a register.
 #[inline(always)]
 pub unsafe fn read32(base: usize, offset: usize) -> u32 {
-    core::ptr::read_volatile((base + offset) as *const u32)
+    // SAFETY: the caller keeps the contract above (edition 2024 wants
+    // the unsafe operation in a block of its own).
+    unsafe { core::ptr::read_volatile((base + offset) as *const u32) }
 }
 
 /// Writes the 32-bit register at byte `offset` from `base` with one 32-bit volatile access.
@@ -39,7 +41,8 @@ pub unsafe fn read32(base: usize, offset: usize) -> u32 {
 /// As for [`read32`].
 #[inline(always)]
 pub unsafe fn write32(base: usize, offset: usize, value: u32) {
-    core::ptr::write_volatile((base + offset) as *mut u32, value)
+    // SAFETY: as for `read32`.
+    unsafe { core::ptr::write_volatile((base + offset) as *mut u32, value) }
 }
 
 /// Reads the 16-bit memory word at byte `offset` from `base` (one halfword access).
@@ -50,7 +53,8 @@ pub unsafe fn write32(base: usize, offset: usize, value: u32) {
 /// the byte offset of a word of a memory window.
 #[inline(always)]
 pub unsafe fn read16(base: usize, offset: usize) -> u16 {
-    core::ptr::read_volatile((base + offset) as *const u16)
+    // SAFETY: the caller keeps the contract above.
+    unsafe { core::ptr::read_volatile((base + offset) as *const u16) }
 }
 
 /// Writes the 16-bit memory word at byte `offset` from `base` (one halfword access).
@@ -60,7 +64,8 @@ pub unsafe fn read16(base: usize, offset: usize) -> u16 {
 /// As for [`read16`].
 #[inline(always)]
 pub unsafe fn write16(base: usize, offset: usize, value: u16) {
-    core::ptr::write_volatile((base + offset) as *mut u16, value)
+    // SAFETY: as for `read16`.
+    unsafe { core::ptr::write_volatile((base + offset) as *mut u16, value) }
 }
 
 /// ID: Identity: what gateware this is and where its blocks are.
@@ -426,7 +431,7 @@ pub mod counter {
     /// CH[0..3]: 4 elements of 32 bytes.
     pub mod ch {
         /// Number of elements.
-        pub const COUNT: usize = 4;
+        pub const LEN: usize = 4;
         /// Bytes between elements.
         pub const STRIDE: usize = 0x0020;
         /// Byte offset of element 0 within the block.
@@ -819,7 +824,7 @@ pub mod pulse {
     /// AX[0..3]: 4 elements of 64 bytes.
     pub mod ax {
         /// Number of elements.
-        pub const COUNT: usize = 4;
+        pub const LEN: usize = 4;
         /// Bytes between elements.
         pub const STRIDE: usize = 0x0040;
         /// Byte offset of element 0 within the block.

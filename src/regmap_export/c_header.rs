@@ -174,7 +174,7 @@ fn struct_body(
                 super::access_tag(r.access)
             )),
             Member::Array(a) => o.line(&format!(
-                "    {} {}[{}_COUNT]; /* +{at:#05x} */",
+                "    {} {}[{}_NUM]; /* +{at:#05x} */",
                 element_type(b, a),
                 a.name,
                 array_prefix(b, a)
@@ -291,7 +291,15 @@ pub fn header(map: &BusMap) -> String {
                     a.offset * REGISTER_BYTES
                 ),
             );
-            o.define(&format!("{ap}_COUNT"), &dec(a.count));
+            // The array's own names must not be a register's (CH has a
+            // COUNT register: the element count is CH_NUM, not CH_COUNT).
+            for own in ["NUM", "STRIDE", "OFFSET"] {
+                assert!(
+                    a.registers.iter().all(|r| r.name != own),
+                    "{ap}: register {own} would share a name with the array's {ap}_{own}"
+                );
+            }
+            o.define(&format!("{ap}_NUM"), &dec(a.count));
             o.define(&format!("{ap}_STRIDE"), &hex(stride_bytes(a)));
             o.comment(
                 "",
@@ -378,6 +386,24 @@ pub fn header(map: &BusMap) -> String {
                 };
                 o.line(&format!("    {t} RESERVED{reserved}[{n}]; /* {at:#06x} */"));
                 reserved += 1;
+            }
+            WindowMember::Mirror { of, bytes } => {
+                o.line(&format!(
+                    "    /* {} again: the RAM port does not decode A10. Do not use. */",
+                    of.name
+                ));
+                o.line(&format!(
+                    "    __IO uint16_t {}_MIRROR[{}]; /* {at:#06x} */",
+                    of.name,
+                    bytes / 2
+                ))
+            }
+            WindowMember::WindowPort { bytes } => {
+                o.line("    /* The top's window port (window_addr = A[9:0]): the board's. */");
+                o.line(&format!(
+                    "    __IO uint16_t WINDOW[{}]; /* {at:#06x} */",
+                    bytes / 2
+                ))
             }
         }
     }

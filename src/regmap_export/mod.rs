@@ -140,6 +140,17 @@ pub enum WindowMember<'a> {
     Reserved {
         bytes: u32,
     },
+    /// `bytes` of A11 = 1 addresses past the memory: the RAM port decodes
+    /// A[9:0] only, so they are the memory again.
+    Mirror {
+        of: &'a Memory,
+        bytes: u32,
+    },
+    /// `bytes` of A11 = 1 addresses in a build without a RAM window: the
+    /// top's window port (`window_addr`, `window_rdata`...), the board's.
+    WindowPort {
+        bytes: u32,
+    },
 }
 
 /// The window struct's members with their byte offsets, and its size.
@@ -170,6 +181,34 @@ pub fn window_layout(map: &BusMap) -> (Vec<(u32, WindowMember<'_>)>, u32) {
         }
         out.push((offset, m));
         at = offset + bytes;
+    }
+    // The rest of the window: every byte of it is described.
+    let window = map.window_bytes();
+    let port_start = 2 << motionhdl_model::fsmc_bridge::RAM_WINDOW_BIT;
+    if at < port_start {
+        out.push((
+            at,
+            WindowMember::Reserved {
+                bytes: port_start - at,
+            },
+        ));
+        at = port_start;
+    }
+    if at < window {
+        let bytes = window - at;
+        out.push(match map.memories.first() {
+            Some(of) => {
+                let halfword = (at / 2) as u16;
+                assert_eq!(
+                    motionhdl_model::fsmc_bridge::ram_word(halfword),
+                    0,
+                    "the RAM port decodes byte {at:#x} as its word 0"
+                );
+                (at, WindowMember::Mirror { of, bytes })
+            }
+            None => (at, WindowMember::WindowPort { bytes }),
+        });
+        at = window;
     }
     (out, at)
 }
@@ -307,15 +346,27 @@ mod tests {
             // PULSE at 0x800 (16 + 4 x 16 words, to 0x940), then padding
             // and the RAM at 0x1000.
             if ram == IsaRam::Internal {
+                // The RAM again from 0x1800 (A10 is not decoded).
+                assert_eq!(
+                    offsets,
+                    vec![0, 0x28, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000, 0x1800]
+                );
+                assert!(matches!(
+                    members[9].1,
+                    WindowMember::Mirror { bytes: 0x800, .. }
+                ));
+            } else {
+                // Reads 0 to 0x1000, then the board's window port.
                 assert_eq!(
                     offsets,
                     vec![0, 0x28, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
                 );
-                assert_eq!(size, 0x1800);
-            } else {
-                assert_eq!(offsets, vec![0, 0x28, 0x200, 0x294, 0x400, 0x4a0, 0x800]);
-                assert_eq!(size, 0x940);
+                assert!(matches!(
+                    members[8].1,
+                    WindowMember::WindowPort { bytes: 0x1000 }
+                ));
             }
+            assert_eq!(size, 0x2000, "every byte of the window");
             let inst = instances(&map);
             assert_eq!(inst.len(), 10 + 3 + 4 * 6 + 2 + 4 * 16 + 37);
             assert!(inst.windows(2).all(|w| w[0].byte_offset < w[1].byte_offset));
@@ -332,9 +383,9 @@ mod tests {
         let offsets: Vec<u32> = members.iter().map(|m| m.0).collect();
         assert_eq!(
             offsets,
-            vec![0, 0x28, 0x40, 0x80, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000]
+            vec![0, 0x28, 0x40, 0x80, 0x200, 0x294, 0x400, 0x4a0, 0x800, 0x940, 0x1000, 0x1800]
         );
-        assert_eq!(size, 0x1800);
+        assert_eq!(size, 0x2000);
         let code = instances(&map)
             .into_iter()
             .find(|i| i.path() == "SERVO.CH[3].CODE")

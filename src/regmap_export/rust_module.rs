@@ -200,7 +200,9 @@ pub fn module(map: &BusMap) -> String {
 /// the byte offset of a register.
 #[inline(always)]
 pub unsafe fn read32(base: usize, offset: usize) -> u32 {
-    core::ptr::read_volatile((base + offset) as *const u32)
+    // SAFETY: the caller keeps the contract above (edition 2024 wants
+    // the unsafe operation in a block of its own).
+    unsafe { core::ptr::read_volatile((base + offset) as *const u32) }
 }
 
 /// Writes the 32-bit register at byte `offset` from `base` with one 32-bit volatile access.
@@ -210,7 +212,8 @@ pub unsafe fn read32(base: usize, offset: usize) -> u32 {
 /// As for [`read32`].
 #[inline(always)]
 pub unsafe fn write32(base: usize, offset: usize, value: u32) {
-    core::ptr::write_volatile((base + offset) as *mut u32, value)
+    // SAFETY: as for `read32`.
+    unsafe { core::ptr::write_volatile((base + offset) as *mut u32, value) }
 }
 
 /// Reads the 16-bit memory word at byte `offset` from `base` (one halfword access).
@@ -221,7 +224,8 @@ pub unsafe fn write32(base: usize, offset: usize, value: u32) {
 /// the byte offset of a word of a memory window.
 #[inline(always)]
 pub unsafe fn read16(base: usize, offset: usize) -> u16 {
-    core::ptr::read_volatile((base + offset) as *const u16)
+    // SAFETY: the caller keeps the contract above.
+    unsafe { core::ptr::read_volatile((base + offset) as *const u16) }
 }
 
 /// Writes the 16-bit memory word at byte `offset` from `base` (one halfword access).
@@ -231,7 +235,8 @@ pub unsafe fn read16(base: usize, offset: usize) -> u16 {
 /// As for [`read16`].
 #[inline(always)]
 pub unsafe fn write16(base: usize, offset: usize, value: u16) {
-    core::ptr::write_volatile((base + offset) as *mut u16, value)
+    // SAFETY: as for `read16`.
+    unsafe { core::ptr::write_volatile((base + offset) as *mut u16, value) }
 }
 
 ",
@@ -271,7 +276,7 @@ pub unsafe fn write16(base: usize, offset: usize, value: u16) {
             );
             let mut ac = BTreeSet::new();
             o.doc("Number of elements.");
-            o.constant(&mut ac, "COUNT", "usize", a.count.to_string());
+            o.constant(&mut ac, "LEN", "usize", a.count.to_string());
             o.doc("Bytes between elements.");
             o.constant(&mut ac, "STRIDE", "usize", hex(stride_bytes(a), 4));
             o.doc("Byte offset of element 0 within the block.");

@@ -78,7 +78,7 @@ pub fn checks(map: &BusMap) -> Vec<Check> {
         }
         for a in &b.arrays {
             let ap = array_prefix(b, a);
-            push(&mut out, format!("{ap}_COUNT"), a.count);
+            push(&mut out, format!("{ap}_NUM"), a.count);
             push(&mut out, format!("{ap}_STRIDE"), stride_bytes(a));
             for i in 0..a.count {
                 push(

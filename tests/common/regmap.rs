@@ -221,10 +221,7 @@ pub fn expected_macros(map: &BusMap) -> BTreeMap<String, u64> {
             expected_register_macros(&mut v, b, None, r);
         }
         for a in &b.arrays {
-            v.push((
-                format!("{P}_{}_{}_COUNT", b.name, a.name),
-                u64::from(a.count),
-            ));
+            v.push((format!("{P}_{}_{}_NUM", b.name, a.name), u64::from(a.count)));
             v.push((
                 format!("{P}_{}_{}_STRIDE", b.name, a.name),
                 u64::from(a.stride * 4),
