@@ -137,6 +137,7 @@ pub fn regmap_exports(config: &Config) -> Vec<Artifact> {
         ),
         file(PathBuf::from(svd::FILE_NAME), svd::svd(&map)),
         file(PathBuf::from(json::FILE_NAME), json::json(&map)),
+        file(PathBuf::from(json::SCHEMA_FILE_NAME), json::schema()),
         file(PathBuf::from(markdown::FILE_NAME), markdown::markdown(&map)),
         file(
             PathBuf::from("rust").join(rust_module::FILE_NAME),

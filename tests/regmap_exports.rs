@@ -52,6 +52,7 @@ fn exports_are_bannered_and_deterministic() {
         "test/motionhdl_regs_selftest.c",
         "motionhdl.svd",
         "regmap.json",
+        "regmap.schema.json",
         "REGISTERS.md",
         "rust/motionhdl_regs.rs",
     ]
@@ -74,6 +75,9 @@ fn exports_are_bannered_and_deterministic() {
             "h" | "c" => format!("/* {} */", banner()),
             "svd" | "md" => format!("<!-- {} -->", banner()),
             "rs" => format!("// {}", banner()),
+            "json" if a.path.ends_with("regmap.schema.json") => {
+                format!("{{\"$comment\": \"{}\",", banner())
+            }
             "json" => format!("{{\"generated_by\": \"{}\",", banner()),
             _ => unreachable!(),
         };

@@ -1,6 +1,9 @@
 //! `regmap.json`: the register map, machine-readable, with absolute byte
 //! offsets (from the window base). Keys come in a fixed order (the field
-//! order of the structs below); the first is `generated_by`.
+//! order of the structs below); the first is `generated_by`, then the
+//! schema it follows and its format version. `regmap.schema.json` (JSON
+//! Schema 2020-12) is derived from the same structs, so the two cannot
+//! drift apart.
 
 use super::{
     access_rule, block_byte_offset, block_span_bytes, map_hash, memory_bytes, stride_bytes,
@@ -8,12 +11,18 @@ use super::{
 };
 use motionhdl_hdl::{banner, VERSION};
 use motionhdl_model::regmap::{Access, Block, BusMap, Field, Memory, Register, RegisterArray};
+use schemars::JsonSchema;
 use serde::Serialize;
 use serde_json::ser::{CompactFormatter, Formatter};
 use std::io::{self, Write};
 
 /// The file name (at the top of the generated tree).
 pub const FILE_NAME: &str = "regmap.json";
+/// The schema's file name, beside it.
+pub const SCHEMA_FILE_NAME: &str = "regmap.schema.json";
+/// The format's version: raised when a key changes meaning or goes away
+/// (new keys in a new place raise it too: the schema refuses unknown ones).
+pub const FORMAT_VERSION: u32 = 1;
 
 /// The access type as the JSON spells it.
 pub fn access(a: Access) -> &'static str {
@@ -25,9 +34,15 @@ pub fn access(a: Access) -> &'static str {
     }
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Map")]
 struct MapJ {
     generated_by: String,
+    /// The schema this file follows (a path relative to the file).
+    #[serde(rename = "$schema")]
+    schema: &'static str,
+    /// The format's version (FORMAT_VERSION).
+    format_version: u32,
     name: &'static str,
     version: &'static str,
     description: &'static str,
@@ -37,7 +52,8 @@ struct MapJ {
     memories: Vec<MemoryJ>,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Bus")]
 struct BusJ {
     data_bits: u32,
     register_bits: u32,
@@ -47,7 +63,8 @@ struct BusJ {
     access_rule: &'static str,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Block")]
 struct BlockJ {
     name: &'static str,
     description: &'static str,
@@ -57,7 +74,8 @@ struct BlockJ {
     arrays: Vec<ArrayJ>,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Array")]
 struct ArrayJ {
     name: &'static str,
     count: u32,
@@ -66,7 +84,8 @@ struct ArrayJ {
     registers: Vec<RegisterJ>,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Register")]
 struct RegisterJ {
     name: &'static str,
     /// Right after the name, as firmware looks a register up by its place.
@@ -82,7 +101,7 @@ struct RegisterJ {
 /// Where a register sits: a block register's absolute byte offset, or an
 /// array register's offset in the element and its absolute byte offset in
 /// every element.
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
 #[serde(untagged)]
 enum Place {
     Block {
@@ -94,7 +113,8 @@ enum Place {
     },
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Field")]
 struct FieldJ {
     name: &'static str,
     lsb: u32,
@@ -106,14 +126,16 @@ struct FieldJ {
     values: Vec<ValueJ>,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Value")]
 struct ValueJ {
     name: &'static str,
     value: u32,
     description: &'static str,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, JsonSchema)]
+#[serde(deny_unknown_fields, rename = "Memory")]
 struct MemoryJ {
     name: &'static str,
     description: &'static str,
@@ -210,6 +232,18 @@ fn memory(m: &Memory) -> MemoryJ {
         word_bits: m.word_bits,
         size_bytes: memory_bytes(m),
     }
+}
+
+/// The JSON Schema of `regmap.json`, the banner as its first line.
+pub fn schema() -> String {
+    let mut schema = schemars::schema_for!(MapJ);
+    schema.insert(
+        "title".into(),
+        format!("motionhdl register map ({FILE_NAME}), format {FORMAT_VERSION}").into(),
+    );
+    let text = serde_json::to_string_pretty(&schema).expect("a schema serializes");
+    let body = text.strip_prefix('{').expect("a schema is an object");
+    format!("{{\"$comment\": \"{}\",{body}\n", banner())
 }
 
 /// serde_json's pretty layout (two-space indent, `": "`), except that an
@@ -360,6 +394,8 @@ impl Formatter for Layout {
 pub fn json(map: &BusMap) -> String {
     let top = MapJ {
         generated_by: banner(),
+        schema: SCHEMA_FILE_NAME,
+        format_version: FORMAT_VERSION,
         name: map.name,
         version: VERSION,
         description: map.description,
