@@ -10,6 +10,7 @@ pub mod fusesoc;
 pub mod interrupt;
 pub mod isa_header;
 pub mod output;
+pub mod progress;
 pub mod regmap_export;
 pub mod sweep;
 pub mod synth;

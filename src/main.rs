@@ -3,6 +3,7 @@
 
 use clap::{Parser, Subcommand};
 use motionhdl::output::generated_dir;
+use motionhdl::progress::Stage;
 use motionhdl::{artifacts, config_file, output, verify, CliError};
 use motionhdl_testbench::scenarios;
 use std::path::PathBuf;
@@ -219,8 +220,13 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 (Simulator::Icarus, cycles / 10 + 1),
                 (Simulator::Verilator, cycles * 10),
             ];
-            let mut rows = vec![bench::model(cycles * 10), bench::rust_hdl(cycles / 10 + 1)];
-            rows.extend(measured(bank, bench::verilog));
+            let mut rows = vec![
+                Stage::run("bench counter_bank: model", || bench::model(cycles * 10)),
+                Stage::run("bench counter_bank: rust-hdl", || {
+                    bench::rust_hdl(cycles / 10 + 1)
+                }),
+            ];
+            rows.extend(measured("counter_bank", bank, bench::verilog));
             print_bench(
                 "counter_bank 4 axes × 28 bits, random encoder and bus stimulus",
                 &rows,
@@ -231,10 +237,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 (Simulator::Verilator, cycles * 5),
             ];
             let mut rows = vec![
-                bench::top_model(cycles * 5),
-                bench::top_rust_hdl(cycles / 20 + 1),
+                Stage::run("bench motion_controller: model", || {
+                    bench::top_model(cycles * 5)
+                }),
+                Stage::run("bench motion_controller: rust-hdl", || {
+                    bench::top_rust_hdl(cycles / 20 + 1)
+                }),
             ];
-            rows.extend(measured(top, bench::top_verilog));
+            rows.extend(measured("motion_controller", top, bench::top_verilog));
             let c = bench::top_config();
             println!();
             print_bench(
@@ -294,9 +304,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
                 config.isa_ram().name()
             );
             println!(
-                "tools: {} and {}",
+                "tools: {} ({}) and {} ({})",
                 tools.yosys.display(),
-                tools.nextpnr.display()
+                synth::version(&tools.yosys),
+                tools.nextpnr.display(),
+                synth::version(&tools.nextpnr)
             );
             if all_blocks {
                 println!("{}", synth::table_header(target));
@@ -373,6 +385,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
 
 /// Runs each simulator's measurement, saying which could not run.
 fn measured(
+    design: &str,
     runs: [(motionhdl_testbench::verilog_sim::Simulator, u64); 2],
     measure: fn(
         motionhdl_testbench::verilog_sim::Simulator,
@@ -381,7 +394,10 @@ fn measured(
 ) -> Vec<motionhdl_testbench::bench::Throughput> {
     let mut rows = Vec::new();
     for (sim, n) in runs {
-        match measure(sim, n) {
+        let run = Stage::run(format!("bench {design}: {}", sim.name()), || {
+            measure(sim, n)
+        });
+        match run {
             Ok(t) => rows.push(t),
             Err(e) => println!(
                 "{}: not measured: {}",

@@ -14,7 +14,17 @@ pub fn run(external: bool, only: &[String]) -> Result<Vec<CheckReport>, crate::C
             names.join(", ")
         )));
     }
-    Ok(registry::run(external, only))
+    // Group by group, so a long run shows which one it is in.
+    let mut reports = Vec::new();
+    for name in names
+        .iter()
+        .filter(|n| only.is_empty() || only.iter().any(|o| o == *n))
+    {
+        let stage = crate::progress::Stage::start(format!("verify {name}"));
+        reports.extend(registry::run(external, &[name.to_string()]));
+        stage.finish();
+    }
+    Ok(reports)
 }
 
 /// The table `motionhdl verify` prints.

@@ -71,6 +71,31 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
         None,
     );
     check_ok(&out);
+    // The tools' versions on the report, the command lines and each
+    // stage's time on standard error.
+    let report = String::from_utf8_lossy(&out.stdout);
+    let tools = report.lines().find(|l| l.starts_with("tools: ")).unwrap();
+    assert!(
+        tools.contains("(Yosys ") && tools.contains("(nextpnr-ice40"),
+        "{tools}"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    for want in [
+        "synth_ice40 -top motion_controller_board",
+        "nextpnr-ice40 --hx8k --package ct256",
+        "yosys: started\n",
+        "nextpnr: started\n",
+    ] {
+        assert!(err.contains(want), "stderr lacks `{want}`:\n{err}");
+    }
+    assert!(
+        err.lines().filter(|l| l.starts_with("$ ")).count() == 2,
+        "{err}"
+    );
+    assert!(
+        err.lines().any(|l| l.starts_with("nextpnr: done in ")),
+        "{err}"
+    );
     let f = fields(&out);
     assert_eq!(
         f["top"],
