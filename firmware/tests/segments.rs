@@ -152,8 +152,11 @@ proptest! {
         jerk in prop_oneof![Just(0i32), -(1i32 << 12)..(1 << 12), -(1i32 << 30)..(1 << 30)],
         phase in any::<u32>(),
     ) {
-        // Rates large enough to finish within the reference's clock budget.
-        let rate = rate / 64 * 64 + if rate < 0 { -(1 << 24) } else { 1 << 24 };
+        // Rates large enough to finish within the reference's clock budget:
+        // pushed 2^24 away from zero, but for those within 2^24 of the i32
+        // range's ends, which are large already (a push would overflow).
+        let base = rate / 64 * 64;
+        let rate = base.checked_add(if rate < 0 { -(1 << 24) } else { 1 << 24 }).unwrap_or(base);
         let accel = (1i32 << accel_shift) * if accel_sign { -1 } else { 1 };
         let seg = Segment { steps, rate, accel, jerk };
         let limit = 200_000;
