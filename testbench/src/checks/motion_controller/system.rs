@@ -162,7 +162,7 @@ impl<const N: usize> System<N> {
                     trace.signal(&s, "pulse_f2_dir", 1),
                     trace.signal(&s, "enc_a", 1),
                     trace.signal(&s, "enc_b", 1),
-                    trace.signal(&s, "shaft_position", 32),
+                    trace.analog(&s, "shaft_position", 32),
                     trace.signal(&s, "limit_pos", 1),
                     trace.signal(&s, "limit_neg", 1),
                     trace.signal(&s, "home", 1),
@@ -289,7 +289,7 @@ impl<const N: usize> System<N> {
                 p.trace.set(t, ids[1], f2 >> i & 1);
                 p.trace.set(t, ids[2], u64::from(ea));
                 p.trace.set(t, ids[3], u64::from(eb));
-                p.trace.set(t, ids[4], u64::from(d.position as u32));
+                p.trace.set_quantity(t, ids[4], i64::from(d.position));
                 p.trace.set(t, ids[5], limit_pos >> i & 1);
                 p.trace.set(t, ids[6], limit_neg >> i & 1);
                 p.trace.set(t, ids[7], home >> i & 1);
