@@ -15,6 +15,7 @@ pub mod regmap_export;
 pub mod sweep;
 pub mod synth;
 pub mod text;
+pub mod tool;
 pub mod verify;
 
 /// An error the CLI reports; `exit_code` 2 means bad input (nothing written).

@@ -306,9 +306,9 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!(
                 "tools: {} ({}) and {} ({})",
                 tools.yosys.display(),
-                synth::version(&tools.yosys),
+                motionhdl::tool::version(&tools.yosys),
                 tools.nextpnr.display(),
-                synth::version(&tools.nextpnr)
+                motionhdl::tool::version(&tools.nextpnr)
             );
             if all_blocks {
                 println!("{}", synth::table_header(target));

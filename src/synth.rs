@@ -7,14 +7,14 @@
 //! `synth_ice40` / `synth_ecp5`); placement figures and Fmax from
 //! nextpnr's `--report` JSON.
 
+use crate::tool::run;
 use crate::{board, constraints, CliError};
 use motionhdl_hdl::catalog;
 use motionhdl_model::Config;
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::path::PathBuf;
+use std::process::Command;
 
 /// A synthesis target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -242,94 +242,6 @@ impl Report {
             .copied()
             .reduce(|a, b| if b.0 < a.0 { b } else { a })
     }
-}
-
-/// A command as a shell would take it: the program and its arguments,
-/// quoted where they hold spaces or quotes.
-pub fn command_line(cmd: &Command) -> String {
-    let quote = |a: &std::ffi::OsStr| {
-        let a = a.to_string_lossy();
-        if a.is_empty() || a.contains([' ', '"', '\'', ';', '$']) {
-            format!("'{}'", a.replace('\'', "'\\''"))
-        } else {
-            a.into_owned()
-        }
-    };
-    std::iter::once(quote(cmd.get_program()))
-        .chain(cmd.get_args().map(quote))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// The first line of `program --version` (`-V` for yosys), to say which
-/// tool produced a figure.
-pub fn version(program: &Path) -> String {
-    let is_yosys = program
-        .file_name()
-        .is_some_and(|n| n.to_string_lossy().contains("yosys"));
-    let flag = if is_yosys { "-V" } else { "--version" };
-    match Command::new(program)
-        .arg(flag)
-        .stdin(Stdio::null())
-        .output()
-    {
-        Ok(o) => {
-            let text = String::from_utf8_lossy(&o.stdout).to_string()
-                + &String::from_utf8_lossy(&o.stderr);
-            text.lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("(no version printed)")
-                .trim()
-                .to_string()
-        }
-        Err(e) => format!("(cannot run {} {flag}: {e})", program.display()),
-    }
-}
-
-/// Runs one tool in `dir` to completion, its output into files there. A
-/// caught signal (see [`crate::interrupt`]) stops the tool and the run.
-fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), CliError> {
-    let cannot = |e: std::io::Error| CliError::failure(format!("cannot run {what}: {e}"));
-    let stderr_path = dir.join(format!("{what}.stderr"));
-    eprintln!("$ {}", command_line(cmd));
-    let stage = crate::progress::Stage::start(what);
-    let mut child = cmd
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::from(
-            File::create(dir.join(format!("{what}.stdout"))).map_err(cannot)?,
-        ))
-        .stderr(Stdio::from(File::create(&stderr_path).map_err(cannot)?))
-        .spawn()
-        .map_err(cannot)?;
-    let status = loop {
-        if let Some(sig) = crate::interrupt::pending() {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(crate::interrupt::interrupted(
-                sig,
-                &format!("{what} stopped, its scratch directory removed"),
-            ));
-        }
-        match child.try_wait().map_err(cannot)? {
-            Some(status) => break status,
-            None => std::thread::sleep(std::time::Duration::from_millis(20)),
-        }
-    };
-    stage.finish();
-    if !status.success() {
-        let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
-        let tail: Vec<&str> = text.lines().rev().take(25).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
-        return Err(CliError::failure(format!(
-            "{what} failed ({status}):\n{}\n{}",
-            std::fs::read_to_string(&stderr_path)
-                .unwrap_or_default()
-                .trim(),
-            tail.join("\n")
-        )));
-    }
-    Ok(())
 }
 
 /// How far nextpnr goes.
@@ -616,25 +528,4 @@ pub fn table_header(target: Target) -> String {
         "{:<26} {:>7} {:>7} {:>6} {:>6} {:>4} {:>5} {:>8} {:>6}",
         "block", logic, "LUTs", "FFs", "carry", "RAM", "I/O", "Fmax MHz", "pinned"
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_command_line_reads_as_a_shell_would_take_it() {
-        let mut c = Command::new("/usr/bin/yosys");
-        c.args([
-            "-q",
-            "-p",
-            "read_verilog a.v; synth_ice40 -top t",
-            "it's",
-            "",
-        ]);
-        assert_eq!(
-            command_line(&c),
-            "/usr/bin/yosys -q -p 'read_verilog a.v; synth_ice40 -top t' 'it'\\''s' ''"
-        );
-    }
 }
