@@ -198,3 +198,25 @@ fn gtkw_save_files_show_every_signal_grouped_by_scope() {
     assert_eq!(checked, motionhdl_testbench::scenarios::SCENARIOS.len());
     assert!(checked >= 14, "only {checked} scenarios");
 }
+
+/// A scenario that draws a plot has it beside its trace in generated/,
+/// bannered, with a curve (and its legend swatch) per series: the servo
+/// loop's 4 panels of 2, the system move's 2 axes x (position and velocity
+/// planned and executed, acceleration and jerk planned).
+#[test]
+fn plots_are_written_beside_their_traces() {
+    let files = common::artifacts_for("");
+    let mut plots = Vec::new();
+    for s in motionhdl_testbench::scenarios::SCENARIOS {
+        let svg = files
+            .iter()
+            .find(|a| a.path == std::path::Path::new("vcd").join(format!("{}.svg", s.name)));
+        assert_eq!(svg.is_some(), s.plot, "{}: plot file", s.name);
+        if let Some(a) = svg {
+            let text = String::from_utf8(a.contents.clone()).unwrap();
+            assert!(text.starts_with(&format!("<!-- {} -->\n<svg ", motionhdl_hdl::banner())));
+            plots.push((s.name, motionhdl_testbench::plot::curves(&text)));
+        }
+    }
+    assert_eq!(plots, [("system", 2 * 2 * 6), ("servo_loop", 2 * 8)]);
+}

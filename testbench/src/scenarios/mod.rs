@@ -113,7 +113,7 @@ pub const SCENARIOS: &[Scenario] = &[
         name: "system",
         summary: "the whole controller: an S-curve on axis 0 and a follower at K = -1/2 on axis 1, \
                   streamed over FSMC, out to simulated drives, counted back from their encoders",
-        plot: false,
+        plot: true,
         build: crate::checks::motion_controller::system::trace,
     },
     Scenario {

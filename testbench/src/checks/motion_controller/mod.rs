@@ -20,6 +20,7 @@ pub mod homing;
 pub mod irq_refill;
 pub mod limit_stop;
 mod loopback;
+mod motion_plot;
 mod oracle;
 pub mod servo_tick;
 pub mod system;

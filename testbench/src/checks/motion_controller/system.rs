@@ -10,6 +10,7 @@
 //! FSMC access at a time, so it can poll STATUS and refill the FIFO as real
 //! firmware does.
 
+use super::motion_plot;
 use crate::bfm::fsmc::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
 use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
@@ -92,6 +93,8 @@ pub struct System<const N: usize> {
     tracking: Vec<(usize, usize, i64, i64, i64)>,
     /// Shaft positions at every clock, when recording.
     pub path: Option<Vec<Vec<i32>>>,
+    /// The clock after the last [`Self::run_move`]'s RUN write.
+    pub run_at: Option<u64>,
     probes: Option<Probes>,
     /// The e-stop chain (high = released), as the board drives it.
     pub estop_ok: bool,
@@ -123,6 +126,7 @@ impl<const N: usize> System<N> {
             clocks: 0,
             tracking: Vec::new(),
             path: None,
+            run_at: None,
             probes: None,
             estop_ok: true,
             limit_pos_at: vec![None; N],
@@ -437,6 +441,7 @@ impl<const N: usize> System<N> {
             .fold(0, |m, i| m | 1 << i);
         self.write("PULSE", None, "RUN", mask);
         let start = self.clocks;
+        self.run_at = Some(start);
         loop {
             let mut finished = true;
             for (i, segs) in per_axis.iter().enumerate() {
@@ -518,11 +523,11 @@ pub fn trace(config: &Config) -> Trace {
         200,
         f64::from(tick_hz),
     );
-    let master: Vec<i64> = motionhdl_firmware::scurve::SCurve::new(p)
+    let samples: Vec<_> = motionhdl_firmware::scurve::SCurve::new(p)
         .expect("the trace's S-curve is within range")
         .samples()
-        .map(|s| s.steps())
         .collect();
+    let master: Vec<i64> = samples.iter().map(|s| s.steps()).collect();
     let follower: Vec<i64> = master.iter().map(|m| (-m).div_euclid(2)).collect();
     let mut sys = System::<2>::new(&two);
     sys.setup();
@@ -534,6 +539,8 @@ pub fn trace(config: &Config) -> Trace {
         ),
         crate::trace::half_period_ns(config),
     );
+    sys.path = Some(Vec::new());
+    let recording_from = sys.clocks;
     sys.run_move(
         &[
             plan_segments(&master, clock_hz, tick_hz),
@@ -548,7 +555,33 @@ pub fn trace(config: &Config) -> Trace {
         vec![(200, 200), (-100, -100)],
         "system trace: counted back"
     );
-    sys.take_trace().expect("recording")
+    // Each drive's position from the RUN write on, for the plot.
+    let from = (sys.run_at.expect("run_move writes RUN") - recording_from) as usize;
+    let path = sys.path.take().expect("recorded");
+    let executed: Vec<Vec<i32>> = (0..2)
+        .map(|i| path[from..].iter().map(|at| at[i]).collect())
+        .collect();
+    let plans = [
+        motion_plot::Plan {
+            name: "axis 0 (S-curve, 200 steps)",
+            samples: &samples,
+            scale: 1.0,
+        },
+        motion_plot::Plan {
+            name: "axis 1 (follower, K = -1/2)",
+            samples: &samples,
+            scale: -0.5,
+        },
+    ];
+    let mut trace = sys.take_trace().expect("recording");
+    trace.set_plot(motion_plot::svg(
+        &motionhdl_hdl::banner(),
+        &plans,
+        &executed,
+        u64::from(clock_hz / tick_hz),
+        clock_hz,
+    ));
+    trace
 }
 
 /// The two-axis controller the trace scenarios run: `config`'s counter
