@@ -306,9 +306,9 @@ fn run(cli: Cli) -> Result<(), CliError> {
             println!(
                 "tools: {} ({}) and {} ({})",
                 tools.yosys.display(),
-                motionhdl::tool::version(&tools.yosys),
+                motionhdl::tool::version(&tools.yosys, "yosys")?,
                 tools.nextpnr.display(),
-                motionhdl::tool::version(&tools.nextpnr)
+                motionhdl::tool::version(&tools.nextpnr, "nextpnr")?
             );
             if all_blocks {
                 println!("{}", synth::table_header(target));

@@ -5,8 +5,10 @@
 
 use crate::CliError;
 use std::fs::File;
+use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
 
 /// A command as a shell would take it: the program and its arguments,
 /// quoted where they hold spaces or quotes.
@@ -25,28 +27,76 @@ pub fn command_line(cmd: &Command) -> String {
         .join(" ")
 }
 
+/// How long a tool may take to print its version.
+const VERSION_LIMIT: Duration = Duration::from_secs(10);
+
 /// The first line of `program --version` (`-V` for yosys), to say which
-/// tool produced a figure.
-pub fn version(program: &Path) -> String {
+/// tool produced a figure. A caught signal stops the tool and is the error
+/// (signals are caught from here on); a tool that says nothing within
+/// [`VERSION_LIMIT`] is stopped and reported as such.
+pub fn version(program: &Path, what: &str) -> Result<String, CliError> {
+    crate::interrupt::catch();
     let is_yosys = program
         .file_name()
         .is_some_and(|n| n.to_string_lossy().contains("yosys"));
     let flag = if is_yosys { "-V" } else { "--version" };
-    match Command::new(program)
+    let cannot = |e: std::io::Error| format!("(cannot run {} {flag}: {e})", program.display());
+    let mut child = match Command::new(program)
         .arg(flag)
         .stdin(Stdio::null())
-        .output()
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
     {
-        Ok(o) => {
-            let text = String::from_utf8_lossy(&o.stdout).to_string()
-                + &String::from_utf8_lossy(&o.stderr);
-            text.lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("(no version printed)")
-                .trim()
-                .to_string()
+        Ok(c) => c,
+        Err(e) => return Ok(cannot(e)),
+    };
+    let Some(_) = wait(&mut child, &format!("{what} stopped"), Some(VERSION_LIMIT))? else {
+        return Ok(format!("(no version within {} s)", VERSION_LIMIT.as_secs()));
+    };
+    // A version is a few lines: the pipes hold them until now.
+    let mut text = String::new();
+    if let Some(mut out) = child.stdout.take() {
+        let _ = out.read_to_string(&mut text);
+    }
+    if let Some(mut err) = child.stderr.take() {
+        let _ = err.read_to_string(&mut text);
+    }
+    Ok(text
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("(no version printed)")
+        .trim()
+        .to_string())
+}
+
+/// Waits for `child`, looking for a caught signal every 20 ms: a signal
+/// kills it and is the error (`state` says what that left); so does
+/// nothing. Past `limit` the child is killed and `None` returned.
+fn wait(
+    child: &mut Child,
+    state: &str,
+    limit: Option<Duration>,
+) -> Result<Option<ExitStatus>, CliError> {
+    let started = Instant::now();
+    loop {
+        if let Some(sig) = crate::interrupt::pending() {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(crate::interrupt::interrupted(sig, state));
         }
-        Err(e) => format!("(cannot run {} {flag}: {e})", program.display()),
+        if let Some(status) = child
+            .try_wait()
+            .map_err(|e| CliError::failure(format!("cannot wait for a tool: {e}")))?
+        {
+            return Ok(Some(status));
+        }
+        if limit.is_some_and(|l| started.elapsed() > l) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Ok(None);
+        }
+        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
@@ -66,20 +116,12 @@ pub fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), C
         .stderr(Stdio::from(File::create(&stderr_path).map_err(cannot)?))
         .spawn()
         .map_err(cannot)?;
-    let status = loop {
-        if let Some(sig) = crate::interrupt::pending() {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(crate::interrupt::interrupted(
-                sig,
-                &format!("{what} stopped, its scratch directory removed"),
-            ));
-        }
-        match child.try_wait().map_err(cannot)? {
-            Some(status) => break status,
-            None => std::thread::sleep(std::time::Duration::from_millis(20)),
-        }
-    };
+    let status = wait(
+        &mut child,
+        &format!("{what} stopped, its scratch directory removed"),
+        None,
+    )?
+    .expect("no limit");
     stage.finish();
     if !status.success() {
         let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
