@@ -184,6 +184,7 @@ pub fn window_layout(map: &BusMap) -> (Vec<(u32, WindowMember<'_>)>, u32) {
     }
     // The rest of the window: every byte of it is described.
     let window = map.window_bytes();
+    // A11 = 1 (a halfword address bit): bytes from 2^12 on.
     let port_start = 2 << motionhdl_model::fsmc_bridge::RAM_WINDOW_BIT;
     if at < port_start {
         out.push((

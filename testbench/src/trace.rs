@@ -286,8 +286,9 @@ impl Trace {
     }
 
     /// GTKWave's zoom line: time units per pixel are 2^-zoom, so the run
-    /// from 0 to its last change fits the ~1100 pixels of wave area the
-    /// save file's window has; no marker, none of the 26 named ones.
+    /// from 0 to its last change fits in 1000 of the ~1100 pixels of wave
+    /// area the save file's window has; no marker, none of the 26 named
+    /// ones.
     fn zoom_to_fit(&self) -> String {
         const WAVE_PIXELS: f64 = 1000.0;
         let end = self.changes.keys().next_back().copied().unwrap_or(0).max(1);

@@ -237,7 +237,7 @@ fn a_hung_dsp_is_bitten_by_the_watchdog_and_the_dac_goes_to_0_v() {
 fn the_trace_shows_the_circle_run_per_tick_with_its_plot() {
     use motionhdl_testbench::servo_loop::trace;
     let log = trace::run();
-    let t = trace::trace();
+    let t = trace::trace_of(&log);
     let vcd = t.to_vcd_string();
     // Values from time 0, at rest; then one sample per tick (20 ns a
     // clock), the last one the run's last tick.

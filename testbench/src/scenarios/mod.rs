@@ -1,7 +1,7 @@
 //! Named scenario traces, written by `motionhdl trace NAME` and by
 //! `motionhdl generate` into `generated/vcd/`. Every value in a trace comes
 //! from stepping the rust-hdl blocks; nothing is drawn from the model, but
-//! for `servo_loop`, whose 2.9 M clocks run on the model of the servo
+//! for `servo_loop`, whose 3.1 M clocks run on the model of the servo
 //! card's top (held to the rust-hdl top every clock by the checks; see
 //! `servo_loop::trace`).
 

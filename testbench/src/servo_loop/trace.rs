@@ -4,8 +4,8 @@
 //! speed per axis, as analog curves), and a plot of commanded versus
 //! measured position and the DAC outputs.
 //!
-//! The one scenario not stepped on the rust-hdl blocks: the run is 2.9 M
-//! clocks (the rust-hdl top runs about 5.8 k clocks/s, 8 minutes), so it
+//! The one scenario not stepped on the rust-hdl blocks: the run is 3.1 M
+//! clocks (the rust-hdl top runs about 5.8 k clocks/s, 9 minutes), so it
 //! runs on the servo card top's model, which `tests/top_model.rs` holds to
 //! the rust-hdl top pin for pin every clock and `tests/servo_loop.rs`
 //! shows giving the same tick log as the rust-hdl top over 12 periods.
@@ -28,9 +28,13 @@ pub fn run() -> Vec<Tick> {
     dsp::run(&mut card, &fine, fine.len() + HOLD_TICKS, |_, _| {})
 }
 
-/// The trace with its plot attached.
+/// The trace of [`run`] with its plot attached.
 pub fn trace() -> Trace {
-    let log = run();
+    trace_of(&run())
+}
+
+/// The trace of a tick log with its plot attached.
+pub fn trace_of(log: &[Tick]) -> Trace {
     let mut t = Trace::new(format!(
         "{} | scenario servo_loop | servo card model, 50 MHz | tick every {TICK_CLOCKS} clocks \
          | a circle of r = 500 counts, {COARSE_POINTS} coarse points, {FINE_PER_SPAN} fine per span",
@@ -57,7 +61,7 @@ pub fn trace() -> Trace {
         ..Default::default()
     };
     let ns_per_clock = (CLOCK_S * 1e9).round() as u64;
-    for k in std::iter::once(&rest).chain(&log) {
+    for k in std::iter::once(&rest).chain(log) {
         for (i, id) in ids.iter().enumerate() {
             let setpoint = k.setpoint[i].round() as i64;
             let values: [i64; 6] = [
@@ -73,7 +77,7 @@ pub fn trace() -> Trace {
             }
         }
     }
-    t.set_plot(picture(&motionhdl_hdl::banner(), &log));
+    t.set_plot(picture(&motionhdl_hdl::banner(), log));
     t
 }
 

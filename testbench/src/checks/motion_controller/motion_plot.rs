@@ -44,7 +44,9 @@ pub fn svg(
                 })
                 .collect(),
         };
-        let ticks = drive.len() / tick_clocks as usize;
+        // Whole ticks recorded: clock ticks * tick_clocks is the last one
+        // sampled, so it must be within the recording.
+        let ticks = drive.len().saturating_sub(1) / tick_clocks as usize;
         let at_tick = |k: usize| f64::from(drive[k * tick_clocks as usize]);
         let panel = |quantity: &str, unit: &str, series: Vec<Series>| Panel {
             title: format!("{}: {quantity}", plan.name),
