@@ -114,7 +114,8 @@ fn vcd_loads_in_gtkwave_with_every_signal() {
 /// Every trace has a GTKWave save file beside it that names exactly the
 /// trace's signals, grouped by scope; GTKWave itself (headless) opens the
 /// trace with it and shows every signal in that order, run from another
-/// directory the way the README says (`gtkwave X.vcd X.gtkw`).
+/// directory the way the README says (`gtkwave X.vcd X.gtkw`), with the
+/// scenario's named markers and its unused scopes' groups closed.
 #[test]
 fn gtkw_save_files_show_every_signal_grouped_by_scope() {
     let config = Default::default();
@@ -132,10 +133,13 @@ fn gtkw_save_files_show_every_signal_grouped_by_scope() {
     let script = dir.path().join("shown.tcl");
     fs::write(
         &script,
-        "foreach x [gtkwave::getDisplayedSignals] { puts \"SHOWN $x\" }\ngtkwave::/File/Quit\n",
+        "foreach x [gtkwave::getDisplayedSignals] { puts \"SHOWN $x\" }\n\
+         foreach m {A B C D E F G H I J K L M N O P Q R S T U V W X Y Z} \
+         { puts \"MARKER $m [gtkwave::getNamedMarker $m]\" }\n\
+         gtkwave::/File/Quit\n",
     )
     .unwrap();
-    let mut checked = 0;
+    let (mut checked, mut marker_count, mut closed_groups) = (0, 0, 0);
     for s in motionhdl_testbench::scenarios::SCENARIOS {
         let trace = s.trace(&config);
         let names = trace.gtkw_names();
@@ -173,9 +177,44 @@ fn gtkw_save_files_show_every_signal_grouped_by_scope() {
             "{}: zoom {zoom} for a run of {end}",
             s.name
         );
-        let begins = gtkw.lines().filter(|l| *l == "@800200").count();
-        let ends = gtkw.lines().filter(|l| *l == "@1000200").count();
-        assert!(begins > 0 && begins == ends, "{}: groups", s.name);
+        let open = |begin: &str, end: &str| {
+            let b = gtkw.lines().filter(|l| *l == begin).count();
+            assert_eq!(b, gtkw.lines().filter(|l| *l == end).count(), "{}", s.name);
+            b
+        };
+        let (opened, closed) = (open("@800200", "@1000200"), open("@c00200", "@1401200"));
+        assert!(opened > 0, "{}: groups", s.name);
+        assert_eq!(
+            closed,
+            trace.unused_scopes().len(),
+            "{}: closed groups",
+            s.name
+        );
+        closed_groups += closed;
+        // Named markers: one letter per event, in time order, within the
+        // run, each with its time on the zoom line.
+        let markers = trace.markers();
+        assert!(!markers.is_empty(), "{}: no named marker", s.name);
+        let times: Vec<i128> = gtkw
+            .lines()
+            .find_map(|l| l.strip_prefix('*'))
+            .unwrap()
+            .split(' ')
+            .skip(2)
+            .map(|t| t.parse().unwrap())
+            .collect();
+        assert_eq!(times.len(), 26, "{}: 26 named marker slots", s.name);
+        for (i, (letter, time, name)) in markers.iter().enumerate() {
+            assert!(gtkw.contains(&format!("\n[markername] {letter}{name}\n")));
+            assert_eq!(times[i], i128::from(*time), "{}: marker {letter}", s.name);
+            assert!(
+                (*time as f64) <= end,
+                "{}: marker {name} after the run",
+                s.name
+            );
+        }
+        assert!(times[markers.len()..].iter().all(|t| *t == -1));
+        marker_count += markers.len();
         if gtkwave {
             let vcd = dir.path().join(format!("{}.vcd", s.name));
             let save = dir.path().join(format!("{}.gtkw", s.name));
@@ -192,11 +231,33 @@ fn gtkw_save_files_show_every_signal_grouped_by_scope() {
                 .filter_map(|l| l.strip_prefix("SHOWN "))
                 .collect();
             assert_eq!(shown, listed, "{}: GTKWave shows\n{out}{err}", s.name);
+            // GTKWave reads the named markers' times back.
+            let read: Vec<(char, i128)> = out
+                .lines()
+                .filter_map(|l| l.strip_prefix("MARKER "))
+                .map(|l| {
+                    let (letter, t) = l.split_once(' ').unwrap();
+                    (letter.chars().next().unwrap(), t.trim().parse().unwrap())
+                })
+                .filter(|(_, t)| *t != -1)
+                .collect();
+            let want: Vec<(char, i128)> = markers
+                .iter()
+                .map(|(l, t, _)| (*l, i128::from(*t)))
+                .collect();
+            assert_eq!(
+                read, want,
+                "{}: GTKWave's named markers\n{out}{err}",
+                s.name
+            );
         }
         checked += 1;
     }
     assert_eq!(checked, motionhdl_testbench::scenarios::SCENARIOS.len());
     assert!(checked >= 14, "only {checked} scenarios");
+    // Six counter scenarios use channel 0 of 4, one uses 0..2: 19 unused.
+    assert!(closed_groups >= 19, "{closed_groups} closed groups");
+    println!("{checked} save files, {marker_count} named markers, {closed_groups} closed groups");
 }
 
 /// A scenario that draws a plot has it beside its trace in generated/,

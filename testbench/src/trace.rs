@@ -29,7 +29,12 @@ pub struct Trace {
     unit: TimescaleUnit,
     /// A picture of the run (SVG), written beside the trace.
     plot: Option<String>,
+    /// GTKWave named markers at the scenario's events: (time, name).
+    markers: Vec<(u64, String)>,
 }
+
+/// GTKWave has 26 named markers, A to Z.
+pub const MAX_MARKERS: usize = 26;
 
 impl Trace {
     pub fn new(banner: impl Into<String>) -> Self {
@@ -39,6 +44,7 @@ impl Trace {
             changes: BTreeMap::new(),
             unit: TimescaleUnit::NS,
             plot: None,
+            markers: Vec::new(),
         }
     }
 
@@ -115,6 +121,61 @@ impl Trace {
     /// The picture of the run, if the scenario draws one.
     pub fn plot(&self) -> Option<&str> {
         self.plot.as_deref()
+    }
+
+    /// Names the event at `time` (the trace's unit) with a GTKWave named
+    /// marker; the save file letters them A, B, .. in time order.
+    pub fn mark(&mut self, time: u64, name: &str) {
+        assert!(
+            self.markers.len() < MAX_MARKERS,
+            "marker {name}: GTKWave has only {MAX_MARKERS} named markers"
+        );
+        assert!(
+            !name.is_empty() && name.bytes().all(|b| b.is_ascii_graphic() || b == b' '),
+            "marker {name:?}: printable ASCII on one line"
+        );
+        self.markers.push((time, name.to_string()));
+    }
+
+    /// Names the first edge of signal `path` (`scope.name`) to `value`
+    /// at or after `after` (a change from another value; the first
+    /// recorded value is no edge) and returns its time. Panics when there
+    /// is none: a marker names an event the trace shows.
+    pub fn mark_edge(&mut self, path: &str, value: u64, after: u64, name: &str) -> u64 {
+        let i = self
+            .signals
+            .iter()
+            .position(|s| {
+                let mut full = s.scope.join(".");
+                full.push('.');
+                full += &s.name;
+                full == path
+            })
+            .unwrap_or_else(|| panic!("marker {name}: no signal {path}"));
+        let mut last = None;
+        let mut edge = None;
+        for (t, changes) in &self.changes {
+            if let Some(&v) = changes.get(&SignalId(i)) {
+                if *t >= after && v == value && last.is_some_and(|l| l != value) {
+                    edge = Some(*t);
+                    break;
+                }
+                last = Some(v);
+            }
+        }
+        let t = edge.unwrap_or_else(|| panic!("marker {name}: {path} never goes to {value}"));
+        self.mark(t, name);
+        t
+    }
+
+    /// The named markers, in time order: (letter, time, name).
+    pub fn markers(&self) -> Vec<(char, u64, &str)> {
+        let mut m: Vec<(u64, &str)> = self.markers.iter().map(|(t, n)| (*t, n.as_str())).collect();
+        m.sort();
+        m.into_iter()
+            .zip('A'..='Z')
+            .map(|((t, n), letter)| (letter, t, n))
+            .collect()
     }
 
     /// Records `value` on `id` at `time_ns` (picoseconds for a trace made
@@ -223,8 +284,10 @@ impl Trace {
     /// A GTKWave save file for this trace written as `vcd_file`: every
     /// signal, one group per scope (per axis, per block), in declaration
     /// order, one-bit signals in binary, wider ones in hex and quantities
-    /// as analog curves, zoomed to show the whole run, so the trace opens
-    /// ready to read (`gtkwave NAME.gtkw`).
+    /// as analog curves, zoomed to show the whole run, with the named
+    /// markers, and the groups of scopes the run does not use (no signal
+    /// ever leaves its first value) closed, so the trace opens ready to
+    /// read (`gtkwave NAME.gtkw`).
     pub fn to_gtkw(&self, vcd_file: &str) -> String {
         // GTKWave trace flags: 0x20 right-justify, 0x8 binary, 0x2 hex;
         // group begin 0x800000 and end 0x1000000, each with blank 0x200.
@@ -235,14 +298,22 @@ impl Trace {
         const ANALOG_SIGNED: &str = "@8424";
         const ANALOG_UNSIGNED: &str = "@8024";
         const TALLER: &str = "@20000\n-\n-\n-\n-\n-\n";
+        // A closed group adds 0x400000 to both ends, its end also 0x1000
+        // (collapsed).
         const GROUP_BEGIN: &str = "@800200";
         const GROUP_END: &str = "@1000200";
+        const CLOSED_BEGIN: &str = "@c00200";
+        const CLOSED_END: &str = "@1401200";
         let mut out = format!(
             "[*] {}\n[dumpfile] \"{vcd_file}\"\n[timestart] 0\n[size] 1600 900\n\
              [signals_width] 260\n[sst_expanded] 1\n[sst_width] 220\n{}\n",
             self.banner,
-            self.zoom_to_fit()
+            self.zoom_and_markers()
         );
+        for (letter, _, name) in self.markers() {
+            out += &format!("[markername] {letter}{name}\n");
+        }
+        let unused = self.unused_scopes();
         let mut order: Vec<usize> = (0..self.signals.len()).collect();
         order.sort_by(|a, b| {
             self.signals[*a]
@@ -256,9 +327,19 @@ impl Trace {
             let scope = s.scope.join(".");
             if group.as_deref() != Some(scope.as_str()) {
                 if let Some(g) = group.take() {
-                    out += &format!("{GROUP_END}\n-{g}\n");
+                    let end = if unused.contains(&g) {
+                        CLOSED_END
+                    } else {
+                        GROUP_END
+                    };
+                    out += &format!("{end}\n-{g}\n");
                 }
-                out += &format!("{GROUP_BEGIN}\n-{scope}\n");
+                let begin = if unused.contains(&scope) {
+                    CLOSED_BEGIN
+                } else {
+                    GROUP_BEGIN
+                };
+                out += &format!("{begin}\n-{scope}\n");
                 group = Some(scope.clone());
             }
             let prefix = if scope.is_empty() {
@@ -280,21 +361,55 @@ impl Trace {
             }
         }
         if let Some(g) = group {
-            out += &format!("{GROUP_END}\n-{g}\n");
+            let end = if unused.contains(&g) {
+                CLOSED_END
+            } else {
+                GROUP_END
+            };
+            out += &format!("{end}\n-{g}\n");
         }
         out
     }
 
-    /// GTKWave's zoom line: time units per pixel are 2^-zoom, so the run
-    /// from 0 to its last change fits in 1000 of the ~1100 pixels of wave
-    /// area the save file's window has; no marker, none of the 26 named
-    /// ones.
-    fn zoom_to_fit(&self) -> String {
+    /// Scopes (as `a.b`) none of whose signals ever leaves the value it
+    /// has at the first recorded time: the channels or axes a scenario
+    /// does not use.
+    pub fn unused_scopes(&self) -> std::collections::BTreeSet<String> {
+        let mut first: BTreeMap<SignalId, u64> = BTreeMap::new();
+        let mut varies = vec![false; self.signals.len()];
+        for changes in self.changes.values() {
+            for (id, v) in changes {
+                if *first.entry(*id).or_insert(*v) != *v {
+                    varies[id.0] = true;
+                }
+            }
+        }
+        let mut used = std::collections::BTreeSet::new();
+        let mut all = std::collections::BTreeSet::new();
+        for (s, v) in self.signals.iter().zip(varies) {
+            all.insert(s.scope.join("."));
+            if v {
+                used.insert(s.scope.join("."));
+            }
+        }
+        all.difference(&used).cloned().collect()
+    }
+
+    /// GTKWave's zoom and marker line: time units per pixel are 2^-zoom,
+    /// so the run from 0 to its last change fits in 1000 of the ~1100
+    /// pixels of wave area the save file's window has; no primary marker,
+    /// then the 26 named markers' times (-1 = unset).
+    fn zoom_and_markers(&self) -> String {
         const WAVE_PIXELS: f64 = 1000.0;
         let end = self.changes.keys().next_back().copied().unwrap_or(0).max(1);
         // (+ 0.0: no "-0" in the file.)
         let zoom = -(end as f64 / WAVE_PIXELS).log2().ceil() + 0.0;
-        format!("*{zoom:.6} -1{}", " -1".repeat(26))
+        let mut times = vec![-1i128; MAX_MARKERS];
+        for (i, (_, t, _)) in self.markers().into_iter().enumerate() {
+            times[i] = i128::from(t);
+        }
+        let named: Vec<String> = times.iter().map(i128::to_string).collect();
+        format!("*{zoom:.6} -1 {}", named.join(" "))
     }
 
     /// Every signal as GTKWave names it (`scope.name`, `[msb:0]` on

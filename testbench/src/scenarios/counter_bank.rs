@@ -200,6 +200,11 @@ impl Script {
         self.pair.hdl.channel(ch).probe().count
     }
 
+    /// A named marker at the current clock (the next one recorded).
+    pub fn mark(&mut self, name: &str) {
+        self.trace.mark(self.t, name);
+    }
+
     pub fn finish(mut self) -> Trace {
         self.idle(2);
         self.trace
@@ -230,8 +235,10 @@ pub fn slow_reversal(config: &Config) -> Trace {
     s.ctrl(0, &[("MODE", regmap::mode::X4)]);
     let mut ph = 0;
     move_encoder(&mut s, &[0], &mut ph, 12, 6);
+    s.mark("reversal");
     move_encoder(&mut s, &[0], &mut ph, -8, 6);
     s.idle(4);
+    s.mark("SNAPSHOT");
     assert_eq!(s.snapshot_count(0), 4);
     s.finish()
 }
@@ -245,6 +252,7 @@ pub fn x4_x2_x1(config: &Config) -> Trace {
     let mut ph = 0;
     move_encoder(&mut s, &[0, 1, 2], &mut ph, 8, 4);
     s.idle(4);
+    s.mark("reversal");
     assert_eq!(
         (s.live_count(0), s.live_count(1), s.live_count(2)),
         (8, 4, 2)
@@ -263,6 +271,9 @@ pub fn pulse_direction(config: &Config) -> Trace {
     let mut s = Script::new("counter_pulse_dir", config);
     s.ctrl(0, &[("MODE", regmap::mode::PULSE_DIR)]);
     for (n, dir) in [(5, false), (3, true)] {
+        if dir {
+            s.mark("direction reversed");
+        }
         s.pins(0, false, dir, false);
         s.idle(3);
         for _ in 0..n {
@@ -282,6 +293,9 @@ pub fn cw_ccw(config: &Config) -> Trace {
     let mut s = Script::new("counter_cw_ccw", config);
     s.ctrl(0, &[("MODE", regmap::mode::CW_CCW)]);
     for (n, on_b) in [(5, false), (3, true)] {
+        if on_b {
+            s.mark("pulses on B (down)");
+        }
         for _ in 0..n {
             s.pins(0, !on_b, on_b, false);
             s.idle(3);
@@ -307,8 +321,9 @@ pub fn index_latch_clear(config: &Config) -> Trace {
     );
     let mut ph = 0;
     // Index pulse while A and B are high (phase 2) on every turn.
-    for _ in 0..2 {
+    for turn in 1..=2 {
         move_encoder(&mut s, &[0], &mut ph, 2, 3);
+        s.mark(&format!("index {turn} (latch)"));
         s.pins(0, true, true, true);
         s.idle(3);
         s.pins(0, true, true, false);
@@ -324,9 +339,12 @@ pub fn index_latch_clear(config: &Config) -> Trace {
             ("IDX_ONESHOT", 1),
         ],
     );
+    s.mark("ARM");
     s.cmd(0, "ARM");
-    for _ in 0..2 {
+    for turn in 3..=4 {
         move_encoder(&mut s, &[0], &mut ph, 2, 3);
+        let what = if turn == 3 { "clears" } else { "disarmed" };
+        s.mark(&format!("index {turn} ({what})"));
         s.pins(0, true, true, true);
         s.idle(3);
         s.pins(0, true, true, false);
@@ -348,10 +366,12 @@ pub fn illegal_transition(config: &Config) -> Trace {
     move_encoder(&mut s, &[0], &mut ph, 3, 4);
     s.pins(0, false, false, false); // phase 3 -> 0 is legal; jump to 2 is not
     s.idle(4);
+    s.mark("illegal transition");
     s.pins(0, true, true, false);
     s.idle(6);
     assert!(s.pair.hdl.channel(0).probe().err);
     assert_eq!(s.live_count(0), 4);
+    s.mark("CLEAR_STATUS");
     s.cmd(0, "CLEAR_STATUS");
     s.idle(4);
     s.finish()
@@ -363,11 +383,13 @@ pub fn filter_glitch(config: &Config) -> Trace {
     let mut s = Script::new("counter_filter", config);
     s.ctrl(0, &[("MODE", regmap::mode::X4), ("FILTER_AB", 3)]);
     s.idle(4);
+    s.mark("glitch (2 clocks)");
     s.pins(0, true, false, false);
     s.idle(2);
     s.pins(0, false, false, false);
     s.idle(8);
     assert_eq!(s.live_count(0), 0);
+    s.mark("step");
     s.pins(0, true, false, false);
     s.idle(10);
     assert_eq!(s.live_count(0), 1);

@@ -91,7 +91,15 @@ pub fn block_write_trace() -> crate::trace::Trace {
     }
     ops.push(standard_read(reg::STATUS));
     ops.extend((0..SCENARIO_WORDS).map(|addr| Op::DspRead { addr }));
-    scenario_trace("isa_block_write", &ops)
+    let mut t = scenario_trace("isa_block_write", &ops);
+    let w = t.mark_edge("isa_bridge.iow_n", 0, 0, "PC: OUT STATUS (AUTO_INC)");
+    t.mark_edge(
+        "isa_bridge.ior_n",
+        0,
+        w,
+        "PC: IN STATUS, then the DSP reads",
+    );
+    t
 }
 
 /// The DSP writes 8 words, the PC reads them back, first the seed's way
@@ -116,7 +124,11 @@ pub fn block_read_trace() -> crate::trace::Trace {
         ops.push(standard_read(reg::DATA));
     }
     ops.push(standard_read(reg::STATUS));
-    scenario_trace("isa_block_read", &ops)
+    let mut t = scenario_trace("isa_block_read", &ops);
+    let w = t.mark_edge("isa_bridge.dsp_we", 1, 0, "DSP writes the block");
+    let clear = t.mark_edge("isa_bridge.iow_n", 0, w, "PC: OUT ADDR_CLEAR");
+    t.mark_edge("isa_bridge.ior_n", 0, clear, "PC: IN DATA, IN ADDR_INC");
+    t
 }
 
 /// The doorbells (IDT7130-style mailbox words): the DSP writes 4 words and
@@ -153,5 +165,8 @@ pub fn doorbell_trace() -> crate::trace::Trace {
     ops.push(Op::DspRead {
         addr: mailbox::TO_DSP,
     });
-    scenario_trace("isa_doorbell", &ops)
+    let mut t = scenario_trace("isa_doorbell", &ops);
+    t.mark_edge("isa_bridge.irq", 1, 0, "DSP rings the PC: IRQ");
+    t.mark_edge("isa_bridge.bell_to_dsp", 1, 0, "PC rings the DSP");
+    t
 }

@@ -346,5 +346,9 @@ fn pulse_mode_selector(config: &Config) -> Trace {
     reg.clock.next = Clock::from(false);
     settle(&mut reg);
     record(&mut trace, t, &comb, &reg);
+    let k = "pulse_mode_selector.k";
+    let table = trace.mark_edge(k, 1, 0, "all inputs, K = 1 (CW/CCW)");
+    let trains = trace.mark_edge(k, 0, table, "trains, K = 0 (pulse+direction)");
+    trace.mark_edge(k, 1, trains, "trains, K = 1 (CW/CCW)");
     trace
 }

@@ -122,6 +122,11 @@ impl Script {
         self.clock(BusCycle::write(addr, data), false);
     }
 
+    /// A named marker at the current clock (the next one recorded).
+    fn mark(&mut self, name: &str) {
+        self.trace.mark(self.t, name);
+    }
+
     fn idle(&mut self, clocks: u32) {
         for _ in 0..clocks {
             self.clock(BusCycle::default(), false);
@@ -153,6 +158,7 @@ pub fn acceleration(config: &Config) -> Trace {
         .enumerate()
     {
         if i == 2 {
+            s.mark("RUN");
             s.write("RUN", 1);
         }
         s.write("SEG_STEPS", steps);
@@ -162,6 +168,7 @@ pub fn acceleration(config: &Config) -> Trace {
         s.write("SEG_PUSH", 0);
     }
     s.idle(5_500);
+    s.mark("DONE checked");
     let e = s.model.engine(0);
     assert!(
         e.done() && !e.overflow() && s.model.generator(0).position == 59,
@@ -178,10 +185,13 @@ fn reversal_with(name: &str, config: &Config, ctrl: u32) -> Trace {
     let mut s = Script::new(name, config);
     s.setup(ctrl);
     s.write("RATE", 1 << 29);
+    s.mark("RUN");
     s.write("RUN", 1);
     s.idle(80);
+    s.mark("RATE reversed");
     s.write("RATE", (-(1i32 << 29)) as u32);
     s.idle(120);
+    s.mark("RUN = 0");
     s.write("RUN", 0);
     s.idle(20);
     s.trace

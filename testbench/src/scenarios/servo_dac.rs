@@ -122,5 +122,14 @@ pub fn trace() -> Trace {
         }
     }
     assert_ne!(vout, [SAFE_CODE; 4], "servo_dac trace: codes after safe");
+    let tick = t.mark_edge("servo_dac.tick", 1, 0, "first tick");
+    t.mark_edge(
+        "servo_dac.dac_pins.ldac_n",
+        1,
+        tick,
+        "LOADDACS: outputs update",
+    );
+    let safe = t.mark_edge("servo_dac.safe", 1, 0, "safe rises");
+    t.mark_edge("servo_dac.safe", 0, safe, "safe falls");
     t
 }

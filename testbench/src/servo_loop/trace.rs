@@ -77,6 +77,12 @@ pub fn trace_of(log: &[Tick]) -> Trace {
             }
         }
     }
+    if let Some(first) = log.first() {
+        t.mark(first.clock * ns_per_clock, "first tick");
+    }
+    if let Some(hold) = log.len().checked_sub(HOLD_TICKS + 1).map(|i| &log[i]) {
+        t.mark(hold.clock * ns_per_clock, "last fine point: holding");
+    }
     t.set_plot(picture(&motionhdl_hdl::banner(), log));
     t
 }

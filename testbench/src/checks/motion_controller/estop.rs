@@ -27,6 +27,7 @@ pub fn trace(config: &Config) -> Trace {
     }
     sys.write("PULSE", None, "RUN", 3);
     sys.idle(3_000);
+    sys.mark("e-stop");
     sys.estop_ok = false;
     sys.idle(u64::from(ESTOP_LATENCY) + 2 + DRIVE_LATENCY as u64);
     let stopped: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
@@ -42,6 +43,7 @@ pub fn trace(config: &Config) -> Trace {
     assert!(!sys.irq(), "estop trace: IRQ low");
     sys.estop_ok = true;
     sys.idle(3);
+    sys.mark("CLEAR");
     sys.write("SAFETY", None, "CLEAR", 1);
     sys.write("SAFETY", None, "CAUSE", 1);
     sys.idle(200);

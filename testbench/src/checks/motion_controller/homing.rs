@@ -155,5 +155,9 @@ pub fn trace(config: &Config) -> Trace {
     sys.record_scenario(config, "homing");
     let found = home(&mut sys, 0, trace_params(), 200).expect("homing trace");
     assert_eq!(found.index, Some(75), "homing trace: {found:?}");
+    let fast = sys.mark_edge("axis0.home", 1, 0, "fast search reaches HOME");
+    let off = sys.mark_edge("axis0.home", 0, fast, "backed off HOME");
+    let slow = sys.mark_edge("axis0.home", 1, off, "slow search reaches HOME");
+    sys.mark_edge("axis0.enc_z", 1, slow, "index: homed");
     sys.take_trace().expect("recording")
 }

@@ -140,6 +140,7 @@ pub fn trace(config: &Config) -> Trace {
     let r = stream_on_irq(&mut sys, &[segs.clone(), segs], TRACE_LOW_WATER, 1 << 20)
         .expect("irq_refill trace: the move streams");
     assert_eq!(r.reads, 2 * r.interrupts, "irq_refill trace: no polling");
+    sys.mark_edge("mcu.irq", 0, 0, "first FIFO-low IRQ");
     sys.idle(200);
     let target = (TRACE_SEGMENTS as u32 * TRACE_STEPS) as i32;
     assert_eq!(

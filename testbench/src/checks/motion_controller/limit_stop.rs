@@ -76,8 +76,10 @@ pub fn trace(config: &Config) -> Trace {
     run(&mut sys, 0, &creep(5));
     assert_eq!(sys.drives[0].position, stopped, "limit trace: refused");
     run(&mut sys, 0, &creep(-10));
+    sys.mark("LIMIT_CAUSE cleared");
     sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
     sys.idle(200);
+    sys.mark_edge("axis0.limit_pos", 1, 0, "limit switch hit");
     assert!(sys.irq(), "limit trace: cause cleared, IRQ released");
     let p = sys.positions();
     let back = stopped - 10;
@@ -115,8 +117,10 @@ pub fn brake_trace(config: &Config) -> Trace {
     assert_eq!(sys.drives[0].position, stopped, "brake trace: refused");
     let back = TRACE_SWITCH - 10;
     run(&mut sys, 0, &creep(i64::from(back - stopped)));
+    sys.mark("LIMIT_CAUSE cleared");
     sys.write("SAFETY", None, "LIMIT_CAUSE", 1);
     sys.idle(200);
+    sys.mark_edge("axis0.limit_pos", 1, 0, "limit switch hit");
     assert!(sys.irq(), "brake trace: cause cleared, IRQ released");
     assert_eq!(
         sys.positions()[0],

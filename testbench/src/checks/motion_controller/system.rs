@@ -196,6 +196,21 @@ impl<const N: usize> System<N> {
         );
     }
 
+    /// A named marker in the trace at the current clock.
+    pub fn mark(&mut self, name: &str) {
+        if let Some(p) = &mut self.probes {
+            let t = (self.clocks - p.first_clock) * 2 * p.half_ns;
+            p.trace.mark(t, name);
+        }
+    }
+
+    /// A named marker at the first edge of `path` to `value` at or after
+    /// `after` in the trace (see [`Trace::mark_edge`]); its time.
+    pub fn mark_edge(&mut self, path: &str, value: u64, after: u64, name: &str) -> u64 {
+        let p = self.probes.as_mut().expect("recording a trace");
+        p.trace.mark_edge(path, value, after, name)
+    }
+
     /// The recorded trace.
     pub fn take_trace(&mut self) -> Option<Trace> {
         self.probes.take().map(|p| p.trace)
@@ -574,6 +589,8 @@ pub fn trace(config: &Config) -> Trace {
         },
     ];
     let mut trace = sys.take_trace().expect("recording");
+    let half = crate::trace::half_period_ns(config);
+    trace.mark(from as u64 * 2 * half, "RUN (both axes start)");
     trace.set_plot(motion_plot::svg(
         &motionhdl_hdl::banner(),
         &plans,

@@ -90,5 +90,6 @@ pub fn trace(config: &Config) -> Trace {
         "watchdog trace: no step after the bite"
     );
     assert!(!sys.irq(), "watchdog trace: IRQ low");
+    sys.mark_edge("machine.drive_enable", 0, 0, "bite: drives off");
     sys.take_trace().expect("recording")
 }
