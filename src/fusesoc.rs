@@ -8,6 +8,9 @@ use motionhdl_model::Config;
 /// File name inside the output directory.
 pub const FILE_NAME: &str = "motionhdl.core";
 
+/// The nextpnr seed of the synthesis targets.
+pub const SEED: u32 = 1;
+
 /// The core for `config`; `constraints` are the constraint files written
 /// into `constraints/` (see [`crate::constraints::files`]).
 pub fn core(config: &Config, constraints: &[String]) -> String {
@@ -19,7 +22,8 @@ pub fn core(config: &Config, constraints: &[String]) -> String {
     s.push_str(&format!(
         "# FuseSoC core of the motionhdl gateware ({} axes, {}-bit counters, {} Hz, isa_ram = \"{}\").\n\
          # Paths are relative to this file (generated/). `fusesoc --cores-root generated run\n\
-         # --target=lint motionhdl` lints; --target=synth builds for the iCE40-HX8K breakout.\n",
+         # motionhdl` lints (the default target, as --target=lint); --target=synth builds a\n\
+         # bitstream for the iCE40-HX8K breakout, --target=synth_ecp5 for the ECP5-25K.\n",
         config.axes(),
         config.counter_width(),
         config.clock_hz(),
@@ -48,23 +52,43 @@ pub fn core(config: &Config, constraints: &[String]) -> String {
             "  quartus_constraints:\n    files:\n      - constraints/{q}: {{file_type: tclSource}}\n      - constraints/{d}: {{file_type: SDC}}\n"
         ));
     }
-    s.push_str(&format!(
-        "\ntargets:\n  default:\n    filesets: [rtl]\n    toplevel: {top}\n\n  lint:\n    default_tool: verilator\n    filesets: [rtl]\n    tools:\n      verilator:\n        mode: lint-only\n        verilator_options: [-Wall]\n    toplevel: {top}\n",
-        top = board::MODULE
-    ));
+    // Edalize's flow API (the tool API is deprecated): `default` is the
+    // lint flow, so a bare `fusesoc run motionhdl` does something useful;
+    // place and route use seed 1, the seed of docs/benchmarks.md's tables.
+    let lint = format!(
+        "    flow: lint\n    flow_options:\n      tool: verilator\n      verilator_options: [-Wall]\n    \
+         filesets: [rtl]\n    toplevel: {}\n",
+        board::MODULE
+    );
+    s.push_str(&format!("\ntargets:\n  default:\n{lint}\n  lint:\n{lint}"));
     let mhz = config.clock_hz() / 1_000_000;
-    if has(".pcf").is_some() {
+    let pnr = |s: &mut String, target: &str, flow: &str, pins: &str, device: &str| {
         s.push_str(&format!(
-            "\n  synth:\n    default_tool: icestorm\n    filesets: [rtl, ice40_pins]\n    tools:\n      icestorm:\n        pnr: next\n        nextpnr_options: [--hx8k, --package, ct256, --freq, \"{mhz}\"]\n    toplevel: {top}\n",
+            "\n  {target}:\n    flow: {flow}\n    flow_options:\n      \
+             nextpnr_options: [{device}, --freq, \"{mhz}\", --seed, \"{SEED}\"]\n    \
+             filesets: [rtl, {pins}]\n    toplevel: {top}\n",
             top = board::MODULE
         ));
+    };
+    if has(".pcf").is_some() {
+        pnr(
+            &mut s,
+            "synth",
+            "icestorm",
+            "ice40_pins",
+            "--hx8k, --package, ct256",
+        );
     }
     if has(".lpf").is_some() {
-        s.push_str(&format!(
-            "\n  synth_ecp5:\n    default_tool: trellis\n    filesets: [rtl, ecp5_pins]\n    tools:\n      trellis:\n        nextpnr_options: [--25k, --package, CABGA256, --freq, \"{mhz}\"]\n    toplevel: {top}\n",
-            top = board::MODULE
-        ));
+        pnr(
+            &mut s,
+            "synth_ecp5",
+            "trellis",
+            "ecp5_pins",
+            "--25k, --package, CABGA256",
+        );
     }
+    // Edalize 0.6 has no Quartus flow: this one target keeps the tool API.
     if has(".qsf").is_some() {
         s.push_str(&format!(
             "\n  synth_quartus:\n    default_tool: quartus\n    filesets: [rtl, quartus_constraints]\n    tools:\n      quartus:\n        family: Cyclone IV E\n        device: EP4CE22F17C6\n    toplevel: {top}\n",

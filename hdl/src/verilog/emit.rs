@@ -59,34 +59,40 @@ fn hoist_output_assignments(root: &RawModule, flat: &Flat) -> (Vec<Vec<String>>,
 pub(super) fn render(name: &str, root: &RawModule, flat: &Flat) -> String {
     let (comb, hoisted) = hoist_output_assignments(root, flat);
     let assigned = assigned_names(&comb, flat);
-    let mut t = format!("\nmodule {name}({});\n", root.args.join(", "));
-    push_ports(&mut t, root, flat, &assigned);
-    push_locals(&mut t, flat, &assigned);
+    let mut body = String::new();
     if !hoisted.is_empty() {
-        t.push('\n');
+        body.push('\n');
         for a in &hoisted {
-            t.push_str(&format!("    {}\n", size_literals(a, &flat.widths)));
+            body.push_str(&format!("    {}\n", size_literals(a, &flat.widths)));
         }
     }
     for block in &comb {
         if block.iter().all(|l| l.trim().is_empty()) {
             continue;
         }
-        t.push_str("\n    always @(*) begin\n");
+        body.push_str("\n    always @(*) begin\n");
         for l in block {
-            t.push_str(&format!("        {}\n", size_literals(l, &flat.widths)));
+            body.push_str(&format!("        {}\n", size_literals(l, &flat.widths)));
         }
-        t.push_str("    end\n");
+        body.push_str("    end\n");
     }
     if !flat.flops.is_empty() {
-        t.push('\n');
+        body.push('\n');
         for (c, q, d) in &flat.flops {
-            t.push_str(&format!("    always @(posedge {c}) {q} <= {d};\n"));
+            body.push_str(&format!("    always @(posedge {c}) {q} <= {d};\n"));
         }
     }
     for m in &flat.mems {
-        push_mem(&mut t, m);
+        push_mem(&mut body, m);
     }
+    let decls = Decls {
+        assigned,
+        selected: selected_names(&body),
+    };
+    let mut t = format!("\nmodule {name}({});\n", root.args.join(", "));
+    push_ports(&mut t, root, flat, &decls);
+    push_locals(&mut t, flat, &decls);
+    t.push_str(&body);
     t.push_str(&format!("endmodule // {name}\n"));
     // Every name must stay distinct once `$` becomes `_`.
     let mut seen: BTreeMap<String, &str> = BTreeMap::new();
@@ -111,17 +117,38 @@ fn assigned_names(comb: &[Vec<String>], flat: &Flat) -> BTreeSet<String> {
         .collect()
 }
 
-/// The range of a `w`-bit declaration, nothing for one bit.
-fn decl_width(w: usize) -> String {
-    if w == 1 {
-        String::new()
-    } else {
-        format!("[{}:0] ", w - 1)
+/// What a declaration needs to know of the module's body.
+struct Decls {
+    /// Names assigned in a block, a flop or a RAM port: `reg`.
+    assigned: BTreeSet<String>,
+    /// Names with a bit or part select somewhere (`x[0]`).
+    selected: BTreeSet<String>,
+}
+
+impl Decls {
+    /// The range of `name`'s `w`-bit declaration: nothing for one bit,
+    /// unless the body selects a bit of it (a one-axis bank's `x[0]`),
+    /// which Verilog allows only on a vector: then `[0:0]`.
+    fn width(&self, name: &str, w: usize) -> String {
+        if w == 1 && !self.selected.contains(name) {
+            String::new()
+        } else {
+            format!("[{}:0] ", w - 1)
+        }
     }
 }
 
+/// Every identifier followed by `[` in `body`.
+fn selected_names(body: &str) -> BTreeSet<String> {
+    static SELECT: OnceLock<Regex> = OnceLock::new();
+    re(&SELECT, r"([A-Za-z_$][\w$]*)\[")
+        .captures_iter(body)
+        .map(|c| c[1].to_string())
+        .collect()
+}
+
 /// The port declarations, in `root`'s port order.
-fn push_ports(t: &mut String, root: &RawModule, flat: &Flat, assigned: &BTreeSet<String>) {
+fn push_ports(t: &mut String, root: &RawModule, flat: &Flat, decls: &Decls) {
     for arg in &root.args {
         let (kind, signed) = flat
             .ports
@@ -130,19 +157,19 @@ fn push_ports(t: &mut String, root: &RawModule, flat: &Flat, assigned: &BTreeSet
         let dir = match kind.as_str() {
             "input wire" => "input wire".to_string(),
             "inout wire" => "inout wire".to_string(),
-            _ if assigned.contains(arg) => "output reg".to_string(),
+            _ if decls.assigned.contains(arg) => "output reg".to_string(),
             _ => "output wire".to_string(),
         };
         let signed = if *signed { "signed " } else { "" };
         t.push_str(&format!(
             "    {dir} {signed}{}{arg};\n",
-            decl_width(flat.widths[arg])
+            decls.width(arg, flat.widths[arg])
         ));
     }
 }
 
 /// The local parameters, then the nets with their initial values.
-fn push_locals(t: &mut String, flat: &Flat, assigned: &BTreeSet<String>) {
+fn push_locals(t: &mut String, flat: &Flat, decls: &Decls) {
     if !flat.params.is_empty() {
         t.push('\n');
         for (p, v) in &flat.params {
@@ -152,7 +179,7 @@ fn push_locals(t: &mut String, flat: &Flat, assigned: &BTreeSet<String>) {
     if !flat.nets.is_empty() {
         t.push('\n');
         for n in &flat.nets {
-            let kind = if assigned.contains(&n.name) {
+            let kind = if decls.assigned.contains(&n.name) {
                 "reg"
             } else {
                 "wire"
@@ -165,7 +192,7 @@ fn push_locals(t: &mut String, flat: &Flat, assigned: &BTreeSet<String>) {
                 .unwrap_or_default();
             t.push_str(&format!(
                 "    {kind} {signed}{}{}{init};\n",
-                decl_width(n.width),
+                decls.width(&n.name, n.width),
                 n.name
             ));
         }
@@ -352,5 +379,23 @@ mod tests {
             strip_dollars("a$b$c = $signed(x$y);"),
             "a_b_c = $signed(x_y);"
         );
+    }
+
+    #[test]
+    fn a_one_bit_net_with_a_select_is_a_vector() {
+        // A one-axis bank's `limit[0]`: Verilator rejects a select of a
+        // scalar, so that net is declared [0:0]; other one-bit nets stay
+        // scalars and wider ones keep their range.
+        let decls = Decls {
+            assigned: BTreeSet::new(),
+            selected: selected_names("pin = a$limit[0] & b[3:1] & mem[addr];"),
+        };
+        assert_eq!(
+            decls.selected,
+            ["a$limit", "b", "mem"].map(String::from).into()
+        );
+        assert_eq!(decls.width("a$limit", 1), "[0:0] ");
+        assert_eq!(decls.width("pin", 1), "");
+        assert_eq!(decls.width("b", 4), "[3:0] ");
     }
 }
