@@ -499,7 +499,26 @@ fn fusesoc_core_is_yaml_and_names_existing_generated_files() {
     for t in ["default", "lint", "synth"] {
         assert!(v["targets"][t].is_object(), "no target {t}");
     }
-    assert_eq!(v["targets"]["lint"]["default_tool"], "verilator");
-    assert_eq!(v["targets"]["synth"]["default_tool"], "icestorm");
-    assert_eq!(v["targets"]["default"]["toplevel"], board::MODULE);
+    // Edalize's flow API; only Quartus, which has no flow, keeps the
+    // deprecated tool API (tests/fusesoc.rs runs the flows).
+    for (t, flow) in [
+        ("default", "lint"),
+        ("lint", "lint"),
+        ("synth", "icestorm"),
+        ("synth_ecp5", "trellis"),
+    ] {
+        assert_eq!(v["targets"][t]["flow"], flow, "target {t}");
+        assert!(v["targets"][t]["default_tool"].is_null(), "target {t}");
+        assert_eq!(v["targets"][t]["toplevel"], board::MODULE);
+    }
+    assert_eq!(v["targets"]["lint"]["flow_options"]["tool"], "verilator");
+    let seed = format!("{}", fusesoc::SEED);
+    let pnr = v["targets"]["synth"]["flow_options"]["nextpnr_options"]
+        .as_array()
+        .unwrap();
+    assert!(
+        pnr.windows(2)
+            .any(|w| w[0] == "--seed" && w[1] == seed.as_str()),
+        "{pnr:?}"
+    );
 }
