@@ -16,12 +16,9 @@ pub fn run(external: bool, only: &[String]) -> Result<Vec<CheckReport>, crate::C
     }
     // Group by group, so a long run shows which one it is in.
     let mut reports = Vec::new();
-    for name in names
-        .iter()
-        .filter(|n| only.is_empty() || only.iter().any(|o| o == *n))
-    {
+    for name in registry::selected(only) {
         let stage = crate::progress::Stage::start(format!("verify {name}"));
-        reports.extend(registry::run(external, &[name.to_string()]));
+        reports.extend(registry::run_group(external, name));
         stage.finish();
     }
     Ok(reports)

@@ -98,11 +98,28 @@ pub fn group_names() -> Vec<&'static str> {
 /// Verilog and Verilator, and each block's check on its post-synthesis
 /// yosys netlist in Icarus.
 pub fn run(external: bool, only: &[String]) -> Vec<CheckReport> {
+    selected(only)
+        .into_iter()
+        .flat_map(|name| run_group(external, name))
+        .collect()
+}
+
+/// The groups `only` names, in the registry's order; all when it is empty.
+pub fn selected(only: &[String]) -> Vec<&'static str> {
     GROUPS
         .iter()
-        .filter(|g| only.is_empty() || only.iter().any(|o| o == g.name))
-        .flat_map(|g| (g.run)(external))
+        .map(|g| g.name)
+        .filter(|name| only.is_empty() || only.iter().any(|o| o == name))
         .collect()
+}
+
+/// Runs the group `name` (one of [`group_names`]).
+pub fn run_group(external: bool, name: &str) -> Vec<CheckReport> {
+    let group = GROUPS
+        .iter()
+        .find(|g| g.name == name)
+        .unwrap_or_else(|| panic!("no group of checks named {name}"));
+    (group.run)(external)
 }
 
 /// Runs every check.
