@@ -17,6 +17,26 @@ struct SignalDef {
     analog: Option<bool>,
 }
 
+impl SignalDef {
+    /// `scope.name`, the way GTKWave and [`Trace::mark_edge`] name it.
+    fn path(&self) -> String {
+        let mut n = self.scope.join(".");
+        if !n.is_empty() {
+            n.push('.');
+        }
+        n + &self.name
+    }
+
+    /// The name in a save file: the path, with `[msb:0]` on a vector.
+    fn gtkw_name(&self) -> String {
+        if self.width > 1 {
+            format!("{}[{}:0]", self.path(), self.width - 1)
+        } else {
+            self.path()
+        }
+    }
+}
+
 /// A trace under construction: declare signals, then record values at
 /// times in nanoseconds. Only changes are written.
 pub struct Trace {
@@ -145,12 +165,7 @@ impl Trace {
         let i = self
             .signals
             .iter()
-            .position(|s| {
-                let mut full = s.scope.join(".");
-                full.push('.');
-                full += &s.name;
-                full == path
-            })
+            .position(|s| s.path() == path)
             .unwrap_or_else(|| panic!("marker {name}: no signal {path}"));
         let mut last = None;
         let mut edge = None;
@@ -321,18 +336,21 @@ impl Trace {
                 .cmp(&self.signals[*b].scope)
                 .then(a.cmp(b))
         });
+        let group_end = |g: &str| {
+            let flags = if unused.contains(g) {
+                CLOSED_END
+            } else {
+                GROUP_END
+            };
+            format!("{flags}\n-{g}\n")
+        };
         let mut group: Option<String> = None;
         for i in order {
             let s = &self.signals[i];
             let scope = s.scope.join(".");
             if group.as_deref() != Some(scope.as_str()) {
                 if let Some(g) = group.take() {
-                    let end = if unused.contains(&g) {
-                        CLOSED_END
-                    } else {
-                        GROUP_END
-                    };
-                    out += &format!("{end}\n-{g}\n");
+                    out += &group_end(&g);
                 }
                 let begin = if unused.contains(&scope) {
                     CLOSED_BEGIN
@@ -342,31 +360,21 @@ impl Trace {
                 out += &format!("{begin}\n-{scope}\n");
                 group = Some(scope.clone());
             }
-            let prefix = if scope.is_empty() {
-                String::new()
-            } else {
-                format!("{scope}.")
-            };
             if let Some(signed) = s.analog {
                 let flags = if signed {
                     ANALOG_SIGNED
                 } else {
                     ANALOG_UNSIGNED
                 };
-                out += &format!("{flags}\n{prefix}{}[{}:0]\n{TALLER}", s.name, s.width - 1);
+                out += &format!("{flags}\n{}[{}:0]\n{TALLER}", s.path(), s.width - 1);
             } else if s.width == 1 {
-                out += &format!("{BINARY}\n{prefix}{}\n", s.name);
+                out += &format!("{BINARY}\n{}\n", s.gtkw_name());
             } else {
-                out += &format!("{HEX}\n{prefix}{}[{}:0]\n", s.name, s.width - 1);
+                out += &format!("{HEX}\n{}\n", s.gtkw_name());
             }
         }
         if let Some(g) = group {
-            let end = if unused.contains(&g) {
-                CLOSED_END
-            } else {
-                GROUP_END
-            };
-            out += &format!("{end}\n-{g}\n");
+            out += &group_end(&g);
         }
         out
     }
@@ -415,20 +423,7 @@ impl Trace {
     /// Every signal as GTKWave names it (`scope.name`, `[msb:0]` on
     /// vectors), for checking a save file against its trace.
     pub fn gtkw_names(&self) -> Vec<String> {
-        self.signals
-            .iter()
-            .map(|s| {
-                let mut n = s.scope.join(".");
-                if !n.is_empty() {
-                    n.push('.');
-                }
-                n += &s.name;
-                if s.width > 1 {
-                    n += &format!("[{}:0]", s.width - 1);
-                }
-                n
-            })
-            .collect()
+        self.signals.iter().map(SignalDef::gtkw_name).collect()
     }
 
     /// The VCD text as a string.
