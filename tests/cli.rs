@@ -217,6 +217,22 @@ fn config_changes_the_outputs() {
     assert!(v.contains("\n#5\n"), "no 5 ns step in the 100 MHz trace");
 }
 
+/// The corners of the configuration's ranges generate: the scenario
+/// traces once assumed counters wide enough for 200 steps, a clock fast
+/// enough for their S-curve's jerk, and a 1 µs filter shorter than a step
+/// (`generate` panicked at 8 bits, at 1 MHz and at 400 MHz).
+#[test]
+fn the_corners_of_the_configuration_generate() {
+    for text in [
+        "axes = 1\ncounter_width = 8\nclock_hz = 1_000_000\ninput_filter_us = 1\n",
+        "axes = 1\ncounter_width = 32\nclock_hz = 400_000_000\n",
+    ] {
+        let config = motionhdl::config_file::parse(text, "corner").unwrap();
+        let files = motionhdl::artifacts::all(&config);
+        assert!(files.len() > 60, "{text}: {} files", files.len());
+    }
+}
+
 #[test]
 fn trace_writes_a_named_scenario_and_rejects_unknown_names() {
     let t = tempfile::tempdir().unwrap();
@@ -307,6 +323,10 @@ fn verify_refuses_an_unknown_group_and_lists_the_groups() {
     for g in motionhdl_testbench::registry::group_names() {
         assert!(e.contains(g), "{g} not listed: {e}");
     }
+    assert!(
+        e.contains(motionhdl::verify::FORMAL),
+        "formal not listed: {e}"
+    );
     assert!(o.stdout.is_empty(), "checks ran");
 }
 
@@ -338,7 +358,8 @@ fn the_readme_names_every_verify_group() {
         .lines()
         .find(|l| l.contains("`motionhdl verify [--no-external]"))
         .expect("README has the verify row");
-    for g in motionhdl_testbench::registry::group_names() {
+    let groups = motionhdl_testbench::registry::group_names();
+    for g in groups.into_iter().chain([motionhdl::verify::FORMAL]) {
         assert!(
             row.contains(&format!("`{g}`")),
             "README's verify row lacks `{g}`"

@@ -14,14 +14,19 @@ use motionhdl_model::Config;
 /// NCO's phase was not 0 at its start, as after a stop; with the switch's
 /// stop still set that is a step toward the switch, and the axis stops.)
 pub fn creep(steps: i64) -> (Vec<Segment>, u64) {
-    let rate = (1i64 << 32) / 100 * steps.signum();
+    creep_every(steps, 100)
+}
+
+/// A move of `steps` at one step per `period` clocks (as [`creep`]).
+pub fn creep_every(steps: i64, period: i64) -> (Vec<Segment>, u64) {
+    let rate = (1i64 << 32) / period * steps.signum();
     let segment = Segment {
         steps: steps.unsigned_abs() as u32,
         rate: rate as i32,
         accel: 0,
         jerk: 0,
     };
-    (vec![segment], 100 * steps.unsigned_abs())
+    (vec![segment], period.unsigned_abs() * steps.unsigned_abs())
 }
 
 /// Pushes a move to `axis`, sets RUN for it alone and idles the move's
@@ -51,6 +56,14 @@ pub fn fast_filter_axes(config: &Config) -> (System<2>, u32) {
     (sys, tick)
 }
 
+/// The traces' creep: one step per 100 clocks, or per two lengths of the
+/// 1 µs input filter on a clock past 50 MHz, so the switch stops the axis
+/// within a few steps at every clock.
+fn trace_creep(config: &Config, steps: i64) -> (Vec<Segment>, u64) {
+    let filter_clocks = i64::try_from(config.clock_hz() / 1_000_000).expect("clock fits");
+    creep_every(steps, 100.max(2 * filter_clocks))
+}
+
 /// Where the trace's switch sits on axis 0's shaft.
 pub const TRACE_SWITCH: i32 = 20;
 
@@ -66,7 +79,7 @@ pub fn trace(config: &Config) -> Trace {
     sys.write("SAFETY", None, "LIMIT_MASK", 1);
     sys.idle(100);
     sys.record_scenario(config, "limit_stop");
-    run(&mut sys, 0, &creep(40));
+    run(&mut sys, 0, &trace_creep(config, 40));
     let stopped = sys.drives[0].position;
     assert!(
         (TRACE_SWITCH..TRACE_SWITCH + 3).contains(&stopped),

@@ -531,11 +531,16 @@ pub fn trace(config: &Config) -> Trace {
         .expect("2 axes of a valid configuration");
     let clock_hz = u32::try_from(config.clock_hz()).expect("clock_hz fits u32");
     let tick_hz = clock_hz / 500;
+    // The profile is the same in clocks at every clock rate (its physical
+    // limits scale with the tick), and 200 steps unless the counters are
+    // too narrow to count them back (then a quarter of their range).
+    let scale = f64::from(tick_hz) / 100_000.0;
+    let distance = 200.min(1i64 << (config.counter_width() - 2));
     let p = motionhdl_firmware::scurve::SCurveParams::from_physical(
-        8e13,
-        4e9,
-        2e6,
-        200,
+        8e13 * scale * scale * scale,
+        4e9 * scale * scale,
+        2e6 * scale,
+        distance,
         f64::from(tick_hz),
     );
     let samples: Vec<_> = motionhdl_firmware::scurve::SCurve::new(p)
@@ -565,9 +570,10 @@ pub fn trace(config: &Config) -> Trace {
     )
     .expect("the traced move finishes");
     let p = sys.positions();
+    let d = distance as i32;
     assert_eq!(
         p,
-        vec![(200, 200), (-100, -100)],
+        vec![(d, d), (-d / 2, -d / 2)],
         "system trace: counted back"
     );
     // Each drive's position from the RUN write on, for the plot.
@@ -576,9 +582,10 @@ pub fn trace(config: &Config) -> Trace {
     let executed: Vec<Vec<i32>> = (0..2)
         .map(|i| path[from..].iter().map(|at| at[i]).collect())
         .collect();
+    let master_name = format!("axis 0 (S-curve, {distance} steps)");
     let plans = [
         motion_plot::Plan {
-            name: "axis 0 (S-curve, 200 steps)",
+            name: &master_name,
             samples: &samples,
             scale: 1.0,
         },
