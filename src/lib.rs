@@ -6,6 +6,7 @@ pub mod board;
 pub mod c_writer;
 pub mod config_file;
 pub mod constraints;
+pub mod formal;
 pub mod fusesoc;
 pub mod interrupt;
 pub mod isa_header;

@@ -61,16 +61,24 @@ enum Command {
     /// The rust-hdl blocks are stepped directly and compared with the model on
     /// every input (and every state × input for clocked blocks); the generated
     /// Verilog runs the same vectors in Icarus Verilog and Verilator when they
-    /// are on PATH. Exits 1 on any mismatch, or on a skipped check when CI is set.
+    /// are on PATH. Then SymbiYosys proves the properties of formal/*.sv on
+    /// the generated Verilog (k-induction) and reaches their covers; a
+    /// failure keeps the counterexample as a VCD with a GTKWave save file.
+    /// Exits 1 on any mismatch or unproved property, or on a skipped check
+    /// when CI is set.
     Verify {
         /// Only the rust-hdl checks; do not run Icarus Verilog or Verilator.
         #[arg(long)]
         no_external: bool,
         /// Only this group of checks (repeatable): selector, counter,
         /// quadrature_core, ls688, isa_bridge, fsmc_bridge,
-        /// motion_controller, pulse_generator, netlist.
+        /// motion_controller, pulse_generator, safety_io, servo_dac,
+        /// netlist, formal (the SymbiYosys proofs of formal/*.sv).
         #[arg(long, value_name = "GROUP")]
         only: Vec<String>,
+        /// Also the long formal proofs (minutes each).
+        #[arg(long)]
+        long: bool,
     },
     /// Measure simulation throughput of the default 4×28 counter bank and
     /// of the default top (motion_controller: 4 axes, 28-bit counters,
@@ -194,22 +202,44 @@ fn run(cli: Cli) -> Result<(), CliError> {
             );
             Ok(())
         }
-        Command::Verify { no_external, only } => {
-            let reports = verify::run(!no_external, &only)?;
-            print!("{}", verify::table(&reports));
+        Command::Verify {
+            no_external,
+            only,
+            long,
+        } => {
+            let verified = verify::run(!no_external, &only, long)?;
+            let reports = &verified.checks;
+            if !reports.is_empty() {
+                print!("{}", verify::table(reports));
+            }
             let failed: Vec<_> = reports.iter().filter(|r| !r.acceptable()).collect();
             for r in &failed {
                 for f in &r.failures {
                     eprintln!("{} / {}: {f}", r.block, r.check);
                 }
             }
-            if failed.is_empty() {
+            if !verified.proofs.is_empty() {
+                if !reports.is_empty() {
+                    println!();
+                }
+                print!("{}", motionhdl::formal::table(&verified.proofs));
+            }
+            if let Some(why) = &verified.proofs_skipped {
+                eprintln!("formal proofs skipped: {why}");
+            }
+            let proofs_failed = motionhdl::formal::failures(&verified.proofs);
+            for f in &proofs_failed {
+                eprintln!("{f}");
+            }
+            let unproved = verified.proofs.iter().filter(|p| !p.passed()).count();
+            if failed.is_empty() && unproved == 0 {
                 Ok(())
             } else {
                 Err(CliError::failure(format!(
-                    "{} of {} checks failed",
+                    "{} of {} checks and {unproved} of {} proofs failed",
                     failed.len(),
-                    reports.len()
+                    reports.len(),
+                    verified.proofs.len()
                 )))
             }
         }

@@ -101,10 +101,30 @@ fn wait(
 }
 
 /// Runs one tool in `dir` to completion, its output into files there. A
-/// caught signal (see [`crate::interrupt`]) stops the tool and the run.
+/// caught signal (see [`crate::interrupt`]) stops the tool and the run; a
+/// failing exit status is an error showing the tool's stderr and the end
+/// of `log`.
 pub fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), CliError> {
+    let status = run_status(cmd, what, dir)?;
+    if !status.success() {
+        let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
+        let tail: Vec<&str> = text.lines().rev().take(25).collect();
+        let tail: Vec<&str> = tail.into_iter().rev().collect();
+        return Err(CliError::failure(format!(
+            "{what} failed ({status}):\n{}\n{}",
+            std::fs::read_to_string(dir.join(format!("{what}.stderr")))
+                .unwrap_or_default()
+                .trim(),
+            tail.join("\n")
+        )));
+    }
+    Ok(())
+}
+
+/// Like [`run`], for a tool whose exit status is a result rather than a
+/// failure (SymbiYosys: 0 proved, 2 failed): returns the status.
+pub fn run_status(cmd: &mut Command, what: &str, dir: &Path) -> Result<ExitStatus, CliError> {
     let cannot = |e: std::io::Error| CliError::failure(format!("cannot run {what}: {e}"));
-    let stderr_path = dir.join(format!("{what}.stderr"));
     eprintln!("$ {}", command_line(cmd));
     let stage = crate::progress::Stage::start(what);
     let mut child = cmd
@@ -113,7 +133,9 @@ pub fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), C
         .stdout(Stdio::from(
             File::create(dir.join(format!("{what}.stdout"))).map_err(cannot)?,
         ))
-        .stderr(Stdio::from(File::create(&stderr_path).map_err(cannot)?))
+        .stderr(Stdio::from(
+            File::create(dir.join(format!("{what}.stderr"))).map_err(cannot)?,
+        ))
         .spawn()
         .map_err(cannot)?;
     let status = wait(
@@ -123,19 +145,7 @@ pub fn run(cmd: &mut Command, what: &str, dir: &Path, log: &str) -> Result<(), C
     )?
     .expect("no limit");
     stage.finish();
-    if !status.success() {
-        let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
-        let tail: Vec<&str> = text.lines().rev().take(25).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
-        return Err(CliError::failure(format!(
-            "{what} failed ({status}):\n{}\n{}",
-            std::fs::read_to_string(&stderr_path)
-                .unwrap_or_default()
-                .trim(),
-            tail.join("\n")
-        )));
-    }
-    Ok(())
+    Ok(status)
 }
 
 #[cfg(test)]

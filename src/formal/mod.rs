@@ -1,0 +1,256 @@
+//! Formal proofs of the generated Verilog (docs/formal.md): each file in
+//! `formal/` wraps generated modules, ports only, and states properties
+//! that SymbiYosys proves by k-induction for every input sequence. The
+//! generated files are read as they are; a proof sees an internal register
+//! only through yosys `expose`.
+
+pub mod sby;
+pub mod spec;
+
+use crate::CliError;
+use motionhdl_hdl::catalog::{self, VerilogModule};
+use spec::{Break, ProofSpec, Uses};
+use std::path::{Path, PathBuf};
+
+/// Every proof file, by name (`formal/<name>.sv`).
+const FILES: [(&str, &str); 1] = [(
+    "pulse_mode_selector",
+    include_str!("../../formal/pulse_mode_selector.sv"),
+)];
+
+/// Every proof, read from its file's header.
+pub fn proofs() -> Vec<ProofSpec> {
+    FILES
+        .iter()
+        .map(|(name, text)| spec::parse(name, text).unwrap_or_else(|e| panic!("{e}")))
+        .collect()
+}
+
+/// The generated module a `uses` line names, built by the catalog.
+pub fn module(uses: &Uses) -> Result<VerilogModule, String> {
+    let args = uses.args.as_slice();
+    let bad = || {
+        format!(
+            "uses {} {:?}: unknown module or wrong arguments",
+            uses.module, args
+        )
+    };
+    Ok(match (uses.module.as_str(), args) {
+        ("pulse_mode_selector", []) => catalog::pulse_mode_selector(),
+        ("pulse_generator", []) => catalog::pulse_generator(),
+        ("fsmc_bridge", []) => catalog::fsmc_bridge(),
+        ("isa_bridge", []) => catalog::isa_bridge(motionhdl_model::IsaRam::Internal),
+        ("quadrature_core", [w @ 2..=32]) => catalog::quadrature_core(*w),
+        ("counter_bank", [a @ 1..=16, w @ 8..=32]) => catalog::counter_bank(*a, *w),
+        ("safety_io", [a @ 1..=16, t @ 1..=65535]) => catalog::safety_io(*a, *t),
+        _ => return Err(bad()),
+    })
+}
+
+/// What `verify` prints for one proof.
+#[derive(Clone, Debug)]
+pub struct ProofReport {
+    pub spec: ProofSpec,
+    pub outcome: sby::Outcome,
+    /// The scratch directory, kept when the proof did not pass.
+    pub kept: Option<PathBuf>,
+}
+
+impl ProofReport {
+    pub fn passed(&self) -> bool {
+        matches!(self.outcome.verdict, sby::Verdict::Proved { .. })
+            && self.outcome.covers_missed.is_empty()
+            && self.outcome.covers_reached.len() == self.spec.covers.len()
+    }
+}
+
+/// Writes the proof's files into `dir`: the modules it uses (with `broken`
+/// applied to the one whose text holds it), its own file, `proof.sby`.
+pub fn stage(spec: &ProofSpec, dir: &Path, broken: Option<&Break>) -> Result<(), String> {
+    let mut files = Vec::new();
+    let mut applied = false;
+    for uses in &spec.uses {
+        let m = module(uses)?;
+        let mut text = m.text;
+        if let Some(b) = broken {
+            match text.matches(&b.from).count() {
+                0 => {}
+                1 => {
+                    text = text.replacen(&b.from, &b.to, 1);
+                    applied = true;
+                }
+                n => {
+                    return Err(format!(
+                        "break {}: `{}` is in {}.v {n} times",
+                        b.label, b.from, m.name
+                    ))
+                }
+            }
+        }
+        let file = format!("{}.v", m.name);
+        std::fs::write(dir.join(&file), text).map_err(|e| e.to_string())?;
+        files.push(file);
+    }
+    if let Some(b) = broken.filter(|_| !applied) {
+        return Err(format!(
+            "break {}: `{}` is in no module the proof reads",
+            b.label, b.from
+        ));
+    }
+    std::fs::write(dir.join(format!("{}.sv", spec.name)), &spec.text).map_err(|e| e.to_string())?;
+    let mode = broken.map_or(sby::Mode::Full, |b| sby::Mode::Only(&b.label));
+    std::fs::write(dir.join("proof.sby"), sby::sby_text(spec, &files, mode))
+        .map_err(|e| e.to_string())
+}
+
+/// Runs one proof in a scratch directory, kept (with the counterexample
+/// as `counterexample.vcd` and its `.gtkw`) when the proof does not pass.
+pub fn prove(spec: &ProofSpec, tools: &sby::Tools) -> Result<ProofReport, CliError> {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("motionhdl-formal-{}-", spec.name))
+        .tempdir()
+        .map_err(|e| CliError::failure(format!("cannot make a scratch directory: {e}")))?;
+    stage(spec, dir.path(), None).map_err(CliError::failure)?;
+    let mut outcome = sby::run(tools, dir.path(), sby::Mode::Full)?;
+    let mut report = ProofReport {
+        spec: spec.clone(),
+        outcome: outcome.clone(),
+        kept: None,
+    };
+    if !report.passed() {
+        if let Some(trace) = &outcome.trace {
+            let vcd = std::fs::read_to_string(trace).unwrap_or_default();
+            let cex = dir.path().join("counterexample.vcd");
+            std::fs::write(&cex, &vcd).map_err(|e| CliError::failure(e.to_string()))?;
+            std::fs::write(
+                dir.path().join("counterexample.gtkw"),
+                sby::gtkw(&cex.to_string_lossy(), &vcd, &spec.top()),
+            )
+            .map_err(|e| CliError::failure(e.to_string()))?;
+            outcome.trace = Some(cex);
+        }
+        report.outcome = outcome;
+        report.kept = Some(dir.keep());
+    }
+    Ok(report)
+}
+
+/// Runs `spec` with one break applied and only its property kept: the
+/// verdict a test expects to be a failure of that property.
+pub fn prove_broken(
+    spec: &ProofSpec,
+    broken: &Break,
+    tools: &sby::Tools,
+) -> Result<sby::Outcome, CliError> {
+    let dir = tempfile::tempdir().map_err(|e| CliError::failure(e.to_string()))?;
+    stage(spec, dir.path(), Some(broken)).map_err(CliError::failure)?;
+    sby::run(tools, dir.path(), sby::Mode::Only(&broken.label))
+}
+
+/// Runs every proof (the long ones too with `long`), one after another.
+pub fn run(long: bool) -> Result<Vec<ProofReport>, CliError> {
+    let tools = sby::find_tools()?;
+    proofs()
+        .iter()
+        .filter(|p| long || !p.long)
+        .map(|p| prove(p, &tools))
+        .collect()
+}
+
+/// The table `verify` prints after the checks': one row per property.
+pub fn table(reports: &[ProofReport]) -> String {
+    let mut rows = Vec::new();
+    for r in reports {
+        let o = &r.outcome;
+        for (i, p) in r.spec.properties.iter().enumerate() {
+            let result = match &o.verdict {
+                sby::Verdict::Proved { k } => format!("proved (k-induction, depth {k})"),
+                sby::Verdict::Failed { labels } if labels.contains(p) => "FAILED".to_string(),
+                sby::Verdict::Unproven { labels } if labels.contains(p) => {
+                    format!("UNPROVEN (induction fails at depth {})", r.spec.depth)
+                }
+                sby::Verdict::Error { .. } => "ERROR".to_string(),
+                _ => "not decided (another failed)".to_string(),
+            };
+            let first = i == 0;
+            rows.push(vec![
+                if first {
+                    r.spec.name.clone()
+                } else {
+                    String::new()
+                },
+                p.clone(),
+                result,
+                if first {
+                    format!("{}/{}", o.covers_reached.len(), r.spec.covers.len())
+                } else {
+                    String::new()
+                },
+                if first {
+                    format!("{:.1} s", o.seconds)
+                } else {
+                    String::new()
+                },
+            ]);
+        }
+    }
+    crate::text::columns(
+        &["proof", "property", "result", "covers", "time"],
+        &rows,
+        &[3, 4],
+    )
+}
+
+/// What went wrong in the reports that did not pass, for standard error.
+pub fn failures(reports: &[ProofReport]) -> Vec<String> {
+    let mut out = Vec::new();
+    for r in reports.iter().filter(|r| !r.passed()) {
+        let name = &r.spec.name;
+        if let sby::Verdict::Error { message } = &r.outcome.verdict {
+            out.push(format!("formal / {name}: SymbiYosys error:\n{message}"));
+        }
+        for c in &r.outcome.covers_missed {
+            out.push(format!("formal / {name}: cover {c} is never reached"));
+        }
+        if let Some(cex) = &r.outcome.trace {
+            out.push(format!(
+                "formal / {name}: counterexample {} (GTKWave: {})",
+                cex.display(),
+                cex.with_extension("gtkw").display()
+            ));
+        }
+        if let Some(dir) = &r.kept {
+            out.push(format!(
+                "formal / {name}: SymbiYosys files kept in {}",
+                dir.display()
+            ));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_proof_file_reads_and_names_modules_the_catalog_builds() {
+        let all = proofs();
+        assert_eq!(all.len(), FILES.len());
+        for p in &all {
+            for u in &p.uses {
+                module(u).unwrap_or_else(|e| panic!("formal/{}.sv: {e}", p.name));
+            }
+        }
+    }
+
+    #[test]
+    fn every_break_applies_to_exactly_one_place() {
+        let dir = tempfile::tempdir().unwrap();
+        for p in proofs() {
+            for b in &p.breaks {
+                stage(&p, dir.path(), Some(b)).unwrap_or_else(|e| panic!("{}: {e}", p.name));
+            }
+        }
+    }
+}

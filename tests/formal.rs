@@ -1,0 +1,130 @@
+//! The formal proofs of `formal/*.sv` on the generated Verilog, run by
+//! SymbiYosys as `motionhdl verify --only formal` runs them: every
+//! property proved by k-induction and every cover reached; every property
+//! shown able to fail, on a copy of the Verilog broken by its file's
+//! `//! break` edit; a failing proof leaves a counterexample GTKWave opens.
+
+mod common;
+
+use motionhdl::formal::{self, sby};
+use motionhdl_testbench::harness::require_tool;
+
+/// The proof tools, or `None` (a recorded skip; a failure under CI).
+fn tools() -> Option<sby::Tools> {
+    for name in sby::TOOL_NAMES {
+        require_tool(name)?;
+    }
+    Some(sby::find_tools().expect("found on PATH"))
+}
+
+#[test]
+fn every_property_is_proved_and_every_cover_reached() {
+    let Some(tools) = tools() else { return };
+    let proofs: Vec<_> = formal::proofs().into_iter().filter(|p| !p.long).collect();
+    let mut properties = 0;
+    let mut covers = 0;
+    for spec in &proofs {
+        let r = formal::prove(spec, &tools).unwrap();
+        assert!(
+            r.passed(),
+            "formal/{}.sv: {:?}\n{}",
+            spec.name,
+            r.outcome,
+            formal::failures(std::slice::from_ref(&r)).join("\n")
+        );
+        properties += spec.properties.len();
+        covers += r.outcome.covers_reached.len();
+        eprintln!(
+            "{}: {} properties proved, {} covers reached, {:.1} s",
+            spec.name,
+            spec.properties.len(),
+            r.outcome.covers_reached.len(),
+            r.outcome.seconds
+        );
+    }
+    let expected_covers: usize = proofs.iter().map(|p| p.covers.len()).sum();
+    assert_eq!(covers, expected_covers, "every cover reached");
+    assert!(properties >= proofs.len(), "{properties} properties");
+    eprintln!(
+        "{} proofs: {properties} properties proved, {covers} covers reached",
+        proofs.len()
+    );
+}
+
+#[test]
+fn every_property_fails_on_its_broken_copy() {
+    let Some(tools) = tools() else { return };
+    let mut broken = 0;
+    for spec in formal::proofs().iter().filter(|p| !p.long) {
+        for b in &spec.breaks {
+            let o = formal::prove_broken(spec, b, &tools).unwrap();
+            assert_eq!(
+                o.verdict,
+                sby::Verdict::Failed {
+                    labels: vec![b.label.clone()]
+                },
+                "formal/{}.sv: `{}` -> `{}` must fail {} from reset",
+                spec.name,
+                b.from,
+                b.to,
+                b.label
+            );
+            assert!(o.trace.is_some(), "{}: a counterexample trace", b.label);
+            broken += 1;
+        }
+    }
+    let expected: usize = formal::proofs()
+        .iter()
+        .filter(|p| !p.long)
+        .map(|p| p.breaks.len())
+        .sum();
+    assert_eq!(broken, expected);
+    eprintln!("{broken} broken copies, each failing its property");
+}
+
+/// A failing proof keeps its counterexample as a VCD and a save file
+/// listing the wrapper's signals, and the CLI's report names them.
+#[test]
+fn a_failing_proof_leaves_a_counterexample_for_gtkwave() {
+    let Some(tools) = tools() else { return };
+    let mut spec = formal::proofs()
+        .into_iter()
+        .find(|p| p.name == "pulse_mode_selector")
+        .unwrap();
+    // A wrong claim: CW/CCW sends every step to F1.
+    spec.text = spec.text.replace(
+        "if (k) p_cw_ccw_exclusive: assert(!(f1 && f2));",
+        "if (k) p_cw_ccw_exclusive: assert(!f2);",
+    );
+    let r = formal::prove(&spec, &tools).unwrap();
+    assert!(!r.passed());
+    assert_eq!(
+        r.outcome.verdict,
+        sby::Verdict::Failed {
+            labels: vec!["p_cw_ccw_exclusive".into()]
+        }
+    );
+    let cex = r.outcome.trace.clone().expect("a counterexample");
+    let vcd = std::fs::read_to_string(&cex).unwrap();
+    assert!(vcd.is_ascii(), "GTKWave rejects non-ASCII VCD");
+    let gtkw = std::fs::read_to_string(cex.with_extension("gtkw")).unwrap();
+    assert!(gtkw.contains(&format!("[dumpfile] \"{}\"", cex.display())));
+    for signal in ["k", "s1", "s2", "f1", "f2"] {
+        assert!(
+            gtkw.lines()
+                .any(|l| l == format!("pulse_mode_selector_props.{signal}")),
+            "{signal} in\n{gtkw}"
+        );
+    }
+    let report = formal::failures(std::slice::from_ref(&r)).join("\n");
+    assert!(report.contains("counterexample"), "{report}");
+    assert!(formal::table(std::slice::from_ref(&r)).contains("FAILED"));
+    std::fs::remove_dir_all(r.kept.unwrap()).unwrap();
+}
+
+#[test]
+fn formal_without_external_tools_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = common::fs_state::run(dir.path(), &["verify", "--no-external", "--only", "formal"]);
+    common::fs_state::assert_refused(&o, 2, &["--only formal", "--no-external"]);
+}
