@@ -182,12 +182,27 @@ pub fn table(reports: &[ProofReport]) -> String {
                 _ => "not decided (another failed)".to_string(),
             };
             let first = i == 0;
+            // The instance each proof reads, as its `uses` lines name it:
+            // a narrow one shows its axes and widths.
+            let instance = r
+                .spec
+                .uses
+                .iter()
+                .map(|u| {
+                    std::iter::once(u.module.clone())
+                        .chain(u.args.iter().map(u32::to_string))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                })
+                .collect::<Vec<_>>()
+                .join(" + ");
             rows.push(vec![
                 if first {
                     r.spec.name.clone()
                 } else {
                     String::new()
                 },
+                if first { instance } else { String::new() },
                 p.clone(),
                 result,
                 if first {
@@ -204,9 +219,9 @@ pub fn table(reports: &[ProofReport]) -> String {
         }
     }
     crate::text::columns(
-        &["proof", "property", "result", "covers", "time"],
+        &["proof", "instance", "property", "result", "covers", "time"],
         &rows,
-        &[3, 4],
+        &[4, 5],
     )
 }
 
