@@ -7,13 +7,11 @@
 mod common;
 
 use motionhdl::formal::{self, sby};
-use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::harness::require_tools;
 
 /// The proof tools, or `None` (a recorded skip; a failure under CI).
 fn tools() -> Option<sby::Tools> {
-    for name in sby::TOOL_NAMES {
-        require_tool(name)?;
-    }
+    require_tools(&sby::TOOL_NAMES)?;
     Some(sby::find_tools().expect("found on PATH"))
 }
 

@@ -7,21 +7,12 @@
 mod common;
 
 use common::run;
-use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::harness::require_tools;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The tools a target's flow runs, or `None` (a recorded skip, a failure
-/// under CI) when one is missing.
-fn tools(names: &[&str]) -> Option<()> {
-    for n in names {
-        require_tool(n)?;
-    }
-    Some(())
 }
 
 /// FuseSoC's work directory for `target` under the build root.
@@ -56,7 +47,7 @@ fn fusesoc(cores: &Path, build: &Path, target: Option<&str>) -> String {
 /// the lint flow (Verilator `--lint-only -Wall`) on the board top.
 #[test]
 fn default_target_lints_the_committed_core() {
-    if tools(&["fusesoc", "verilator"]).is_none() {
+    if require_tools(&["fusesoc", "verilator"]).is_none() {
         return;
     }
     let build = tempfile::tempdir().unwrap();
@@ -69,7 +60,7 @@ fn default_target_lints_the_committed_core() {
 /// (seed 1, 50 MHz) and icepack give a bitstream whose timing passed.
 #[test]
 fn one_axis_core_lints_and_synthesises_to_a_bitstream() {
-    if tools(&["fusesoc", "verilator", "yosys", "nextpnr-ice40", "icepack"]).is_none() {
+    if require_tools(&["fusesoc", "verilator", "yosys", "nextpnr-ice40", "icepack"]).is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -120,15 +120,14 @@ pub fn prove(spec: &ProofSpec, tools: &sby::Tools) -> Result<ProofReport, CliErr
         .tempdir()
         .map_err(|e| CliError::failure(format!("cannot make a scratch directory: {e}")))?;
     stage(spec, dir.path(), None).map_err(CliError::failure)?;
-    let mut outcome = sby::run(tools, dir.path(), sby::Mode::Full)?;
     let mut report = ProofReport {
         spec: spec.clone(),
-        outcome: outcome.clone(),
+        outcome: sby::run(tools, dir.path(), sby::Mode::Full)?,
         kept: None,
     };
     if !report.passed() {
-        if let Some(trace) = &outcome.trace {
-            let vcd = std::fs::read_to_string(trace).unwrap_or_default();
+        if let Some(trace) = &mut report.outcome.trace {
+            let vcd = std::fs::read_to_string(&*trace).unwrap_or_default();
             let cex = dir.path().join("counterexample.vcd");
             std::fs::write(&cex, &vcd).map_err(|e| CliError::failure(e.to_string()))?;
             std::fs::write(
@@ -136,9 +135,8 @@ pub fn prove(spec: &ProofSpec, tools: &sby::Tools) -> Result<ProofReport, CliErr
                 sby::gtkw(&cex.to_string_lossy(), &vcd, &spec.top()),
             )
             .map_err(|e| CliError::failure(e.to_string()))?;
-            outcome.trace = Some(cex);
+            *trace = cex;
         }
-        report.outcome = outcome;
         report.kept = Some(dir.keep());
     }
     Ok(report)
@@ -166,12 +164,33 @@ pub fn run(long: bool) -> Result<Vec<ProofReport>, CliError> {
         .collect()
 }
 
-/// The table `verify` prints after the checks': one row per property.
+/// The table `verify` prints after the checks': one row per property,
+/// the proof's own cells on its first.
 pub fn table(reports: &[ProofReport]) -> String {
     let mut rows = Vec::new();
     for r in reports {
         let o = &r.outcome;
-        for (i, p) in r.spec.properties.iter().enumerate() {
+        // The instance the proof reads, as its `uses` lines name it: a
+        // narrow one shows its axes and widths.
+        let instance = r
+            .spec
+            .uses
+            .iter()
+            .map(|u| {
+                std::iter::once(u.module.clone())
+                    .chain(u.args.iter().map(u32::to_string))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+            .collect::<Vec<_>>()
+            .join(" + ");
+        let mut head = Some([
+            r.spec.name.clone(),
+            instance,
+            format!("{}/{}", o.covers_reached.len(), r.spec.covers.len()),
+            format!("{:.1} s", o.seconds),
+        ]);
+        for p in &r.spec.properties {
             let result = match &o.verdict {
                 sby::Verdict::Proved { k } => format!("proved (k-induction, depth {k})"),
                 sby::Verdict::Failed { labels } if labels.contains(p) => "FAILED".to_string(),
@@ -181,41 +200,8 @@ pub fn table(reports: &[ProofReport]) -> String {
                 sby::Verdict::Error { .. } => "ERROR".to_string(),
                 _ => "not decided (another failed)".to_string(),
             };
-            let first = i == 0;
-            // The instance each proof reads, as its `uses` lines name it:
-            // a narrow one shows its axes and widths.
-            let instance = r
-                .spec
-                .uses
-                .iter()
-                .map(|u| {
-                    std::iter::once(u.module.clone())
-                        .chain(u.args.iter().map(u32::to_string))
-                        .collect::<Vec<_>>()
-                        .join(" ")
-                })
-                .collect::<Vec<_>>()
-                .join(" + ");
-            rows.push(vec![
-                if first {
-                    r.spec.name.clone()
-                } else {
-                    String::new()
-                },
-                if first { instance } else { String::new() },
-                p.clone(),
-                result,
-                if first {
-                    format!("{}/{}", o.covers_reached.len(), r.spec.covers.len())
-                } else {
-                    String::new()
-                },
-                if first {
-                    format!("{:.1} s", o.seconds)
-                } else {
-                    String::new()
-                },
-            ]);
+            let [name, instance, covers, time] = head.take().unwrap_or_default();
+            rows.push(vec![name, instance, p.clone(), result, covers, time]);
         }
     }
     crate::text::columns(

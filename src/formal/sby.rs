@@ -181,13 +181,12 @@ pub fn verdict(status: &str, log: &str) -> Verdict {
         }
         labels
     };
+    let base_case = failed("engine_0.basecase");
     match status.split_whitespace().next() {
         Some("PASS") => Verdict::Proved {
             k: log.matches("Trying induction in step").count() as u32,
         },
-        Some("FAIL") if !failed("engine_0.basecase").is_empty() => Verdict::Failed {
-            labels: failed("engine_0.basecase"),
-        },
+        Some("FAIL") if !base_case.is_empty() => Verdict::Failed { labels: base_case },
         Some("FAIL" | "UNKNOWN") => Verdict::Unproven {
             labels: failed("engine_0.induction"),
         },

@@ -22,8 +22,6 @@ pub struct Break {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProofSpec {
     pub name: String,
-    /// The first comment line: what the proof says.
-    pub summary: String,
     pub uses: Vec<Uses>,
     /// `module/signal`, turned into output ports by yosys `expose`.
     pub expose: Vec<String>,
@@ -51,7 +49,6 @@ impl ProofSpec {
 pub fn parse(name: &str, text: &str) -> Result<ProofSpec, String> {
     let mut spec = ProofSpec {
         name: name.to_string(),
-        summary: String::new(),
         uses: Vec::new(),
         expose: Vec::new(),
         depth: 0,
@@ -65,9 +62,6 @@ pub fn parse(name: &str, text: &str) -> Result<ProofSpec, String> {
     let mut open_break: Option<(String, Option<String>)> = None;
     for (n, line) in text.lines().enumerate() {
         let at = |why: &str| format!("formal/{name}.sv line {}: {why}: `{line}`", n + 1);
-        if spec.summary.is_empty() && line.starts_with("// ") {
-            spec.summary = line.trim_start_matches("// ").to_string();
-        }
         let Some(directive) = line.strip_prefix("//!") else {
             continue;
         };
@@ -199,7 +193,6 @@ mod tests {
     #[test]
     fn a_header_is_read() {
         let s = parse("q", GOOD).unwrap();
-        assert_eq!(s.summary, "says what");
         assert_eq!(
             s.uses,
             vec![Uses {

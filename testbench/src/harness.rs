@@ -142,6 +142,15 @@ pub fn require_tool(name: &str) -> Option<PathBuf> {
     }
 }
 
+/// [`require_tool`] for each of `names`: `None` (a recorded skip, a
+/// failure under CI) at the first one missing.
+pub fn require_tools(names: &[&str]) -> Option<()> {
+    for name in names {
+        require_tool(name)?;
+    }
+    Some(())
+}
+
 /// A test that cannot run here: under CI a failure (CI installs every
 /// tool), elsewhere a skip that is recorded for the run's summary.
 pub fn skip_test(why: &str) {

@@ -24,14 +24,12 @@ use motionhdl_testbench::checks::{
     counter_bank, fsmc_bridge, isa_bridge, ls153, ls688, motion_controller, pulse_generator,
     pulse_mode_selector, quadrature_core,
 };
-use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::harness::{require_tool, require_tools};
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 use motionhdl_testbench::{netlist, registry, CheckReport};
 
 fn tools() -> bool {
-    ["yosys", "iverilog", "vvp"]
-        .iter()
-        .all(|t| require_tool(t).is_some())
+    require_tools(&["yosys", "iverilog", "vvp"]).is_some()
 }
 
 fn net() -> Target {

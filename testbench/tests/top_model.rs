@@ -13,7 +13,7 @@ use motionhdl_testbench::bfm::fsmc::Op;
 use motionhdl_testbench::checks::fsmc_bridge::random_ops;
 use motionhdl_testbench::checks::motion_controller::top_model::{self, bfm_clocks, compare, Pins};
 use motionhdl_testbench::checks::motion_controller::{loopback_ops, moves_ops};
-use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::harness::require_tools;
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 
 /// Clocks of the generated-stimulus run: past the reset every 65536 clocks.
@@ -162,7 +162,7 @@ fn reaches_the_models_checksums(target: Target, cycles: u64) {
     if !matches!(target.source, Source::Generated) {
         tools.push("yosys");
     }
-    if tools.iter().any(|t| require_tool(t).is_none()) {
+    if require_tools(&tools).is_none() {
         return;
     }
     let c = config();
