@@ -34,8 +34,8 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
 }
 
 #[test]
-fn hdl_and_firmware_stand_on_the_spec_not_on_the_model() {
-    for krate in ["hdl", "firmware"] {
+fn hdl_firmware_and_driver_stand_on_the_spec_not_on_the_model() {
+    for krate in ["hdl", "firmware", "driver"] {
         let deps = dependencies(krate);
         assert!(deps.contains("motionhdl-spec"), "{krate}: {deps:?}");
         assert!(

@@ -11,7 +11,7 @@
 //! | [`homing`] | STM32 + FPGA card | home search against the HOME switch the gateware captures: fast search, back-off, slow search, optional index, non-blocking |
 //! | [`frames`] | dual-CPU STM32 card | master/slave "virtual memory" frames with CRC-16/MODBUS |
 //! | [`segments`] | (this project) | a sampled profile as segments for the FPGA pulse generator's move FIFO |
-//! | `scurve_segments` | STM32 + FPGA card | the 7-phase S-curve as at most 7 segments with a jerk, one per phase (`alloc`) |
+//! | [`scurve_segments`] | STM32 + FPGA card | the 7-phase S-curve as at most 7 segments with a jerk, one per phase |
 //!
 //! The algorithms use `core` only and no heap; where a `Vec` of output is
 //! the natural result, a separate `*_vec`-style helper builds it.
@@ -37,7 +37,6 @@ pub mod frames;
 pub mod homing;
 pub mod pid;
 pub mod scurve;
-#[cfg(feature = "alloc")]
 pub mod scurve_segments;
 pub mod segments;
 pub mod trapezoid;

@@ -35,8 +35,19 @@
 
 use crate::segments::RATE_MAX;
 use crate::OutOfRange;
-use alloc::vec::Vec;
+use arrayvec::ArrayVec;
 use motionhdl_spec::pulse::{Segment, ACCEL_FRAC_BITS, LOAD_FRACTION};
+
+/// 2^e, exactly.
+fn pow2(e: i32) -> f64 {
+    libm::ldexp(1.0, e)
+}
+
+/// The correctly rounded square root (libm's: `core` has none, and the
+/// same code plans on the MCU and the host).
+fn sqrt(x: f64) -> f64 {
+    libm::sqrt(x)
+}
 
 /// Longest move planned, clocks (about 43 s at 50 MHz).
 pub const PLAN_CLOCK_LIMIT: u64 = 1 << 31;
@@ -58,7 +69,7 @@ impl EngineLimits {
     /// (values out of range are refused by [`plan`]).
     pub fn from_physical(rate: f64, accel: f64, jerk: f64, clock_hz: f64) -> Self {
         let lsb = |x: f64, per_clock: f64, bits: i32| {
-            (x / per_clock * 2f64.powi(bits)).clamp(0.0, i32::MAX as f64) as i32
+            (x / per_clock * pow2(bits)).clamp(0.0, i32::MAX as f64) as i32
         };
         Self {
             rate: lsb(rate, clock_hz, 32),
@@ -248,15 +259,20 @@ impl Stop {
 /// A phase's segment, the state after its last step, and whether it
 /// stopped on its cap with steps left to give (1) or not (0).
 type PhaseRun = (Segment, EngineState, u64);
+/// At most 3 phases up, the cruise and 3 down.
+type Phases = ArrayVec<PhaseRun, MAX_SEGMENTS>;
+
+/// The most segments a plan has: one per phase.
+pub const MAX_SEGMENTS: usize = 7;
 
 /// A planned move: the segments and where each starts.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
     /// Signed: the direction is the sign of each segment's rate (or accel,
     /// or jerk); at most 7.
-    pub segments: Vec<Segment>,
+    pub segments: ArrayVec<Segment, MAX_SEGMENTS>,
     /// The clock each segment loads on, counted from the first load.
-    pub starts: Vec<u64>,
+    pub starts: ArrayVec<u64, MAX_SEGMENTS>,
     /// The clock after the last segment's last step.
     pub clocks: u64,
     /// +1 or −1.
@@ -292,20 +308,20 @@ fn magnitude(seg: &Segment, dir: i64) -> (i128, i128, i128) {
 /// The continuous S-curve for the limits and the distance: the peak
 /// acceleration (2^-64 steps/clock²) and the peak rate (2^-48 steps/clock).
 fn peaks(distance: f64, lim: &EngineLimits) -> (i64, i64) {
-    let j = f64::from(lim.jerk) * 2f64.powi(-64);
-    let a = f64::from(lim.accel) * 2f64.powi(-48);
-    let v = f64::from(lim.rate) * 2f64.powi(-32);
-    let mut t1 = (a / j).min((v / j).sqrt());
+    let j = f64::from(lim.jerk) * pow2(-64);
+    let a = f64::from(lim.accel) * pow2(-48);
+    let v = f64::from(lim.rate) * pow2(-32);
+    let mut t1 = (a / j).min(sqrt(v / j));
     let mut t2 = (v / (j * t1) - t1).max(0.0);
     // A short move: less time at A, then a lower peak acceleration.
     if j * t1 * (t1 + t2) * (2.0 * t1 + t2) > distance {
-        t2 = ((t1 * t1 + 4.0 * distance / (j * t1)).sqrt() - 3.0 * t1).max(0.0) / 2.0;
+        t2 = (sqrt(t1 * t1 + 4.0 * distance / (j * t1)) - 3.0 * t1).max(0.0) / 2.0;
         if t2 <= 0.0 {
-            t1 = (distance / (2.0 * j)).cbrt();
+            t1 = libm::cbrt(distance / (2.0 * j));
         }
     }
-    let peak_accel = (j * t1 * 2f64.powi(64)).min(f64::from(lim.accel) * 65536.0);
-    let peak_rate = (j * t1 * (t1 + t2) * 2f64.powi(48)).min(f64::from(lim.rate) * 65536.0);
+    let peak_accel = (j * t1 * pow2(64)).min(f64::from(lim.accel) * 65536.0);
+    let peak_rate = (j * t1 * (t1 + t2) * pow2(48)).min(f64::from(lim.rate) * 65536.0);
     (peak_accel as i64, peak_rate as i64)
 }
 
@@ -316,8 +332,8 @@ pub fn plan(distance: i64, lim: EngineLimits) -> Result<Plan, PlanError> {
     let direction = if distance < 0 { -1 } else { 1 };
     let d = distance.unsigned_abs();
     let mut out = Plan {
-        segments: Vec::new(),
-        starts: Vec::new(),
+        segments: ArrayVec::new(),
+        starts: ArrayVec::new(),
         clocks: 0,
         direction,
     };
@@ -327,8 +343,8 @@ pub fn plan(distance: i64, lim: EngineLimits) -> Result<Plan, PlanError> {
     // The jerk changes on steps only: from rest the first step comes when
     // J·t³/6 = 1, at acceleration (6·J²)^(1/3), so a jerk above
     // (A³/6)^(1/2) would ramp past A before any step could end the ramp.
-    let a = f64::from(lim.accel) * 2f64.powi(-48);
-    let steepest = ((a * a * a / 6.0).sqrt() * 2f64.powi(64)).max(1.0);
+    let a = f64::from(lim.accel) * pow2(-48);
+    let steepest = (sqrt(a * a * a / 6.0) * pow2(64)).max(1.0);
     let lim = EngineLimits {
         jerk: lim.jerk.min(steepest.min(f64::from(i32::MAX)) as i32),
         ..lim
@@ -336,7 +352,7 @@ pub fn plan(distance: i64, lim: EngineLimits) -> Result<Plan, PlanError> {
     // A landing that stops short of the braking's natural end (the
     // accelerating phases went too far) is planned again for less distance.
     let mut aim = d as f64;
-    let mut phases = Vec::new();
+    let mut phases = ArrayVec::new();
     for _ in 0..24 {
         let (p, short) = fastest_phases(d, aim, &lim, direction < 0)?;
         phases = p;
@@ -362,14 +378,14 @@ fn fastest_phases(
     aim: f64,
     lim: &EngineLimits,
     backward: bool,
-) -> Result<(Vec<PhaseRun>, bool), PlanError> {
+) -> Result<(Phases, bool), PlanError> {
     let (accel, rate) = peaks(aim, lim);
     let full = i64::from(lim.jerk);
     let mut best = plan_phases(d, full, accel, rate, backward)?;
     let fit = whole_step_jerk(full, accel);
     if fit != full {
         let other = plan_phases(d, fit, accel, rate, backward)?;
-        let end = |p: &(Vec<PhaseRun>, bool)| (p.1, p.0.last().map_or(0, |r| r.1.clock));
+        let end = |p: &(Phases, bool)| (p.1, p.0.last().map_or(0, |r| r.1.clock));
         if end(&other) < end(&best) {
             best = other;
         }
@@ -385,13 +401,13 @@ fn fastest_phases(
 /// (measured: 80 % of the limit at k = 1, a move 10 % slower than the
 /// continuous S-curve), where a jerk 1 % lower reaches it at k = 2.
 fn whole_step_jerk(jerk: i64, accel: i64) -> i64 {
-    let (j, a) = (jerk as f64 * 2f64.powi(-64), accel as f64 * 2f64.powi(-64));
+    let (j, a) = (jerk as f64 * pow2(-64), accel as f64 * pow2(-64));
     let k = a * a * a / (6.0 * j * j);
     if k < 1.0 {
         return jerk;
     }
     // Just under, so the k-th step comes before the ramp reaches `accel`.
-    let fit = (a * a * a / (6.0 * k.ceil())).sqrt() * (1.0 - 1e-4) * 2f64.powi(64);
+    let fit = sqrt(a * a * a / (6.0 * libm::ceil(k))) * (1.0 - 1e-4) * pow2(64);
     jerk.min(fit as i64).max(1)
 }
 
@@ -403,9 +419,9 @@ fn plan_phases(
     accel: i64,
     rate: i64,
     backward: bool,
-) -> Result<(Vec<PhaseRun>, bool), PlanError> {
+) -> Result<(Phases, bool), PlanError> {
     let j = jerk as i32;
-    let mut phases = Vec::new();
+    let mut phases = ArrayVec::new();
     let mut s = EngineState {
         backward,
         ..EngineState::default()
@@ -466,15 +482,9 @@ fn plan_phases(
 /// braking phases (−J to −`top`, constant until the ramp to 0 would stop
 /// the rate, +J until the rate's lowest point) reach `d` steps; those
 /// steps and the braking phases. `None` if no cruise length does.
-fn land(
-    s: &EngineState,
-    cruise: Segment,
-    d: u64,
-    jerk: i64,
-    top: i64,
-) -> Option<(u64, Vec<PhaseRun>)> {
+fn land(s: &EngineState, cruise: Segment, d: u64, jerk: i64, top: i64) -> Option<(u64, Phases)> {
     let j = jerk as i32;
-    let brake = |n: u64| -> Option<(bool, Vec<PhaseRun>)> {
+    let brake = |n: u64| -> Option<(bool, Phases)> {
         let mut c = *s;
         if n > 0 {
             c.cruise(&cruise, n)?;
@@ -492,7 +502,7 @@ fn land(
             accel_at_least: Some(0),
             ..Stop::default()
         };
-        let mut out = Vec::new();
+        let mut out = ArrayVec::new();
         for (jj, stop) in [(-j, first), (0, down), (j, rest)] {
             if c.steps == d {
                 break;

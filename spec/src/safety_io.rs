@@ -32,7 +32,7 @@ pub const FILTER_PRESCALER_BITS: u32 = 24;
 
 /// Filter times the configuration accepts (`input_filter_us`), in
 /// microseconds: from a noisy optical switch to a bouncing mechanical one.
-pub const INPUT_FILTER_US: std::ops::RangeInclusive<u64> = 1..=50_000;
+pub const INPUT_FILTER_US: core::ops::RangeInclusive<u64> = 1..=50_000;
 
 /// The built-in filter time: 1 ms covers the bounce of the mechanical
 /// limit and home switches machines use.

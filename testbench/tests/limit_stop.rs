@@ -21,7 +21,7 @@ const VELOCITY: f64 = 2e6;
 fn plan(target: i64) -> (Vec<Segment>, u64) {
     let lim = EngineLimits::from_physical(VELOCITY, 4e9, 8e13, f64::from(CLOCK_HZ));
     let p = scurve_segments::plan(target, lim).unwrap();
-    (p.segments, p.clocks)
+    (p.segments.to_vec(), p.clocks)
 }
 
 /// Two axes at CLOCK_HZ with a 1 µs input filter, set up, and the

@@ -38,7 +38,7 @@ fn position(sys: &mut System<2>, axis: usize) -> i32 {
 fn plan(target: i64) -> (Vec<Segment>, u64) {
     let lim = EngineLimits::from_physical(2e6, 4e9, 8e13, f64::from(CLOCK_HZ));
     let p = scurve_segments::plan(target, lim).unwrap();
-    (p.segments, p.clocks)
+    (p.segments.to_vec(), p.clocks)
 }
 
 #[test]

@@ -15,6 +15,7 @@ use motionhdl_model::fsmc_bridge::FsmcPins;
 use motionhdl_model::{Config, IsaRam};
 use rust_hdl::prelude::*;
 
+pub mod driver_bus;
 pub mod estop;
 pub mod homing;
 pub mod irq_refill;
