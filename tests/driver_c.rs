@@ -8,6 +8,7 @@
 mod common;
 
 use common::run;
+use motionhdl_testbench::c_driver::{self, HOST_LIBS};
 use motionhdl_testbench::harness::{require_tools, skip_test};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -30,25 +31,12 @@ const ARM_FLAGS: [&str; 12] = [
     "-Idriver/include",
 ];
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+fn root() -> PathBuf {
+    c_driver::root()
 }
 
-/// Builds the driver's static library (for `target`, or the host) in its
-/// own target directory; returns the archive.
 fn driver_lib(target: Option<&str>) -> PathBuf {
-    let dir = root().join("target/c-driver");
-    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.current_dir(root())
-        .args(["build", "--offline", "--release", "-p", "motionhdl-driver"])
-        .env("CARGO_TARGET_DIR", &dir);
-    if let Some(t) = target {
-        cmd.args(["--target", t]);
-    }
-    let (ok, out, err) = run(&mut cmd);
-    assert!(ok, "cargo build of the driver:\n{out}{err}");
-    let sub = target.map_or(PathBuf::from("release"), |t| Path::new(t).join("release"));
-    dir.join(sub).join("libmotionhdl_driver.a")
+    c_driver::driver_lib(target).unwrap()
 }
 
 #[test]
@@ -105,16 +93,8 @@ fn c_unit_tests(lib: &Path, include: &Path, scratch: &Path) -> (bool, String) {
         .arg(include)
         .arg("driver/c/test_driver.c")
         .arg(lib)
-        .args([
-            "-lgcc_s",
-            "-lutil",
-            "-lrt",
-            "-lpthread",
-            "-lm",
-            "-ldl",
-            "-lc",
-            "-o",
-        ])
+        .args(HOST_LIBS)
+        .arg("-o")
         .arg(&exe));
     assert!(ok, "gcc:\n{o}{e}");
     let (ok, o, e) = run(&mut Command::new(&exe));

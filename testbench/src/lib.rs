@@ -21,6 +21,7 @@
 
 pub mod bench;
 pub mod bfm;
+pub mod c_driver;
 pub mod checks;
 pub mod harness;
 pub mod netlist;
