@@ -167,6 +167,12 @@ static void test_axis(MotionhdlCard *card) {
     CHECK(card_mem.regs.PULSE.AX[3].SEG_ACCEL == 6u);
     CHECK(card_mem.regs.PULSE.AX[3].SEG_JERK == (uint32_t)-7);
     CHECK(log_len == 5 && bus_log[4].offset == OFF(PULSE.AX[3].SEG_PUSH));
+    /* A segment that never ends (no rate, accel or jerk) touches nothing. */
+    seg.rate = 0;
+    seg.accel = 0;
+    seg.jerk = 0;
+    log_len = 0;
+    CHECK(motionhdl_push_segment(card, 3, &seg) == MOTIONHDL_ERR_ARGUMENT && log_len == 0);
     card_mem.regs.PULSE.RUN = 1;
     CHECK(motionhdl_start(card, 0x6) == MOTIONHDL_OK && card_mem.regs.PULSE.RUN == 0x7);
     CHECK(motionhdl_stop(card, 0x3) == MOTIONHDL_OK && card_mem.regs.PULSE.RUN == 0x4);

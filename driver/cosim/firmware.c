@@ -4,6 +4,7 @@
  * the Rust driver on the rust-hdl controller and expects the same lines,
  * clock counts included. */
 #include <stdio.h>
+#include <string.h>
 
 #include "cosim.h"
 
@@ -72,6 +73,52 @@ static void scurve(void) {
            (unsigned long long)(cosim_clocks() - t0));
     cosim_idle(20);
     print_sample("after", 2);
+}
+
+/* A move of more segments than the FIFO holds on axis 2, refilled on the
+ * interrupt: the firmware sleeps until the IRQ pin (active low) falls,
+ * reads the causes, tops the FIFO up and acknowledges what it read. */
+static void irq_stream(void) {
+    MotionhdlSegment segs[100];
+    MotionhdlCauses masks, c;
+    MotionhdlStream s;
+    uint64_t t0, waited;
+    unsigned i, irqs = 0;
+    int pushed = 0;
+    for (i = 0; i < 100; i++) {
+        segs[i] = constant(3, 30);
+    }
+    memset(&masks, 0, sizeof masks);
+    masks.fifo_low = 0x4;
+    masks.done = 0x4;
+    motionhdl_irq_configure(&card, &masks, 0);
+    motionhdl_stream_init(&s, 2);
+    pushed = motionhdl_stream_refill(&card, &s, segs, 100) == MOTIONHDL_OK;
+    motionhdl_start(&card, 0x4);
+    t0 = cosim_clocks();
+    for (;;) {
+        for (waited = 0; cosim_irq() != 0 && waited < 200000; waited++) {
+            cosim_idle(1);
+        }
+        if (waited == 200000) {
+            break;
+        }
+        irqs++;
+        motionhdl_causes(&card, &c);
+        if (c.fifo_low & 0x4) {
+            pushed = motionhdl_stream_refill(&card, &s, segs, 100) == MOTIONHDL_OK;
+        }
+        motionhdl_clear_causes(&card, &c);
+        if ((c.done & 0x4) && pushed) {
+            break;
+        }
+    }
+    printf("irq: interrupts=%u pushed=%u clocks=%llu\n", irqs, (unsigned)s.next,
+           (unsigned long long)(cosim_clocks() - t0));
+    memset(&masks, 0, sizeof masks);
+    motionhdl_irq_configure(&card, &masks, 0);
+    cosim_idle(20);
+    print_sample("irq", 3);
 }
 
 /* Axis 0 creeps into a LIMIT_POS switch 20 steps ahead. */
@@ -150,6 +197,7 @@ static void homing(void) {
 int cosim_firmware_main(void) {
     setup();
     scurve();
+    irq_stream();
     limit_stop();
     estop();
     watchdog();

@@ -1,6 +1,7 @@
 //! The card: identity, counter channels, coherent reads, axes, segments.
 
 use crate::{axis_index, regs, Bus, Error, Segment, AXES};
+use motionhdl_firmware::segments::{direction, ramp_segment_clocks};
 use regs::{counter, id, pulse};
 
 pub(crate) const fn at(block: usize, reg: usize) -> u32 {
@@ -175,9 +176,13 @@ impl<B: Bus> Card<B> {
     }
 
     /// Pushes one segment: the four SEG_* words, then SEG_PUSH. The caller
-    /// knows there is room (see [`Stream`]).
+    /// knows there is room (see [`Stream`]). A segment the engine cannot
+    /// finish ([`runnable`]) is refused with nothing written.
     pub fn push_segment(&mut self, axis: u32, seg: &Segment) -> Result<(), Error> {
         let n = axis_index(axis)?;
+        if !runnable(seg) {
+            return Err(Error::Argument);
+        }
         self.bus
             .write32(ax(n, pulse::ax::seg_steps::OFFSET), seg.steps);
         self.bus
@@ -232,6 +237,24 @@ impl<B: Bus> Card<B> {
     }
 }
 
+/// Whether the move engine can finish `seg`: a segment with steps must
+/// move (a rate, an accel or a jerk), and without a jerk its rate must not
+/// pass 0 or leave the i32 range before the last step, at the NCO phase
+/// most in its favour (the firmware crate's `ramp_segment_clocks`, in
+/// closed form). A segment with a jerk is only checked to move: following it
+/// takes up to 2^32 clock steps, too many for a push; the S-curve
+/// planner's segments always finish.
+pub fn runnable(seg: &Segment) -> bool {
+    if seg.steps == 0 {
+        return true;
+    }
+    match direction(seg) {
+        0 => false,
+        _ if seg.jerk != 0 => true,
+        dir => ramp_segment_clocks(seg, u32::MAX, dir).is_some(),
+    }
+}
+
 /// The byte offset of RAM word `word`, if `len` words from it fit.
 fn ram_range(word: u32, len: usize) -> Result<u32, Error> {
     let end = (word as usize).checked_add(len).ok_or(Error::Argument)?;
@@ -260,7 +283,9 @@ impl Stream {
     /// Pushes as many of `segments[next..]` as the FIFO has room for
     /// (64 − STATUS.FIFO_LEVEL). Returns whether every segment is pushed.
     /// A FIFO that overflowed (STATUS.OVERFLOW) is an error: a segment was
-    /// lost, so the move is not what was planned.
+    /// lost, so the move is not what was planned. So is a segment the
+    /// engine cannot finish ([`runnable`]) among those this refill would
+    /// push: none of them is pushed.
     pub fn refill<B: Bus, S: Copy + Into<Segment>>(
         &mut self,
         card: &mut Card<B>,
@@ -274,7 +299,12 @@ impl Stream {
         let level = (status & s) >> pulse::ax::status::fifo_level::POS;
         let room = FIFO_DEPTH.saturating_sub(level) as usize;
         let from = (self.next as usize).min(segments.len());
-        for &seg in segments[from..].iter().take(room) {
+        let batch = &segments[from..(from + room).min(segments.len())];
+        // Checked first: a bad segment leaves the FIFO as it was.
+        if !batch.iter().all(|&seg| runnable(&seg.into())) {
+            return Err(Error::Argument);
+        }
+        for &seg in batch {
             card.push_segment(self.axis, &seg.into())?;
             self.next += 1;
         }

@@ -25,7 +25,7 @@ pub mod homing;
 pub mod safety;
 
 pub use bus::{Bus, Mmio};
-pub use card::{AxisConfig, AxisSample, Card, Stream, FIFO_DEPTH};
+pub use card::{runnable, AxisConfig, AxisSample, Card, Stream, FIFO_DEPTH};
 pub use motionhdl_spec::pulse::Segment;
 pub use safety::{Causes, Input};
 

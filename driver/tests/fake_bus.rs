@@ -414,3 +414,46 @@ fn shared_ram_blocks_stay_in_the_window() {
     assert_eq!(c.ram_read(u32::MAX, &mut back), Err(Error::Argument));
     assert!(log(&mut c).is_empty());
 }
+
+#[test]
+fn a_segment_the_engine_cannot_finish_touches_no_register() {
+    let mut c = card();
+    let stalls = Segment {
+        steps: 5,
+        rate: 0,
+        accel: 0,
+        jerk: 0,
+    };
+    // From 1/16 step per clock, slowing by 2^15 RATE LSBs each clock: the
+    // rate reaches 0 after 8192 clocks and 256 steps, short of 1000.
+    let reverses = Segment {
+        steps: 1000,
+        rate: 1 << 28,
+        accel: i32::MIN,
+        jerk: 0,
+    };
+    let fine = Segment {
+        steps: 100,
+        rate: 1 << 28,
+        accel: 0,
+        jerk: 0,
+    };
+    for bad in [stalls, reverses] {
+        assert!(!motionhdl_driver::runnable(&bad), "{bad:?}");
+        assert_eq!(c.push_segment(0, &bad), Err(Error::Argument));
+        let mut s = Stream::new(0);
+        assert_eq!(s.refill(&mut c, &[fine, bad]), Err(Error::Argument));
+        assert_eq!(s.next, 0);
+        assert_eq!(log(&mut c), ["R PULSE.AX[0].STATUS"], "nothing pushed");
+    }
+    let zero = Segment { steps: 0, ..stalls };
+    let ramp = Segment {
+        steps: 100,
+        rate: 0,
+        accel: 0,
+        jerk: 1,
+    };
+    for ok in [fine, zero, ramp] {
+        assert!(motionhdl_driver::runnable(&ok), "{ok:?}");
+    }
+}

@@ -208,6 +208,12 @@ pub fn segment_clocks(seg: &Segment, phase: u32) -> Option<SegmentRun> {
     if seg.jerk != 0 {
         return jerk_segment_clocks(seg, phase, dir);
     }
+    ramp_segment_clocks(seg, phase, dir)
+}
+
+/// [`segment_clocks`] for a segment with steps and no jerk stepping in
+/// direction `dir` (±1), in closed form.
+pub fn ramp_segment_clocks(seg: &Segment, phase: u32, dir: i64) -> Option<SegmentRun> {
     // Magnitude frame: |rate_k| = ⌊(r0 + c + k·am)/2^16⌋ must stay in
     // 0..=max: forwards c is the load's half LSB; backwards the register
     // is −r0 + 2^15 and |⌊x⌋| = ⌈−x⌉ = ⌊(r0 − 2^15 + 2^16 − 1)/2^16⌋.

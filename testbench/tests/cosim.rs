@@ -15,7 +15,7 @@
 //! longer); the filter is not part of the register map, so the driver
 //! built for the default map accepts it.
 
-use motionhdl_driver::{AxisConfig, AxisSample, Card, Error, Input, Segment, Stream};
+use motionhdl_driver::{AxisConfig, AxisSample, Card, Causes, Error, Input, Segment, Stream};
 use motionhdl_firmware::homing::{Homing, HomingParams};
 use motionhdl_firmware::scurve_segments::{plan, EngineLimits};
 use motionhdl_hdl::catalog;
@@ -137,6 +137,50 @@ impl Twin {
         self.sample("after", 2);
     }
 
+    fn irq_stream(&mut self) {
+        let segs = vec![constant(3, 30); 100];
+        let masks = Causes {
+            fifo_low: 0x4,
+            done: 0x4,
+            ..Causes::default()
+        };
+        self.card.irq_configure(&masks, false);
+        let mut s = Stream::new(2);
+        let mut pushed = s.refill(&mut self.card, &segs).unwrap();
+        self.card.start(0x4).unwrap();
+        let t0 = self.sys().clocks;
+        let mut irqs = 0;
+        loop {
+            let mut waited = 0;
+            while self.sys().irq() && waited < 200_000 {
+                self.sys().idle(1);
+                waited += 1;
+            }
+            if waited == 200_000 {
+                break;
+            }
+            irqs += 1;
+            let c = self.card.causes();
+            if c.fifo_low & 0x4 != 0 {
+                pushed = s.refill(&mut self.card, &segs).unwrap();
+            }
+            self.card.clear_causes(&c);
+            if c.done & 0x4 != 0 && pushed {
+                break;
+            }
+        }
+        let clocks = self.sys().clocks - t0;
+        writeln!(
+            self.out,
+            "irq: interrupts={irqs} pushed={} clocks={clocks}",
+            s.next
+        )
+        .unwrap();
+        self.card.irq_configure(&Causes::default(), false);
+        self.sys().idle(20);
+        self.sample("irq", 3);
+    }
+
     fn limit_stop(&mut self) {
         let at = self.shaft(0) + 20;
         self.sys().limit_pos_at[0] = Some(at);
@@ -240,6 +284,7 @@ impl Twin {
 fn rust_run() -> String {
     let mut t = Twin::setup();
     t.scurve();
+    t.irq_stream();
     t.limit_stop();
     t.estop();
     t.watchdog();
