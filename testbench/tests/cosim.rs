@@ -15,13 +15,14 @@
 //! longer); the filter is not part of the register map, so the driver
 //! built for the default map accepts it.
 
-use motionhdl_driver::{AxisConfig, AxisSample, Card, Causes, Error, Input, Segment, Stream};
+use motionhdl_driver::{AxisSample, Card, Causes, Error, Input, Segment, Stream};
 use motionhdl_firmware::homing::{Homing, HomingParams};
 use motionhdl_firmware::scurve_segments::{plan, EngineLimits};
 use motionhdl_hdl::catalog;
 use motionhdl_model::Config;
 use motionhdl_testbench::bfm::fsmc::Op;
 use motionhdl_testbench::c_driver::{self, HOST_LIBS};
+use motionhdl_testbench::checks::motion_controller::driver_bus::SETUP_AXIS;
 use motionhdl_testbench::checks::motion_controller::system::System;
 use motionhdl_testbench::harness::require_tools;
 use std::fmt::Write;
@@ -80,17 +81,9 @@ impl Twin {
         .unwrap();
         let clear = code(t.card.clear_halt());
         writeln!(t.out, "clear: {clear}").unwrap();
-        let cfg = AxisConfig {
-            step_len: 2,
-            step_space: 2,
-            dir_setup: 4,
-            dir_hold: 2,
-            fifo_low_water: 16,
-            ..AxisConfig::default()
-        };
         for i in 0..4 {
             t.card.counter_configure(i, 0).unwrap();
-            t.card.axis_configure(i, &cfg).unwrap();
+            t.card.axis_configure(i, &SETUP_AXIS).unwrap();
         }
         t
     }

@@ -7,10 +7,11 @@
 //! in the driver's register module fails these (the homing tests run the
 //! driver too).
 
-use motionhdl_driver::{AxisConfig, AxisSample, Card, Error, Segment, Stream, FIFO_DEPTH};
+use motionhdl_driver::{AxisSample, Card, Error, Segment, Stream, FIFO_DEPTH};
 use motionhdl_model::regmap::mode;
 use motionhdl_model::Config;
 use motionhdl_testbench::bfm::fsmc::Op;
+use motionhdl_testbench::checks::motion_controller::driver_bus::SETUP_AXIS;
 use motionhdl_testbench::checks::motion_controller::system::System;
 
 const ESTOP: u32 = 1 << 1;
@@ -25,17 +26,9 @@ fn card() -> Card<System<4>> {
     let mut card = Card::new(sys);
     assert_eq!(card.check().map(|v| v >> 8), Ok(1), "ID.VERSION 0.1.x");
     card.clear_halt().expect("the e-stop input is released");
-    let cfg = AxisConfig {
-        step_len: 2,
-        step_space: 2,
-        dir_setup: 4,
-        dir_hold: 2,
-        fifo_low_water: 16,
-        ..AxisConfig::default()
-    };
     for axis in 0..4 {
         card.counter_configure(axis, mode::X4).unwrap();
-        card.axis_configure(axis, &cfg).unwrap();
+        card.axis_configure(axis, &SETUP_AXIS).unwrap();
     }
     card
 }

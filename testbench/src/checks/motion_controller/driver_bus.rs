@@ -4,6 +4,21 @@
 
 use super::system::System;
 use crate::bfm::fsmc::Op;
+use motionhdl_driver::AxisConfig;
+
+/// The axes as [`System::setup`] sets them up, for the driver: pulse +
+/// direction, 2-clock steps and spaces, direction set-up 4 and hold 2,
+/// FIFO low at 16 segments, instant stops.
+pub const SETUP_AXIS: AxisConfig = AxisConfig {
+    cw_ccw: 0,
+    quadrature: 0,
+    step_len: 2,
+    step_space: 2,
+    dir_setup: 4,
+    dir_hold: 2,
+    fifo_low_water: 16,
+    decel: 0,
+};
 
 /// The FSMC's A pins carry halfword addresses.
 fn halfword(offset: u32) -> u16 {
