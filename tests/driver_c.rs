@@ -9,7 +9,7 @@ mod common;
 
 use common::run;
 use motionhdl_testbench::c_driver::{self, HOST_LIBS};
-use motionhdl_testbench::harness::{require_tools, skip_test};
+use motionhdl_testbench::harness::{require_rust_target, require_tools};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -133,16 +133,6 @@ fn the_c_unit_tests_pass_and_catch_a_wrong_offset() {
     println!("C unit tests: {checks} checks pass; a swapped offset fails them");
 }
 
-fn thumb_installed() -> bool {
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
-    let out = Command::new(rustc)
-        .args(["--print", "sysroot"])
-        .output()
-        .unwrap();
-    let sysroot = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
-    sysroot.join("lib/rustlib").join(THUMB).is_dir()
-}
-
 /// Links `objects` into a Cortex-M4 ELF (newlib's start-up, nosys stubs,
 /// unused sections dropped) and returns its text size in bytes.
 fn arm_text(objects: &[&Path], keep: &[&str], elf: &Path) -> u64 {
@@ -169,10 +159,7 @@ fn the_driver_links_into_cortex_m4_firmware() {
     if require_tools(&["arm-none-eabi-gcc", "arm-none-eabi-size"]).is_none() {
         return;
     }
-    if !thumb_installed() {
-        skip_test(&format!(
-            "rust target {THUMB} not installed (rustup target add {THUMB})"
-        ));
+    if require_rust_target(THUMB).is_none() {
         return;
     }
     let lib = driver_lib(Some(THUMB));

@@ -11,8 +11,8 @@
 mod common;
 
 use common::run;
-use motionhdl_testbench::harness::{require_tool, skip_test};
-use std::path::{Path, PathBuf};
+use motionhdl_testbench::harness::{require_rust_target, require_tool};
+use std::path::Path;
 use std::process::Command;
 
 const TARGET: &str = "thumbv7em-none-eabihf";
@@ -34,17 +34,6 @@ pub fn configure(counter: &pac::Counter, pulse: &pac::Pulse) {
 
 fn cargo() -> String {
     std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
-}
-
-/// Whether the standard library for `TARGET` is installed (rustup).
-fn target_installed() -> bool {
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
-    let out = Command::new(rustc)
-        .args(["--print", "sysroot"])
-        .output()
-        .expect("rustc --print sysroot");
-    let sysroot = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
-    sysroot.join("lib/rustlib").join(TARGET).is_dir()
 }
 
 /// Writes `svd`'s PAC and the user crate under `dir`; runs cargo build
@@ -91,10 +80,7 @@ fn svd2rust_pac_builds_for_cortex_m_and_needs_no_unsafe_for_ranged_writes() {
     if require_tool("svd2rust").is_none() {
         return;
     }
-    if !target_installed() {
-        skip_test(&format!(
-            "rust target {TARGET} not installed (rustup target add {TARGET})"
-        ));
+    if require_rust_target(TARGET).is_none() {
         return;
     }
     let svd = std::fs::read_to_string(

@@ -7,12 +7,20 @@ use regs::{counter, id, pulse};
 pub(crate) const fn at(block: usize, reg: usize) -> u32 {
     (block + reg) as u32
 }
-const fn ch(n: usize, reg: usize) -> u32 {
+/// Byte offset of register `reg` of counter channel `n`.
+pub(crate) const fn ch(n: usize, reg: usize) -> u32 {
     at(counter::BASE_OFFSET + counter::ch::offset(n), reg)
 }
-const fn ax(n: usize, reg: usize) -> u32 {
+/// Byte offset of register `reg` of pulse axis `n`.
+pub(crate) const fn ax(n: usize, reg: usize) -> u32 {
     at(pulse::BASE_OFFSET + pulse::ax::offset(n), reg)
 }
+/// Byte offset of SAFETY register `reg`.
+pub(crate) const fn safety_reg(reg: usize) -> u32 {
+    at(regs::safety::BASE_OFFSET, reg)
+}
+pub(crate) const RUN: u32 = at(pulse::BASE_OFFSET, pulse::run::OFFSET);
+pub(crate) const SNAPSHOT: u32 = at(counter::BASE_OFFSET, counter::snapshot::OFFSET);
 const fn field(value: u32, mask: u32, pos: u32) -> u32 {
     (value & mask) >> pos
 }
@@ -125,8 +133,7 @@ impl<B: Bus> Card<B> {
         if out.len() > AXES as usize {
             return Err(Error::Argument);
         }
-        self.bus
-            .write32(at(counter::BASE_OFFSET, counter::snapshot::OFFSET), 0);
+        self.bus.write32(SNAPSHOT, 0);
         for (n, s) in out.iter_mut().enumerate() {
             *s = AxisSample {
                 count: self.bus.read32(ch(n, counter::ch::count::OFFSET)) as i32,
@@ -145,8 +152,7 @@ impl<B: Bus> Card<B> {
         if cfg.cw_ccw > 1 || cfg.quadrature > 1 || cfg.fifo_low_water > FIFO_DEPTH {
             return Err(Error::Argument);
         }
-        let c = &pulse::ax::ctrl::mode::MASK;
-        let ctrl = (u32::from(cfg.cw_ccw) << pulse::ax::ctrl::mode::POS) & c
+        let ctrl = u32::from(cfg.cw_ccw) << pulse::ax::ctrl::mode::POS
             | u32::from(cfg.quadrature) << pulse::ax::ctrl::quadrature::POS
             | pulse::ax::ctrl::moves::MASK;
         let t = pulse::ax::step_timing::step_space::POS;
@@ -183,6 +189,12 @@ impl<B: Bus> Card<B> {
         if !runnable(seg) {
             return Err(Error::Argument);
         }
+        self.write_segment(n, seg);
+        Ok(())
+    }
+
+    /// The four SEG_* words of a checked segment, then SEG_PUSH.
+    fn write_segment(&mut self, n: usize, seg: &Segment) {
         self.bus
             .write32(ax(n, pulse::ax::seg_steps::OFFSET), seg.steps);
         self.bus
@@ -192,30 +204,33 @@ impl<B: Bus> Card<B> {
         self.bus
             .write32(ax(n, pulse::ax::seg_jerk::OFFSET), seg.jerk as u32);
         self.bus.write32(ax(n, pulse::ax::seg_push::OFFSET), 0);
-        Ok(())
     }
 
     /// Starts every axis in `mask` in the same clock (one PULSE.RUN write;
     /// axes already running keep running).
     pub fn start(&mut self, mask: u32) -> Result<(), Error> {
-        let run = at(pulse::BASE_OFFSET, pulse::run::OFFSET);
-        if mask & !pulse::run::axes::MASK != 0 {
-            return Err(Error::Argument);
-        }
-        let now = self.bus.read32(run);
-        self.bus.write32(run, now | mask);
-        Ok(())
+        self.run_bits(mask, true)
     }
 
     /// Stops the axes in `mask` (no new steps; those commanded go out).
     pub fn stop(&mut self, mask: u32) -> Result<(), Error> {
-        let run = at(pulse::BASE_OFFSET, pulse::run::OFFSET);
+        self.run_bits(mask, false)
+    }
+
+    fn run_bits(&mut self, mask: u32, set: bool) -> Result<(), Error> {
         if mask & !pulse::run::axes::MASK != 0 {
             return Err(Error::Argument);
         }
-        let now = self.bus.read32(run);
-        self.bus.write32(run, now & !mask);
+        self.update_bits(RUN, mask, set);
         Ok(())
+    }
+
+    /// Read-modify-write: the bits of `mask` in the register at `offset`
+    /// set or cleared, the others kept.
+    pub(crate) fn update_bits(&mut self, offset: u32, mask: u32, set: bool) {
+        let old = self.bus.read32(offset);
+        let new = if set { old | mask } else { old & !mask };
+        self.bus.write32(offset, new);
     }
 
     /// Writes `data` into the shared RAM from word `word` on.
@@ -295,8 +310,11 @@ impl Stream {
         if status & pulse::ax::status::overflow::MASK != 0 {
             return Err(Error::FifoOverflow(self.axis));
         }
-        let s = &pulse::ax::status::fifo_level::MASK;
-        let level = (status & s) >> pulse::ax::status::fifo_level::POS;
+        let level = field(
+            status,
+            pulse::ax::status::fifo_level::MASK,
+            pulse::ax::status::fifo_level::POS,
+        );
         let room = FIFO_DEPTH.saturating_sub(level) as usize;
         let from = (self.next as usize).min(segments.len());
         let batch = &segments[from..(from + room).min(segments.len())];
@@ -304,8 +322,9 @@ impl Stream {
         if !batch.iter().all(|&seg| runnable(&seg.into())) {
             return Err(Error::Argument);
         }
+        let n = axis_index(self.axis)?;
         for &seg in batch {
-            card.push_segment(self.axis, &seg.into())?;
+            card.write_segment(n, &seg.into());
             self.next += 1;
         }
         Ok(self.next as usize >= segments.len())

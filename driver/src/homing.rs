@@ -1,7 +1,7 @@
 //! Homing: the firmware crate's sequence ([`motionhdl_firmware::homing`])
 //! on the card's registers.
 
-use crate::card::at;
+use crate::card::{ax, ch, safety_reg, RUN, SNAPSHOT};
 use crate::{axis_index, regs, Bus, Card, Error, Segment};
 use motionhdl_firmware::homing::{Home, Homing, HomingAxis, Poll};
 use regs::{counter, pulse, safety};
@@ -26,28 +26,18 @@ impl<'a, B: Bus> CardAxis<'a, B> {
 
     /// Read-modify-write of this axis's bit in a register the axes share.
     fn update(&mut self, offset: u32, set: bool) {
-        let old = self.card.bus.read32(offset);
-        let new = if set {
-            old | self.bit()
-        } else {
-            old & !self.bit()
-        };
-        self.card.bus.write32(offset, new);
+        let bit = self.bit();
+        self.card.update_bits(offset, bit, set);
     }
 
     fn ch(&self, reg: usize) -> u32 {
-        at(counter::BASE_OFFSET + counter::ch::offset(self.axis), reg)
+        ch(self.axis, reg)
     }
 
     fn ax(&self, reg: usize) -> u32 {
-        at(pulse::BASE_OFFSET + pulse::ax::offset(self.axis), reg)
+        ax(self.axis, reg)
     }
 }
-
-const fn safety_reg(offset: usize) -> u32 {
-    at(safety::BASE_OFFSET, offset)
-}
-const RUN: u32 = at(pulse::BASE_OFFSET, pulse::run::OFFSET);
 
 impl<B: Bus> HomingAxis for CardAxis<'_, B> {
     fn arm_home(&mut self) {
@@ -75,8 +65,8 @@ impl<B: Bus> HomingAxis for CardAxis<'_, B> {
     }
     fn moving(&mut self) -> bool {
         let s = self.card.bus.read32(self.ax(pulse::ax::status::OFFSET));
-        let st = &pulse::ax::status::busy::MASK;
-        s & (st | pulse::ax::status::moving::MASK | pulse::ax::status::fifo_level::MASK) != 0
+        let busy = pulse::ax::status::busy::MASK | pulse::ax::status::moving::MASK;
+        s & (busy | pulse::ax::status::fifo_level::MASK) != 0
     }
     fn home_seen(&mut self) -> bool {
         let cause = self
@@ -117,8 +107,7 @@ impl<B: Bus> HomingAxis for CardAxis<'_, B> {
         self.card.bus.write32(cmd, counter::ch::cmd::arm::MASK);
     }
     fn index(&mut self) -> Option<i32> {
-        let snapshot = at(counter::BASE_OFFSET, counter::snapshot::OFFSET);
-        self.card.bus.write32(snapshot, 0);
+        self.card.bus.write32(SNAPSHOT, 0);
         let status = self.card.bus.read32(self.ch(counter::ch::status::OFFSET));
         let armed = status & counter::ch::status::armed::MASK != 0;
         (!armed).then(|| self.card.bus.read32(self.ch(counter::ch::index::OFFSET)) as i32)

@@ -1,14 +1,10 @@
 //! The safety and I/O block: e-stop, watchdog, drive enables, machine
 //! inputs, interrupt causes (docs/safety_io.md).
 
-use crate::card::at;
+use crate::card::safety_reg as reg;
 use crate::{regs, Bus, Card, Error};
 use motionhdl_spec::safety_io::WATCHDOG_KEY;
 use regs::safety;
-
-const fn reg(offset: usize) -> u32 {
-    at(safety::BASE_OFFSET, offset)
-}
 
 /// The sticky interrupt causes of the card, one word per cause register
 /// (bit n = axis, channel or input n): read them all, handle them, then

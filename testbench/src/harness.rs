@@ -151,6 +151,25 @@ pub fn require_tools(names: &[&str]) -> Option<()> {
     Some(())
 }
 
+/// Like [`require_tool`], for a Rust target's standard library
+/// (`rustup target add TARGET`): `None` (a recorded skip, a failure under
+/// CI) when the sysroot lacks it.
+pub fn require_rust_target(target: &str) -> Option<()> {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let out = std::process::Command::new(rustc)
+        .args(["--print", "sysroot"])
+        .output()
+        .expect("rustc --print sysroot");
+    let sysroot = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    if sysroot.join("lib/rustlib").join(target).is_dir() {
+        return Some(());
+    }
+    skip_test(&format!(
+        "rust target {target} not installed (rustup target add {target})"
+    ));
+    None
+}
+
 /// A test that cannot run here: under CI a failure (CI installs every
 /// tool), elsewhere a skip that is recorded for the run's summary.
 pub fn skip_test(why: &str) {

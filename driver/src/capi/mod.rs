@@ -115,6 +115,17 @@ pub struct MotionhdlSegment {
     pub jerk: i32,
 }
 
+impl From<Segment> for MotionhdlSegment {
+    fn from(s: Segment) -> Self {
+        MotionhdlSegment {
+            steps: s.steps,
+            rate: s.rate,
+            accel: s.accel,
+            jerk: s.jerk,
+        }
+    }
+}
+
 impl From<MotionhdlSegment> for Segment {
     fn from(s: MotionhdlSegment) -> Self {
         Segment {

@@ -74,13 +74,8 @@ pub unsafe extern "C" fn motionhdl_plan_scurve(
         return MOTIONHDL_ERR_ARGUMENT;
     };
     *out = MotionhdlPlan::default();
-    for (o, s) in out.segments.iter_mut().zip(&p.segments) {
-        *o = MotionhdlSegment {
-            steps: s.steps,
-            rate: s.rate,
-            accel: s.accel,
-            jerk: s.jerk,
-        };
+    for (o, &s) in out.segments.iter_mut().zip(&p.segments) {
+        *o = s.into();
     }
     out.count = p.segments.len() as u32;
     out.clocks = p.clocks;
