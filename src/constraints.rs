@@ -338,7 +338,10 @@ fn group_title(group: &str) -> &'static str {
         "alarm" => "drive ALARM inputs per axis",
         "drive" => "drive ENABLE outputs",
         "irq" => "IRQ to the MCU (active low after reset)",
-        "dac" => "servo DAC (DAC7744-style parallel: data, A1:A0, CS, R/W, LOADDACS)",
+        "dac" => {
+            "servo DAC (DAC7744-style parallel: data, A1:A0, CS, R/W, LOADDACS; \
+             SPI: SCLK, SDIN, SYNC, with LOADDACS as LDAC)"
+        }
         _ => "other ports",
     }
 }

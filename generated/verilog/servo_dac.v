@@ -4,7 +4,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 
-module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data, dac_addr, dac_cs_n, dac_rw_n, dac_ldac_n);
+module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data, dac_addr, dac_cs_n, dac_rw_n, dac_ldac_n, dac_sclk, dac_sdin, dac_sync_n);
     input wire clock;
     input wire reset;
     input wire [3:0] addr;
@@ -19,6 +19,9 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     output wire dac_cs_n;
     output wire dac_rw_n;
     output wire dac_ldac_n;
+    output wire dac_sclk;
+    output wire dac_sdin;
+    output wire dac_sync_n;
 
     localparam addr_info = 4'h0;
     localparam addr_status = 4'h1;
@@ -26,6 +29,8 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     localparam addr_period = 4'h3;
     localparam addr_update = 4'h4;
     localparam addr_timing = 4'h5;
+    localparam addr_serial = 4'h6;
+    localparam addr_prefix = 4'h7;
     localparam addr_code_0 = 4'h8;
     localparam addr_code_1 = 4'ha;
     localparam addr_code_2 = 4'hc;
@@ -37,6 +42,14 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     localparam info = 32'h4;
     localparam safe_code = 16'h8000;
     localparam reset_timing = 16'h202;
+    localparam reset_serial = 32'h10000;
+    localparam reset_prefix = 32'h18141211;
+    localparam last_half = 6'b101111;
+    localparam by1 = 5'b1;
+    localparam one = 10'b1;
+    localparam by8 = 5'b1000;
+    localparam by16 = 5'b10000;
+    localparam mode_bit = 32'h1;
     localparam channel_index_0 = 2'b0;
     localparam channel_index_1 = 2'b1;
     localparam channel_index_2 = 2'b10;
@@ -59,6 +72,14 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     reg [1:0] events_q = 2'h0;
     reg [15:0] timing_d;
     reg [15:0] timing_q = 16'h0;
+    reg serial_mode_d;
+    reg serial_mode_q = 1'h0;
+    reg [7:0] sclk_half_d;
+    reg [7:0] sclk_half_q = 8'h0;
+    reg [7:0] sync_high_d;
+    reg [7:0] sync_high_q = 8'h0;
+    reg [31:0] prefix_d;
+    reg [31:0] prefix_q = 32'h0;
     reg [15:0] code_0_d;
     reg [15:0] code_0_q = 16'h0;
     reg [15:0] code_1_d;
@@ -91,12 +112,24 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     reg [7:0] run_cs_low_q = 8'h0;
     reg [7:0] run_ldac_low_d;
     reg [7:0] run_ldac_low_q = 8'h0;
+    reg run_serial_d;
+    reg run_serial_q = 1'h0;
+    reg [7:0] run_sclk_half_d;
+    reg [7:0] run_sclk_half_q = 8'h0;
+    reg [7:0] run_sync_high_d;
+    reg [7:0] run_sync_high_q = 8'h0;
+    reg [31:0] run_prefix_d;
+    reg [31:0] run_prefix_q = 32'h0;
+    reg [23:0] shift_d;
+    reg [23:0] shift_q = 24'h0;
+    reg [5:0] half_d;
+    reg [5:0] half_q = 6'h0;
     reg [1:0] channel_d;
     reg [1:0] channel_q = 2'h0;
     reg [1:0] phase_d;
     reg [1:0] phase_q = 2'h0;
-    reg [7:0] wait_d;
-    reg [7:0] wait_q = 8'h0;
+    reg [9:0] wait_d;
+    reg [9:0] wait_q = 10'h0;
     reg safe_q_d;
     reg safe_q_q = 1'h0;
     reg [15:0] data_pin_d;
@@ -107,6 +140,10 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     reg cs_active_q = 1'h0;
     reg ldac_active_d;
     reg ldac_active_q = 1'h0;
+    reg sclk_low_d;
+    reg sclk_low_q = 1'h0;
+    reg sync_active_d;
+    reg sync_active_q = 1'h0;
     reg read_pending_d;
     reg read_pending_q = 1'h0;
     reg [3:0] read_addr_d;
@@ -122,6 +159,7 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     reg [31:0] read_value;
     reg [15:0] read_half;
     reg read_half_hit;
+    reg [7:0] frame_prefix;
 
     assign rdata = read_data_q;
     assign tick = tick_q_q;
@@ -130,6 +168,9 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     assign dac_cs_n = ~cs_active_q;
     assign dac_rw_n = 1'b0;
     assign dac_ldac_n = ~ldac_active_q;
+    assign dac_sclk = ~sclk_low_q;
+    assign dac_sdin = shift_q[23];
+    assign dac_sync_n = ~sync_active_q;
 
     always @(*) begin
         period_d = period_q;
@@ -141,6 +182,16 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         pending_d = pending_q;
         run_cs_low_d = run_cs_low_q;
         run_ldac_low_d = run_ldac_low_q;
+        serial_mode_d = serial_mode_q;
+        sclk_half_d = sclk_half_q;
+        sync_high_d = sync_high_q;
+        prefix_d = prefix_q;
+        run_serial_d = run_serial_q;
+        run_sclk_half_d = run_sclk_half_q;
+        run_sync_high_d = run_sync_high_q;
+        run_prefix_d = run_prefix_q;
+        shift_d = shift_q;
+        half_d = half_q;
         channel_d = channel_q;
         phase_d = phase_q;
         wait_d = wait_q;
@@ -149,6 +200,8 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         addr_pin_d = addr_pin_q;
         cs_active_d = cs_active_q;
         ldac_active_d = ldac_active_q;
+        sclk_low_d = sclk_low_q;
+        sync_active_d = sync_active_q;
         read_pending_d = read_pending_q;
         read_addr_d = read_addr_q;
         read_data_d = read_data_q;
@@ -192,6 +245,15 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         if (read_addr_q == addr_timing) begin
             read_value = {16'h0, timing_q};
         end
+        if (read_addr_q == addr_serial) begin
+            read_value = ({24'h0, sclk_half_q} << by8) | ({24'h0, sync_high_q} << by16);
+            if (serial_mode_q) begin
+                read_value = read_value | mode_bit;
+            end
+        end
+        if (read_addr_q == addr_prefix) begin
+            read_value = prefix_q;
+        end
         read_half = 16'h0;
         read_half_hit = 1'b0;
         if (read_addr_q == addr_code_0) begin
@@ -232,6 +294,16 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         if (read_pending_q) begin
             read_data_d = read_value;
         end
+        frame_prefix = run_prefix_q[7:0];
+        if (channel_q == channel_index_1) begin
+            frame_prefix = run_prefix_q[15:8];
+        end
+        if (channel_q == channel_index_2) begin
+            frame_prefix = run_prefix_q[23:16];
+        end
+        if (channel_q == last_channel) begin
+            frame_prefix = run_prefix_q[31:24];
+        end
         ending = busy_q & (phase_q == phase_load) & ~|wait_q;
         asked = tick_q_q | (we & (addr == addr_update)) | (safe & ~safe_q_q);
         free = ~busy_q | ending;
@@ -270,9 +342,16 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
             end
             run_cs_low_d = timing_q[7:0];
             run_ldac_low_d = timing_q[15:8];
+            run_serial_d = serial_mode_q;
+            run_sclk_half_d = sclk_half_q;
+            run_sync_high_d = sync_high_q;
+            run_prefix_d = prefix_q;
             channel_d = 2'h0;
             phase_d = 2'h0;
-            wait_d = 8'h0;
+            wait_d = 10'h0;
+            if (serial_mode_q) begin
+                wait_d = {2'h0, sync_high_q};
+            end
             addr_pin_d = 2'h0;
             data_pin_d = code_0_q;
             if (safe) begin
@@ -282,25 +361,47 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         else begin
             pending_d = pending_q | asked;
             if (busy_q & (phase_q == phase_setup)) begin
-                phase_d = phase_write;
-                wait_d = run_cs_low_q;
+                wait_d = wait_q - 10'h1;
+                if (~|wait_q) begin
+                    phase_d = phase_write;
+                    wait_d = {2'h0, run_cs_low_q};
+                    if (run_serial_q) begin
+                        wait_d = {2'h0, run_sclk_half_q};
+                        half_d = 6'h0;
+                        shift_d = ({16'h0, frame_prefix} << by16) | {8'h0, data_pin_q};
+                    end
+                end
             end
             if (busy_q & (phase_q == phase_write)) begin
-                wait_d = wait_q - 8'h1;
+                wait_d = wait_q - 10'h1;
                 if (~|wait_q) begin
-                    wait_d = 8'h0;
+                    wait_d = 10'h0;
                     phase_d = phase_hold;
+                    if (run_serial_q & (half_q != last_half)) begin
+                        phase_d = phase_write;
+                        half_d = half_q + 6'h1;
+                        wait_d = {2'h0, run_sclk_half_q};
+                        if (half_q[0]) begin
+                            shift_d = shift_q << by1;
+                        end
+                    end
                 end
             end
             if (busy_q & (phase_q == phase_hold)) begin
                 if (channel_q == last_channel) begin
                     phase_d = phase_load;
-                    wait_d = run_ldac_low_q;
+                    wait_d = {2'h0, run_ldac_low_q};
+                    if (run_serial_q) begin
+                        wait_d = {2'h0, run_ldac_low_q} + {2'h0, run_sync_high_q} + one;
+                    end
                 end
                 else begin
                     channel_d = channel_q + 2'h1;
                     addr_pin_d = channel_q + 2'h1;
                     phase_d = phase_setup;
+                    if (run_serial_q) begin
+                        wait_d = {2'h0, run_sync_high_q};
+                    end
                     if (channel_q == channel_index_0) begin
                         data_pin_d = shadow_1_q;
                     end
@@ -313,15 +414,20 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
                 end
             end
             if (busy_q & (phase_q == phase_load)) begin
-                wait_d = wait_q - 8'h1;
+                wait_d = wait_q - 10'h1;
                 if (~|wait_q) begin
-                    wait_d = 8'h0;
+                    wait_d = 10'h0;
                     busy_d = 1'b0;
                 end
             end
         end
-        cs_active_d = busy_q & ~start & ((phase_q == phase_setup) | ((phase_q == phase_write) & |wait_q));
-        ldac_active_d = busy_q & ~start & (((phase_q == phase_hold) & (channel_q == last_channel)) | ((phase_q == phase_load) & |wait_q));
+        cs_active_d = busy_q & ~start & ~run_serial_q & ((phase_q == phase_setup) | ((phase_q == phase_write) & |wait_q));
+        ldac_active_d = busy_q & ~start & ~run_serial_q & (((phase_q == phase_hold) & (channel_q == last_channel)) | ((phase_q == phase_load) & |wait_q));
+        if (run_serial_q) begin
+            ldac_active_d = busy_q & ~start & (phase_q == phase_load) & |wait_q & (wait_q <= {2'h0, run_ldac_low_q} + one);
+        end
+        sync_active_d = busy_q & ~start & run_serial_q & (((phase_q == phase_setup) & ~|wait_q) | (phase_q == phase_write));
+        sclk_low_d = busy_q & ~start & run_serial_q & (phase_q == phase_write) & (half_q[0] ^ ~|wait_q);
         tick_q_d = |period_q & ~|count_q;
         count_d = count_q - 32'h1;
         if (~|count_q) begin
@@ -345,6 +451,14 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
         events_d = (events_q & ~events_cleared) | events_set;
         if (we & (addr == addr_timing)) begin
             timing_d = wdata[15:0];
+        end
+        if (we & (addr == addr_serial)) begin
+            serial_mode_d = wdata[0];
+            sclk_half_d = wdata[15:8];
+            sync_high_d = wdata[23:16];
+        end
+        if (we & (addr == addr_prefix)) begin
+            prefix_d = wdata;
         end
         if (we & (addr == addr_code_0)) begin
             code_0_d = wdata[15:0];
@@ -381,14 +495,26 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
             pending_d = 1'b1;
             run_cs_low_d = reset_timing[7:0];
             run_ldac_low_d = reset_timing[15:8];
+            serial_mode_d = 1'b0;
+            sclk_half_d = reset_serial[15:8];
+            sync_high_d = reset_serial[23:16];
+            prefix_d = reset_prefix;
+            run_serial_d = 1'b0;
+            run_sclk_half_d = reset_serial[15:8];
+            run_sync_high_d = reset_serial[23:16];
+            run_prefix_d = reset_prefix;
+            shift_d = 24'h0;
+            half_d = 6'h0;
             channel_d = 2'h0;
             phase_d = 2'h0;
-            wait_d = 8'h0;
+            wait_d = 10'h0;
             safe_q_d = 1'b0;
             data_pin_d = safe_code;
             addr_pin_d = 2'h0;
             cs_active_d = 1'b0;
             ldac_active_d = 1'b0;
+            sclk_low_d = 1'b0;
+            sync_active_d = 1'b0;
             read_pending_d = 1'b0;
             read_addr_d = 4'h0;
             read_data_d = 32'h0;
@@ -400,6 +526,10 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     always @(posedge clock) tick_q_q <= tick_q_d;
     always @(posedge clock) events_q <= events_d;
     always @(posedge clock) timing_q <= timing_d;
+    always @(posedge clock) serial_mode_q <= serial_mode_d;
+    always @(posedge clock) sclk_half_q <= sclk_half_d;
+    always @(posedge clock) sync_high_q <= sync_high_d;
+    always @(posedge clock) prefix_q <= prefix_d;
     always @(posedge clock) code_0_q <= code_0_d;
     always @(posedge clock) code_1_q <= code_1_d;
     always @(posedge clock) code_2_q <= code_2_d;
@@ -416,6 +546,12 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     always @(posedge clock) pending_q <= pending_d;
     always @(posedge clock) run_cs_low_q <= run_cs_low_d;
     always @(posedge clock) run_ldac_low_q <= run_ldac_low_d;
+    always @(posedge clock) run_serial_q <= run_serial_d;
+    always @(posedge clock) run_sclk_half_q <= run_sclk_half_d;
+    always @(posedge clock) run_sync_high_q <= run_sync_high_d;
+    always @(posedge clock) run_prefix_q <= run_prefix_d;
+    always @(posedge clock) shift_q <= shift_d;
+    always @(posedge clock) half_q <= half_d;
     always @(posedge clock) channel_q <= channel_d;
     always @(posedge clock) phase_q <= phase_d;
     always @(posedge clock) wait_q <= wait_d;
@@ -424,6 +560,8 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
     always @(posedge clock) addr_pin_q <= addr_pin_d;
     always @(posedge clock) cs_active_q <= cs_active_d;
     always @(posedge clock) ldac_active_q <= ldac_active_d;
+    always @(posedge clock) sclk_low_q <= sclk_low_d;
+    always @(posedge clock) sync_active_q <= sync_active_d;
     always @(posedge clock) read_pending_q <= read_pending_d;
     always @(posedge clock) read_addr_q <= read_addr_d;
     always @(posedge clock) read_data_q <= read_data_d;

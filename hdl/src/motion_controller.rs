@@ -292,9 +292,16 @@ top_level! {
         pub dac_cs_n: Signal<Out, Bit>,
         /// DAC R/W: always low (write).
         pub dac_rw_n: Signal<Out, Bit>,
-        /// DAC LOADDACS: its rise moves all four input registers to the
-        /// outputs.
+        /// DAC LOADDACS (LDAC): its rise moves all four input registers to
+        /// the outputs.
         pub dac_ldac_n: Signal<Out, Bit>,
+        /// Serial (SPI) DAC option, SERVO.SERIAL.MODE = 1: SCLK, idles
+        /// high.
+        pub dac_sclk: Signal<Out, Bit>,
+        /// Serial DAC data, MSB first.
+        pub dac_sdin: Signal<Out, Bit>,
+        /// Serial DAC frame sync, active low.
+        pub dac_sync_n: Signal<Out, Bit>,
     }
     pc_bus: IsaBridge,
     blocks {
@@ -321,6 +328,9 @@ top_level! {
         dac_cs_n = servo.dac_cs_n;
         dac_rw_n = servo.dac_rw_n;
         dac_ldac_n = servo.dac_ldac_n;
+        dac_sclk = servo.dac_sclk;
+        dac_sdin = servo.dac_sdin;
+        dac_sync_n = servo.dac_sync_n;
     }
 }
 

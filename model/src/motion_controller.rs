@@ -119,11 +119,15 @@ pub struct TopOutputs {
     pub dac_cs_n: bool,
     pub dac_rw_n: bool,
     pub dac_ldac_n: bool,
+    /// The serial DAC option's pins (SERVO.SERIAL.MODE = 1).
+    pub dac_sclk: bool,
+    pub dac_sdin: bool,
+    pub dac_sync_n: bool,
 }
 
 impl TopOutputs {
     /// (pin name, value) of every output, for messages and comparisons.
-    pub fn pins(&self) -> [(&'static str, u32); 17] {
+    pub fn pins(&self) -> [(&'static str, u32); 20] {
         [
             ("fsmc_d_out", u32::from(self.fsmc_d_out)),
             ("fsmc_d_oe", u32::from(self.fsmc_d_oe)),
@@ -140,6 +144,9 @@ impl TopOutputs {
             ("dac_cs_n", u32::from(self.dac_cs_n)),
             ("dac_rw_n", u32::from(self.dac_rw_n)),
             ("dac_ldac_n", u32::from(self.dac_ldac_n)),
+            ("dac_sclk", u32::from(self.dac_sclk)),
+            ("dac_sdin", u32::from(self.dac_sdin)),
+            ("dac_sync_n", u32::from(self.dac_sync_n)),
             ("gpo_out", u32::from(self.gpo_out)),
             ("gpo_oe", u32::from(self.gpo_oe)),
         ]
@@ -381,6 +388,9 @@ impl MotionControllerModel {
             dac_cs_n: dac.is_some_and(|p| p.cs_n),
             dac_rw_n: dac.is_some_and(|p| p.rw_n),
             dac_ldac_n: dac.is_some_and(|p| p.ldac_n),
+            dac_sclk: dac.is_some_and(|p| p.sclk),
+            dac_sdin: dac.is_some_and(|p| p.sdin),
+            dac_sync_n: dac.is_some_and(|p| p.sync_n),
             fsmc_d_out: d.bridge.d_out,
             fsmc_d_oe: d.bridge.d_oe,
             isa_sd_out: isa.sd_out,

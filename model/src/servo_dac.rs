@@ -6,7 +6,9 @@
 use crate::counter::BusCycle;
 use crate::regmap::Block;
 use motionhdl_spec::bus::mask_bits;
-pub use motionhdl_spec::servo_dac::{update_latency, DAC_CHANNELS, SAFE_CODE};
+pub use motionhdl_spec::servo_dac::{
+    serial_update_latency, update_latency, DAC_CHANNELS, FRAME_BITS, SAFE_CODE,
+};
 
 const CHANNELS: usize = DAC_CHANNELS as usize;
 
@@ -20,7 +22,14 @@ pub struct DacPins {
     pub cs_n: bool,
     pub rw_n: bool,
     pub ldac_n: bool,
+    /// The serial option's SCLK (idles high), SDIN and SYNC (active low).
+    pub sclk: bool,
+    pub sdin: bool,
+    pub sync_n: bool,
 }
+
+/// The last SCLK half of a frame: 2 per bit.
+const LAST_HALF: u32 = 2 * FRAME_BITS - 1;
 
 /// Where a transfer is: per channel a setup clock, CS low, a hold clock;
 /// then LOADDACS low.
@@ -43,6 +52,9 @@ pub struct ServoDac {
     events: u32,
     cs_low: u32,
     ldac_low: u32,
+    /// SERIAL: MODE, SCLK_HALF, SYNC_HIGH.
+    serial: (bool, u32, u32),
+    prefix: u32,
     code: [u32; CHANNELS],
     output: [u32; CHANNELS],
     busy: bool,
@@ -52,6 +64,12 @@ pub struct ServoDac {
     /// The running transfer's CS_LOW and LDAC_LOW, latched at its start.
     run_cs_low: u32,
     run_ldac_low: u32,
+    /// The running transfer's SERIAL and PREFIX, latched at its start.
+    run_serial: (bool, u32, u32),
+    run_prefix: u32,
+    /// The frame being shifted (prefix and code) and its SCLK half: 0..=47.
+    frame: u32,
+    half: u32,
     channel: usize,
     phase: Phase,
     /// Clocks left in the phase after this one (Write and Load).
@@ -80,8 +98,16 @@ impl PartialOrd for ServoDac {
 /// transfer, the read path.
 type Flops = (
     (u32, u32, bool, u32),
-    (u32, u32, [u32; CHANNELS], [u32; CHANNELS]),
+    (
+        u32,
+        u32,
+        (bool, u32, u32),
+        u32,
+        [u32; CHANNELS],
+        [u32; CHANNELS],
+    ),
     (bool, bool, [u32; CHANNELS], u32, u32, usize, Phase, u32),
+    ((bool, u32, u32), u32, u32, u32),
     (bool, bool, u32, u32),
 );
 
@@ -89,7 +115,14 @@ impl ServoDac {
     fn flops(&self) -> Flops {
         (
             (self.period, self.count, self.tick, self.events),
-            (self.cs_low, self.ldac_low, self.code, self.output),
+            (
+                self.cs_low,
+                self.ldac_low,
+                self.serial,
+                self.prefix,
+                self.code,
+                self.output,
+            ),
             (
                 self.busy,
                 self.pending,
@@ -100,6 +133,7 @@ impl ServoDac {
                 self.phase,
                 self.wait,
             ),
+            (self.run_serial, self.run_prefix, self.frame, self.half),
             (self.safe, self.read_pending, self.read_addr, self.rdata),
         )
     }
@@ -111,6 +145,13 @@ impl ServoDac {
         let map = crate::regmap::servo_dac(clock_hz);
         let timing = map.register("TIMING");
         let (cs_low, ldac_low) = (timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset);
+        let serial = map.register("SERIAL");
+        let serial = (
+            false,
+            serial.field("SCLK_HALF").reset,
+            serial.field("SYNC_HIGH").reset,
+        );
+        let prefix = map.register("PREFIX").reset;
         Self {
             clock_hz,
             map,
@@ -120,6 +161,8 @@ impl ServoDac {
             events: 0,
             cs_low,
             ldac_low,
+            serial,
+            prefix,
             code: [SAFE_CODE; CHANNELS],
             output: [SAFE_CODE; CHANNELS],
             busy: false,
@@ -127,6 +170,10 @@ impl ServoDac {
             shadow: [SAFE_CODE; CHANNELS],
             run_cs_low: cs_low,
             run_ldac_low: ldac_low,
+            run_serial: serial,
+            run_prefix: prefix,
+            frame: 0,
+            half: 0,
             channel: 0,
             phase: Phase::Setup,
             wait: 0,
@@ -159,12 +206,19 @@ impl ServoDac {
 
     /// The interface's pins now.
     pub fn pins(&self) -> DacPins {
+        let serial = self.run_serial.0;
+        let in_frame = self.busy && serial && matches!(self.phase, Phase::Write | Phase::Hold);
         DacPins {
             data: self.shadow[self.channel],
             addr: self.channel as u32,
-            cs_n: !(self.busy && self.phase == Phase::Write),
+            cs_n: !(self.busy && !serial && self.phase == Phase::Write),
             rw_n: false,
-            ldac_n: !(self.busy && self.phase == Phase::Load),
+            ldac_n: !(self.busy
+                && self.phase == Phase::Load
+                && (!serial || self.wait <= self.run_ldac_low)),
+            sclk: !(in_frame && self.phase == Phase::Write && self.half % 2 == 1),
+            sdin: self.frame >> (FRAME_BITS - 1 - self.half / 2) & 1 == 1,
+            sync_n: !in_frame,
         }
     }
 
@@ -198,6 +252,11 @@ impl ServoDac {
             ("EVENTS", None) => self.events,
             ("TICK_PERIOD", None) => self.period,
             ("TIMING", None) => self.cs_low | self.ldac_low << 8,
+            ("SERIAL", None) => {
+                let (mode, sclk_half, sync_high) = self.serial;
+                u32::from(mode) | sclk_half << 8 | sync_high << 16
+            }
+            ("PREFIX", None) => self.prefix,
             ("CODE", Some(i)) => self.code[i as usize],
             ("OUTPUT", Some(i)) => self.output[i as usize],
             ("UPDATE", None) => 0,
@@ -254,9 +313,11 @@ impl ServoDac {
             };
             self.run_cs_low = self.cs_low;
             self.run_ldac_low = self.ldac_low;
+            self.run_serial = self.serial;
+            self.run_prefix = self.prefix;
             self.channel = 0;
             self.phase = Phase::Setup;
-            self.wait = 0;
+            self.wait = self.setup_clocks();
         } else {
             self.pending |= asked;
             if self.busy {
@@ -284,28 +345,56 @@ impl ServoDac {
                 self.cs_low = bus.wdata & 0xff;
                 self.ldac_low = bus.wdata >> 8 & 0xff;
             }
+            Some(("SERIAL", None)) => {
+                let w = bus.wdata;
+                self.serial = (w & 1 == 1, w >> 8 & 0xff, w >> 16 & 0xff);
+            }
+            Some(("PREFIX", None)) => self.prefix = bus.wdata,
             Some(("CODE", Some(i))) => self.code[i as usize] = bus.wdata & 0xffff,
             _ => {}
         }
         self.safe = safe;
     }
 
+    /// Clocks after the first of a setup phase: SYNC's high time in the
+    /// serial option (the SERIAL value a transfer starting now takes).
+    fn setup_clocks(&self) -> u32 {
+        match self.serial {
+            (true, _, sync_high) => sync_high,
+            _ => 0,
+        }
+    }
+
     /// One edge of the running transfer.
     fn step(&mut self) {
+        let (serial, sclk_half, sync_high) = self.run_serial;
         match self.phase {
+            Phase::Setup if self.wait > 0 => self.wait -= 1,
+            Phase::Setup if serial => {
+                let prefix = self.run_prefix >> (8 * self.channel) & 0xff;
+                self.frame = prefix << 16 | self.shadow[self.channel];
+                self.half = 0;
+                self.phase = Phase::Write;
+                self.wait = sclk_half;
+            }
             Phase::Setup => {
                 self.phase = Phase::Write;
                 self.wait = self.run_cs_low;
             }
             Phase::Write if self.wait > 0 => self.wait -= 1,
+            Phase::Write if serial && self.half < LAST_HALF => {
+                self.half += 1;
+                self.wait = sclk_half;
+            }
             Phase::Write => self.phase = Phase::Hold,
             Phase::Hold if self.channel + 1 < CHANNELS => {
                 self.channel += 1;
                 self.phase = Phase::Setup;
+                self.wait = if serial { sync_high } else { 0 };
             }
             Phase::Hold => {
                 self.phase = Phase::Load;
-                self.wait = self.run_ldac_low;
+                self.wait = self.run_ldac_low + if serial { sync_high + 1 } else { 0 };
             }
             Phase::Load if self.wait > 0 => self.wait -= 1,
             Phase::Load => self.busy = false,

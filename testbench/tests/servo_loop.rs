@@ -3,9 +3,9 @@
 //! → counters, on the bit-accurate model of the servo card's top. The
 //! bounds are the measured figures with a margin (docs/servo_loop.md).
 
-use motionhdl_model::servo_dac::{update_latency, SAFE_CODE};
+use motionhdl_model::servo_dac::{serial_update_latency, update_latency, SAFE_CODE};
 use motionhdl_testbench::servo_loop::dsp::{self, Tick};
-use motionhdl_testbench::servo_loop::{card_with, circle, plant, ServoCard};
+use motionhdl_testbench::servo_loop::{card_with, circle, plant, serial_card_with, ServoCard};
 
 /// The largest |setpoint − count| of `axis` over `log`.
 fn following_error(log: &[Tick], axis: usize) -> f64 {
@@ -269,4 +269,45 @@ fn the_trace_shows_the_circle_run_per_tick_with_its_plot() {
         steps.iter().max().unwrap()
     );
     assert!(big > 0, "the derivative kick is in the run");
+}
+
+#[test]
+fn the_loop_closes_the_same_through_the_serial_dac() {
+    // The 1 mm move with the motors on the SPI DAC (AD5686R-style, reset
+    // SERIAL times: the update 209 clocks after the tick instead of 23).
+    let (mut card, fine) = serial_card_with(&[[0, 0], [1000, 0]], 100);
+    let log = dsp::run(&mut card, &fine, 1200, |_, _| {});
+    let max = log.iter().map(|t| t.count[0]).max().unwrap();
+    let settled = settled_from(&log, 0, 1000, 2).expect("settles to ±2 counts");
+    eprintln!(
+        "1 mm move on the serial DAC: max {max} counts, settled (±2) from tick {settled}, \
+         {} frames",
+        card.spi_dac.frames
+    );
+    assert!(max <= 1010, "overshoot {} counts (bound 10)", max - 1000);
+    assert!(settled <= 800, "settled from tick {settled} (bound 800)");
+    assert!(card.spi_dac.frames >= 4 * 1199, "{:?}", card.spi_dac);
+    assert_eq!(card.spi_dac.bad_frames, 0, "{:?}", card.spi_dac);
+    // The parallel pins wrote nothing after the mode switch.
+    assert_eq!(card.dac.output, [SAFE_CODE as u16; 4]);
+    // An e-stop while moving: 0 V on all four serial outputs in bounded
+    // time, and from then on.
+    let (mut card, fine) = serial_card_with(&circle(24), 40);
+    let mut latency = None;
+    let log = dsp::run(&mut card, &fine, 600, |k, card| {
+        if k == 400 {
+            card.estop_ok = false;
+            let start = card.clocks;
+            while card.spi_dac.output != [SAFE_CODE as u16; 4] && card.clocks < start + 2000 {
+                card.idle(1);
+            }
+            latency = Some(card.clocks - start);
+        }
+    });
+    let latency = latency.unwrap();
+    let bound = u64::from(2 * serial_update_latency(0, 1, 2) + 6);
+    eprintln!("e-stop to 0 V on the serial DAC: {latency} clocks (bound {bound})");
+    assert!(latency <= bound, "{latency} clocks");
+    assert!(log[401..].iter().all(|t| t.dac == [SAFE_CODE as u16; 2]));
+    assert!(log[399].dac != [SAFE_CODE as u16; 2], "was driving");
 }

@@ -2,12 +2,16 @@
 //! (docs/servo_dac.md).
 
 use super::{field, reg, with_reset, Access, Block, RegisterArray};
-use crate::servo_dac::{clocks_for_ns, CS_LOW_NS, DAC_CHANNELS, LDAC_LOW_NS, SAFE_CODE};
+use crate::servo_dac::{
+    clocks_for_ns, AD5686R_PREFIX, CS_LOW_NS, DAC_CHANNELS, LDAC_LOW_NS, SAFE_CODE, SCLK_HALF_NS,
+    SYNC_HIGH_NS,
+};
 
-/// The servo DAC block for a clock of `clock_hz`: TIMING's reset values
-/// are the data sheet's minimum times in clocks.
+/// The servo DAC block for a clock of `clock_hz`: TIMING's and SERIAL's
+/// reset values are the data sheets' minimum times in clocks.
 pub fn servo_dac(clock_hz: u64) -> Block {
     use Access::*;
+    let clocks = |ns: u64| clocks_for_ns(ns, clock_hz).clamp(1, 256) - 1;
     let events = |access: Access| {
         vec![
             field("TICK", 0, 1, access, "A servo tick: the counters' snapshot was taken and a transfer of the staged codes started."),
@@ -69,13 +73,47 @@ pub fn servo_dac(clock_hz: u64) -> Block {
                 vec![
                     with_reset(
                         field("CS_LOW", 0, 8, ReadWrite, "CS is low CS_LOW + 1 clocks per write (t_WCS)."),
-                        clocks_for_ns(CS_LOW_NS, clock_hz).clamp(1, 256) - 1,
+                        clocks(CS_LOW_NS),
                     ),
                     with_reset(
                         field("LDAC_LOW", 8, 8, ReadWrite, "LOADDACS is low LDAC_LOW + 1 clocks (t_LWD)."),
-                        clocks_for_ns(LDAC_LOW_NS, clock_hz).clamp(1, 256) - 1,
+                        clocks(LDAC_LOW_NS),
                     ),
                 ],
+            ),
+            reg(
+                "SERIAL",
+                6,
+                ReadWrite,
+                "Which DAC interface the transfers drive, and the serial one's timing in clocks.",
+                "Takes effect from the next transfer.",
+                vec![
+                    field("MODE", 0, 1, ReadWrite, "0: the DAC7744-style parallel pins (reset); 1: SPI frames on SCLK, SDIN, SYNC (CS stays high)."),
+                    with_reset(
+                        field("SCLK_HALF", 8, 8, ReadWrite, "SCLK is high SCLK_HALF + 1 clocks and low SCLK_HALF + 1 clocks per bit (t2, t3)."),
+                        clocks(SCLK_HALF_NS),
+                    ),
+                    with_reset(
+                        field("SYNC_HIGH", 16, 8, ReadWrite, "SYNC is high SYNC_HIGH + 1 clocks before each frame and before LDAC falls (t8)."),
+                        clocks(SYNC_HIGH_NS),
+                    ),
+                ],
+            ),
+            reg(
+                "PREFIX",
+                7,
+                ReadWrite,
+                "The top 8 bits of each channel's 24-bit SPI frame: the DAC's command and channel address.",
+                "Reset: the AD5686R's write-input-register command to DAC A..D; a transfer uses the values at its start.",
+                (0..DAC_CHANNELS)
+                    .map(|c| {
+                        let name = ["CH0", "CH1", "CH2", "CH3"][c as usize];
+                        with_reset(
+                            field(name, 8 * c, 8, ReadWrite, "Frame bits 23:16 of the channel."),
+                            AD5686R_PREFIX[c as usize],
+                        )
+                    })
+                    .collect(),
             ),
         ],
         arrays: vec![RegisterArray {

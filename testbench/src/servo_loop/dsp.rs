@@ -144,7 +144,7 @@ pub fn run_with(
             setpoint,
             count,
             code,
-            dac: [card.dac.output[0], card.dac.output[1]],
+            dac: [card.dac_output()[0], card.dac_output()[1]],
             position: card.axes.map(|a| a.counts()),
             velocity: card.axes.map(|a| a.velocity),
         });

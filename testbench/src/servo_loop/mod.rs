@@ -16,6 +16,7 @@
 
 pub mod dsp;
 pub mod plant;
+pub mod serial_dac;
 pub mod trace;
 
 use crate::bfm::fsmc::{self, documented_timing, CLOCK_TICKS, FIRST_EDGE_TICKS};
@@ -28,6 +29,7 @@ use motionhdl_model::regmap::{self, BusMap};
 use motionhdl_model::Config;
 use plant::{Axis, Dac7744};
 use rust_hdl::prelude::Block;
+use serial_dac::SerialDac;
 
 /// Axes of the loop (X and Y of the circle).
 pub const AXES: usize = 2;
@@ -60,8 +62,17 @@ pub fn circle(points: u32) -> Vec<[i32; AXES]> {
 /// The card (the model top) set up, `coarse` sent by the PC and received
 /// by the DSP, and the fine setpoints (`n` per span).
 pub fn card_with(coarse: &[[i32; AXES]], n: u32) -> (ServoCard, Vec<[f64; AXES]>) {
-    let mut card = ServoCard::new();
+    set_up(ServoCard::new(), coarse, n)
+}
+
+/// [`card_with`] on the board with the serial DAC.
+pub fn serial_card_with(coarse: &[[i32; AXES]], n: u32) -> (ServoCard, Vec<[f64; AXES]>) {
+    set_up(ServoCard::new().with_serial_dac(), coarse, n)
+}
+
+fn set_up(mut card: ServoCard, coarse: &[[i32; AXES]], n: u32) -> (ServoCard, Vec<[f64; AXES]>) {
     dsp::setup(&mut card);
+    card.select_dac();
     card.pc_send(&dsp::encode_points(coarse));
     let got = dsp::receive_points(&mut card);
     assert_eq!(
@@ -108,6 +119,10 @@ pub struct ServoCard {
     map: BusMap,
     pub axes: [Axis; AXES],
     pub dac: Dac7744,
+    /// The serial option's DAC on the SPI pins, and whether the board has
+    /// it (the motors on its outputs) instead of the DAC7744.
+    pub spi_dac: SerialDac,
+    serial: bool,
     /// The e-stop chain (high = released).
     pub estop_ok: bool,
     /// Clocks run.
@@ -144,10 +159,36 @@ impl ServoCard {
             map: regmap::mcu_map(&config),
             axes: [Axis::default(); AXES],
             dac: Dac7744::default(),
+            spi_dac: SerialDac::default(),
+            serial: false,
             estop_ok: true,
             clocks: 0,
             isa_pins,
             last: TopOutputs::default(),
+        }
+    }
+
+    /// The board with the serial DAC: the motors on its outputs, and
+    /// [`Self::select_dac`] picks it.
+    pub fn with_serial_dac(mut self) -> Self {
+        self.serial = true;
+        self
+    }
+
+    /// On the serial board, writes SERVO.SERIAL.MODE = 1 with the reset
+    /// SCLK and SYNC times (the parallel board keeps the reset value).
+    pub fn select_dac(&mut self) {
+        if self.serial {
+            let reset = self.map.block("SERVO").register("SERIAL").reset;
+            self.write("SERVO", None, "SERIAL", reset | 1);
+        }
+    }
+
+    /// The codes the motors' DAC outputs hold.
+    pub fn dac_output(&self) -> [u16; 4] {
+        match self.serial {
+            false => self.dac.output,
+            true => self.spi_dac.output,
         }
     }
 
@@ -176,8 +217,13 @@ impl ServoCard {
         p.enc_b = b;
         self.last = self.top.step(&p);
         self.dac.observe(&self.last);
-        for (i, axis) in self.axes.iter_mut().enumerate() {
-            axis.advance(self.dac.volts(i), CLOCK_S);
+        self.spi_dac.observe(&self.last);
+        let volts: [f64; AXES] = std::array::from_fn(|i| match self.serial {
+            false => self.dac.volts(i),
+            true => self.spi_dac.volts(i),
+        });
+        for (axis, v) in self.axes.iter_mut().zip(volts) {
+            axis.advance(v, CLOCK_S);
         }
         self.clocks += 1;
     }

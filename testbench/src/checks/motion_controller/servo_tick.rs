@@ -7,12 +7,12 @@
 //! edge every counter channel's snapshot takes the count as it stood in
 //! that clock; a tick that finds the DAC interface free starts the
 //! transfer at its own edge, so LOADDACS rises exactly `update_latency`
-//! edges later.
+//! edges later (`serial_update_latency` with SERIAL.MODE = 1).
 
 use crate::checks::motion_controller::top_model::ModelledTop;
 use crate::state_map;
 use motionhdl_model::motion_controller::MotionControllerModel;
-use motionhdl_model::servo_dac::update_latency;
+use motionhdl_model::servo_dac::{serial_update_latency, update_latency};
 use std::collections::VecDeque;
 
 /// One clock as the watch sees it, before its edge.
@@ -49,10 +49,19 @@ impl TickSample {
         let busy = status.field("BUSY").mask() | status.field("PENDING").mask();
         let timing = map.register("TIMING");
         let t = read("TIMING");
-        let latency = update_latency(
-            timing.field("CS_LOW").get(t),
-            timing.field("LDAC_LOW").get(t),
-        );
+        let serial = map.register("SERIAL");
+        let spi = read("SERIAL");
+        let latency = match serial.field("MODE").get(spi) {
+            0 => update_latency(
+                timing.field("CS_LOW").get(t),
+                timing.field("LDAC_LOW").get(t),
+            ),
+            _ => serial_update_latency(
+                serial.field("SCLK_HALF").get(spi),
+                serial.field("SYNC_HIGH").get(spi),
+                timing.field("LDAC_LOW").get(t),
+            ),
+        };
         let period_offset = map.register("TICK_PERIOD").offset;
         let wrote_period =
             mcu.servo_we.val() && mcu.servo_addr.val().index() as u32 == period_offset;

@@ -111,6 +111,9 @@ modelled_top!(MotionControllerServo, |uut, o| {
     o.dac_cs_n = uut.dac_cs_n.val();
     o.dac_rw_n = uut.dac_rw_n.val();
     o.dac_ldac_n = uut.dac_ldac_n.val();
+    o.dac_sclk = uut.dac_sclk.val();
+    o.dac_sdin = uut.dac_sdin.val();
+    o.dac_sync_n = uut.dac_sync_n.val();
 });
 
 /// The rust-hdl top's output pins with `p` on its input pins, before the

@@ -7,7 +7,7 @@ use super::{run_rust, word_address, Observed, Vector, CLOCK_HZ};
 use crate::harness::{CheckReport, Rng};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap;
-use motionhdl_model::servo_dac::{update_latency, DAC_CHANNELS, SAFE_CODE};
+use motionhdl_model::servo_dac::{serial_update_latency, update_latency, DAC_CHANNELS, SAFE_CODE};
 
 const CH: usize = DAC_CHANNELS as usize;
 
@@ -23,7 +23,8 @@ pub const PROPERTIES: [&str; 4] = [
 /// The zero-jitter property of [`zero_jitter`].
 pub const ZERO_JITTER: &str =
     "every tick that finds the interface idle is followed by LOADDACS rising exactly \
-     update_latency(TIMING) edges later, and by no other rise";
+     update_latency(TIMING) edges later (serial_update_latency(SERIAL, TIMING) with \
+     SERIAL.MODE = 1), and by no other rise";
 
 /// The CODE registers after each vector's edge, as the bus wrote them
 /// (reset: SAFE_CODE).
@@ -99,12 +100,16 @@ fn transfers(trace: &[Observed], r: &mut CheckReport) {
     // the codes the running transfer must carry.
     let mut writes: Vec<(u32, u32)> = Vec::new();
     let mut want: Option<[u32; CH]> = None;
+    // A serial transfer's rise is the serial contract's.
+    let mut framed = false;
     for k in 3..trace.len() {
         if trace[k].vector.reset {
             writes.clear();
             want = None;
+            framed = false;
             continue;
         }
+        framed |= !pins(k).sync_n;
         let cs_fell = pins(k - 1).cs_n && !pins(k).cs_n;
         if cs_fell {
             if writes.is_empty() {
@@ -120,7 +125,10 @@ fn transfers(trace: &[Observed], r: &mut CheckReport) {
             }
             writes.push((pins(k).addr, pins(k).data));
         }
-        if !pins(k - 1).ldac_n && pins(k).ldac_n {
+        if !pins(k - 1).ldac_n && pins(k).ldac_n && framed && writes.is_empty() {
+            framed = false;
+        } else if !pins(k - 1).ldac_n && pins(k).ldac_n {
+            framed = false;
             let order: Vec<u32> = writes.iter().map(|w| w.0).collect();
             let data: Vec<u32> = writes.iter().map(|w| w.1).collect();
             let ok = order == [0, 1, 2, 3] && want.is_some_and(|w| data[..] == w[..]);
@@ -133,21 +141,31 @@ fn transfers(trace: &[Observed], r: &mut CheckReport) {
     }
 }
 
-/// Clocks from a transfer's start to its LOADDACS rise with TIMING at its
-/// reset value.
-fn reset_latency() -> usize {
+/// Clocks from a transfer's start to its LOADDACS rise with TIMING and
+/// SERIAL at their reset values, on the parallel pins or (`serial`) SPI.
+pub fn reset_latency(serial: bool) -> usize {
     let map = regmap::servo_dac(CLOCK_HZ);
     let timing = map.register("TIMING");
-    update_latency(timing.field("CS_LOW").reset, timing.field("LDAC_LOW").reset) as usize
+    let ldac_low = timing.field("LDAC_LOW").reset;
+    let spi = map.register("SERIAL");
+    (match serial {
+        false => update_latency(timing.field("CS_LOW").reset, ldac_low),
+        true => serial_update_latency(
+            spi.field("SCLK_HALF").reset,
+            spi.field("SYNC_HIGH").reset,
+            ldac_low,
+        ),
+    }) as usize
 }
 
-/// A servo loop as firmware runs one: TIMING at its reset value, the
-/// tick at a period longer than a transfer, new codes written at random
-/// clocks of each period; `ticks` periods.
-pub fn servo_run(ticks: usize) -> Vec<Observed> {
+/// A servo loop as firmware runs one: TIMING and SERIAL at their reset
+/// values (SERIAL.MODE = 1 with `serial`), the tick at a period longer
+/// than a transfer, new codes written at random clocks of each period;
+/// `ticks` periods.
+pub fn servo_run(ticks: usize, serial: bool) -> Vec<Observed> {
     let map = regmap::servo_dac(CLOCK_HZ);
     let ch = map.array("CH");
-    let period = reset_latency() + 7;
+    let period = reset_latency(serial) + 7;
     let mut next = Rng::stream(0xdac0_0007);
     let mut v = vec![
         Vector {
@@ -156,11 +174,16 @@ pub fn servo_run(ticks: usize) -> Vec<Observed> {
         };
         2
     ];
+    let spi = map.register("SERIAL");
+    v.push(Vector {
+        bus: BusCycle::write(spi.offset, spi.reset | u32::from(serial)),
+        ..Default::default()
+    });
     v.push(Vector {
         bus: BusCycle::write(map.register("TICK_PERIOD").offset, period as u32),
         ..Default::default()
     });
-    while v.len() < 3 + ticks * period {
+    while v.len() < 4 + ticks * period {
         let bus = if next().is_multiple_of(4) {
             let c = (next() % CH as u64) as u32;
             BusCycle::write(ch.address(c, "CODE"), next() as u32)
@@ -176,9 +199,10 @@ pub fn servo_run(ticks: usize) -> Vec<Observed> {
 }
 
 /// The zero-jitter property over a run without UPDATE writes, safe
-/// changes or TIMING writes (TIMING at its reset value).
-pub fn zero_jitter(trace: &[Observed]) -> CheckReport {
-    let latency = reset_latency();
+/// changes or TIMING writes (TIMING and SERIAL's times at their reset
+/// values, SERIAL.MODE = `serial`).
+pub fn zero_jitter(trace: &[Observed], serial: bool) -> CheckReport {
+    let latency = reset_latency(serial);
     let mut r = CheckReport::new("servo_dac", ZERO_JITTER, 0);
     let rises: Vec<usize> = (1..trace.len())
         .filter(|&k| !trace[k - 1].outputs.pins.ldac_n && trace[k].outputs.pins.ldac_n)

@@ -4,6 +4,7 @@
 //! the model (docs/servo_dac.md).
 
 pub mod contract;
+pub mod serial;
 pub mod tour;
 
 use crate::harness::{cycle, random_bus_cycle, settle, CheckReport, Rng};
@@ -46,10 +47,15 @@ fn write_data(register: &str, next: &mut dyn FnMut() -> u64) -> u32 {
         "TICK_PERIOD" => match next() % 8 {
             0 => 0,
             1 => 1 + (next() % 8) as u32,
+            // Around a serial transfer's length.
+            2 => 150 + (next() % 500) as u32,
             _ => 10 + (next() % 60) as u32,
         },
         // Mostly short times; sometimes the register's full range.
         "TIMING" if !next().is_multiple_of(8) => ((next() % 4) | ((next() % 4) << 8)) as u32,
+        "SERIAL" if !next().is_multiple_of(64) => {
+            ((next() % 2) | ((next() % 3) << 8) | ((next() % 4) << 16)) as u32
+        }
         _ => next() as u32,
     }
 }
@@ -133,6 +139,9 @@ pub fn run_rust(vectors: &[Vector]) -> Vec<Observed> {
                         cs_n: uut.dac_cs_n.val(),
                         rw_n: uut.dac_rw_n.val(),
                         ldac_n: uut.dac_ldac_n.val(),
+                        sclk: uut.dac_sclk.val(),
+                        sdin: uut.dac_sdin.val(),
+                        sync_n: uut.dac_sync_n.val(),
                     },
                 },
             }
@@ -160,7 +169,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
     r
 }
 
-fn flat(o: &Outputs) -> [u64; 7] {
+fn flat(o: &Outputs) -> [u64; 10] {
     [
         u64::from(o.rdata),
         u64::from(o.tick),
@@ -169,6 +178,9 @@ fn flat(o: &Outputs) -> [u64; 7] {
         u64::from(o.pins.cs_n),
         u64::from(o.pins.rw_n),
         u64::from(o.pins.ldac_n),
+        u64::from(o.pins.sclk),
+        u64::from(o.pins.sdin),
+        u64::from(o.pins.sync_n),
     ]
 }
 
@@ -201,6 +213,9 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
                 "dac_cs_n",
                 "dac_rw_n",
                 "dac_ldac_n",
+                "dac_sclk",
+                "dac_sdin",
+                "dac_sync_n",
             ],
         ),
         clock: Some("clock"),
@@ -232,12 +247,17 @@ pub fn all(external: bool) -> Vec<CheckReport> {
     let mut v = vec![
         random_rust(100_000, 0xdac0_0001),
         tour::control_exhaustive(),
+        tour::serial_exhaustive(),
     ];
-    v.extend(contract::contract(&run_rust(&stimulus(
-        100_000,
-        0xdac0_0006,
-    ))));
-    v.push(contract::zero_jitter(&contract::servo_run(40)));
+    let trace = run_rust(&stimulus(100_000, 0xdac0_0006));
+    v.extend(contract::contract(&trace));
+    v.extend(serial::contract(&trace));
+    for serial in [false, true] {
+        v.push(contract::zero_jitter(
+            &contract::servo_run(40, serial),
+            serial,
+        ));
+    }
     if external {
         v.push(random_verilog(Simulator::Icarus, 50_000, 0xdac0_0002));
         v.push(random_verilog(Simulator::Verilator, 500_000, 0xdac0_0003));

@@ -19,40 +19,43 @@ use motionhdl_model::regmap;
 use motionhdl_model::servo_dac::ServoDac as Model;
 use std::collections::BTreeSet;
 
-/// Bus operations of the alphabet.
-const OPS: [&str; 7] = [
-    "idle",
-    "UPDATE",
-    "TICK_PERIOD = 0",
-    "TICK_PERIOD = 3",
-    "TIMING = 0",
-    "TIMING = 0x0101",
-    "EVENTS = 3",
+/// A bus operation of an alphabet: idle, or a write of a register.
+type Op = (&'static str, u32);
+
+const IDLE: Op = ("", 0);
+
+/// The parallel alphabet: every control state of the parallel interface.
+const PARALLEL_OPS: [Op; 7] = [
+    IDLE,
+    ("UPDATE", 1),
+    ("TICK_PERIOD", 0),
+    ("TICK_PERIOD", 3),
+    ("TIMING", 0),
+    ("TIMING", 0x0101),
+    ("EVENTS", 3),
 ];
 
-/// One clock's input: reset, safe, and a bus operation (an index into
-/// [`OPS`]).
-type Input = (bool, bool, usize);
+/// The serial alphabet: SPI with SCLK halves and SYNC's high time of 1
+/// clock or 2 (a transfer runs 200 or 400 clocks, so no tick: the tick
+/// and the events are the parallel tour's).
+const SERIAL_OPS: [Op; 4] = [IDLE, ("UPDATE", 1), ("SERIAL", 1), ("SERIAL", 0x01_0101)];
 
-fn inputs() -> Vec<Input> {
-    let mut v = vec![(true, false, 0)];
+/// One clock's input: reset, safe, and a bus operation.
+type Input = (bool, bool, Op);
+
+fn inputs(ops: &[Op]) -> Vec<Input> {
+    let mut v = vec![(true, false, IDLE)];
     for safe in [false, true] {
-        v.extend((0..OPS.len()).map(|op| (false, safe, op)));
+        v.extend(ops.iter().map(|&op| (false, safe, op)));
     }
     v
 }
 
-fn vector(&(reset, safe, op): &Input) -> Vector {
+fn vector(&(reset, safe, (name, value)): &Input) -> Vector {
     let map = regmap::servo_dac(CLOCK_HZ);
-    let w = |name: &str, v: u32| BusCycle::write(map.register(name).offset, v);
-    let bus = match op {
-        1 => w("UPDATE", 1),
-        2 => w("TICK_PERIOD", 0),
-        3 => w("TICK_PERIOD", 3),
-        4 => w("TIMING", 0),
-        5 => w("TIMING", 0x0101),
-        6 => w("EVENTS", 3),
-        _ => BusCycle::default(),
+    let bus = match name {
+        "" => BusCycle::default(),
+        name => BusCycle::write(map.register(name).offset, value),
     };
     Vector { reset, bus, safe }
 }
@@ -65,10 +68,20 @@ fn outputs(m: &Model) -> Outputs {
     }
 }
 
-/// Every reachable (state, input) pair from reset. Covered = distinct
-/// pairs visited, asserted equal to the pairs enumerated.
+/// Every reachable (state, input) pair from reset under the parallel
+/// alphabet. Covered = distinct pairs visited, asserted equal to the
+/// pairs enumerated.
 pub fn control_exhaustive() -> CheckReport {
-    let inputs = inputs();
+    exhaustive("DAC interface control", &PARALLEL_OPS)
+}
+
+/// As [`control_exhaustive`], under the serial alphabet.
+pub fn serial_exhaustive() -> CheckReport {
+    exhaustive("serial DAC interface control", &SERIAL_OPS)
+}
+
+fn exhaustive(what: &str, ops: &[Op]) -> CheckReport {
+    let inputs = inputs(ops);
     let vectors: Vec<Vector> = inputs.iter().map(vector).collect();
     let step = |s: &Model, k: &usize| {
         let mut n = s.clone();
@@ -88,9 +101,9 @@ pub fn control_exhaustive() -> CheckReport {
     let mut r = CheckReport::new(
         "servo_dac",
         &format!(
-            "DAC interface control ({} inputs: reset, safe x {:?}), every reachable state x input",
+            "{what} ({} inputs: reset, safe x writes {:?}), every reachable state x input",
             inputs.len(),
-            OPS
+            ops
         ),
         g.pairs() as u64,
     );
