@@ -26,6 +26,17 @@ fn settled_from(log: &[Tick], axis: usize, target: i32, band: i32) -> Option<usi
     }
 }
 
+/// Opens the e-stop chain and idles until the motors' DAC outputs all
+/// read 0 V, at most `limit` clocks: the clocks it took.
+fn estop_to_0_v(card: &mut ServoCard, limit: u64) -> u64 {
+    card.estop_ok = false;
+    let start = card.clocks;
+    while card.dac_output() != [SAFE_CODE as u16; 4] && card.clocks < start + limit {
+        card.idle(1);
+    }
+    card.clocks - start
+}
+
 #[test]
 fn a_1_mm_move_settles_without_overshoot() {
     let (mut card, fine) = card_with(&[[0, 0], [1000, 0]], 100);
@@ -106,12 +117,7 @@ fn an_estop_drives_the_dac_to_0_v_and_the_slides_coast_to_rest() {
     let mut latency = None;
     let log = dsp::run(&mut card, &fine, 2400, |k, card| {
         if k == 400 {
-            card.estop_ok = false;
-            let start = card.clocks;
-            while card.dac.output != [SAFE_CODE as u16; 4] && card.clocks < start + 1000 {
-                card.idle(1);
-            }
-            latency = Some(card.clocks - start);
+            latency = Some(estop_to_0_v(card, 1000));
         }
     });
     let latency = latency.unwrap();
@@ -296,12 +302,7 @@ fn the_loop_closes_the_same_through_the_serial_dac() {
     let mut latency = None;
     let log = dsp::run(&mut card, &fine, 600, |k, card| {
         if k == 400 {
-            card.estop_ok = false;
-            let start = card.clocks;
-            while card.spi_dac.output != [SAFE_CODE as u16; 4] && card.clocks < start + 2000 {
-                card.idle(1);
-            }
-            latency = Some(card.clocks - start);
+            latency = Some(estop_to_0_v(card, 2000));
         }
     });
     let latency = latency.unwrap();

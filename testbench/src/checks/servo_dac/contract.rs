@@ -3,7 +3,7 @@
 //! property counts the clocks where its antecedent held, and [`Breakage`]
 //! shows each one able to fail.
 
-use super::{run_rust, word_address, Observed, Vector, CLOCK_HZ};
+use super::{counted, property_reports, run_rust, word_address, Observed, Vector, CLOCK_HZ};
 use crate::harness::{CheckReport, Rng};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap;
@@ -51,10 +51,7 @@ fn staged_codes(trace: &[Observed]) -> Vec<[u32; CH]> {
 
 /// Every property over `trace`: one report each, a case per antecedent.
 pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
-    let mut r: Vec<CheckReport> = PROPERTIES
-        .iter()
-        .map(|p| CheckReport::new("servo_dac", p, 0))
-        .collect();
+    let mut r = property_reports(&PROPERTIES);
     let pins = |k: usize| trace[k].outputs.pins;
     let reset_in = |a: usize, b: usize| trace[a..=b].iter().any(|o| o.vector.reset);
     for k in 0..trace.len() {
@@ -83,11 +80,7 @@ pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
         }));
     }
     transfers(trace, &mut r[3]);
-    // Coverage is the antecedent count itself; the tests bound it below.
-    for report in &mut r {
-        report.expected = report.covered;
-    }
-    r
+    counted(r)
 }
 
 /// Property 3: each LOADDACS rise ends a transfer of four writes in

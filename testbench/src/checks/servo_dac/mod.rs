@@ -239,6 +239,23 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     })
 }
 
+/// One report per contract property, none counted yet.
+fn property_reports(properties: &[&str]) -> Vec<CheckReport> {
+    properties
+        .iter()
+        .map(|p| CheckReport::new("servo_dac", p, 0))
+        .collect()
+}
+
+/// `reports` with the cases counted as the cases expected: a contract's
+/// coverage is its antecedents' count, which the tests bound below.
+fn counted(mut reports: Vec<CheckReport>) -> Vec<CheckReport> {
+    for r in &mut reports {
+        r.expected = r.covered;
+    }
+    reports
+}
+
 /// The block's checks `motionhdl verify` runs: the model comparison, the
 /// contract (each property a row), and with `external` the generated
 /// Verilog in Icarus and Verilator.

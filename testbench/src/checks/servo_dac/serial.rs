@@ -4,7 +4,7 @@
 //! a run writes is checked), and each transfer's four frames against the
 //! PREFIX and codes staged before it started.
 
-use super::{word_address, Observed, CLOCK_HZ};
+use super::{counted, property_reports, word_address, Observed, CLOCK_HZ};
 use crate::harness::CheckReport;
 use motionhdl_model::regmap;
 use motionhdl_model::servo_dac::{DAC_CHANNELS, FRAME_BITS, SAFE_CODE};
@@ -94,10 +94,7 @@ impl Frame {
 
 /// Every serial property over `trace`: one report each.
 pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
-    let mut r: Vec<CheckReport> = PROPERTIES
-        .iter()
-        .map(|p| CheckReport::new("servo_dac", p, 0))
-        .collect();
+    let mut r = property_reports(&PROPERTIES);
     let pins = |k: usize| trace[k].outputs.pins;
     for k in 0..trace.len() {
         if !pins(k).sync_n {
@@ -108,10 +105,7 @@ pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
         }
     }
     transfers(trace, &staged(trace), &mut r);
-    for report in &mut r {
-        report.expected = report.covered;
-    }
-    r
+    counted(r)
 }
 
 /// The edge that started the transfer whose first SYNC fall is clock `k`:
