@@ -109,7 +109,12 @@ proptest! {
         prop_assert_eq!(rep.len(), h.reply_len());
         let w = decode_reply(&rep, &h).unwrap();
         prop_assert_eq!(w.len(), reply_data.len());
+        prop_assert_eq!(w.is_empty(), reply_data.is_empty());
         prop_assert_eq!(w.iter().collect::<Vec<_>>(), reply_data);
+        // Random access agrees with the iterator, and ends where it ends.
+        for i in 0..=reply_data.len() {
+            prop_assert_eq!(w.get(i), reply_data.get(i).copied());
+        }
     }
 }
 
@@ -264,6 +269,41 @@ fn decoding_errors_say_what_is_wrong() {
             got: 3
         })
     );
+}
+
+#[test]
+fn short_frames_are_judged_by_what_they_hold() {
+    // Two bytes: enough for the function code, so an unknown one is named.
+    assert_eq!(
+        decode_request(&[1, 0x99], 1),
+        Err(FrameError::UnknownFunction(0x99))
+    );
+    // A known function shorter than a header.
+    assert_eq!(
+        decode_request(&[1, 0x03, 0], 1),
+        Err(FrameError::Truncated { needed: 8, got: 3 })
+    );
+    // A whole header: the quantity it gives sizes the frame wanted.
+    assert_eq!(
+        decode_request(&[1, 0x10, 0, 0, 0, 3], 1),
+        Err(FrameError::Truncated { needed: 14, got: 6 })
+    );
+}
+
+#[test]
+fn a_read_may_end_at_the_last_word_of_memory() {
+    let mut memory = [7u16; 64];
+    let mut reply = [0u8; MAX_FRAME];
+    let h = read(7, 62, 2);
+    let n = serve(&mut memory, 7, &request_vec(&h, &[]).unwrap(), &mut reply).unwrap();
+    let words = decode_reply(&reply[..n], &h).unwrap();
+    assert_eq!(words.iter().collect::<Vec<_>>(), [7, 7]);
+    // One word: not empty, and only index 0 holds it.
+    let h = read(7, 63, 1);
+    let n = serve(&mut memory, 7, &request_vec(&h, &[]).unwrap(), &mut reply).unwrap();
+    let words = decode_reply(&reply[..n], &h).unwrap();
+    assert!(!words.is_empty());
+    assert_eq!((words.get(0), words.get(1)), (Some(7), None));
 }
 
 #[test]

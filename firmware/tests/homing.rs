@@ -20,7 +20,10 @@ struct Axis {
     period: u32,
     index_armed: bool,
     index: Option<i32>,
-    moves: u32,
+    /// Every move started: (steps, period).
+    moves: Vec<(i32, u32)>,
+    /// The switch goes away (a loose cam) as move n starts.
+    lose_switch_at_move: Option<usize>,
 }
 
 impl Axis {
@@ -38,7 +41,8 @@ impl Axis {
             period: 1,
             index_armed: false,
             index: None,
-            moves: 0,
+            moves: Vec::new(),
+            lose_switch_at_move: None,
         }
     }
 
@@ -95,7 +99,10 @@ impl HomingAxis for Axis {
         );
         self.target = self.position + steps;
         self.period = period;
-        self.moves += 1;
+        self.moves.push((steps, period));
+        if self.lose_switch_at_move == Some(self.moves.len()) {
+            self.switch = i32::MAX;
+        }
     }
     fn stop(&mut self) {
         self.target = self.position;
@@ -158,8 +165,10 @@ fn finds_the_switch_from_below_and_captures_its_edge() {
             index: None,
         };
         assert_eq!(got, Poll::Done(want), "start {start}");
-        // Fast search, back-off, slow search.
-        assert_eq!(axis.moves, 3, "start {start}");
+        // Fast search over the travel, back-off, slow search over twice
+        // the back-off.
+        let want = [(1_000, 50), (-20, 50), (40, 500)];
+        assert_eq!(axis.moves, want, "start {start}");
     }
 }
 
@@ -172,6 +181,11 @@ fn starting_on_the_switch_backs_off_first() {
             matches!(got, Poll::Done(h) if h.position == 300),
             "start {start}: {got:?}"
         );
+        // Back-offs of 20 until off the switch, then the slow search.
+        let backoffs = ((start - 300) / 20 + 1) as usize;
+        let mut want = vec![(-20, 50); backoffs];
+        want.push((40, 500));
+        assert_eq!(axis.moves, want, "start {start}");
     }
 }
 
@@ -187,6 +201,8 @@ fn the_index_search_finds_the_first_pulse_past_the_switch() {
     };
     assert_eq!(got, Poll::Done(want));
     assert_eq!(axis.position, 320, "stops at the index");
+    // On over the switch at the slow period, up to the whole travel.
+    assert_eq!(axis.moves.last(), Some(&(1_000, 500)));
 }
 
 #[test]
@@ -201,12 +217,21 @@ fn failures_are_reported() {
         home(&mut no_index, params(true)),
         Poll::Failed(HomingError::NoIndex)
     );
+    // A switch gone by the slow search (the third move).
+    let mut lost = Axis::new(0, 300);
+    lost.lose_switch_at_move = Some(3);
+    assert_eq!(
+        home(&mut lost, params(false)),
+        Poll::Failed(HomingError::Lost)
+    );
     // A switch that stays active everywhere.
     let mut stuck = Axis::new(0, i32::MIN);
     assert_eq!(
         home(&mut stuck, params(false)),
         Poll::Failed(HomingError::StuckOnSwitch)
     );
+    // It backed off the whole travel first: 1000 / 20 back-offs.
+    assert_eq!(stuck.moves, vec![(-20, 50); 50]);
 }
 
 #[test]
@@ -223,4 +248,12 @@ fn bad_parameters_name_the_value_and_range() {
     })
     .unwrap_err();
     assert_eq!((e.name, e.value, e.max), ("backoff", 2_000, 1_000));
+    // Both directions are accepted.
+    for toward in [-1, 1] {
+        assert!(Homing::new(HomingParams {
+            toward,
+            ..params(false)
+        })
+        .is_ok());
+    }
 }

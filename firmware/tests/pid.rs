@@ -126,3 +126,17 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn from_times_rounds_half_away_from_zero_on_both_sides() {
+    // Kp = ±1.75 LSB of Q16.16: ±2 (rounded away from zero), not ±1.
+    let lsb = 1.0 / f64::from(Q16_ONE);
+    let g = |kp: f64| PidGains::from_times(kp, 1.0, f64::INFINITY, 0.0);
+    assert_eq!(g(1.75 * lsb).kp, 2);
+    assert_eq!(g(-1.75 * lsb).kp, -2);
+    assert_eq!(g(-1.25 * lsb).kp, -1);
+    assert_eq!(g(-2.5 * lsb).kp, -3);
+    // The gains the controller was made with are the ones it reports.
+    let gains = PidGains::from_times(3.5, 1.0, 4.0, 0.5);
+    assert_eq!(IncrementalPid::new(gains).gains(), gains);
+}
