@@ -422,9 +422,11 @@ module servo_dac(clock, reset, addr, wdata, we, re, rdata, safe, tick, dac_data,
             end
         end
         cs_active_d = busy_q & ~start & ~run_serial_q & ((phase_q == phase_setup) | ((phase_q == phase_write) & |wait_q));
-        ldac_active_d = busy_q & ~start & ~run_serial_q & (((phase_q == phase_hold) & (channel_q == last_channel)) | ((phase_q == phase_load) & |wait_q));
         if (run_serial_q) begin
             ldac_active_d = busy_q & ~start & (phase_q == phase_load) & |wait_q & (wait_q <= {2'h0, run_ldac_low_q} + one);
+        end
+        else begin
+            ldac_active_d = busy_q & ~start & (((phase_q == phase_hold) & (channel_q == last_channel)) | ((phase_q == phase_load) & |wait_q));
         end
         sync_active_d = busy_q & ~start & run_serial_q & (((phase_q == phase_setup) & ~|wait_q) | (phase_q == phase_write));
         sclk_low_d = busy_q & ~start & run_serial_q & (phase_q == phase_write) & (half_q[0] ^ ~|wait_q);

@@ -507,12 +507,6 @@ impl Logic for ServoDac {
             & !self.run_serial.q.val()
             & ((self.phase.q.val() == self.phase_setup.val())
                 | ((self.phase.q.val() == self.phase_write.val()) & self.wait.q.val().any()));
-        self.ldac_active.d.next = self.busy.q.val()
-            & !self.start.val()
-            & !self.run_serial.q.val()
-            & (((self.phase.q.val() == self.phase_hold.val())
-                & (self.channel.q.val() == self.last_channel.val()))
-                | ((self.phase.q.val() == self.phase_load.val()) & self.wait.q.val().any()));
         if self.run_serial.q.val() {
             // LDAC low for the load phase's last LDAC_LOW + 1 clocks.
             self.ldac_active.d.next = self.busy.q.val()
@@ -521,6 +515,12 @@ impl Logic for ServoDac {
                 & self.wait.q.val().any()
                 & (self.wait.q.val()
                     <= bit_cast::<10, 8>(self.run_ldac_low.q.val()) + self.one.val());
+        } else {
+            self.ldac_active.d.next = self.busy.q.val()
+                & !self.start.val()
+                & (((self.phase.q.val() == self.phase_hold.val())
+                    & (self.channel.q.val() == self.last_channel.val()))
+                    | ((self.phase.q.val() == self.phase_load.val()) & self.wait.q.val().any()));
         }
         self.sync_active.d.next = self.busy.q.val()
             & !self.start.val()

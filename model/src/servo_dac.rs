@@ -357,9 +357,9 @@ impl ServoDac {
     }
 
     /// Clocks after the first of a setup phase: SYNC's high time in the
-    /// serial option (the SERIAL value a transfer starting now takes).
+    /// serial option (the running transfer's SERIAL).
     fn setup_clocks(&self) -> u32 {
-        match self.serial {
+        match self.run_serial {
             (true, _, sync_high) => sync_high,
             _ => 0,
         }
@@ -390,7 +390,7 @@ impl ServoDac {
             Phase::Hold if self.channel + 1 < CHANNELS => {
                 self.channel += 1;
                 self.phase = Phase::Setup;
-                self.wait = if serial { sync_high } else { 0 };
+                self.wait = self.setup_clocks();
             }
             Phase::Hold => {
                 self.phase = Phase::Load;

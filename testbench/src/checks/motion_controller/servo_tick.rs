@@ -10,9 +10,9 @@
 //! edges later (`serial_update_latency` with SERIAL.MODE = 1).
 
 use crate::checks::motion_controller::top_model::ModelledTop;
+use crate::checks::servo_dac::update_latency_of;
 use crate::state_map;
 use motionhdl_model::motion_controller::MotionControllerModel;
-use motionhdl_model::servo_dac::{serial_update_latency, update_latency};
 use std::collections::VecDeque;
 
 /// One clock as the watch sees it, before its edge.
@@ -47,21 +47,7 @@ impl TickSample {
         let read = |name: &str| servo.read_value(map.register(name).offset);
         let status = map.register("STATUS");
         let busy = status.field("BUSY").mask() | status.field("PENDING").mask();
-        let timing = map.register("TIMING");
-        let t = read("TIMING");
-        let serial = map.register("SERIAL");
-        let spi = read("SERIAL");
-        let latency = match serial.field("MODE").get(spi) {
-            0 => update_latency(
-                timing.field("CS_LOW").get(t),
-                timing.field("LDAC_LOW").get(t),
-            ),
-            _ => serial_update_latency(
-                serial.field("SCLK_HALF").get(spi),
-                serial.field("SYNC_HIGH").get(spi),
-                timing.field("LDAC_LOW").get(t),
-            ),
-        };
+        let latency = update_latency_of(map, read("TIMING"), read("SERIAL"));
         let period_offset = map.register("TICK_PERIOD").offset;
         let wrote_period =
             mcu.servo_we.val() && mcu.servo_addr.val().index() as u32 == period_offset;

@@ -3,11 +3,13 @@
 //! property counts the clocks where its antecedent held, and [`Breakage`]
 //! shows each one able to fail.
 
-use super::{counted, property_reports, run_rust, word_address, Observed, Vector, CLOCK_HZ};
+use super::{
+    counted, property_reports, run_rust, staged, update_latency_of, Observed, Vector, CLOCK_HZ,
+};
 use crate::harness::{CheckReport, Rng};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap;
-use motionhdl_model::servo_dac::{serial_update_latency, update_latency, DAC_CHANNELS, SAFE_CODE};
+use motionhdl_model::servo_dac::{DAC_CHANNELS, SAFE_CODE};
 
 const CH: usize = DAC_CHANNELS as usize;
 
@@ -25,29 +27,6 @@ pub const ZERO_JITTER: &str =
     "every tick that finds the interface idle is followed by LOADDACS rising exactly \
      update_latency(TIMING) edges later (serial_update_latency(SERIAL, TIMING) with \
      SERIAL.MODE = 1), and by no other rise";
-
-/// The CODE registers after each vector's edge, as the bus wrote them
-/// (reset: SAFE_CODE).
-fn staged_codes(trace: &[Observed]) -> Vec<[u32; CH]> {
-    let ch = regmap::servo_dac(CLOCK_HZ).array("CH").clone();
-    let mut codes = [SAFE_CODE; CH];
-    trace
-        .iter()
-        .map(|o| {
-            let v = o.vector;
-            if v.reset {
-                codes = [SAFE_CODE; CH];
-            } else if v.bus.we {
-                for (c, code) in codes.iter_mut().enumerate() {
-                    if word_address(v.bus.addr) == ch.address(c as u32, "CODE") {
-                        *code = v.bus.wdata & 0xffff;
-                    }
-                }
-            }
-            codes
-        })
-        .collect()
-}
 
 /// Every property over `trace`: one report each, a case per antecedent.
 pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
@@ -87,7 +66,7 @@ pub fn contract(trace: &[Observed]) -> Vec<CheckReport> {
 /// channel order carrying the codes staged before the transfer's start
 /// (the edge before the first write's setup clock).
 fn transfers(trace: &[Observed], r: &mut CheckReport) {
-    let codes = staged_codes(trace);
+    let codes: Vec<[u32; CH]> = staged(trace).iter().map(|s| s.codes).collect();
     let pins = |k: usize| trace[k].outputs.pins;
     // (channel, data) of each write since the last LOADDACS rise, and
     // the codes the running transfer must carry.
@@ -138,17 +117,8 @@ fn transfers(trace: &[Observed], r: &mut CheckReport) {
 /// SERIAL at their reset values, on the parallel pins or (`serial`) SPI.
 pub fn reset_latency(serial: bool) -> usize {
     let map = regmap::servo_dac(CLOCK_HZ);
-    let timing = map.register("TIMING");
-    let ldac_low = timing.field("LDAC_LOW").reset;
-    let spi = map.register("SERIAL");
-    (match serial {
-        false => update_latency(timing.field("CS_LOW").reset, ldac_low),
-        true => serial_update_latency(
-            spi.field("SCLK_HALF").reset,
-            spi.field("SYNC_HIGH").reset,
-            ldac_low,
-        ),
-    }) as usize
+    let spi = map.register("SERIAL").reset | u32::from(serial);
+    update_latency_of(&map, map.register("TIMING").reset, spi) as usize
 }
 
 /// A servo loop as firmware runs one: TIMING and SERIAL at their reset

@@ -13,7 +13,11 @@ use motionhdl_hdl::catalog;
 use motionhdl_hdl::servo_dac::{ServoDac, SERVO_ADDRESS_BITS};
 use motionhdl_model::counter::BusCycle;
 use motionhdl_model::regmap;
-use motionhdl_model::servo_dac::{DacPins, ServoDac as Model};
+use motionhdl_model::servo_dac::{
+    serial_update_latency, update_latency, DacPins, ServoDac as Model, DAC_CHANNELS, SAFE_CODE,
+};
+
+const CH: usize = DAC_CHANNELS as usize;
 use rust_hdl::prelude::*;
 
 /// The clock of the instance the checks run: TIMING resets to 2 / 2.
@@ -237,6 +241,76 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     compare_clocked(r, target, &design, rows, &want, |k| {
         format!("{:?}", vectors[k])
     })
+}
+
+/// The registers a transfer takes at its start, as the bus wrote them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Staged {
+    pub codes: [u32; CH],
+    /// SERIAL: MODE, SCLK_HALF, SYNC_HIGH.
+    pub serial: (bool, u32, u32),
+    pub prefix: u32,
+    pub ldac_low: u32,
+}
+
+/// The staged registers after each vector's edge (reset: the map's).
+pub fn staged(trace: &[Observed]) -> Vec<Staged> {
+    let map = regmap::servo_dac(CLOCK_HZ);
+    let ch = map.array("CH").clone();
+    let serial = map.register("SERIAL");
+    let reset = Staged {
+        codes: [SAFE_CODE; CH],
+        serial: (
+            false,
+            serial.field("SCLK_HALF").reset,
+            serial.field("SYNC_HIGH").reset,
+        ),
+        prefix: map.register("PREFIX").reset,
+        ldac_low: map.register("TIMING").field("LDAC_LOW").reset,
+    };
+    let at = |name: &str| map.register(name).offset;
+    let mut s = reset;
+    trace
+        .iter()
+        .map(|o| {
+            let (bus, addr) = (o.vector.bus, word_address(o.vector.bus.addr));
+            if o.vector.reset {
+                s = reset;
+            } else if bus.we {
+                let w = bus.wdata;
+                for (c, code) in s.codes.iter_mut().enumerate() {
+                    if addr == ch.address(c as u32, "CODE") {
+                        *code = w & 0xffff;
+                    }
+                }
+                if addr == at("SERIAL") {
+                    s.serial = (w & 1 == 1, w >> 8 & 0xff, w >> 16 & 0xff);
+                } else if addr == at("PREFIX") {
+                    s.prefix = w;
+                } else if addr == at("TIMING") {
+                    s.ldac_low = w >> 8 & 0xff;
+                }
+            }
+            s
+        })
+        .collect()
+}
+
+/// Clocks from a transfer's start to its LOADDACS rise for the register
+/// words TIMING = `timing` and SERIAL = `serial` of the block `map`:
+/// `update_latency` on the parallel pins, `serial_update_latency` with
+/// SERIAL.MODE = 1.
+pub fn update_latency_of(map: &regmap::Block, timing: u32, serial: u32) -> u32 {
+    let (t, s) = (map.register("TIMING"), map.register("SERIAL"));
+    let ldac_low = t.field("LDAC_LOW").get(timing);
+    match s.field("MODE").get(serial) {
+        0 => update_latency(t.field("CS_LOW").get(timing), ldac_low),
+        _ => serial_update_latency(
+            s.field("SCLK_HALF").get(serial),
+            s.field("SYNC_HIGH").get(serial),
+            ldac_low,
+        ),
+    }
 }
 
 /// One report per contract property, none counted yet.

@@ -4,9 +4,8 @@
 //! a run writes is checked), and each transfer's four frames against the
 //! PREFIX and codes staged before it started.
 
-use super::{counted, property_reports, word_address, Observed, CLOCK_HZ};
+use super::{counted, property_reports, staged, Observed, Staged};
 use crate::harness::CheckReport;
-use motionhdl_model::regmap;
 use motionhdl_model::servo_dac::{DAC_CHANNELS, FRAME_BITS, SAFE_CODE};
 
 const CH: usize = DAC_CHANNELS as usize;
@@ -22,59 +21,6 @@ pub const PROPERTIES: [&str; 3] = [
     "between two LOADDACS rises of a serial transfer, four frames carry PREFIX.CH0..CH3 \
      and the codes staged before the transfer started (SAFE_CODE while safe)",
 ];
-
-/// The registers a transfer takes at its start, as the bus wrote them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Staged {
-    pub codes: [u32; CH],
-    /// SERIAL: MODE, SCLK_HALF, SYNC_HIGH.
-    pub serial: (bool, u32, u32),
-    pub prefix: u32,
-    pub ldac_low: u32,
-}
-
-/// The staged registers after each vector's edge (reset: the map's).
-pub fn staged(trace: &[Observed]) -> Vec<Staged> {
-    let map = regmap::servo_dac(CLOCK_HZ);
-    let ch = map.array("CH").clone();
-    let serial = map.register("SERIAL");
-    let reset = Staged {
-        codes: [SAFE_CODE; CH],
-        serial: (
-            false,
-            serial.field("SCLK_HALF").reset,
-            serial.field("SYNC_HIGH").reset,
-        ),
-        prefix: map.register("PREFIX").reset,
-        ldac_low: map.register("TIMING").field("LDAC_LOW").reset,
-    };
-    let at = |name: &str| map.register(name).offset;
-    let mut s = reset;
-    trace
-        .iter()
-        .map(|o| {
-            let (bus, addr) = (o.vector.bus, word_address(o.vector.bus.addr));
-            if o.vector.reset {
-                s = reset;
-            } else if bus.we {
-                let w = bus.wdata;
-                for (c, code) in s.codes.iter_mut().enumerate() {
-                    if addr == ch.address(c as u32, "CODE") {
-                        *code = w & 0xffff;
-                    }
-                }
-                if addr == at("SERIAL") {
-                    s.serial = (w & 1 == 1, w >> 8 & 0xff, w >> 16 & 0xff);
-                } else if addr == at("PREFIX") {
-                    s.prefix = w;
-                } else if addr == at("TIMING") {
-                    s.ldac_low = w >> 8 & 0xff;
-                }
-            }
-            s
-        })
-        .collect()
-}
 
 /// One frame: the clocks SYNC is low (`from..=to`) and the bits sampled
 /// at SCLK's falls.
