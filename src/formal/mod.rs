@@ -13,7 +13,7 @@ use spec::{Break, ProofSpec, Uses};
 use std::path::{Path, PathBuf};
 
 /// Every proof file, by name (`formal/<name>.sv`).
-const FILES: [(&str, &str); 6] = [
+const FILES: [(&str, &str); 7] = [
     (
         "pulse_mode_selector",
         include_str!("../../formal/pulse_mode_selector.sv"),
@@ -26,6 +26,10 @@ const FILES: [(&str, &str); 6] = [
     ("safety_io", include_str!("../../formal/safety_io.sv")),
     ("fsmc_bridge", include_str!("../../formal/fsmc_bridge.sv")),
     ("isa_bridge", include_str!("../../formal/isa_bridge.sv")),
+    (
+        "motion_controller",
+        include_str!("../../formal/motion_controller.sv"),
+    ),
 ];
 
 /// Every proof, read from its file's header.
@@ -53,8 +57,22 @@ pub fn module(uses: &Uses) -> Result<VerilogModule, String> {
         ("quadrature_core", [w @ 2..=32]) => catalog::quadrature_core(*w),
         ("counter_bank", [a @ 1..=16, w @ 8..=32]) => catalog::counter_bank(*a, *w),
         ("safety_io", [a @ 1..=16, t @ 1..=65535]) => catalog::safety_io(*a, *t),
+        ("motion_controller", [a @ 1..=16, w @ 8..=32]) => {
+            catalog::motion_controller(&proof_top(*a, *w)?)
+        }
         _ => return Err(bad()),
     })
+}
+
+/// The top a proof reads as `motion_controller <axes> <width>`: a 1 MHz
+/// clock with the 2 µs input filter (a filter tick of 2 clocks, as the
+/// safety block's own proof) and the external-RAM ISA build, so that the
+/// solver meets neither the 12 500-clock tick nor the 1 K × 16 RAM.
+fn proof_top(axes: u32, width: u32) -> Result<motionhdl_model::Config, String> {
+    let config = motionhdl_model::Config::new(u64::from(axes), u64::from(width), 1_000_000)
+        .and_then(|c| c.with_input_filter_us(2))
+        .map_err(|e| e.to_string())?;
+    Ok(config.with_isa_ram(motionhdl_model::IsaRam::External))
 }
 
 /// What `verify` prints for one proof.

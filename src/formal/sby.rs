@@ -67,10 +67,19 @@ pub fn sby_text(spec: &ProofSpec, files: &[String], mode: Mode) -> String {
     if mode == Mode::Full {
         s.push_str("cover\n");
     }
-    s.push_str(&format!(
-        "[options]\nprove: mode prove\nprove: depth {}\n",
-        spec.depth
-    ));
+    match mode {
+        Mode::Full => s.push_str(&format!(
+            "[options]\nprove: mode prove\nprove: depth {}\n",
+            spec.depth
+        )),
+        // A broken copy must fail from reset: a bounded search as deep as
+        // the covers go (they reach every antecedent), under the task name
+        // the logs are read by.
+        Mode::Only(_) => s.push_str(&format!(
+            "[options]\nprove: mode bmc\nprove: depth {}\n",
+            spec.depth.max(spec.cover_depth)
+        )),
+    }
     if mode == Mode::Full {
         s.push_str(&format!(
             "cover: mode cover\ncover: depth {}\n",
@@ -187,7 +196,9 @@ pub fn verdict(status: &str, log: &str) -> Verdict {
         }
         labels
     };
-    let base_case = failed("engine_0.basecase");
+    // A prove task's base case, or a bmc task's only engine.
+    let mut base_case = failed("engine_0.basecase");
+    base_case.extend(failed("engine_0: "));
     match status.split_whitespace().next() {
         Some("PASS") => Verdict::Proved {
             k: log.matches("Trying induction in step").count() as u32,
@@ -280,6 +291,13 @@ mod tests {
             verdict("FAIL 2 0", fail),
             Verdict::Failed {
                 labels: vec!["p_a".into()]
+            }
+        );
+        let bmc = "SBY [p] engine_0: ##   0:00:01  Assert failed in t: p_c\n";
+        assert_eq!(
+            verdict("FAIL 3 0", bmc),
+            Verdict::Failed {
+                labels: vec!["p_c".into()]
             }
         );
         let induction = "SBY [p] engine_0.induction: ##  Assert failed in t: p_b\n";
