@@ -1,4 +1,4 @@
-// Counter bank, narrow instance 1 channel x 8-bit count (counter_bank 1 8): with the filter off the count moves by exactly the decoded step of the synchronised inputs (X4/X2/X1, pulse+dir, CW/CCW, REVERSE) and by nothing else but CLEAR/LOAD/index clear/reset; an illegal transition never counts and sets ERR/ERR_COUNT only with ERR_EN; COUNT/INDEX/STATUS read the SNAPSHOT registers, which change only at SNAPSHOT (docs/counter_bank.md).
+// Counter bank, 1 channel x the shipped 28-bit count (counter_bank 1 28; channels are copies): with the filter off the count moves by exactly the decoded step of the synchronised inputs (X4/X2/X1, pulse+dir, CW/CCW, REVERSE) and by nothing else but CLEAR/LOAD/index clear/reset; an illegal transition never counts and sets ERR/ERR_COUNT only with ERR_EN; COUNT/INDEX/STATUS read the SNAPSHOT registers, which change only at SNAPSHOT (docs/counter_bank.md).
 // Register map (words, generated/include/motionhdl_regs.h bytes / 4): SNAPSHOT 0x01,
 // PRESET 0x02, CH0 CTRL 0x08, CMD 0x09, COUNT 0x0A, INDEX 0x0B, STATUS 0x0C.
 // The expected step is decoded in this file from the raw pins delayed by the
@@ -7,7 +7,7 @@
 // exposed registers only tie the wrapper's model to the implementation so
 // that k-induction closes (p_sync, p_ctrl, p_flags are those invariants,
 // each one a documented fact).
-//! uses counter_bank 1 8
+//! uses counter_bank 1 28
 //! expose counter_bank/channels_0_counter_lo_q counter_bank/channels_0_counter_hi_q
 //! expose counter_bank/channels_0_counter_lo_max_q counter_bank/channels_0_counter_lo_nonzero_q
 //! expose counter_bank/channels_0_counter_mid_ones_q counter_bank/channels_0_counter_mid_zero_q
@@ -74,6 +74,8 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
   wire [3:0] a_cnt, b_cnt;
   wire a_prev_q, b_prev_q, idx_clr_q, armed_q, err_sat_q;
   wire [7:0] err_count_q;
+  // The count's width and its halves (docs "Implementation note").
+  localparam W = 28, L = W / 2, H = W - L;
 
   counter_bank uut(
     .clock(clock), .reset(reset), .a(a), .b(b), .z(z), .home(home), .addr(addr),
@@ -175,8 +177,8 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
     errq_m      <= illegal_m && en_m && !reset;
   end
 
-  // The live count (W = 8: halves of 4 bits).
-  wire [7:0] count = {hi_q[3:0], lo_q[3:0]};
+  // The live count: the high half over the low half.
+  wire [W-1:0] count = {hi_q[H-1:0], lo_q[L-1:0]};
   // A legal change other than a step in the previous clock: reset, CMD.CLEAR,
   // CMD.LOAD (both edges) and an index clear (index_clear_q).
   wire other_now = reset || cmd_clear || cmd_load || loadq_m || idx_clr_q;
@@ -189,8 +191,8 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
 
   // ---- read pipeline (docs "Register bus": data two edges after re) ------
   wire rd_snap = re && (addr == 8'h0A || addr == 8'h0B || addr == 8'h0C);
-  wire [31:0] rd_exp = addr == 8'h0A ? {{24{snap_count_q[7]}}, snap_count_q[7:0]}
-                     : addr == 8'h0B ? {{24{snap_index_q[7]}}, snap_index_q[7:0]}
+  wire [31:0] rd_exp = addr == 8'h0A ? {{(32-W){snap_count_q[W-1]}}, snap_count_q[W-1:0]}
+                     : addr == 8'h0B ? {{(32-W){snap_index_q[W-1]}}, snap_index_q[W-1:0]}
                      : snap_status_q;
   reg rv1 = 0, rv2 = 0;
   reg [31:0] rexp1 = 0, rexp2 = 0;
@@ -217,12 +219,12 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
     // describe what they summarise (docs "Implementation note"); the mid-bit
     // flags when the low bits are 01/10; halves hold no bits above W/2.
     if (past_valid)
-      p_flags: assert(lo_max_q == (lo_q[3:0] == 4'hf) && lo_nonzero_q == (lo_q[3:0] != 4'h0)
-                      && lo_q[31:4] == 0 && hi_q[31:4] == 0
+      p_flags: assert(lo_max_q == (&lo_q[L-1:0]) && lo_nonzero_q == (|lo_q[L-1:0])
+                      && lo_q[31:L] == 0 && hi_q[31:H] == 0
                       && ((lo_q[1:0] != 2'b01 && lo_q[1:0] != 2'b10)
-                          || (mid_ones_q == (lo_q[3:2] == 2'b11) && mid_zero_q == (lo_q[3:2] == 2'b00)))
-                      && preset_max_q == (preset_q[3:0] == 4'hf)
-                      && preset_nz_q == (preset_q[3:0] != 4'h0)
+                          || (mid_ones_q == (&lo_q[L-1:2]) && mid_zero_q == !(|lo_q[L-1:2])))
+                      && preset_max_q == (&preset_q[L-1:0])
+                      && preset_nz_q == (|preset_q[L-1:0])
                       && err_sat_q == (err_count_q == 8'hff));
   end
 
@@ -231,7 +233,8 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
     // before (registered in up_q/down_q, added at the next edge), unless
     // reset, CLEAR, LOAD or an index clear acted in the previous clock.
     if (filt_off && !other_p)
-      p_step: assert(count == $past(count) + {7'd0, $past(upq_m)} - {7'd0, $past(downq_m)});
+      p_step: assert(count == $past(count) + {{(W-1){1'b0}}, $past(upq_m)}
+                             - {{(W-1){1'b0}}, $past(downq_m)});
     // An illegal transition never moves the count.
     if (filt_off && !other_p && $past(illq_m))
       p_illegal_hold: assert(count == $past(count));
@@ -247,14 +250,14 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
                           : $past(err_count_q)));
     // The snapshot registers change only at SNAPSHOT (write or strobe) and
     // reset (to 0); COUNT/INDEX hold W-bit values.
-    p_snap_hold: assert(snap_count_q[31:8] == 0 && snap_index_q[31:8] == 0 && index_q[31:8] == 0
+    p_snap_hold: assert(snap_count_q[31:W] == 0 && snap_index_q[31:W] == 0 && index_q[31:W] == 0
                         && ($past(reset) ? (snap_count_q == 0 && snap_index_q == 0 && snap_status_q == 0)
                             : $past(snap_now) || (snap_count_q == $past(snap_count_q)
                                 && snap_index_q == $past(snap_index_q)
                                 && snap_status_q == $past(snap_status_q))));
     // SNAPSHOT captures count, index and status as they stood in its clock.
     if (!$past(reset) && $past(snap_now))
-      p_snap_capture: assert(snap_count_q == {24'd0, $past(count)} && snap_index_q == $past(index_q)
+      p_snap_capture: assert(snap_count_q == {{(32-W){1'b0}}, $past(count)} && snap_index_q == $past(index_q)
                              && snap_status_q == $past(status_m));
     // A read of COUNT / INDEX / STATUS returns, two edges later, the snapshot
     // register as it stood in the clock of re (COUNT, INDEX sign-extended).
@@ -267,19 +270,19 @@ module counter_bank_props(input clock, input reset, input [0:0] a, input [0:0] b
   always @(posedge clock) stepped_p <= upq_m || downq_m;
   wire stepped = filt_off && !other_p && stepped_p;
   always @(posedge clock) if (past_valid) begin
-    c_step_x4_up: cover(stepped && mode_m == 3'd0 && !rev_m && count == $past(count) + 8'd1);
-    c_step_x4_down: cover(stepped && mode_m == 3'd0 && !rev_m && count == $past(count) - 8'd1);
-    c_step_x4_reverse: cover(stepped && mode_m == 3'd0 && rev_m && count == $past(count) - 8'd1);
+    c_step_x4_up: cover(stepped && mode_m == 3'd0 && !rev_m && count == $past(count) + 1'b1);
+    c_step_x4_down: cover(stepped && mode_m == 3'd0 && !rev_m && count == $past(count) - 1'b1);
+    c_step_x4_reverse: cover(stepped && mode_m == 3'd0 && rev_m && count == $past(count) - 1'b1);
     c_step_x2: cover(stepped && mode_m == 3'd1);
     c_step_x1: cover(stepped && mode_m == 3'd2);
-    c_step_pulse_dir_up: cover(stepped && mode_m == 3'd3 && count == $past(count) + 8'd1);
-    c_step_pulse_dir_down: cover(stepped && mode_m == 3'd3 && count == $past(count) - 8'd1);
-    c_step_cw: cover(stepped && mode_m == 3'd4 && count == $past(count) + 8'd1);
-    c_step_ccw: cover(stepped && mode_m == 3'd4 && count == $past(count) - 8'd1);
+    c_step_pulse_dir_up: cover(stepped && mode_m == 3'd3 && count == $past(count) + 1'b1);
+    c_step_pulse_dir_down: cover(stepped && mode_m == 3'd3 && count == $past(count) - 1'b1);
+    c_step_cw: cover(stepped && mode_m == 3'd4 && count == $past(count) + 1'b1);
+    c_step_ccw: cover(stepped && mode_m == 3'd4 && count == $past(count) - 1'b1);
     c_illegal_err_en: cover(filt_off && !other_p && $past(illq_m) && $past(errq_m));
     c_err_set: cover(filt_off && error && !$past(error) && err_count_q == 8'd1);
     c_illegal_err_off: cover(filt_off && !other_p && $past(illq_noen_m) && !error);
-    c_load: cover(!$past(reset) && $past(loadq_m) && count == 8'h85);
+    c_load: cover(!$past(reset) && $past(loadq_m) && count == {{(W-8){1'b1}}, 8'h85});
     c_snapshot: cover(!$past(reset) && $past(snap_now) && snap_count_q != 0);
     c_read_count_negative: cover(rv2 && raddr2 == 8'h0A && rdata[31]);
     c_read_status_err: cover(rv2 && raddr2 == 8'h0C && rdata[0]);
