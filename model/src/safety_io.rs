@@ -413,6 +413,64 @@ mod tests {
         assert_eq!(b.drive_enable(), 0, "the drives stay off after a clear");
     }
 
+    /// A direction stop is the OR of its sources (the limit that way, an
+    /// alarm, HOME with HOME_STOP, the soft limit that way): with any two or
+    /// more set at once the axis still stops (a parity would free it).
+    #[test]
+    fn any_set_of_stop_sources_stops_the_axis() {
+        // Sources as bits: 1 limit, 2 alarm, 4 home with HOME_STOP, 8 soft.
+        let stops = |sources: u32, up: bool| {
+            let mut b = SafetyIo::new(2, 1);
+            let on = |bit: u32| u32::from(sources & bit != 0);
+            let inputs = SafetyInputs {
+                estop_ok: true,
+                machine: MachinePins {
+                    limit_pos: if up { on(1) } else { 0 },
+                    limit_neg: if up { 0 } else { on(1) },
+                    alarm: on(2),
+                    home: on(4),
+                    ..Default::default()
+                },
+                at_soft_max: if up { on(8) } else { 0 },
+                at_soft_min: if up { 0 } else { on(8) },
+                ..Default::default()
+            };
+            for (name, value) in [
+                ("LIMIT_POS_CTRL", 1),
+                ("LIMIT_NEG_CTRL", 1),
+                ("ALARM_CTRL", 1),
+                ("HOME_CTRL", 1),
+                ("HOME_STOP", 1),
+                ("SOFT_LIMIT_CTRL", 1 | 1 << 16),
+            ] {
+                b.clock(false, &write(name, value), &inputs);
+            }
+            // Two synchroniser edges and the filter's ticks, with room.
+            for _ in 0..50 {
+                b.clock(false, &BusCycle::default(), &inputs);
+            }
+            (b.stop_up() & 1 == 1, b.stop_down() & 1 == 1)
+        };
+        let mut cases = 0;
+        for up in [true, false] {
+            assert_eq!(stops(0, up), (false, false), "no source, up {up}");
+            for sources in 1..16 {
+                // The limit and the soft limit stop one way; the alarm
+                // and the home stop both ways.
+                let one_way = sources & 0b1001 != 0;
+                let both_ways = sources & 0b0110 != 0;
+                let expected = (both_ways || (one_way && up), both_ways || (one_way && !up));
+                assert_eq!(
+                    stops(sources, up),
+                    expected,
+                    "sources {sources:04b}, up {up}"
+                );
+                cases += 1;
+            }
+        }
+        assert_eq!(cases, 30);
+    }
+
     #[test]
     fn the_watchdog_bites_timeout_plus_one_edges_after_its_last_reload() {
         let mut b = SafetyIo::new(1, 1);
