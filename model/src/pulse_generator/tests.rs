@@ -220,3 +220,26 @@ fn reset_keeps_the_segment_slots() {
     }
     assert_eq!((e.probe().remaining, e.rate()), (9, 2));
 }
+
+/// The QUADRATURE output's Gray code: position mod 4 gives A/B = 00, 10,
+/// 11, 01, so each step up or down changes exactly one of them and A
+/// leads B going up.
+#[test]
+fn quadrature_is_the_gray_phase_of_the_position() {
+    let table = [(false, false), (true, false), (true, true), (false, true)];
+    for position in 0..16u32 {
+        assert_eq!(
+            pulse_bank::quadrature(position),
+            table[(position % 4) as usize],
+            "position {position}"
+        );
+        let (a, b) = pulse_bank::quadrature(position);
+        let (na, nb) = pulse_bank::quadrature(position.wrapping_add(1));
+        assert_eq!(
+            u8::from(a != na) + u8::from(b != nb),
+            1,
+            "one change, {position}"
+        );
+    }
+    assert_eq!(pulse_bank::quadrature(u32::MAX), (false, true));
+}
