@@ -8,6 +8,7 @@
 // that k-induction closes (p_sync, p_ctrl, p_flags are those invariants,
 // each one a documented fact).
 //! uses counter_bank 1 28
+//! in_top mcu_counters_ 1 28
 //! expose counter_bank/channels_0_counter_lo_q counter_bank/channels_0_counter_hi_q
 //! expose counter_bank/channels_0_counter_lo_max_q counter_bank/channels_0_counter_lo_nonzero_q
 //! expose counter_bank/channels_0_counter_mid_ones_q counter_bank/channels_0_counter_mid_zero_q

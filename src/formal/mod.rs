@@ -4,6 +4,7 @@
 //! generated files are read as they are; a proof sees an internal register
 //! only through yosys `expose`.
 
+pub mod in_top;
 pub mod sby;
 pub mod spec;
 
@@ -32,12 +33,25 @@ const FILES: [(&str, &str); 7] = [
     ),
 ];
 
-/// Every proof, read from its file's header.
+/// Every proof, read from its file's header, each with an `in_top` line
+/// followed by its copy on the block inside the top.
 pub fn proofs() -> Vec<ProofSpec> {
-    FILES
-        .iter()
-        .map(|(name, text)| spec::parse(name, text).unwrap_or_else(|e| panic!("{e}")))
-        .collect()
+    let mut all = Vec::new();
+    for (name, text) in FILES {
+        let spec = spec::parse(name, text).unwrap_or_else(|e| panic!("{e}"));
+        let in_top = spec.in_top.as_ref().map(|t| {
+            let text = |u: &Uses| module(u).unwrap_or_else(|e| panic!("{e}")).text;
+            let top = Uses {
+                module: "motion_controller".to_string(),
+                args: t.args.clone(),
+            };
+            in_top::derive(&spec, &text(&spec.uses[0]), &text(&top))
+                .unwrap_or_else(|e| panic!("{e}"))
+        });
+        all.push(spec);
+        all.extend(in_top);
+    }
+    all
 }
 
 /// The generated module a `uses` line names, built by the catalog.
@@ -65,12 +79,12 @@ pub fn module(uses: &Uses) -> Result<VerilogModule, String> {
 }
 
 /// The top a proof reads as `motion_controller <axes> <width>`: a 1 MHz
-/// clock with the 2 µs input filter (a filter tick of 2 clocks, as the
+/// clock with the 8 µs input filter (a filter tick of 2 clocks, as the
 /// safety block's own proof) and the external-RAM ISA build, so that the
 /// solver meets neither the 12 500-clock tick nor the 1 K × 16 RAM.
 fn proof_top(axes: u32, width: u32) -> Result<motionhdl_model::Config, String> {
     let config = motionhdl_model::Config::new(u64::from(axes), u64::from(width), 1_000_000)
-        .and_then(|c| c.with_input_filter_us(2))
+        .and_then(|c| c.with_input_filter_us(8))
         .map_err(|e| e.to_string())?;
     Ok(config.with_isa_ram(motionhdl_model::IsaRam::External))
 }
@@ -265,7 +279,9 @@ mod tests {
     #[test]
     fn every_proof_file_reads_and_names_modules_the_catalog_builds() {
         let all = proofs();
-        assert_eq!(all.len(), FILES.len());
+        let in_top = all.iter().filter(|p| p.name.ends_with("_in_top")).count();
+        assert_eq!(all.len(), FILES.len() + in_top);
+        assert!(in_top >= 1, "the counter bank's proof in the top");
         for p in &all {
             for u in &p.uses {
                 module(u).unwrap_or_else(|e| panic!("formal/{}.sv: {e}", p.name));

@@ -18,6 +18,15 @@ pub struct Break {
     pub to: String,
 }
 
+/// `//! in_top <prefix> <axes> <width>`: prove the file again on the block
+/// as `motion_controller <axes> <width>` instantiates it, where its names
+/// carry `prefix` (src/formal/in_top.rs).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InTop {
+    pub prefix: String,
+    pub args: Vec<u32>,
+}
+
 /// Everything a proof file says about itself.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProofSpec {
@@ -30,6 +39,7 @@ pub struct ProofSpec {
     /// Only under `motionhdl verify --long`.
     pub long: bool,
     pub breaks: Vec<Break>,
+    pub in_top: Option<InTop>,
     /// The `p_` labels of its assertions, in file order.
     pub properties: Vec<String>,
     /// The `c_` labels of its covers, in file order.
@@ -55,6 +65,7 @@ pub fn parse(name: &str, text: &str) -> Result<ProofSpec, String> {
         cover_depth: 0,
         long: false,
         breaks: Vec::new(),
+        in_top: None,
         properties: labels(text, "assert"),
         covers: labels(text, "cover"),
         text: text.to_string(),
@@ -104,6 +115,17 @@ pub fn parse(name: &str, text: &str) -> Result<ProofSpec, String> {
             "expose" => spec
                 .expose
                 .extend(rest.split_whitespace().map(String::from)),
+            "in_top" => {
+                let mut parts = rest.split_whitespace();
+                let prefix = parts.next().ok_or_else(|| at("in_top needs a prefix"))?;
+                let args = parts
+                    .map(|a| a.parse().map_err(|_| at("a top argument is a number")))
+                    .collect::<Result<_, _>>()?;
+                spec.in_top = Some(InTop {
+                    prefix: prefix.to_string(),
+                    args,
+                });
+            }
             "depth" => spec.depth = number("depth")?,
             "cover_depth" => spec.cover_depth = number("cover_depth")?,
             "long" => spec.long = true,
