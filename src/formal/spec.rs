@@ -100,31 +100,28 @@ pub fn parse(name: &str, text: &str) -> Result<ProofSpec, String> {
             rest.parse()
                 .map_err(|_| at(&format!("{what} takes a whole number")))
         };
+        // `<word> <name> <number>...`: the name and the numbers.
+        let named = |what: &str| -> Result<(String, Vec<u32>), String> {
+            let mut parts = rest.split_whitespace();
+            let name = parts
+                .next()
+                .ok_or_else(|| at(&format!("{word} needs {what}")))?;
+            let args = parts
+                .map(|a| a.parse().map_err(|_| at("an argument is a number")))
+                .collect::<Result<_, _>>()?;
+            Ok((name.to_string(), args))
+        };
         match word {
             "uses" => {
-                let mut parts = rest.split_whitespace();
-                let module = parts.next().ok_or_else(|| at("uses needs a module"))?;
-                let args = parts
-                    .map(|a| a.parse().map_err(|_| at("a module argument is a number")))
-                    .collect::<Result<_, _>>()?;
-                spec.uses.push(Uses {
-                    module: module.to_string(),
-                    args,
-                });
+                let (module, args) = named("a module")?;
+                spec.uses.push(Uses { module, args });
             }
             "expose" => spec
                 .expose
                 .extend(rest.split_whitespace().map(String::from)),
             "in_top" => {
-                let mut parts = rest.split_whitespace();
-                let prefix = parts.next().ok_or_else(|| at("in_top needs a prefix"))?;
-                let args = parts
-                    .map(|a| a.parse().map_err(|_| at("a top argument is a number")))
-                    .collect::<Result<_, _>>()?;
-                spec.in_top = Some(InTop {
-                    prefix: prefix.to_string(),
-                    args,
-                });
+                let (prefix, args) = named("a prefix")?;
+                spec.in_top = Some(InTop { prefix, args });
             }
             "depth" => spec.depth = number("depth")?,
             "cover_depth" => spec.cover_depth = number("cover_depth")?,
