@@ -88,3 +88,60 @@ impl AxisCauses {
         self.mask = bus.written(map, self.kind.mask, self.mask);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::regmap;
+
+    fn write(map: &Block, name: &str, data: u32) -> BusCycle {
+        BusCycle::write(map.register(name).offset, data)
+    }
+
+    /// Soft limits: a level cause per enabled axis and direction (CTRL
+    /// enables, taking effect the edge after its write), write-1-to-clear
+    /// that does not stick while the level persists, the IRQ through the
+    /// mask, and each register read back by name.
+    #[test]
+    fn soft_limit_causes_follow_ctrl_clear_and_mask() {
+        let map = regmap::safety_io(2);
+        let mut c = AxisCauses::new(2, SOFT_LIMITS);
+        let ctrl = 0b01 | 0b10 << 16;
+        c.clock(&map, &write(&map, "SOFT_LIMIT_CTRL", ctrl), 0b11, 0b11);
+        assert_eq!(c.cause, 0, "CTRL acts from the next edge");
+        c.clock(&map, &BusCycle::default(), 0b11, 0b11);
+        assert_eq!((c.stop_up(), c.stop_down()), (0b01, 0b10));
+        assert!(!c.irq_active(), "masked");
+        c.clock(&map, &write(&map, "SOFT_LIMIT_MASK", 0b10), 0b11, 0b11);
+        assert!(!c.irq_active(), "the mask covers no set cause");
+        c.clock(&map, &write(&map, "SOFT_LIMIT_MASK", 0b01), 0b11, 0b11);
+        assert!(c.irq_active());
+        assert_eq!(c.read("SOFT_LIMIT_CTRL"), Some(ctrl));
+        assert_eq!(c.read("SOFT_LIMIT_CAUSE"), Some(ctrl));
+        assert_eq!(c.read("SOFT_LIMIT_MASK"), Some(0b01));
+        assert_eq!(c.read("COUNTER_CAUSE"), None);
+        // The level persists: a clear does not stick.
+        c.clock(&map, &write(&map, "SOFT_LIMIT_CAUSE", 0b01), 0b11, 0b11);
+        assert_eq!(c.cause, ctrl);
+        // The levels gone: a clear of one bit clears that bit only.
+        c.clock(&map, &write(&map, "SOFT_LIMIT_CAUSE", 0b01), 0, 0);
+        assert_eq!(c.cause, 0b10 << 16);
+        assert!(!c.irq_active());
+    }
+
+    /// Counter events: a cause at each rise only, never a stop.
+    #[test]
+    fn counter_events_are_rises_and_never_stop() {
+        let map = regmap::safety_io(2);
+        let mut c = AxisCauses::new(2, COUNTER_EVENTS);
+        let idle = BusCycle::default();
+        c.clock(&map, &idle, 0b01, 0b10);
+        assert_eq!(c.cause, 0b01 | 0b10 << 16);
+        assert_eq!((c.stop_up(), c.stop_down()), (0, 0));
+        c.clock(&map, &write(&map, "COUNTER_CAUSE", c.cause), 0b01, 0b10);
+        assert_eq!(c.cause, 0, "cleared; a level that stays is no new event");
+        c.clock(&map, &idle, 0, 0);
+        c.clock(&map, &idle, 0b01, 0);
+        assert_eq!(c.cause, 0b01, "a new rise");
+    }
+}
