@@ -64,7 +64,8 @@ module motion_controller_props(input clock, input reset, input fsmc_ne_n, input 
     .mcu_pulses_ctrl_0_q(ctrl), .mcu_pulses_decel_0_q(decel));
 
   initial assume(reset);
-  // Reset held >= 4 clocks (docs/motion_controller.md, "Pins").
+  // Reset held >= 3 clocks: weaker than the documented >= 4
+  // (docs/motion_controller.md, "Pins"), so that case is covered.
   reg [2:0] age = 0;          // clocks since reset fell, saturating at 7
   reg [1:0] reset_len = 0;    // clocks reset has been high, saturating at 3
   // Histories, bit i = the value i + 1 clocks ago.

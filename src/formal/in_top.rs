@@ -9,7 +9,7 @@
 use super::spec::{InTop, ProofSpec, Uses};
 
 /// The top's module name and the catalog's `uses` name for it.
-const TOP: &str = "motion_controller";
+pub const TOP: &str = "motion_controller";
 
 /// The `(range, name)` of every `input` in a port list or module body.
 fn inputs(decls: &str) -> Vec<(String, String)> {
@@ -30,8 +30,13 @@ fn inputs(decls: &str) -> Vec<(String, String)> {
         .collect()
 }
 
+/// A character of a Verilog identifier.
+fn is_word(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
 fn is_identifier(s: &str) -> bool {
-    !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    !s.is_empty() && s.chars().all(is_word)
 }
 
 /// Every name the module declares (ports, regs, wires, localparams).
@@ -52,10 +57,7 @@ fn declared(module_text: &str) -> Vec<String> {
         if let Some(r) = rest.strip_prefix('[') {
             rest = r.split_once(']').map_or("", |(_, n)| n.trim_start());
         }
-        let name: String = rest
-            .chars()
-            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-            .collect();
+        let name: String = rest.chars().take_while(|c| is_word(*c)).collect();
         if !name.is_empty() {
             names.push(name);
         }
@@ -75,7 +77,7 @@ fn renamed(text: &str, names: &[String], prefix: &str) -> String {
         word.clear();
     };
     for c in text.chars() {
-        if c.is_ascii_alphanumeric() || c == '_' {
+        if is_word(c) {
             word.push(c);
         } else {
             flush(&mut word, &mut out);
@@ -86,16 +88,17 @@ fn renamed(text: &str, names: &[String], prefix: &str) -> String {
     out
 }
 
-/// The text between `open` (which must occur once) and the next `);`.
-fn span<'a>(text: &'a str, open: &str, what: &str) -> Result<(usize, &'a str), String> {
+/// Where the first `open` starts, the text between it and the next `);`,
+/// and where that `);` ends.
+fn span<'a>(text: &'a str, open: &str, what: &str) -> Result<(usize, &'a str, usize), String> {
     let at = text
         .find(open)
         .ok_or_else(|| format!("no `{open}` ({what})"))?;
-    let body = &text[at + open.len()..];
-    let end = body
+    let from = at + open.len();
+    let len = text[from..]
         .find(");")
         .ok_or_else(|| format!("`{open}` has no `);` ({what})"))?;
-    Ok((at, &body[..end]))
+    Ok((at, &text[from..from + len], from + len + 2))
 }
 
 /// `block` (a parsed proof with an `in_top` line) re-targeted at the top
@@ -106,9 +109,10 @@ pub fn derive(block: &ProofSpec, block_text: &str, top_text: &str) -> Result<Pro
     let module = &block.uses.first().ok_or("no uses line")?.module;
     let err = |e: String| format!("formal/{}.sv in the top: {e}", block.name);
     let text = &block.text;
-    let (port_at, ports) =
+    let (port_at, ports, body_start) =
         span(text, &format!("module {}(", block.top()), "the wrapper").map_err(err)?;
-    let (inst_at, inst) = span(text, &format!("  {module} uut("), "the instance").map_err(err)?;
+    let (inst_at, inst, inst_end) =
+        span(text, &format!("  {module} uut("), "the instance").map_err(err)?;
     let block_inputs: Vec<_> = inputs(ports)
         .into_iter()
         .filter(|(_, n)| n != "clock" && n != "reset")
@@ -119,7 +123,7 @@ pub fn derive(block: &ProofSpec, block_text: &str, top_text: &str) -> Result<Pro
         .lines()
         .filter(|l| l.contains("assume(") && !l.trim_start().starts_with("//"))
     {
-        let mut words = line.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'));
+        let mut words = line.split(|c: char| !is_word(c));
         if let Some(n) = words.find(|w| block_inputs.iter().any(|(_, n)| n == w)) {
             return Err(err(format!(
                 "an assumption reads the block input {n}: `{}`",
@@ -200,8 +204,6 @@ pub fn derive(block: &ProofSpec, block_text: &str, top_text: &str) -> Result<Pro
     }
     instance.push_str(");");
 
-    let body_start = port_at + format!("module {}(", block.top()).len() + ports.len() + 2;
-    let inst_end = inst_at + format!("  {module} uut(").len() + inst.len() + 2;
     let derived = format!(
         "{header}{module_line}{}{instance}{}",
         &text[body_start..inst_at],

@@ -42,7 +42,7 @@ pub fn proofs() -> Vec<ProofSpec> {
         let in_top = spec.in_top.as_ref().map(|t| {
             let text = |u: &Uses| module(u).unwrap_or_else(|e| panic!("{e}")).text;
             let top = Uses {
-                module: "motion_controller".to_string(),
+                module: in_top::TOP.to_string(),
                 args: t.args.clone(),
             };
             in_top::derive(&spec, &text(&spec.uses[0]), &text(&top))

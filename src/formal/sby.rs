@@ -69,8 +69,9 @@ pub fn sby_text(spec: &ProofSpec, files: &[String], mode: Mode) -> String {
     }
     match mode {
         Mode::Full => s.push_str(&format!(
-            "[options]\nprove: mode prove\nprove: depth {}\n",
-            spec.depth
+            "[options]\nprove: mode prove\nprove: depth {}\n\
+             cover: mode cover\ncover: depth {}\n",
+            spec.depth, spec.cover_depth
         )),
         // A broken copy must fail from reset: a bounded search as deep as
         // the covers go (they reach every antecedent), under the task name
@@ -79,12 +80,6 @@ pub fn sby_text(spec: &ProofSpec, files: &[String], mode: Mode) -> String {
             "[options]\nprove: mode bmc\nprove: depth {}\n",
             spec.depth.max(spec.cover_depth)
         )),
-    }
-    if mode == Mode::Full {
-        s.push_str(&format!(
-            "cover: mode cover\ncover: depth {}\n",
-            spec.cover_depth
-        ));
     }
     // Yices, not z3: z3 (4.8.12 and 5.4.1) found no answer in 400 s at
     // step 0 of the ISA bridge's base case, which Yices proves in 2 s.
