@@ -114,6 +114,9 @@ impl DigitalIo {
 }
 
 #[cfg(test)]
+mod contract_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -333,6 +333,11 @@ impl FsmcBridgeModel {
 }
 
 #[cfg(test)]
+mod cycle_tests;
+#[cfg(test)]
+mod transaction_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -499,6 +499,9 @@ impl IsaBridgeModel {
 }
 
 #[cfg(test)]
+mod contract_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

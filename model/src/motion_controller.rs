@@ -526,6 +526,9 @@ impl MotionControllerModel {
 }
 
 #[cfg(test)]
+mod wiring_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

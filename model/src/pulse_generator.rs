@@ -10,7 +10,11 @@
 //! state machine), `move_engine` (the segment FIFO) and `pulse_bank` (the
 //! axes behind the register bus); the axis itself is here.
 
+#[cfg(test)]
+mod axis_tests;
 mod move_engine;
+#[cfg(test)]
+mod move_tests;
 mod pulse_bank;
 mod step_timer;
 #[cfg(test)]

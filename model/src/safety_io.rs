@@ -370,6 +370,9 @@ impl SafetyIo {
 }
 
 #[cfg(test)]
+mod contract_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

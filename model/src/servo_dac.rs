@@ -401,3 +401,6 @@ impl ServoDac {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -369,3 +369,6 @@ impl PulseBank {
         self.stops_before = (stops.up, stops.down);
     }
 }
+
+#[cfg(test)]
+mod tests;
