@@ -247,7 +247,10 @@ fn limit_and_alarm_causes_are_levels_set_one_edge_after_acting() {
         let mut b = Bench::new(1);
         b.write(CTRL[kind], 0b010);
         set_pin(&mut b.pins, kind, 1, true);
+        let mut edges = 0;
         while b.reg(inputs) == 0 {
+            edges += 1;
+            assert!(edges < 1000, "the awaited input change never came");
             assert_eq!(b.reg(cause), 0, "{what}: before it acts");
             b.idle();
         }
@@ -257,7 +260,10 @@ fn limit_and_alarm_causes_are_levels_set_one_edge_after_acting() {
         b.write(cause, !0);
         assert_eq!(b.reg(cause), 1 << bit, "{what}: a clear while it acts");
         set_pin(&mut b.pins, kind, 1, false);
+        let mut edges = 0;
         while b.reg(inputs) != 0 {
+            edges += 1;
+            assert!(edges < 1000, "the awaited input change never came");
             b.write(cause, 1 << bit);
             assert_eq!(b.reg(cause), 1 << bit, "{what}: still acting");
         }
@@ -294,7 +300,10 @@ fn home_sets_its_cause_once_per_activation() {
     let mut b = Bench::new(1);
     b.write("HOME_CTRL", 0b101);
     b.pins.home = 0b100;
+    let mut edges = 0;
     while b.reg("HOME_ALARM_INPUTS") == 0 {
+        edges += 1;
+        assert!(edges < 1000, "the awaited input change never came");
         assert_eq!(b.m.home_event(), 0, "before it acts");
         b.idle();
     }
@@ -313,7 +322,10 @@ fn home_sets_its_cause_once_per_activation() {
     }
     // Axis 0 turns active too; then axis 2 again after a release.
     b.pins.home = 0b101;
+    let mut edges = 0;
     while b.m.home_event() == 0 {
+        edges += 1;
+        assert!(edges < 1000, "the awaited input change never came");
         b.idle();
     }
     assert_eq!(b.m.home_event(), 0b001);
@@ -324,7 +336,10 @@ fn home_sets_its_cause_once_per_activation() {
         b.idle();
     }
     b.pins.home = 0b101;
+    let mut edges = 0;
     while b.m.home_event() == 0 {
+        edges += 1;
+        assert!(edges < 1000, "the awaited input change never came");
         b.idle();
     }
     assert_eq!(b.m.home_event(), 0b100, "a new activation of axis 2");
