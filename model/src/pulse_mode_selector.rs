@@ -236,4 +236,21 @@ mod tests {
         r.clock(true, false, true, true);
         assert_eq!(r.outputs(), (false, false));
     }
+
+    /// The checks count steps on sampled pins with this: each low-to-high
+    /// step, the first sample counting as one after a low.
+    #[test]
+    fn rising_edges_counts_each_low_to_high_step() {
+        let cases: [(&[bool], usize); 6] = [
+            (&[], 0),
+            (&[true], 1),
+            (&[true, true, true], 1),
+            (&[false, false], 0),
+            (&[false, true, true, false, true], 2),
+            (&[true, false, true, false], 2),
+        ];
+        for (samples, edges) in cases {
+            assert_eq!(rising_edges(samples.iter().copied()), edges, "{samples:?}");
+        }
+    }
 }

@@ -273,6 +273,25 @@ fn from_pulses_reads_every_axis_done_and_low_and_the_soft_comparisons() {
     // After reset no move is done yet (DONE is sticky) and every FIFO is
     // empty, at its low mark.
     assert_eq!((inputs.done, inputs.low), (0, 0b111));
+    // Axis 1 done (a zero-step segment, consumed at its load), axis 0's
+    // FIFO above its low mark (two segments it does not run).
+    let mut pulses = pulses;
+    let map = crate::regmap::pulse_bank(AXES, 32);
+    let ax = |i: u32, name: &str| map.array("AX").address(i, name);
+    let mut script = vec![(ax(0, "SEG_PUSH"), 0), (ax(0, "SEG_PUSH"), 0)];
+    for name in ["SEG_STEPS", "SEG_RATE", "SEG_ACCEL", "SEG_JERK", "SEG_PUSH"] {
+        script.push((ax(1, name), 0));
+    }
+    script.push((ax(1, "CTRL"), 0b100));
+    script.push((map.register("RUN").offset, 0b010));
+    for (addr, value) in script {
+        pulses.clock(false, &BusCycle::write(addr, value), false);
+    }
+    for _ in 0..10 {
+        pulses.clock(false, &BusCycle::default(), false);
+    }
+    let inputs = SafetyInputs::from_pulses(true, pins, &pulses);
+    assert_eq!((inputs.done, inputs.low), (0b010, 0b110));
 }
 
 #[test]
@@ -328,4 +347,19 @@ fn reset_restores_every_register_and_keeps_the_filter_tick() {
     assert_eq!(b.dump(), Bench::new().dump(), "registers after reset");
     assert!(b.io.halted() && b.io.drive_enable() == 0);
     assert_eq!(b.io, SafetyIo::new(AXES, tick), "every flip-flop");
+}
+
+/// The block's GPO pins are its general-purpose outputs: push-pull, they
+/// drive GPO_VALUE once the card runs.
+#[test]
+fn the_gpo_pins_drive_gpo_value() {
+    let mut b = Bench::released();
+    b.write("GPO_VALUE", 0b1010);
+    assert_eq!(
+        b.io.gpo_pins(),
+        GpoPins {
+            out: 0b1010,
+            oe: 0xffff
+        }
+    );
 }
