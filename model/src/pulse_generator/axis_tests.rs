@@ -533,3 +533,25 @@ fn reset_returns_to_power_up() {
     t.set_state(saved);
     assert_eq!(t.state(), saved);
 }
+
+/// `emits` is the step S1 starts at an edge, with its direction: -1 down,
+/// +1 up, once per queued step.
+#[test]
+fn emits_gives_the_direction_of_the_step_it_starts() {
+    let ones = timing(1, 1, 1, 1);
+    let mut cases = 0;
+    for (request, sign) in [(Request::Down, -1), (Request::Up, 1)] {
+        let mut t = StepTimer::new(PENDING_BITS, TIMER_BITS);
+        t.clock(request, &ones);
+        let mut emitted = Vec::new();
+        for _ in 0..10 {
+            if t.emits() != 0 {
+                emitted.push(t.emits());
+            }
+            t.clock(Request::None, &ones);
+        }
+        assert_eq!(emitted, vec![sign], "{request:?}");
+        cases += 1;
+    }
+    assert_eq!(cases, 2);
+}
