@@ -326,3 +326,45 @@ fn reset_clears_what_the_spec_lists() {
         }
     );
 }
+
+/// The safety block's counter-event inputs (`flags`: STATUS.ERR and SEEN
+/// per channel, live) and HOME_COUNT: bit i of `home` captures channel i's
+/// count as it stands before the edge, and only channel i's.
+#[test]
+fn flags_and_home_count_are_per_channel() {
+    let mut r = BankRig::new(3, 28);
+    assert_eq!(r.bank.channels(), 3);
+    let x4 = ctrl_field("MODE", mode::X4);
+    r.write(r.ch(0, "CTRL"), x4 | ctrl_field("IDX_LATCH", 1));
+    r.write(r.ch(1, "CTRL"), x4 | ctrl_field("ERR_EN", 1));
+    r.write(r.ch(2, "CTRL"), x4 | ctrl_field("ERR_EN", 1));
+    // Channel 1 jumps 00 -> 11: an illegal transition.
+    r.pins[1] = (true, true, false);
+    r.idle(PIN_TO_COUNT);
+    assert_eq!(r.bank.flags(), (0b010, 0));
+    // Channel 0 sees its index.
+    r.pins[0] = (false, false, true);
+    r.idle(PIN_TO_COUNT);
+    r.pins[0] = (false, false, false);
+    r.idle(PIN_TO_COUNT);
+    assert_eq!(r.bank.flags(), (0b010, 0b001));
+    // Channel 2 counts three X4 steps up.
+    for p in [
+        (true, false, false),
+        (true, true, false),
+        (false, true, false),
+    ] {
+        r.pins[2] = p;
+        r.idle(PIN_TO_COUNT);
+    }
+    assert_eq!(r.bank.channel(2).state().count, 3);
+    let pins = r.pins.clone();
+    r.bank
+        .clock_homing(&pins, false, &BusCycle::default(), 0b100);
+    r.pins[2] = (false, false, false);
+    r.idle(PIN_TO_COUNT);
+    assert_eq!(r.bank.channel(2).state().count, 4);
+    for (i, kept) in [(0, 0), (1, 0), (2, 3)] {
+        assert_eq!(r.read(r.ch(i, "HOME_COUNT")), kept, "HOME_COUNT[{i}]");
+    }
+}
