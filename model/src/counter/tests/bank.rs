@@ -335,19 +335,20 @@ fn flags_and_home_count_are_per_channel() {
     let mut r = BankRig::new(3, 28);
     assert_eq!(r.bank.channels(), 3);
     let x4 = ctrl_field("MODE", mode::X4);
-    r.write(r.ch(0, "CTRL"), x4 | ctrl_field("IDX_LATCH", 1));
-    r.write(r.ch(1, "CTRL"), x4 | ctrl_field("ERR_EN", 1));
+    let idx = ctrl_field("IDX_LATCH", 1);
+    r.write(r.ch(0, "CTRL"), x4);
+    r.write(r.ch(1, "CTRL"), x4 | ctrl_field("ERR_EN", 1) | idx);
     r.write(r.ch(2, "CTRL"), x4 | ctrl_field("ERR_EN", 1));
     // Channel 1 jumps 00 -> 11: an illegal transition.
     r.pins[1] = (true, true, false);
     r.idle(PIN_TO_COUNT);
     assert_eq!(r.bank.flags(), (0b010, 0));
-    // Channel 0 sees its index.
-    r.pins[0] = (false, false, true);
+    // Channel 1 sees its index (a channel above 0: the bit's place shows).
+    r.pins[1] = (true, true, true);
     r.idle(PIN_TO_COUNT);
-    r.pins[0] = (false, false, false);
+    r.pins[1] = (true, true, false);
     r.idle(PIN_TO_COUNT);
-    assert_eq!(r.bank.flags(), (0b010, 0b001));
+    assert_eq!(r.bank.flags(), (0b010, 0b010));
     // Channel 2 counts three X4 steps up.
     for p in [
         (true, false, false),
