@@ -369,3 +369,22 @@ fn flags_and_home_count_are_per_channel() {
         assert_eq!(r.read(r.ch(i, "HOME_COUNT")), kept, "HOME_COUNT[{i}]");
     }
 }
+
+/// Reset drops a read in flight and takes none: `rdata` is 0 after it and
+/// holds until a read, whatever the address lines show.
+#[test]
+fn rdata_is_zero_after_reset_until_a_read() {
+    let mut r = BankRig::new(2, 28);
+    let info = r.reg("INFO");
+    let on_info = BusCycle {
+        addr: info,
+        ..Default::default()
+    };
+    assert_ne!(r.read(info), 0);
+    r.clock(true, on_info);
+    r.clock(true, on_info);
+    for _ in 0..3 {
+        r.clock(false, on_info);
+        assert_eq!(r.bank.rdata(), 0);
+    }
+}
