@@ -57,7 +57,7 @@ impl Bench {
         self.read_addr(self.offset(name))
     }
 
-    fn busy(&mut self) -> bool {
+    fn busy(&self) -> bool {
         self.dac.read_value(self.offset("STATUS")) & 1 == 1
     }
 
