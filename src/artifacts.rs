@@ -13,8 +13,28 @@ pub struct Artifact {
     pub contents: Vec<u8>,
 }
 
+/// Whether `generate` writes the scenario traces (`vcd/`): simulating the
+/// whole controller for them is most of its time, so `--no-traces` leaves
+/// them out for a quick regeneration of everything else.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Traces {
+    Write,
+    Leave,
+}
+
 /// Every generated file for `config`, in a fixed order.
 pub fn all(config: &Config) -> Vec<Artifact> {
+    with_traces(config, Traces::Write)
+}
+
+/// Every generated file but the traces (`generate --no-traces`), in the
+/// same order as [`all`].
+pub fn without_traces(config: &Config) -> Vec<Artifact> {
+    with_traces(config, Traces::Leave)
+}
+
+/// The generated files for `config`, with or without the traces.
+pub fn with_traces(config: &Config, traces_too: Traces) -> Vec<Artifact> {
     let mut out = Vec::new();
     let modules = catalog::all(config);
     for m in &modules {
@@ -23,7 +43,9 @@ pub fn all(config: &Config) -> Vec<Artifact> {
             contents: m.text.clone().into_bytes(),
         });
     }
-    out.extend(traces(config));
+    if traces_too == Traces::Write {
+        out.extend(traces(config));
+    }
     out.push(Artifact {
         path: PathBuf::from("include").join("motionhdl_config.h"),
         contents: config_header(config).into_bytes(),

@@ -55,6 +55,11 @@ enum Command {
         /// other file is kept as it is; refused where one is in the way.
         #[arg(long)]
         force: bool,
+        /// Leave out the scenario traces (vcd/): their simulation of the
+        /// whole controller is most of generate's time. The directory then
+        /// holds exactly the other files; a run without it writes them again.
+        #[arg(long)]
+        no_traces: bool,
     },
     /// Run the exhaustive model-vs-HDL checks and print covered/expected per check.
     ///
@@ -175,7 +180,12 @@ fn scenario_help() -> String {
 
 fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Generate { out, config, force } => {
+        Command::Generate {
+            out,
+            config,
+            force,
+            no_traces,
+        } => {
             let options = generated_dir::Options {
                 force,
                 config: config.as_deref(),
@@ -183,7 +193,12 @@ fn run(cli: Cli) -> Result<(), CliError> {
             let config = config_file::load(config.as_deref())?;
             // Refused before the work, so a wrong --out costs no time.
             generated_dir::check(&out, options)?;
-            let files: Vec<(PathBuf, Vec<u8>)> = artifacts::all(&config)
+            let traces = if no_traces {
+                artifacts::Traces::Leave
+            } else {
+                artifacts::Traces::Write
+            };
+            let files: Vec<(PathBuf, Vec<u8>)> = artifacts::with_traces(&config, traces)
                 .into_iter()
                 .map(|a| (a.path, a.contents))
                 .collect();

@@ -68,7 +68,7 @@ fn one_axis_core_lints_and_synthesises_to_a_bitstream() {
     std::fs::write(&config, "axes = 1\n").unwrap();
     let cores = dir.path().join("generated");
     let (ok, out, err) = run(Command::new(env!("CARGO_BIN_EXE_motionhdl"))
-        .args(["generate", "--config"])
+        .args(["generate", "--no-traces", "--config"])
         .arg(&config)
         .arg("--out")
         .arg(&cores));

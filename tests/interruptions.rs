@@ -6,7 +6,7 @@
 mod common;
 
 use common::fs_state::{
-    self, assert_refused, command, expected_output, finish, names, put, run, tree,
+    self, assert_refused, command, expected_quick_output, finish, names, put, run, tree,
 };
 use std::collections::BTreeMap;
 use std::fs;
@@ -35,7 +35,14 @@ fn old_output() -> tempfile::TempDir {
         fs::write(t.path().join("two.toml"), "axes = 2\n").unwrap();
         let o = run(
             t.path(),
-            &["generate", "--out", "gen", "--config", "two.toml"],
+            &[
+                "generate",
+                "--no-traces",
+                "--out",
+                "gen",
+                "--config",
+                "two.toml",
+            ],
         );
         assert!(o.status.success(), "{}", fs_state::stderr(&o));
         let files = tree(t.path());
@@ -55,14 +62,17 @@ fn old_output() -> tempfile::TempDir {
 }
 
 fn generate_with_hook(dir: &Path, hook: &str) -> Output {
-    let mut c = command(dir, &["generate", "--out", "gen"]);
+    let mut c = command(dir, &["generate", "--no-traces", "--out", "gen"]);
     c.env("MOTIONHDL_TEST_HOOK", hook);
     finish(c)
 }
 
 #[test]
 fn a_signal_at_any_step_leaves_the_old_or_the_new_output_and_nothing_else() {
-    let (old, new) = (expected_output("axes = 2\n"), expected_output(""));
+    let (old, new) = (
+        expected_quick_output("axes = 2\n"),
+        expected_quick_output(""),
+    );
     let mut cases = 0;
     for (i, step) in STEPS.iter().enumerate() {
         for (action, code, name) in [("sigint", 130, "SIGINT"), ("sigterm", 143, "SIGTERM")] {
@@ -93,7 +103,10 @@ fn a_signal_at_any_step_leaves_the_old_or_the_new_output_and_nothing_else() {
 
 #[test]
 fn a_kill_at_any_step_leaves_a_whole_output_and_the_next_run_sweeps_up() {
-    let (old, new) = (expected_output("axes = 2\n"), expected_output(""));
+    let (old, new) = (
+        expected_quick_output("axes = 2\n"),
+        expected_quick_output(""),
+    );
     for (i, step) in STEPS.iter().enumerate() {
         let t = old_output();
         let o = generate_with_hook(t.path(), &format!("{step}=sigkill"));
@@ -122,7 +135,7 @@ fn a_kill_at_any_step_leaves_a_whole_output_and_the_next_run_sweeps_up() {
                 (&format!(".gen.old-{dead}/y"), "y"),
             ],
         );
-        let o = run(t.path(), &["generate", "--out", "gen"]);
+        let o = run(t.path(), &["generate", "--no-traces", "--out", "gen"]);
         assert_eq!(o.status.code(), Some(0), "{step}: {}", fs_state::stderr(&o));
         assert_eq!(tree(&t.path().join("gen")), new, "{step}");
         assert_eq!(names(t.path()), ["gen", "two.toml"], "{step}: not swept");
@@ -134,7 +147,7 @@ fn a_staging_name_of_a_live_old_style_run_is_left_alone() {
     let t = tempfile::tempdir().unwrap();
     let me = std::process::id();
     put(t.path(), &[(&format!(".gen.tmp-{me}/x.v"), "x")]);
-    assert!(run(t.path(), &["generate", "--out", "gen"])
+    assert!(run(t.path(), &["generate", "--no-traces", "--out", "gen"])
         .status
         .success());
     assert_eq!(names(t.path()), [format!(".gen.tmp-{me}"), "gen".into()]);

@@ -33,12 +33,12 @@ fn default_table_has_the_registers_the_issue_describes() {
 #[test]
 fn generate_writes_the_regmap_exports() {
     let config = Config::default();
-    let all = artifacts::all(&config);
+    let all = artifacts::without_traces(&config);
     for a in artifacts::regmap_exports(&config) {
         let in_all = all
             .iter()
             .find(|x| x.path == a.path)
-            .unwrap_or_else(|| panic!("{} not in artifacts::all", a.path.display()));
+            .unwrap_or_else(|| panic!("{} not in the generated files", a.path.display()));
         assert!(in_all.contents == a.contents, "{}", a.path.display());
     }
 }

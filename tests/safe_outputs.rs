@@ -3,7 +3,10 @@
 
 mod common;
 
-use common::fs_state::{self, assert_refused, expected_output, inode, names, put, run, tree, Node};
+use common::fs_state::{
+    self, assert_refused, expected_output, expected_quick_output, inode, names, put, run, tree,
+    Node,
+};
 use std::fs;
 
 #[test]
@@ -14,7 +17,7 @@ fn a_directory_of_foreign_files_is_refused_and_untouched() {
         &[("mine/a.txt", "mine"), ("mine/sub/b.txt", "also mine")],
     );
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "mine"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "mine"]);
     assert_refused(
         &o,
         2,
@@ -46,11 +49,11 @@ fn the_current_directory_and_what_holds_it_are_refused() {
         ("src/..", "it is the current directory"),
         ("..", "it holds the current directory"),
     ] {
-        let o = run(&project, &["generate", "--out", out]);
+        let o = run(&project, &["generate", "--no-traces", "--out", out]);
         assert_refused(&o, 2, &[&format!("refusing to write into {out}"), why]);
         assert_eq!(tree(t.path()), before, "--out {out}");
     }
-    let o = run(&project, &["generate", "--out", "nope/.."]);
+    let o = run(&project, &["generate", "--no-traces", "--out", "nope/.."]);
     assert_refused(&o, 2, &["`..` after a directory that does not exist"]);
     assert_eq!(tree(t.path()), before);
 }
@@ -67,7 +70,7 @@ fn home_and_root_are_refused() {
         (home.to_str().unwrap(), "it is your home directory"),
         ("/", "it is the root directory"),
     ] {
-        let mut c = fs_state::command(&work, &["generate", "--out", out]);
+        let mut c = fs_state::command(&work, &["generate", "--no-traces", "--out", out]);
         c.env("HOME", &home);
         let o = fs_state::finish(c);
         assert_refused(&o, 2, &[why]);
@@ -88,10 +91,13 @@ fn a_repository_root_and_the_config_files_directory_are_refused() {
         &[("repo/.git/HEAD", "x\n"), ("conf/c.toml", "axes = 2\n")],
     );
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "repo"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "repo"]);
     assert_refused(&o, 2, &["it is the root of a repository (it has .git)"]);
     // --force keeps foreign files, but these two are refused even so.
-    let o = run(t.path(), &["generate", "--out", "repo", "--force"]);
+    let o = run(
+        t.path(),
+        &["generate", "--no-traces", "--out", "repo", "--force"],
+    );
     assert_refused(&o, 2, &["repository"]);
     let o = run(
         t.path(),
@@ -113,7 +119,7 @@ fn an_existing_file_as_the_output_directory_is_refused_untouched() {
     let t = tempfile::tempdir().unwrap();
     put(t.path(), &[("notes", "my notes\n")]);
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "notes"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "notes"]);
     assert_refused(
         &o,
         2,
@@ -122,17 +128,32 @@ fn an_existing_file_as_the_output_directory_is_refused_untouched() {
     assert_eq!(tree(t.path()), before);
 }
 
+/// The whole output (traces too), replaced by another configuration's
+/// output without traces, then by the whole one again: each time exactly
+/// what that run writes, so `vcd/` goes and comes back whole.
 #[test]
 fn generate_replaces_its_own_output_exactly_and_leaves_nothing_beside_it() {
     let t = tempfile::tempdir().unwrap();
     let cfg = t.path().join("two.toml");
     fs::write(&cfg, "axes = 2\n").unwrap();
+    let o = run(t.path(), &["generate", "--out", "gen"]);
+    assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
+    assert_eq!(tree(&t.path().join("gen")), expected_output(""));
     let o = run(
         t.path(),
-        &["generate", "--out", "gen", "--config", "two.toml"],
+        &[
+            "generate",
+            "--no-traces",
+            "--out",
+            "gen",
+            "--config",
+            "two.toml",
+        ],
     );
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
-    assert_eq!(tree(&t.path().join("gen")), expected_output("axes = 2\n"));
+    let quick = expected_quick_output("axes = 2\n");
+    assert!(!quick.keys().any(|p| p.starts_with("vcd")), "no trace");
+    assert_eq!(tree(&t.path().join("gen")), quick);
     let o = run(t.path(), &["generate", "--out", "gen"]);
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
     assert_eq!(tree(&t.path().join("gen")), expected_output(""));
@@ -142,28 +163,31 @@ fn generate_replaces_its_own_output_exactly_and_leaves_nothing_beside_it() {
 #[test]
 fn an_edited_output_file_is_refused_without_force_and_replaced_with_it() {
     let t = tempfile::tempdir().unwrap();
-    assert!(run(t.path(), &["generate", "--out", "gen"])
+    assert!(run(t.path(), &["generate", "--no-traces", "--out", "gen"])
         .status
         .success());
     let edited = t.path().join("gen/verilog/ls153.v");
     fs::write(&edited, "// my fix\n").unwrap();
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "gen"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "gen"]);
     assert_refused(
         &o,
         2,
         &["verilog/ls153.v was changed since motionhdl wrote it"],
     );
     assert_eq!(tree(t.path()), before);
-    let o = run(t.path(), &["generate", "--out", "gen", "--force"]);
+    let o = run(
+        t.path(),
+        &["generate", "--no-traces", "--out", "gen", "--force"],
+    );
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
-    assert_eq!(tree(&t.path().join("gen")), expected_output(""));
+    assert_eq!(tree(&t.path().join("gen")), expected_quick_output(""));
 }
 
 #[test]
 fn force_keeps_every_foreign_file_as_the_same_file() {
     let t = tempfile::tempdir().unwrap();
-    assert!(run(t.path(), &["generate", "--out", "gen"])
+    assert!(run(t.path(), &["generate", "--no-traces", "--out", "gen"])
         .status
         .success());
     let gen = t.path().join("gen");
@@ -180,11 +204,14 @@ fn force_keeps_every_foreign_file_as_the_same_file() {
         inode(&gen.join("notes.txt")),
         inode(&gen.join("verilog/my_top.v")),
     );
-    let o = run(t.path(), &["generate", "--out", "gen", "--force"]);
+    let o = run(
+        t.path(),
+        &["generate", "--no-traces", "--out", "gen", "--force"],
+    );
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
     assert!(fs_state::stderr(&o).is_empty());
     assert!(String::from_utf8_lossy(&o.stdout).contains("kept 4 file(s) motionhdl did not write"));
-    let mut want = expected_output("");
+    let mut want = expected_quick_output("");
     want.insert("notes.txt".into(), Node::File(b"mine".to_vec()));
     want.insert(
         "verilog/my_top.v".into(),
@@ -214,14 +241,20 @@ fn force_never_replaces_a_foreign_file_standing_where_it_writes() {
         ],
     );
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "gen", "--force"]);
+    let o = run(
+        t.path(),
+        &["generate", "--no-traces", "--out", "gen", "--force"],
+    );
     assert_refused(&o, 2, &["REGISTERS.md: the file there is not motionhdl's"]);
     assert_eq!(tree(t.path()), before);
     // A foreign file where a directory of the output goes.
     fs::remove_file(t.path().join("gen/REGISTERS.md")).unwrap();
     put(t.path(), &[("gen/verilog", "not a directory")]);
     let before = tree(t.path());
-    let o = run(t.path(), &["generate", "--out", "gen", "--force"]);
+    let o = run(
+        t.path(),
+        &["generate", "--no-traces", "--out", "gen", "--force"],
+    );
     assert_refused(&o, 2, &["gen/verilog: the file there is not motionhdl's"]);
     assert_eq!(tree(t.path()), before);
 }
@@ -229,7 +262,7 @@ fn force_never_replaces_a_foreign_file_standing_where_it_writes() {
 #[test]
 fn output_from_before_the_manifest_is_recognised_by_its_banner() {
     let t = tempfile::tempdir().unwrap();
-    assert!(run(t.path(), &["generate", "--out", "gen"])
+    assert!(run(t.path(), &["generate", "--no-traces", "--out", "gen"])
         .status
         .success());
     let gen = t.path().join("gen");
@@ -242,13 +275,13 @@ fn output_from_before_the_manifest_is_recognised_by_its_banner() {
             "// Generated by motionhdl 0.0.9 — do not edit\n",
         )],
     );
-    let o = run(t.path(), &["generate", "--out", "gen"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "gen"]);
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
-    assert_eq!(tree(&gen), expected_output(""));
+    assert_eq!(tree(&gen), expected_quick_output(""));
     // Without the banner the same file is the user's.
     fs::remove_file(gen.join("MANIFEST.sha256")).unwrap();
     put(&gen, &[("verilog/old_block.v", "// my block\n")]);
-    let o = run(t.path(), &["generate", "--out", "gen"]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", "gen"]);
     assert_refused(&o, 2, &["(first: verilog/old_block.v)"]);
 }
 
@@ -259,10 +292,10 @@ fn an_empty_directory_is_filled_keeping_its_permissions() {
     let gen = t.path().join("gen");
     fs::create_dir(&gen).unwrap();
     fs::set_permissions(&gen, fs::Permissions::from_mode(0o750)).unwrap();
-    assert!(run(t.path(), &["generate", "--out", "gen"])
+    assert!(run(t.path(), &["generate", "--no-traces", "--out", "gen"])
         .status
         .success());
-    assert_eq!(tree(&gen), expected_output(""));
+    assert_eq!(tree(&gen), expected_quick_output(""));
     assert_eq!(
         fs::metadata(&gen).unwrap().permissions().mode() & 0o777,
         0o750
@@ -273,9 +306,9 @@ fn an_empty_directory_is_filled_keeping_its_permissions() {
 fn a_name_of_250_characters_works_for_generate_and_trace() {
     let t = tempfile::tempdir().unwrap();
     let long = "g".repeat(250);
-    let o = run(t.path(), &["generate", "--out", &long]);
+    let o = run(t.path(), &["generate", "--no-traces", "--out", &long]);
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));
-    assert_eq!(tree(&t.path().join(&long)), expected_output(""));
+    assert_eq!(tree(&t.path().join(&long)), expected_quick_output(""));
     let vcd = format!("{}.vcd", "t".repeat(246));
     let o = run(t.path(), &["trace", "pulse_mode_selector", "--out", &vcd]);
     assert_eq!(o.status.code(), Some(0), "{}", fs_state::stderr(&o));

@@ -123,7 +123,18 @@ pub fn inode(path: &Path) -> u64 {
 /// The tree `motionhdl generate` writes for a configuration file's text
 /// (`""` for the default), computed in this process.
 pub fn expected_output(config_text: &str) -> BTreeMap<String, Node> {
-    let files: Vec<(PathBuf, Vec<u8>)> = super::artifacts_for(config_text)
+    tree_of(super::artifacts_for(config_text))
+}
+
+/// The tree `generate --no-traces` leaves for `config_text`: every file
+/// but `vcd/`, and the manifest listing them.
+pub fn expected_quick_output(config_text: &str) -> BTreeMap<String, Node> {
+    tree_of(super::artifacts_without_traces(config_text))
+}
+
+/// The tree `generate` writes for `artifacts`, manifest included.
+fn tree_of(artifacts: &[motionhdl::artifacts::Artifact]) -> BTreeMap<String, Node> {
+    let files: Vec<(PathBuf, Vec<u8>)> = artifacts
         .iter()
         .map(|a| (a.path.clone(), a.contents.clone()))
         .collect();

@@ -11,7 +11,7 @@ pub mod fs_state;
 pub mod isa;
 pub mod regmap;
 
-use motionhdl::artifacts::{self, Artifact};
+use motionhdl::artifacts::{self, Artifact, Traces};
 use std::collections::HashMap;
 use std::process::Command;
 use std::sync::{Mutex, OnceLock};
@@ -20,12 +20,23 @@ use std::sync::{Mutex, OnceLock};
 /// computed once per test binary: `generate`'s whole output takes seconds
 /// (the whole-controller traces), and the tests only read it.
 pub fn artifacts_for(config_text: &str) -> &'static [Artifact] {
-    static DONE: OnceLock<Mutex<HashMap<String, &'static [Artifact]>>> = OnceLock::new();
+    cached(config_text, Traces::Write)
+}
+
+/// `artifacts::without_traces` for `config_text`, once per test binary.
+pub fn artifacts_without_traces(config_text: &str) -> &'static [Artifact] {
+    cached(config_text, Traces::Leave)
+}
+
+fn cached(config_text: &str, traces: Traces) -> &'static [Artifact] {
+    type Done = HashMap<(String, Traces), &'static [Artifact]>;
+    static DONE: OnceLock<Mutex<Done>> = OnceLock::new();
     let mut done = DONE.get_or_init(Default::default).lock().unwrap();
-    done.entry(config_text.to_string()).or_insert_with(|| {
-        let config = motionhdl::config_file::parse(config_text, "test").unwrap();
-        Box::leak(artifacts::all(&config).into_boxed_slice())
-    })
+    done.entry((config_text.to_string(), traces))
+        .or_insert_with(|| {
+            let config = motionhdl::config_file::parse(config_text, "test").unwrap();
+            Box::leak(artifacts::with_traces(&config, traces).into_boxed_slice())
+        })
 }
 
 /// Runs `cmd` to completion: (exit status was success, stdout, stderr).
