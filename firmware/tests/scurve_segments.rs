@@ -185,7 +185,9 @@ fn limits() -> impl Strategy<Value = EngineLimits> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    // 16 random moves (each up to 2·10^7 model clocks): 48 took 162 s of
+    // CI; the fixed long move below covers the 20 000-step cruise.
+    #![proptest_config(ProptestConfig::with_cases(16))]
 
     #[test]
     fn scurves_land_exactly_within_one_step_of_the_plan(
