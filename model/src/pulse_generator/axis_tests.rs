@@ -207,6 +207,28 @@ fn a_full_queue_holds_the_nco_and_drops_no_step() {
     }
 }
 
+/// Rate 0 commands nothing and counts as the up direction (its sign bit
+/// is 0): it is held, so a ramp through it waits, only while the queue is
+/// full of up steps, never while it is full of down steps.
+#[test]
+fn rate_zero_is_held_only_by_a_full_up_queue() {
+    for rate in [i32::MAX, i32::MIN] {
+        let mut g = PulseGenerator::new();
+        let slow = running(rate, timing(u32::from(u16::MAX), 1, 1, 1));
+        for _ in 0..70_000 {
+            g.clock(&slow, false);
+        }
+        let pending = g.timer.state().pending;
+        assert!(pending.abs() >= 32766, "rate {rate}: pending {pending}");
+        let zero = running(0, slow.timing);
+        assert_eq!(
+            g.request(&zero),
+            (Request::None, rate > 0),
+            "rate 0 with pending {pending}"
+        );
+    }
+}
+
 /// The narrow instances of the exhaustive check and the gateware's: a
 /// signed `pending_bits` queue refuses a request past ±(2^(bits−1) − 1) and
 /// has no room for one decided a clock ahead within one step of it; the

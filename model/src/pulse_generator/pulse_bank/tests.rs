@@ -445,3 +445,26 @@ fn clock_is_an_edge_without_stops() {
     }
     assert!(steps > 50, "{steps}");
 }
+
+/// Reset empties the FIFO but not its RAM (docs/pulse_generator.md: "reset
+/// clears the FIFO's pointers and flags, not the RAM"): a bare SEG_PUSH
+/// after a reset queues the words written before it.
+#[test]
+fn reset_keeps_the_segment_words() {
+    let mut b = Bench::new();
+    b.write(0, "SEG_STEPS", 7);
+    b.write(0, "SEG_RATE", STEP_EVERY_4);
+    b.write(0, "SEG_ACCEL", 0);
+    b.write(0, "SEG_JERK", 0);
+    b.write(0, "SEG_PUSH", 0);
+    let level = |b: &Bench| b.status(0) >> 20 & 0x7f;
+    assert_eq!(level(&b), 1);
+    let stops = b.stops;
+    b.bank
+        .clock_stopping(true, &BusCycle::default(), false, &stops);
+    assert_eq!(level(&b), 0, "reset empties the FIFO");
+    b.write(0, "SEG_PUSH", 0);
+    b.start(0, 0b100, 0);
+    b.idle(200);
+    assert_eq!(b.position(0), 7, "the slot kept SEG_STEPS and SEG_RATE");
+}
