@@ -63,6 +63,25 @@ fn x2_and_x1_count_two_and_one_per_cycle() {
     assert_eq!(r.count(), -1);
 }
 
+/// X2 counts the transitions that change A, and only those: in the
+/// forward cycle 00 → 10 → 11 → 01 → 00 the first and the third.
+#[test]
+fn x2_counts_on_the_edges_of_a() {
+    let mut r = Rig::new(28, ctrl_field("MODE", mode::X2));
+    let mut counts = Vec::new();
+    for &ab in &FWD {
+        r.walk(&[ab]);
+        counts.push(r.count());
+    }
+    assert_eq!(counts, vec![1, 1, 2, 2]);
+    let mut counts = Vec::new();
+    for &ab in &BWD {
+        r.walk(&[ab]);
+        counts.push(r.count());
+    }
+    assert_eq!(counts, vec![2, 1, 1, 0], "backward: 00 → 01 → 11 → 10 → 00");
+}
+
 #[test]
 fn x4_x2_x1_agree_on_position() {
     let mut path = cycles(&FWD, 3);
@@ -228,6 +247,19 @@ fn up_q_reaches_count_one_clock_later() {
     ch.clock(&ChannelInputs::default());
     assert!(!ch.state().up_q);
     assert_eq!(ch.state().count, 1);
+    // 00 -> 01 is backward: down_q, and the count falls back to 0.
+    let mut s = ChannelState::default();
+    s.fb.level = true;
+    ch.set_state(s);
+    assert_eq!(ch.step(&ChannelInputs::default()), (false, true));
+    ch.clock(&ChannelInputs::default());
+    assert!(ch.state().down_q);
+    ch.set_state(ChannelState::default());
+    assert_eq!(
+        ch.step(&ChannelInputs::default()),
+        (false, false),
+        "no move"
+    );
 }
 
 #[test]

@@ -230,3 +230,39 @@ fn command_and_index_priorities() {
         "index clear beats the load's second edge"
     );
 }
+
+/// STATUS packs every field at once: ERR, ARMED, SEEN and the three pin
+/// levels all set, and ERR_COUNT, read in one word.
+#[test]
+fn status_holds_every_field_together() {
+    let ctrl = ctrl_field("MODE", regmap::mode::X4)
+        | ctrl_field("ERR_EN", 1)
+        | ctrl_field("IDX_ONESHOT", 1);
+    let mut r = Rig::at(28, 8, ctrl, (false, false, false));
+    r.walk(&[(true, true)]);
+    r.z(true);
+    r.cmd("ARM");
+    assert!(r.ch.state().armed, "Z stayed high: no new event");
+    let s = r.ch.status();
+    for (name, want) in [
+        ("ERR", 1),
+        ("ARMED", 1),
+        ("SEEN", 1),
+        ("A", 1),
+        ("B", 1),
+        ("Z", 1),
+        ("ERR_COUNT", 1),
+    ] {
+        assert_eq!(status_field(name, s), want, "{name} in {s:#x}");
+    }
+}
+
+/// A build without the index logic has no INDEX register.
+#[test]
+#[should_panic(expected = "channel has no register INDEX")]
+fn index_is_not_a_register_without_the_index_logic() {
+    let features = CounterFeatures::from_bits(0);
+    assert!(!features.index);
+    let ch = Channel::new(CounterParams::new(28, 8).with_features(features));
+    ch.read("INDEX");
+}

@@ -227,6 +227,17 @@ fn position_waits_for_the_snapshot_and_home_captures_live() {
     assert_eq!(b.read(0, "HOME_POSITION"), sign_extend(live, WIDTH));
     assert_eq!(b.read(1, "HOME_POSITION"), 0);
     assert!(b.position(0) > at_snapshot);
+    // Axis 2's home input captures axis 2, and only it.
+    b.start(2, 0, STEP_EVERY_4.wrapping_neg());
+    b.idle(100);
+    let live = crate::counter::wrap(b.bank.generator(2).position, WIDTH);
+    assert!(sign_extend(live, WIDTH) as i32 <= -15);
+    let home_0 = b.read(0, "HOME_POSITION");
+    b.stops.home = 0b100;
+    b.idle(1);
+    b.stops.home = 0;
+    assert_eq!(b.read(2, "HOME_POSITION"), sign_extend(live, WIDTH));
+    assert_eq!(b.read(0, "HOME_POSITION"), home_0);
 }
 
 /// HALT stops every axis: RUN cleared (a write of it ignored while HALT
@@ -375,45 +386,75 @@ fn status_follows_the_fifo_and_the_move() {
 #[test]
 fn decel_brakes_a_direction_stop_and_halt_is_instant() {
     let (rate, decel) = (STEP_EVERY_4 >> 4, 1 << 30);
-    for (halt, decel) in [(false, decel), (false, 0), (true, decel)] {
-        let mut b = Bench::new();
-        b.write(0, "DECEL", decel);
-        b.start(0, 0, rate);
-        b.idle(200);
-        let before = b.position(0);
-        if halt {
-            b.stops.halt = true;
-        } else {
-            b.stops.up = 1;
-        }
-        let mut rates = Vec::new();
-        for _ in 0..6000 {
-            b.idle(1);
-            if b.status(0) >> 28 & 1 == 1 {
-                rates.push(b.bank.nco_rate(0));
+    let cases = [(false, decel), (false, 0), (true, decel)];
+    for axis in [0u32, 2] {
+        for down in [false, true] {
+            for (halt, decel) in cases {
+                let case = format!("axis {axis} down {down} halt {halt} DECEL {decel:#x}");
+                brake_case(axis, down, halt, rate, decel, &case);
             }
         }
-        let case = format!("halt {halt} DECEL {decel:#x}");
-        assert_eq!(b.read_addr(1), 0, "{case}: RUN cleared");
-        assert!(
-            rates.windows(2).all(|w| w[1] <= w[0] && w[1] >= 0),
-            "{case}"
-        );
-        let after = b.position(0);
-        b.idle(1000);
-        assert_eq!(b.position(0), after, "{case}: stopped");
-        if decel != 0 && !halt {
-            assert!(rates.len() > 1000, "{case}: braked {} clocks", rates.len());
-            assert!(
-                rates[0] <= rate as i32 && rates[0] > rate as i32 / 2,
-                "{case}"
-            );
-            assert!(after - before >= 10, "{case}: {before}..{after}");
-        } else {
-            assert!(rates.is_empty(), "{case}");
-            assert!(after - before <= 3, "{case}: {before}..{after}");
+    }
+}
+
+/// One case of the test above, heading up (or down with `down`).
+fn brake_case(axis: u32, down: bool, halt: bool, rate: u32, decel: u32, case: &str) {
+    let sign = if down { -1 } else { 1 };
+    let mut b = Bench::new();
+    b.write(axis, "DECEL", decel);
+    b.start(axis, 0, (sign * rate as i32) as u32);
+    b.idle(200);
+    let before = b.position(axis);
+    match (halt, down) {
+        (true, _) => b.stops.halt = true,
+        (false, false) => b.stops.up = 1 << axis,
+        (false, true) => b.stops.down = 1 << axis,
+    }
+    let mut rates = Vec::new();
+    for _ in 0..6000 {
+        b.idle(1);
+        if b.status(axis) >> 28 & 1 == 1 {
+            rates.push(sign * b.bank.nco_rate(axis as usize));
         }
     }
+    assert_eq!(b.read_addr(1), 0, "{case}: RUN cleared");
+    assert!(
+        rates.windows(2).all(|w| w[1] <= w[0] && w[1] >= 0),
+        "{case}: the rate falls toward 0 without turning"
+    );
+    let after = b.position(axis);
+    b.idle(1000);
+    assert_eq!(b.position(axis), after, "{case}: stopped");
+    let travel = sign * (after - before);
+    if decel != 0 && !halt {
+        assert!(rates.len() > 1000, "{case}: braked {} clocks", rates.len());
+        assert!(
+            rates[0] <= rate as i32 && rates[0] > rate as i32 / 2,
+            "{case}"
+        );
+        assert!(travel >= 10, "{case}: {before}..{after}");
+    } else {
+        assert!(rates.is_empty(), "{case}");
+        assert!((0..=3).contains(&travel), "{case}: {before}..{after}");
+    }
+}
+
+/// With DECEL set, a stop on an axis standing still (RUN set, rate 0)
+/// starts no brake in either direction: only a rate heading into a stop
+/// brakes.
+#[test]
+fn a_still_axis_never_brakes() {
+    let mut b = Bench::new();
+    b.write(1, "DECEL", 1 << 30);
+    b.start(1, 0, 0);
+    b.idle(10);
+    b.stops.up = 0b010;
+    b.stops.down = 0b010;
+    for clock in 0..50 {
+        b.idle(1);
+        assert_eq!(b.status(1) >> 28 & 1, 0, "clock {clock}: BRAKING");
+    }
+    assert_eq!(b.read_addr(1), 0b010, "RUN kept");
 }
 
 /// `clock` is one edge with no stop: the same as `clock_stopping` with
@@ -467,4 +508,85 @@ fn reset_keeps_the_segment_words() {
     b.start(0, 0b100, 0);
     b.idle(200);
     assert_eq!(b.position(0), 7, "the slot kept SEG_STEPS and SEG_RATE");
+}
+
+/// "Heads up" and "heads down" (docs "Direction stops") take the NCO's
+/// rate or PENDING, each by its sign: a stop leaves an axis standing still
+/// or heading the other way, and stops one whose only steps toward it are
+/// queued (rate 0, PENDING ≠ 0), dropping them.
+#[test]
+fn a_stop_takes_the_rate_or_the_queue_heading_into_it() {
+    let mut b = Bench::new();
+    b.start(0, 0, 0);
+    b.start(1, 0, STEP_EVERY_4);
+    b.start(2, 0, STEP_EVERY_4);
+    b.idle(20);
+    b.stops.up = 0b101;
+    b.stops.down = 0b011;
+    b.idle(3);
+    assert_eq!(
+        b.read_addr(1),
+        0b011,
+        "still, or heading up into a down stop: kept; axis 2 up into up: stopped"
+    );
+    for up in [true, false] {
+        let mut b = Bench::new();
+        let rate = if up {
+            STEP_EVERY_4
+        } else {
+            STEP_EVERY_4.wrapping_neg()
+        };
+        // S1 held high for 65535 clocks: the steps commanded queue up.
+        b.write(0, "STEP_TIMING", 0xffff | 1 << 16);
+        b.write(0, "DIR_TIMING", 1 | 1 << 16);
+        b.write(0, "RATE", rate);
+        b.write_run(1);
+        b.idle(40);
+        b.write(0, "RATE", 0);
+        b.idle(3);
+        let pending = |b: &Bench| sign_extend(b.status(0) & 0xffff, 16) as i32;
+        let queued = pending(&b);
+        assert!(queued.abs() >= 5 && (queued > 0) == up, "{queued}");
+        let (toward, away) = if up { (1, 0) } else { (0, 1) };
+        b.stops.up = away;
+        b.stops.down = toward;
+        b.idle(3);
+        assert_eq!(
+            b.read_addr(1),
+            1,
+            "up {up}: a stop the queue heads away from"
+        );
+        assert_eq!(pending(&b), queued, "up {up}");
+        b.stops.up = toward;
+        b.stops.down = away;
+        b.idle(3);
+        assert_eq!(b.read_addr(1), 0, "up {up}: RUN cleared");
+        assert_eq!(pending(&b), 0, "up {up}: the queue dropped");
+    }
+}
+
+/// A running segment's ramp advances only in clocks where its NCO runs
+/// (docs "Ramps"): with RUN cleared the rate holds, and it goes on from
+/// there once RUN is set again.
+#[test]
+fn a_segment_ramp_holds_while_run_is_low() {
+    let mut b = Bench::new();
+    b.write(0, "SEG_STEPS", 1000);
+    b.write(0, "SEG_RATE", 0);
+    b.write(0, "SEG_ACCEL", 1 << 20);
+    b.write(0, "SEG_JERK", 0);
+    b.write(0, "SEG_PUSH", 0);
+    b.start(0, 0b100, 0);
+    b.idle(100);
+    b.write_run(0);
+    b.idle(2);
+    let held = b.bank.nco_rate(0);
+    assert!(held > 1000, "{held}");
+    for clock in 0..100 {
+        b.idle(1);
+        assert_eq!(b.bank.nco_rate(0), held, "clock {clock}");
+    }
+    b.write_run(1);
+    b.idle(10);
+    assert!(b.bank.nco_rate(0) > held);
 }
