@@ -404,6 +404,12 @@ fn brake_case(axis: u32, down: bool, halt: bool, rate: u32, decel: u32, case: &s
     b.write(axis, "DECEL", decel);
     b.start(axis, 0, (sign * rate as i32) as u32);
     b.idle(200);
+    assert_eq!(
+        b.status(axis) >> 28 & 1,
+        0,
+        "{case}: no brake before a stop"
+    );
+    assert_eq!(b.read_addr(1), 1 << axis, "{case}: running");
     let before = b.position(axis);
     match (halt, down) {
         (true, _) => b.stops.halt = true,
@@ -536,24 +542,25 @@ fn a_stop_takes_the_rate_or_the_queue_heading_into_it() {
         } else {
             STEP_EVERY_4.wrapping_neg()
         };
-        // S1 held high for 65535 clocks: the steps commanded queue up.
-        b.write(0, "STEP_TIMING", 0xffff | 1 << 16);
-        b.write(0, "DIR_TIMING", 1 | 1 << 16);
-        b.write(0, "RATE", rate);
-        b.write_run(1);
+        // Axis 1 (its bits above bit 0): S1 held high for 65535 clocks, so
+        // the steps commanded queue up.
+        b.write(1, "STEP_TIMING", 0xffff | 1 << 16);
+        b.write(1, "DIR_TIMING", 1 | 1 << 16);
+        b.write(1, "RATE", rate);
+        b.write_run(0b010);
         b.idle(40);
-        b.write(0, "RATE", 0);
+        b.write(1, "RATE", 0);
         b.idle(3);
-        let pending = |b: &Bench| sign_extend(b.status(0) & 0xffff, 16) as i32;
+        let pending = |b: &Bench| sign_extend(b.status(1) & 0xffff, 16) as i32;
         let queued = pending(&b);
         assert!(queued.abs() >= 5 && (queued > 0) == up, "{queued}");
-        let (toward, away) = if up { (1, 0) } else { (0, 1) };
+        let (toward, away) = if up { (0b010, 0) } else { (0, 0b010) };
         b.stops.up = away;
         b.stops.down = toward;
         b.idle(3);
         assert_eq!(
             b.read_addr(1),
-            1,
+            0b010,
             "up {up}: a stop the queue heads away from"
         );
         assert_eq!(pending(&b), queued, "up {up}");
