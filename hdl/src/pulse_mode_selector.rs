@@ -82,13 +82,6 @@ pub struct PulseModeSelectorRegistered {
     f2_reg: DFF<Bit>,
 }
 
-impl PulseModeSelectorRegistered {
-    /// The combinational selector inside, for probing in traces.
-    pub fn selector(&self) -> &PulseModeSelector {
-        &self.selector
-    }
-}
-
 impl Logic for PulseModeSelectorRegistered {
     #[hdl_gen]
     fn update(&mut self) {
