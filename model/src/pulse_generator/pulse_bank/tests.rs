@@ -64,6 +64,21 @@ impl Bench {
         self.bank.read_value(self.ax(i, "STATUS"))
     }
 
+    /// STATUS.BRAKING of axis `i`.
+    fn braking(&self, i: u32) -> bool {
+        self.status(i) >> 28 & 1 == 1
+    }
+
+    /// Writes all four words of a segment into axis `i`'s tail slot and
+    /// pushes it.
+    fn push_segment(&mut self, i: u32, steps: u32, rate: u32, accel: u32) {
+        self.write(i, "SEG_STEPS", steps);
+        self.write(i, "SEG_RATE", rate);
+        self.write(i, "SEG_ACCEL", accel);
+        self.write(i, "SEG_JERK", 0);
+        self.write(i, "SEG_PUSH", 0);
+    }
+
     /// Axis `i` at `rate` with the fastest timing, running.
     fn start(&mut self, i: u32, ctrl: u32, rate: u32) {
         self.write(i, "STEP_TIMING", 1 | 1 << 16);
@@ -326,11 +341,7 @@ fn status_follows_the_fifo_and_the_move() {
     let field = |s: u32, lsb: u32, bits: u32| s >> lsb & ((1 << bits) - 1);
     assert_eq!(field(b.status(0), 27, 1), 1, "FIFO_LOW when empty");
     for _ in 0..3 {
-        b.write(0, "SEG_STEPS", 5);
-        b.write(0, "SEG_RATE", STEP_EVERY_4);
-        b.write(0, "SEG_ACCEL", 0);
-        b.write(0, "SEG_JERK", 0);
-        b.write(0, "SEG_PUSH", 0);
+        b.push_segment(0, 5, STEP_EVERY_4, 0);
     }
     assert_eq!(field(b.status(0), 20, 7), 3, "FIFO_LEVEL");
     b.write(0, "FIFO_LOW_WATER", 2);
@@ -351,11 +362,7 @@ fn status_follows_the_fifo_and_the_move() {
     b.write(0, "CTRL", 0);
     assert_eq!(field(b.status(0), 19, 1), 0, "a CTRL write clears OVERFLOW");
     // A fresh axis: one 5-step segment.
-    b.write(1, "SEG_STEPS", 5);
-    b.write(1, "SEG_RATE", STEP_EVERY_4);
-    b.write(1, "SEG_ACCEL", 0);
-    b.write(1, "SEG_JERK", 0);
-    b.write(1, "SEG_PUSH", 0);
+    b.push_segment(1, 5, STEP_EVERY_4, 0);
     b.start(1, 0b100, 0);
     let mut seen = Vec::new();
     for _ in 0..80 {
@@ -404,11 +411,7 @@ fn brake_case(axis: u32, down: bool, halt: bool, rate: u32, decel: u32, case: &s
     b.write(axis, "DECEL", decel);
     b.start(axis, 0, (sign * rate as i32) as u32);
     b.idle(200);
-    assert_eq!(
-        b.status(axis) >> 28 & 1,
-        0,
-        "{case}: no brake before a stop"
-    );
+    assert!(!b.braking(axis), "{case}: no brake before a stop");
     assert_eq!(b.read_addr(1), 1 << axis, "{case}: running");
     let before = b.position(axis);
     match (halt, down) {
@@ -419,7 +422,7 @@ fn brake_case(axis: u32, down: bool, halt: bool, rate: u32, decel: u32, case: &s
     let mut rates = Vec::new();
     for _ in 0..6000 {
         b.idle(1);
-        if b.status(axis) >> 28 & 1 == 1 {
+        if b.braking(axis) {
             rates.push(sign * b.bank.nco_rate(axis as usize));
         }
     }
@@ -458,7 +461,7 @@ fn a_still_axis_never_brakes() {
     b.stops.down = 0b010;
     for clock in 0..50 {
         b.idle(1);
-        assert_eq!(b.status(1) >> 28 & 1, 0, "clock {clock}: BRAKING");
+        assert!(!b.braking(1), "clock {clock}: BRAKING");
     }
     assert_eq!(b.read_addr(1), 0b010, "RUN kept");
 }
@@ -499,16 +502,10 @@ fn clock_is_an_edge_without_stops() {
 #[test]
 fn reset_keeps_the_segment_words() {
     let mut b = Bench::new();
-    b.write(0, "SEG_STEPS", 7);
-    b.write(0, "SEG_RATE", STEP_EVERY_4);
-    b.write(0, "SEG_ACCEL", 0);
-    b.write(0, "SEG_JERK", 0);
-    b.write(0, "SEG_PUSH", 0);
+    b.push_segment(0, 7, STEP_EVERY_4, 0);
     let level = |b: &Bench| b.status(0) >> 20 & 0x7f;
     assert_eq!(level(&b), 1);
-    let stops = b.stops;
-    b.bank
-        .clock_stopping(true, &BusCycle::default(), false, &stops);
+    b.bank.clock(true, &BusCycle::default(), false);
     assert_eq!(level(&b), 0, "reset empties the FIFO");
     b.write(0, "SEG_PUSH", 0);
     b.start(0, 0b100, 0);
@@ -578,11 +575,7 @@ fn a_stop_takes_the_rate_or_the_queue_heading_into_it() {
 #[test]
 fn a_segment_ramp_holds_while_run_is_low() {
     let mut b = Bench::new();
-    b.write(0, "SEG_STEPS", 1000);
-    b.write(0, "SEG_RATE", 0);
-    b.write(0, "SEG_ACCEL", 1 << 20);
-    b.write(0, "SEG_JERK", 0);
-    b.write(0, "SEG_PUSH", 0);
+    b.push_segment(0, 1000, 0, 1 << 20);
     b.start(0, 0b100, 0);
     b.idle(100);
     b.write_run(0);
