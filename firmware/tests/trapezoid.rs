@@ -2,8 +2,8 @@
 //! per-tick stepper.
 
 use motionhdl_firmware::trapezoid::{
-    plan, TrapezoidParams, TrapezoidPhase, TrapezoidPlan, TrapezoidSample, TrapezoidStepper,
-    MAX_ACCEL, MAX_SPEED, MAX_STEPS,
+    plan, TickLimits, TrapezoidParams, TrapezoidPhase, TrapezoidPlan, TrapezoidSample,
+    TrapezoidStepper, MAX_ACCEL, MAX_SPEED, MAX_STEPS,
 };
 use motionhdl_firmware::{whole_steps, OutOfRange, ONE};
 use proptest::prelude::*;
@@ -166,6 +166,13 @@ fn small_move() -> impl Strategy<Value = (TrapezoidParams, u32)> {
         })
 }
 
+/// Every sample of a [`small_move`] (two ramps of at most 2 s and 2 s of
+/// cruise: under 30 000 ticks at 4 kHz), bounded so that a stepper that
+/// never stops fails the landing checks instead of hanging the test.
+fn ticks_of(st: TrapezoidStepper) -> Vec<TrapezoidSample> {
+    st.take(100_000).collect()
+}
+
 /// Whole steps moved in each phase, as the stepper labels its ticks.
 fn phase_steps(samples: &[TrapezoidSample]) -> [i64; 3] {
     let mut n = [0; 3];
@@ -181,8 +188,93 @@ fn phase_steps(samples: &[TrapezoidSample]) -> [i64; 3] {
     n
 }
 
+/// The least distance a stepper still covers after a tick at velocity `w`
+/// without passing the deceleration limit: the ticks w − d, w − 2d, ... up
+/// to the first at or below the stop speed, from which it may stop at once.
+fn least_stop(lim: TickLimits, w: i64) -> i128 {
+    let (s, d) = (i128::from(lim.stop()), i128::from(lim.decel));
+    let w = i128::from(w);
+    if w <= s {
+        return 0;
+    }
+    let ticks = (w - s).div_euclid(d) + i128::from((w - s).rem_euclid(d) != 0);
+    // An arithmetic series: ticks terms from w − d down to w − ticks·d.
+    ticks * (2 * w - d * (ticks + 1)) / 2
+}
+
+#[test]
+fn least_stop_sums_the_braking_ticks() {
+    // Checks the closed form the next property relies on against the sum.
+    let mut cases = 0;
+    for (start, decel) in [(0, 1), (3, 2), (5, 5), (2, 7), (0, 9)] {
+        let lim = TickLimits {
+            start,
+            accel: 1,
+            max: 100,
+            decel,
+        };
+        for w in 0..=100 {
+            let (mut v, mut sum) = (i128::from(w), 0);
+            while v > i128::from(lim.stop()) {
+                v -= i128::from(decel);
+                sum += v;
+            }
+            assert_eq!(
+                least_stop(lim, w),
+                sum,
+                "start {start}, decel {decel}, w {w}"
+            );
+            cases += 1;
+        }
+    }
+    assert_eq!(cases, 505);
+}
+
+#[test]
+fn a_deceleration_of_one_lsb_per_tick_still_lands() {
+    // 1 step/s² at 1 MHz rounds to the least deceleration, one LSB a tick:
+    // the ramp down is then one LSB at a time, and the search's lower bound
+    // is the velocity less that one LSB.
+    let p = params(0, 1, 1, 1, 1);
+    let st = TrapezoidStepper::new(&p, 1_000_000).unwrap();
+    assert_eq!(st.limits().decel, 1);
+    let samples: Vec<_> = st.take(3_000_000).collect();
+    let last = *samples.last().unwrap();
+    assert_eq!(
+        (last.position, last.velocity),
+        (ONE, 0),
+        "tick {}",
+        last.tick
+    );
+    assert_eq!(last.phase, TrapezoidPhase::Rest);
+    let decel_ticks = samples
+        .windows(2)
+        .filter(|w| w[1].velocity == w[0].velocity - 1)
+        .count();
+    assert!(decel_ticks > 1000, "{decel_ticks} ticks of one-LSB braking");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn stepper_takes_the_fastest_velocity_that_can_still_stop((p, tick) in small_move()) {
+        let st = TrapezoidStepper::new(&p, tick).unwrap();
+        let lim = st.limits();
+        let target = i128::from(p.steps) * i128::from(ONE);
+        let samples = ticks_of(st);
+        for w in samples.windows(2) {
+            let (s0, s1) = (w[0], w[1]);
+            let reach = lim.max.min((s0.velocity + lim.accel).max(lim.start));
+            let stops = |v: i64| i128::from(s0.position) + i128::from(v) + least_stop(lim, v) <= target;
+            prop_assert!(stops(s1.velocity), "tick {}: {} cannot stop", s1.tick, s1.velocity);
+            prop_assert!(s1.velocity == reach || !stops(s1.velocity + 1),
+                "tick {}: {} taken, {} could still stop (reach {})",
+                s1.tick, s1.velocity, s1.velocity + 1, reach);
+            let last = s1.tick == samples.last().unwrap().tick;
+            prop_assert_eq!(s1.phase == TrapezoidPhase::Rest, last, "tick {}", s1.tick);
+        }
+    }
 
     #[test]
     fn plan_counts_sum_to_the_target((p, _) in small_move()) {
@@ -215,7 +307,7 @@ proptest! {
     fn stepper_stays_within_limits_and_lands_exactly((p, tick) in small_move()) {
         let st = TrapezoidStepper::new(&p, tick).unwrap();
         let lim = st.limits();
-        let samples: Vec<_> = st.collect();
+        let samples = ticks_of(st);
         let first = samples[0];
         prop_assert_eq!((first.tick, first.position, first.velocity), (0, 0, 0));
         let last = *samples.last().unwrap();
@@ -245,7 +337,7 @@ proptest! {
     #[test]
     fn stepper_phases_follow_the_plan((p, tick) in small_move()) {
         let pl = plan(&p).unwrap();
-        let samples: Vec<_> = TrapezoidStepper::new(&p, tick).unwrap().collect();
+        let samples = ticks_of(TrapezoidStepper::new(&p, tick).unwrap());
         let got = phase_steps(&samples);
         prop_assert_eq!(got.iter().sum::<i64>(), i64::from(p.steps));
         // A ramp ends on a tick boundary (up to a tick at peak speed past the
