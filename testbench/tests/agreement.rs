@@ -148,7 +148,7 @@ fn isa_bridge_netlist_internal_ram() {
 fn isa_bridge_netlist_external_ram_and_collisions() {
     isa_bridge_netlist(IsaRam::External);
     if tools() {
-        passed(&isa_bridge::collision_check(Some(net())), 126);
+        passed(&isa_bridge::collision_check(Some(net())), 172);
     }
 }
 

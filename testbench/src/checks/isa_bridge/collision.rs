@@ -78,6 +78,14 @@ pub fn collision_vectors(same_word: bool) -> Vec<IsaPinsAndReset> {
     q.sa = m::port(base, reg::DATA);
     q.ior_n = false;
     v.extend([(q, false); 2]);
+    // A 1 written to STATUS.COLLISION clears it (the address stays A);
+    // the PC then reads STATUS.
+    v.extend([(p, false); 2]);
+    bus(&mut v, reg::STATUS, A | status::COLLISION);
+    v.extend([(p, false); 2]);
+    let mut q = p;
+    q.ior_n = false;
+    v.extend([(q, false); 2]);
     v
 }
 
@@ -112,34 +120,44 @@ fn encode_vector((p, reset): &IsaPinsAndReset) -> Vec<u64> {
 /// The same-clock write rule in the model alone, checked against the
 /// documented rule (not against the model): after the collision the word
 /// holds the PC's value, STATUS.COLLISION is set; without it, both words
-/// hold what was written and COLLISION is clear. Returns the model's
-/// outputs per vector for the HDL comparisons.
+/// hold what was written and COLLISION is clear. Either way a 1 written to
+/// COLLISION leaves it clear in the STATUS read that ends the vectors.
+/// Returns the model's outputs per vector for the HDL comparisons.
 pub fn collision_expected(same_word: bool) -> Result<Vec<m::IsaOutputs>, String> {
     let vectors = collision_vectors(same_word);
+    let data_port = m::port(TEST_BASE, reg::DATA);
     let mut model = IsaBridgeModel::new();
     let mut outs = Vec::new();
-    let mut saw_wait = false;
+    let (mut saw_wait, mut collided, mut data_read) = (false, false, None);
     for (p, reset) in &vectors {
         outs.push(model.outputs(p));
         if model.write_pending() && p.dsp_we {
             saw_wait = true;
         }
+        if p.sa == data_port && !p.ior_n {
+            data_read = outs.last().copied();
+        }
         model.clock(p, *reset);
+        collided |= model.status() & status::COLLISION != 0;
     }
-    let last = outs.last().copied().unwrap_or_default();
+    let read = data_read.unwrap_or_default();
+    let cleared = outs
+        .last()
+        .is_some_and(|o| o.sd_out & status::COLLISION == 0);
     let (a, b) = (model.ram()[0x155], model.ram()[0x156]);
-    let collided = model.status() & status::COLLISION != 0;
-    let ok = if same_word {
-        saw_wait && a == 0xbeef && collided && last.dsp_rdata == 0xbeef && last.sd_out == 0xbeef
-    } else {
-        saw_wait && a == 0xbeef && b == 0x1005 && !collided
-    };
+    let ok = cleared
+        && if same_word {
+            saw_wait && a == 0xbeef && collided && read.dsp_rdata == 0xbeef && read.sd_out == 0xbeef
+        } else {
+            saw_wait && a == 0xbeef && b == 0x1005 && !collided
+        };
     if ok {
         Ok(outs)
     } else {
         Err(format!(
             "same word {same_word}: DSP wrote while the PC write waited {saw_wait}, \
-             word A {a:#06x}, word A+1 {b:#06x}, COLLISION {collided}, last outputs {last:?}"
+             word A {a:#06x}, word A+1 {b:#06x}, COLLISION {collided}, cleared {cleared}, \
+             DATA read {read:?}"
         ))
     }
 }
