@@ -159,11 +159,6 @@ impl FsmcBridge {
             src: Default::default(),
         }
     }
-
-    /// A read is under way inside the bridge.
-    pub fn read_pending(&self) -> bool {
-        self.rd_p1.q.val() | self.rd_p2.q.val()
-    }
 }
 
 impl Logic for FsmcBridge {
