@@ -285,7 +285,8 @@ fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
 }
 
 /// The rust-hdl engine against the model every clock (every register,
-/// the copy's progress included), and the contract on the HDL alone.
+/// the copy's progress included, and the RATE and BRAKING outputs), and
+/// the contract on the HDL alone.
 /// Cases: one per clock; the coverage counts must all be reached.
 pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
     let mut r = CheckReport::new(
@@ -313,8 +314,15 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
             }
         }
         let got = state_map::engine(uut.probe());
+        let outputs = (uut.rate.val().index() as u32 as i32, uut.braking.val());
+        let want = (model.rate(), model.braking());
         let mut bad = (got != model.probe())
-            .then(|| format!("clock {k} {inp:?}: HDL {got:?}, model {:?}", model.probe()));
+            .then(|| format!("clock {k} {inp:?}: HDL {got:?}, model {:?}", model.probe()))
+            .or_else(|| {
+                (outputs != want).then(|| {
+                    format!("clock {k} {inp:?}: (rate, braking) HDL {outputs:?}, model {want:?}")
+                })
+            });
         if let Some(b) = contract.edge(inp, &before, &view(&uut, fields)) {
             bad.get_or_insert(format!("clock {k} {inp:?}: contract: {b}"));
         }

@@ -236,7 +236,8 @@ fn drive(uut: &mut PulseGenerator, v: &Vector) {
 }
 
 /// The rust-hdl axis against the model every clock (phase, position and
-/// every step-timer register). One case per clock.
+/// every step-timer register, and the step, dir, position and status
+/// outputs). One case per clock.
 pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
     let mut r = CheckReport::new(
         "pulse_generator",
@@ -249,6 +250,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
     let mut uut = PulseGenerator::new();
     uut.connect_all();
     let mut g = m::PulseGenerator::new();
+    let mask = (1u32 << m::PENDING_BITS) - 1;
     for (k, v) in vectors.iter().enumerate() {
         drive(&mut uut, v);
         settle(&mut uut);
@@ -256,7 +258,27 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
         g.clock(&v.inputs, v.reset);
         let got = state_map::generator(uut.probe());
         let want = g;
-        r.case((got != want).then(|| format!("clock {k} {v:?}: HDL {got:?}, model {want:?}")));
+        let (s, d) = g.outputs();
+        let status = (g.timer.state().pending as u32 & mask) | u32::from(g.busy()) << 16;
+        let pins = (s, d, g.position, status);
+        let got_pins = (
+            uut.step.val(),
+            uut.dir.val(),
+            uut.position.val().index() as u32,
+            uut.status.val().index() as u32,
+        );
+        r.case(
+            (got != want)
+                .then(|| format!("clock {k} {v:?}: HDL {got:?}, model {want:?}"))
+                .or_else(|| {
+                    (got_pins != pins).then(|| {
+                        format!(
+                            "clock {k} {v:?}: (step, dir, position, status) HDL {got_pins:?}, \
+                             model {pins:?}"
+                        )
+                    })
+                }),
+        );
         if r.failures.len() > 5 {
             break;
         }
