@@ -37,6 +37,11 @@ fn channel_core_every_reachable_state_and_input_in_each_mode() {
     }
 }
 
+/// The largest `width`-bit count: -1 read sign-extended.
+fn top_count(width: u32) -> u32 {
+    u32::MAX >> (32 - width)
+}
+
 /// Preset near the top of the range, count through the wrap in both
 /// directions, read sign-extended COUNT over the bus.
 fn wrap_around<const N: usize>(width: u32) {
@@ -44,11 +49,7 @@ fn wrap_around<const N: usize>(width: u32) {
     let map = regmap::counter_bank(N as u32, width);
     let ch = map.array("CH");
     let idle = [(false, false, false); N];
-    let top = if width == 32 {
-        u32::MAX
-    } else {
-        (1u32 << width) - 1
-    };
+    let top = top_count(width);
     p.reset(&idle, 3).unwrap();
     p.write(
         &idle,
@@ -115,13 +116,13 @@ fn a_preset_on_a_half_boundary_counts_on_from_it() {
             ch.register("CMD").field("LOAD").mask(),
             map.register("PRESET").offset,
         );
-        let top = (u64::from(u32::MAX) >> (32 - width)) as u32;
+        let top = top_count(width);
         let low = (1u32 << (width / 2)) - 1;
+        let idle = [(false, false, false)];
+        let ctrl = ctrl_value(width, &[("MODE", regmap::mode::X4)]);
         for value in [low, low - 1, 0, low + 1, top, top - low, top & !low | 1] {
             for forward in [true, false] {
                 let mut p = BankPair::<1>::new(width, regmap::ERR_COUNT_BITS);
-                let idle = [(false, false, false)];
-                let ctrl = ctrl_value(width, &[("MODE", regmap::mode::X4)]);
                 let bus = [
                     (ch.address(0, "CTRL"), ctrl),
                     (preset, value),

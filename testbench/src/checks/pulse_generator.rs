@@ -203,23 +203,23 @@ pub fn stimulus(clocks: usize, seed: u64) -> Vec<Vector> {
     v
 }
 
-/// The model through `vectors`: (S1, S2, position, pending as
-/// PENDING_BITS-bit two's complement, BUSY) after every clock.
-pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32, bool)> {
+/// The axis's output pins as the model has them: (S1, S2, position,
+/// STATUS), STATUS being PENDING (PENDING_BITS-bit two's complement) in
+/// 15:0 and BUSY in 16.
+fn pins_of(g: &m::PulseGenerator) -> (bool, bool, u32, u32) {
+    let (s, d) = g.outputs();
+    let pending = g.timer.state().pending as u32 & ((1u32 << m::PENDING_BITS) - 1);
+    (s, d, g.position, pending | u32::from(g.busy()) << 16)
+}
+
+/// The model through `vectors`: [`pins_of`] after every clock.
+pub fn model_outputs(vectors: &[Vector]) -> Vec<(bool, bool, u32, u32)> {
     let mut g = m::PulseGenerator::new();
-    let mask = (1u32 << m::PENDING_BITS) - 1;
     vectors
         .iter()
         .map(|v| {
             g.clock(&v.inputs, v.reset);
-            let (s, d) = g.outputs();
-            (
-                s,
-                d,
-                g.position,
-                g.timer.state().pending as u32 & mask,
-                g.busy(),
-            )
+            pins_of(&g)
         })
         .collect()
 }
@@ -250,7 +250,6 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
     let mut uut = PulseGenerator::new();
     uut.connect_all();
     let mut g = m::PulseGenerator::new();
-    let mask = (1u32 << m::PENDING_BITS) - 1;
     for (k, v) in vectors.iter().enumerate() {
         drive(&mut uut, v);
         settle(&mut uut);
@@ -258,9 +257,7 @@ pub fn random_rust(clocks: usize, seed: u64) -> CheckReport {
         g.clock(&v.inputs, v.reset);
         let got = state_map::generator(uut.probe());
         let want = g;
-        let (s, d) = g.outputs();
-        let status = (g.timer.state().pending as u32 & mask) | u32::from(g.busy()) << 16;
-        let pins = (s, d, g.position, status);
+        let pins = pins_of(&g);
         let got_pins = (
             uut.step.val(),
             uut.dir.val(),
@@ -342,9 +339,8 @@ pub fn random_verilog(target: impl Into<Target>, clocks: usize, seed: u64) -> Ch
     rows.push(vec![0; 10]);
     match run_vectors(target.sim, &design, &rows) {
         Ok(out) => {
-            for (k, &(s, d, p, q, busy)) in want.iter().enumerate() {
+            for (k, &(s, d, p, status)) in want.iter().enumerate() {
                 let got = &out[k + 1];
-                let status = q | u32::from(busy) << 16;
                 let want = [u64::from(s), u64::from(d), u64::from(p), u64::from(status)];
                 let got = &got[..want.len()];
                 r.case((got[..] != want[..]).then(|| {
