@@ -33,7 +33,12 @@ fn every_pin_every_clock_under_generated_stimulus() {
     // 54 is the one measured to give every axis 20 or more
     // (790 / 36 / 74 / 379), a HALT while steps were on their way, an
     // axis backing off a stop and 3669 axis-clocks braking into one.
-    let (r, stats) = compare::<4>(&config(), Pins::Generated(54), GENERATED_CLOCKS, |_, _| {});
+    let (r, stats) = compare::<4>(
+        &config(),
+        Pins::Generated(54),
+        GENERATED_CLOCKS,
+        |_, _, _| {},
+    );
     r.assert_passed();
     assert_eq!(r.covered, GENERATED_CLOCKS, "clocks compared");
     // The stimulus reached every part of the top.
@@ -81,7 +86,7 @@ fn servo_card_top_every_pin_every_clock() {
     // are compared with the model's every clock like every other pin.
     let c = config().with_axes(2).unwrap().with_servo_dac(true);
     let clocks = 100_000;
-    let (r, stats) = compare::<2>(&c, Pins::Generated(3), clocks, |_, _| {});
+    let (r, stats) = compare::<2>(&c, Pins::Generated(3), clocks, |_, _, _| {});
     r.assert_passed();
     assert_eq!(r.covered, clocks, "clocks compared");
     assert!(stats.ldac_rises > 100, "{stats:?}");
@@ -113,7 +118,7 @@ fn every_pin_every_clock_under_the_fsmc_bus_functional_model() {
     let clocks = bfm_clocks(&ops);
     let n = clocks.len() as u64;
     assert!(n > 30_000, "{n} clocks");
-    let (r, stats) = compare::<4>(&c, Pins::Bfm(&clocks, 11), n, |_, _| {});
+    let (r, stats) = compare::<4>(&c, Pins::Bfm(&clocks, 11), n, |_, _, _| {});
     r.assert_passed();
     assert_eq!(r.covered, n, "clocks compared");
     assert!(stats.move_clocks > 1000, "the move ran: {stats:?}");
@@ -127,7 +132,7 @@ fn every_pin_every_clock_under_the_fsmc_bus_functional_model() {
 #[test]
 fn a_wrong_model_output_is_caught() {
     // One flipped bit on one pin in one clock.
-    let (r, _) = compare::<4>(&config(), Pins::Generated(7), 3000, |k, o| {
+    let (r, _) = compare::<4>(&config(), Pins::Generated(7), 3000, |k, o, _| {
         if k == 1234 {
             o.isa_sd_out ^= 0x0100;
         }
@@ -141,7 +146,7 @@ fn a_wrong_model_output_is_caught() {
     );
     // A model one clock late is caught within the first accesses.
     let mut before: Option<TopOutputs> = None;
-    let (r, _) = compare::<4>(&config(), Pins::Generated(7), 3000, |_, o| {
+    let (r, _) = compare::<4>(&config(), Pins::Generated(7), 3000, |_, o, _| {
         let now = *o;
         if let Some(b) = before {
             *o = b;
@@ -150,6 +155,18 @@ fn a_wrong_model_output_is_caught() {
     });
     assert!(!r.failures.is_empty());
     assert!(r.covered < 200, "caught late: {:?}", r.failures);
+    // Axis 0's down stop reported set in every clock (a wrong accessor,
+    // or a stop the model lacks): no pin changes, the stops' comparison
+    // catches it in the first clock.
+    let (r, _) = compare::<4>(&config(), Pins::Generated(7), 3000, |_, _, stops| {
+        stops.1 |= 1;
+    });
+    assert!(!r.passed());
+    assert!(
+        r.failures[0].starts_with("clock 0: (stop_up, stop_down, halt) HDL"),
+        "{}",
+        r.failures[0]
+    );
 }
 
 /// The Verilog stimulus generator is a copy of the Rust one: equal

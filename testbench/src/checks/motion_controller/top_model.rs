@@ -322,15 +322,20 @@ pub enum Pins<'a> {
     Bfm(&'a [(FsmcPins, bool)], u32),
 }
 
+/// The safety block's (stop_up, stop_down, halt): the contracts above read
+/// them, so they are only as good as these signals.
+pub type SafetyStops = (u32, u32, bool);
+
 /// The rust-hdl `MotionController<N>` and the model side by side for
 /// `cycles` clocks: every output pin compared every clock (one case per
-/// clock). `fault` may alter the model's outputs before the comparison
-/// (to show that a wrong model is caught).
+/// clock), and the safety block's (stop_up, stop_down, halt) with the
+/// model's. `fault` may alter the model's outputs and that triple before
+/// the comparison (to show that a wrong model is caught).
 pub fn compare<const N: usize>(
     config: &Config,
     pins: Pins,
     cycles: u64,
-    fault: impl FnMut(u64, &mut TopOutputs),
+    fault: impl FnMut(u64, &mut TopOutputs, &mut SafetyStops),
 ) -> (CheckReport, RunStats) {
     if config.servo_dac() {
         compare_on::<MotionControllerServo<N>, N>(config, pins, cycles, fault)
@@ -344,7 +349,7 @@ fn compare_on<T: ModelledTop<N>, const N: usize>(
     config: &Config,
     pins: Pins,
     cycles: u64,
-    mut fault: impl FnMut(u64, &mut TopOutputs),
+    mut fault: impl FnMut(u64, &mut TopOutputs, &mut SafetyStops),
 ) -> (CheckReport, RunStats) {
     let what = match pins {
         Pins::Generated(seed) => format!("generated pin stimulus, seed {seed}"),
@@ -411,14 +416,22 @@ fn compare_on<T: ModelledTop<N>, const N: usize>(
             .observe(k, (p.reset, up, down, braking), &axes, &last_axes);
         last_axes = axes;
         let mut want = model.step(&p);
-        fault(k, &mut want);
-        let bad: Vec<String> = got
+        let s = model.safety();
+        let mut want_stops = (s.stop_up(), s.stop_down(), s.halted());
+        fault(k, &mut want, &mut want_stops);
+        let mut bad: Vec<String> = got
             .pins()
             .iter()
             .zip(want.pins())
             .filter(|(g, w)| g.1 != w.1)
             .map(|(g, w)| format!("{} HDL {:#x} model {:#x}", g.0, g.1, w.1))
             .collect();
+        let got_stops = (up, down, halt);
+        if got_stops != want_stops {
+            bad.push(format!(
+                "(stop_up, stop_down, halt) HDL {got_stops:x?} model {want_stops:x?}"
+            ));
+        }
         r.case((!bad.is_empty()).then(|| format!("clock {k}: {}; inputs {p:?}", bad.join(", "))));
         if r.failures.len() >= 5 {
             break;
