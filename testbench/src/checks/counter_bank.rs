@@ -82,7 +82,8 @@ impl<const N: usize> BankPair<N> {
         self.compare()
     }
 
-    /// Compares read data and every channel's registers with the model.
+    /// Compares read data, the live ERR and SEEN outputs (the safety
+    /// block's COUNTER_CAUSE) and every channel's registers with the model.
     pub fn compare(&self) -> Result<(), String> {
         let got = self.hdl.rdata.val().to_u32();
         if got != self.model.rdata() {
@@ -90,6 +91,17 @@ impl<const N: usize> BankPair<N> {
                 "cycle {}: rdata HDL {got:#x}, model {:#x}",
                 self.cycles,
                 self.model.rdata()
+            ));
+        }
+        let flags = (
+            self.hdl.error.val().index() as u32,
+            self.hdl.index_seen.val().index() as u32,
+        );
+        if flags != self.model.flags() {
+            return Err(format!(
+                "cycle {}: (error, index_seen) HDL {flags:#x?}, model {:#x?}",
+                self.cycles,
+                self.model.flags()
             ));
         }
         for i in 0..N {

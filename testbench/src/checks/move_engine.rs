@@ -270,6 +270,40 @@ fn status_fields() -> [(u32, u32); 2] {
     })
 }
 
+/// The engine's fields of STATUS, as the register map places them (BUSY
+/// and PENDING are the generator's).
+const ENGINE_STATUS: [&str; 6] = [
+    "MOVING",
+    "DONE",
+    "OVERFLOW",
+    "FIFO_LEVEL",
+    "FIFO_LOW",
+    "BRAKING",
+];
+
+/// The lsb of each of [`ENGINE_STATUS`].
+fn engine_status_lsbs() -> [u32; 6] {
+    let map = regmap::pulse_bank(1, 32);
+    let status = map.array("AX").register("STATUS");
+    ENGINE_STATUS.map(|name| status.field(name).lsb)
+}
+
+/// The engine's part of STATUS as the model's state gives it.
+fn model_status(model: &m::MoveEngine, low_water: u32, lsbs: [u32; 6]) -> u32 {
+    let level = model.level() as u32;
+    [
+        u32::from(model.active()),
+        u32::from(model.done()),
+        u32::from(model.overflow()),
+        level,
+        u32::from(level <= low_water),
+        u32::from(model.braking()),
+    ]
+    .iter()
+    .zip(lsbs)
+    .fold(0, |w, (v, lsb)| w | v << lsb)
+}
+
 fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
     let s = uut.status.val().index() as u32;
     let p = uut.probe();
@@ -285,7 +319,8 @@ fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
 }
 
 /// The rust-hdl engine against the model every clock (every register,
-/// the copy's progress included, and the RATE and BRAKING outputs), and
+/// the copy's progress included, the RATE and BRAKING outputs and its
+/// STATUS bits), and
 /// the contract on the HDL alone.
 /// Cases: one per clock; the coverage counts must all be reached.
 pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
@@ -299,10 +334,17 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
     let mut model = m::MoveEngine::default();
     let mut contract = FifoContract::default();
     let fields = status_fields();
+    let lsbs = engine_status_lsbs();
     for (k, inp) in engine_stimulus(clocks, seed).iter().enumerate() {
         apply(&mut uut, inp);
         settle(&mut uut);
         let before = view(&uut, fields);
+        // STATUS is combinational from the registers: compared before the
+        // edge, with the model's state before its clock.
+        let status = (
+            uut.status.val().index() as u32,
+            model_status(&model, inp.low_water, lsbs),
+        );
         cycle(&mut uut, |u| &mut u.clock);
         if inp.reset {
             model.reset();
@@ -321,6 +363,14 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
             .or_else(|| {
                 (outputs != want).then(|| {
                     format!("clock {k} {inp:?}: (rate, braking) HDL {outputs:?}, model {want:?}")
+                })
+            })
+            .or_else(|| {
+                (status.0 != status.1).then(|| {
+                    format!(
+                        "clock {k} {inp:?}: STATUS HDL {:#x}, model {:#x}",
+                        status.0, status.1
+                    )
                 })
             });
         if let Some(b) = contract.edge(inp, &before, &view(&uut, fields)) {
