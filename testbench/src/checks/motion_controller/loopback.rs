@@ -2,7 +2,7 @@
 //! through the FSMC pins: the dual-CPU seed's closed loop, and segment
 //! moves counted back.
 
-use super::{play, run_top};
+use super::{loopback_board, play, run_top};
 use crate::bfm::fsmc::{Observation, Op};
 use crate::verilog_sim::Target;
 use motionhdl_hdl::MotionController;
@@ -27,7 +27,7 @@ pub fn loopback_verilog(
 /// The same loop in rust-hdl (default 4 axes, internal RAM).
 pub fn loopback_rust(config: &Config) -> Result<Vec<(i32, i32)>, String> {
     let ops = loopback_ops(config);
-    let (obs, _) = run_top(MotionController::<4>::new(config), &ops, true);
+    let (obs, _) = run_top(MotionController::<4>::new(config), &ops, loopback_board);
     loopback_results(config.axes(), &obs)
 }
 
@@ -174,7 +174,11 @@ fn moves_results(obs: &[Observation]) -> Result<(u32, i32, i32), String> {
 
 /// [`moves_ops`] in rust-hdl with the pin loopback.
 pub fn moves_rust(config: &Config) -> Result<(u32, i32, i32), String> {
-    let (obs, _) = run_top(MotionController::<4>::new(config), &moves_ops(config), true);
+    let (obs, _) = run_top(
+        MotionController::<4>::new(config),
+        &moves_ops(config),
+        loopback_board,
+    );
     moves_results(&obs)
 }
 

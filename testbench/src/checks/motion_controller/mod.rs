@@ -17,6 +17,7 @@ use rust_hdl::prelude::*;
 
 pub mod driver_bus;
 pub mod estop;
+mod external_window;
 pub mod homing;
 pub mod irq_refill;
 pub mod limit_stop;
@@ -29,6 +30,7 @@ pub mod top_model;
 pub mod top_stimulus;
 pub mod watchdog_bite;
 
+pub use external_window::*;
 pub use loopback::*;
 pub use oracle::*;
 
@@ -80,17 +82,40 @@ mcu_top!(MotionControllerServo);
 pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation>, u64) {
     match config.isa_ram() {
         IsaRam::Internal if config.servo_dac() => {
-            run_top(MotionControllerServo::<N>::new(config), ops, false)
+            run_top(MotionControllerServo::<N>::new(config), ops, bare_board)
         }
-        IsaRam::Internal => run_top(MotionController::<N>::new(config), ops, false),
-        IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops, false),
+        IsaRam::Internal => run_top(MotionController::<N>::new(config), ops, bare_board),
+        IsaRam::External => run_top(MotionControllerExternal::<N>::new(config), ops, bare_board),
     }
 }
 
-/// Steps a rust-hdl top through `ops` under the FSMC BFM: what each read
-/// observed at the MCU's pins, and the clocks simulated.
-/// With `loopback`, the encoder inputs follow the pulse outputs.
-pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op], loopback: bool) -> (Vec<Observation>, u64) {
+/// What the board around a rust-hdl top does at each clock: called with
+/// the pins driven and settled just before the rising edge
+/// ([`Edge::Before`]) and once the clock has fallen again ([`Edge::After`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    Before,
+    After,
+}
+
+/// The encoder inputs following the pulse outputs.
+pub fn loopback_board<T: McuTop>(uut: &mut T, edge: Edge) {
+    if edge == Edge::Before {
+        uut.feed_back();
+    }
+}
+
+/// Nothing on the board beyond the ties of [`McuTop::drive`].
+pub fn bare_board<T: McuTop>(_: &mut T, _: Edge) {}
+
+/// Steps a rust-hdl top through `ops` under the FSMC BFM, with `board`
+/// around it: what each read observed at the MCU's pins, and the clocks
+/// simulated.
+pub fn run_top<T: McuTop>(
+    mut uut: T,
+    ops: &[Op],
+    mut board: impl FnMut(&mut T, Edge),
+) -> (Vec<Observation>, u64) {
     let (events, end) = timeline(ops, &documented_timing());
     uut.connect_all();
     let mut pins = FsmcPins::idle();
@@ -131,13 +156,13 @@ pub fn run_top<T: McuTop>(mut uut: T, ops: &[Op], loopback: bool) -> (Vec<Observ
         }
         uut.drive(&pins, reset);
         settle(&mut uut);
-        if loopback {
-            uut.feed_back();
-            settle(&mut uut);
-        }
+        board(&mut uut, Edge::Before);
+        settle(&mut uut);
         uut.clock_input().next = Clock::from(true);
         settle(&mut uut);
         uut.clock_input().next = Clock::from(false);
+        settle(&mut uut);
+        board(&mut uut, Edge::After);
         settle(&mut uut);
         clocks += 1;
         edge += CLOCK_TICKS;
