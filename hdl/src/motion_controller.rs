@@ -150,6 +150,12 @@ macro_rules! top_level {
             pub fn mcu(&self) -> &McuSide<N> {
                 &self.mcu
             }
+
+            /// The ISA bridge, for the checks that run the bridge's own
+            /// stimulus through the top.
+            pub fn pc_bus(&self) -> &$bridge {
+                &self.pc_bus
+            }
         }
 
         impl<const N: usize> Logic for $name<N> {

@@ -21,10 +21,12 @@ use motionhdl_model::regmap::ISA_RAM_WORDS;
 use motionhdl_model::IsaRam;
 
 mod collision;
+mod in_top;
 mod rust_run;
 mod stimulus;
 
 pub use collision::*;
+pub use in_top::*;
 pub use rust_run::*;
 pub use stimulus::*;
 
@@ -166,12 +168,32 @@ fn build_name(ram: IsaRam) -> &'static str {
 /// Runs `ops` in the rust-hdl block of the `ram` build against its cycle
 /// model and the transaction model; `cases` is how many cases the ops make.
 pub fn check_rust(ram: IsaRam, name: &str, ops: &[Op], cases: u64) -> (CheckReport, RustRun) {
+    let run = run_rust(ram, TEST_BASE, ops, None);
+    report_rust(build_name(ram), ram, name, ops, cases, run)
+}
+
+/// [`check_rust`] of the external build through the external-RAM top.
+pub fn check_rust_in_external_top(name: &str, ops: &[Op], cases: u64) -> (CheckReport, RustRun) {
+    let run = run_rust_in_external_top(TEST_BASE, ops);
+    let build = "motion_controller (external SRAM), its ISA side";
+    report_rust(build, IsaRam::External, name, ops, cases, run)
+}
+
+/// The report of a rust-hdl run of `ops`: its mismatches with the cycle
+/// model, and its reads against the transaction model of `ram`.
+fn report_rust(
+    build: &str,
+    ram: IsaRam,
+    name: &str,
+    ops: &[Op],
+    cases: u64,
+    run: RustRun,
+) -> (CheckReport, RustRun) {
     let mut r = CheckReport::new(
-        build_name(ram),
+        build,
         &format!("{name}: rust-hdl vs cycle model every clock, reads vs transaction model"),
         cases,
     );
-    let run = run_rust(ram, TEST_BASE, ops, None);
     r.failures.extend(run.mismatches.iter().cloned());
     compare(
         &mut r,
@@ -260,6 +282,16 @@ pub fn block_transfer_verilog(target: impl Into<Target>, ram: IsaRam) -> CheckRe
         &ops,
         BLOCK_TRANSFER_WORDS,
     )
+}
+
+/// Random bus traffic ([`random_ops`]: every register, other cards'
+/// ports, AEN high, DSP-side accesses and the mailbox bells) through the
+/// external-RAM top's pins (the bridge inside it), against the external
+/// build's models; one case per op. Short: the top steps about 30 times
+/// slower than the bridge alone.
+pub fn external_top_rust(seed: u64, n: usize) -> (CheckReport, RustRun) {
+    let ops = random_ops(seed, n);
+    check_rust_in_external_top("random bus traffic", &ops, ops.len() as u64)
 }
 
 /// Every ISA bridge check for both builds; external simulators only when

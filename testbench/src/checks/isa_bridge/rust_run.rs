@@ -48,7 +48,7 @@ pub type EdgeHook<'a> = &'a mut dyn FnMut(&TracePoint);
 
 /// One build of the bridge with its model and surroundings, stepped by
 /// [`run_rust`].
-trait Bench {
+pub(super) trait Bench {
     /// Applies the pins, settles; (HDL outputs, model outputs).
     fn observe(&mut self, pins: &IsaPins, reset: bool) -> (m::IsaOutputs, m::IsaOutputs);
     /// One rising edge of both; problems found at it.
@@ -255,45 +255,80 @@ impl Default for DualPortSram {
     }
 }
 
-/// The build for an external dual-port SRAM, with the chip.
-struct ExternalBench {
-    uut: IsaBridgeExternal,
-    model: IsaBridgeExternalModel,
-    chip: DualPortSram,
-    /// The data pins were valid RAM data at the previous edge.
-    sample_valid: bool,
+/// The ISA side of a build with the external SRAM: the bridge alone, or
+/// a top that contains it (its ISA and SRAM pins must then behave as the
+/// bridge's).
+pub(super) trait ExternalIsa: Block {
+    /// The bus pins, reset and the SRAM's data pins; settles.
+    fn set(&mut self, pins: &IsaPins, reset: bool, d_in: u16);
+    /// (sd_out, sd_oe, iocs16_n, irq, bell_to_dsp).
+    fn bus(&self) -> (u16, bool, bool, bool, bool);
+    fn sram_pins(&self) -> SramPins;
+    fn counter(&self) -> u16;
+    fn clock_pin(&mut self) -> &mut Signal<In, Clock>;
 }
 
-fn sram_pins_of(uut: &IsaBridgeExternal) -> SramPins {
-    SramPins {
-        addr: uut.ram_addr.val().index() as u16,
-        d_out: uut.ram_d_out.val().index() as u16,
-        d_oe: uut.ram_d_oe.val(),
-        ce_n: uut.ram_ce_n.val(),
-        oe_n: uut.ram_oe_n.val(),
-        we_n: uut.ram_we_n.val(),
+impl ExternalIsa for IsaBridgeExternal {
+    fn set(&mut self, pins: &IsaPins, reset: bool, d_in: u16) {
+        set_bus_pins!(&mut *self, pins, reset);
+        self.ram_d_in.next = u64::from(d_in).into();
+        settle(self);
+    }
+    fn bus(&self) -> (u16, bool, bool, bool, bool) {
+        (
+            self.sd_out.val().index() as u16,
+            self.sd_oe.val(),
+            self.iocs16_n.val(),
+            self.irq.val(),
+            self.bell_to_dsp.val(),
+        )
+    }
+    fn sram_pins(&self) -> SramPins {
+        SramPins {
+            addr: self.ram_addr.val().index() as u16,
+            d_out: self.ram_d_out.val().index() as u16,
+            d_oe: self.ram_d_oe.val(),
+            ce_n: self.ram_ce_n.val(),
+            oe_n: self.ram_oe_n.val(),
+            we_n: self.ram_we_n.val(),
+        }
+    }
+    fn counter(&self) -> u16 {
+        IsaBridgeExternal::counter(self)
+    }
+    fn clock_pin(&mut self) -> &mut Signal<In, Clock> {
+        &mut self.clock
     }
 }
 
-impl ExternalBench {
+/// The build for an external dual-port SRAM, with the chip.
+pub(super) struct ExternalBench<U: ExternalIsa> {
+    pub(super) uut: U,
+    pub(super) model: IsaBridgeExternalModel,
+    pub(super) chip: DualPortSram,
+    /// The data pins were valid RAM data at the previous edge.
+    pub(super) sample_valid: bool,
+}
+
+impl<U: ExternalIsa> ExternalBench<U> {
     fn set(&mut self, pins: &IsaPins, reset: bool, k: u64) {
-        set_bus_pins!(&mut self.uut, pins, reset);
-        self.uut.ram_d_in.next = u64::from(self.chip.data_pins(k)).into();
-        settle(&mut self.uut);
+        let d_in = self.chip.data_pins(k);
+        self.uut.set(pins, reset, d_in);
     }
     fn outputs(&self) -> m::IsaOutputs {
+        let (sd_out, sd_oe, iocs16_n, irq, bell_to_dsp) = self.uut.bus();
         m::IsaOutputs {
-            sd_out: self.uut.sd_out.val().index() as u16,
-            sd_oe: self.uut.sd_oe.val(),
-            iocs16_n: self.uut.iocs16_n.val(),
+            sd_out,
+            sd_oe,
+            iocs16_n,
             dsp_rdata: self.chip.dsp_rdata,
-            irq: self.uut.irq.val(),
-            bell_to_dsp: self.uut.bell_to_dsp.val(),
+            irq,
+            bell_to_dsp,
         }
     }
 }
 
-impl Bench for ExternalBench {
+impl<U: ExternalIsa> Bench for ExternalBench<U> {
     fn observe(&mut self, pins: &IsaPins, reset: bool) -> (m::IsaOutputs, m::IsaOutputs) {
         // Between edges the data pins read as at the next edge: only the
         // bus outputs matter here, and they do not depend on them.
@@ -320,9 +355,9 @@ impl Bench for ExternalBench {
             bad.push("the prefetch took data sampled before the SRAM's access time".to_string());
         }
         self.sample_valid = self.chip.data_valid(k);
-        rising_edge(&mut self.uut, |u| &mut u.clock);
+        rising_edge(&mut self.uut, |u| u.clock_pin());
         self.model.clock(pins, reset, d_in);
-        let hdl = sram_pins_of(&self.uut);
+        let hdl = self.uut.sram_pins();
         bad.extend(self.chip.edge(k, pins, hdl));
         if hdl != self.model.sram() {
             bad.push(format!(
@@ -343,7 +378,7 @@ impl Bench for ExternalBench {
         self.model.core().queued_write().is_some()
     }
     fn sram(&self) -> Option<SramPins> {
-        Some(sram_pins_of(&self.uut))
+        Some(self.uut.sram_pins())
     }
 }
 
@@ -383,7 +418,12 @@ pub fn run_rust(ram: IsaRam, base: u8, ops: &[Op], hook: Option<EdgeHook>) -> Ru
     }
 }
 
-fn run_bench(mut bench: impl Bench, base: u8, ops: &[Op], mut hook: Option<EdgeHook>) -> RustRun {
+pub(super) fn run_bench(
+    mut bench: impl Bench,
+    base: u8,
+    ops: &[Op],
+    mut hook: Option<EdgeHook>,
+) -> RustRun {
     let (events, end) = timeline(base, ops);
     let mut pins = IsaPins::idle(base);
     let mut reset = false;
