@@ -279,3 +279,42 @@ pub(super) fn resolve_flop_clocks(flat: &mut Flat, ports: &[String]) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flop clocked through the stub `q_reg$clock`, with `extra` in the
+    /// same combinational block.
+    fn stubbed_flop(extra: &str) -> Flat {
+        Flat {
+            nets: vec![Net {
+                width: 1,
+                signed: false,
+                name: "q_reg$clock".into(),
+                init: None,
+            }],
+            widths: BTreeMap::from([("clock".into(), 1), ("q_reg$clock".into(), 1)]),
+            ports: BTreeMap::new(),
+            params: Vec::new(),
+            comb: vec![vec!["q_reg$clock = clock;".into(), extra.into()]],
+            flops: vec![("q_reg$clock".into(), "q_reg$q".into(), "q_reg$d".into())],
+            mems: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_flop_is_wired_to_its_clock_and_the_stub_dropped() {
+        let mut flat = stubbed_flop("y = q_reg$q;");
+        resolve_flop_clocks(&mut flat, &["clock".into()]);
+        assert_eq!(flat.flops[0].0, "clock");
+        assert_eq!(flat.comb, vec![vec!["y = q_reg$q;".to_string()]]);
+        assert!(flat.nets.is_empty());
+    }
+
+    #[test]
+    #[should_panic(expected = "clock stub `q_reg$clock` is still read in `y = q_reg$clock;`")]
+    fn a_clock_stub_read_elsewhere_panics_naming_the_line() {
+        resolve_flop_clocks(&mut stubbed_flop("y = q_reg$clock;"), &["clock".into()]);
+    }
+}

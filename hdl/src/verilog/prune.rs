@@ -130,5 +130,7 @@ mod tests {
         );
         assert_eq!(assignment("if (a == b) begin"), None);
         assert_eq!(assignment("x = (a"), None);
+        // One identifier, but not a plain name: not an assignment to it.
+        assert_eq!(assignment("{a} = b;"), None);
     }
 }
