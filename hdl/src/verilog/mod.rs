@@ -127,6 +127,18 @@ mod tests {
     }
 
     #[test]
+    fn a_net_assigned_over_several_lines_keeps_its_declaration() {
+        // Its statement cannot be taken out line by line, so the net stays
+        // declared even though nothing reads it.
+        let raw = "module top(a, y);\n    input wire a;\n    output reg y;\n    \
+                   reg unread;\n    always @(*) begin\n        unread = a &\n            \
+                   a;\n        y = a;\n    end\nendmodule\n";
+        let out = rewrite(raw, "t");
+        assert!(out.contains("unread = a &"), "{out}");
+        assert!(out.contains("reg unread;"), "{out}");
+    }
+
+    #[test]
     #[should_panic(expected = "unexpected line in rust-hdl module top: `initial begin`")]
     fn an_unsupported_construct_panics_naming_its_line() {
         let raw = "module top(a);\n    input wire a;\n    initial begin\n    end\nendmodule\n";

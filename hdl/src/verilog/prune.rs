@@ -68,20 +68,6 @@ fn read_names(flat: &Flat) -> BTreeSet<String> {
     read
 }
 
-/// Nets assigned by a line that is not a one-line assignment: kept, since
-/// their statements cannot be taken out line by line.
-fn complex_targets(flat: &Flat) -> BTreeSet<String> {
-    let names: BTreeSet<&str> = flat.nets.iter().map(|n| n.name.as_str()).collect();
-    flat.comb
-        .iter()
-        .flatten()
-        .filter(|l| assignment(l).is_none() && l.contains(" = "))
-        .filter_map(|l| identifiers(l.trim()).next())
-        .filter(|id| names.contains(id))
-        .map(str::to_string)
-        .collect()
-}
-
 /// `flat` without the nets, flops and parameters nothing reads.
 pub(super) fn prune_unread(mut flat: Flat) -> Flat {
     let mems: BTreeSet<String> = flat
@@ -90,13 +76,14 @@ pub(super) fn prune_unread(mut flat: Flat) -> Flat {
         .flat_map(|m| [m.name.clone(), m.read_data.clone()])
         .collect();
     loop {
+        // A net assigned by a statement over several lines is kept: such a
+        // line counts every name in it as read, its target too.
         let read = read_names(&flat);
-        let keep = complex_targets(&flat);
         let dead: BTreeSet<String> = flat
             .nets
             .iter()
             .map(|n| n.name.clone())
-            .filter(|n| !read.contains(n) && !keep.contains(n) && !mems.contains(n))
+            .filter(|n| !read.contains(n) && !mems.contains(n))
             .collect();
         let params_before = flat.params.len();
         flat.params.retain(|(p, _)| read.contains(p));
