@@ -144,4 +144,22 @@ fn the_fifo_contract_catches_broken_fifos() {
         .collect();
     assert_eq!(waits.len(), 1, "{waits:?}");
     assert!(waits[0].contains("waited"));
+    // A segment loaded while braking; and a brake that leaves the FIFO
+    // level where it was.
+    let mut c = FifoContract::default();
+    assert!(push(&mut c, 0, 5, 100).is_empty());
+    let braking = EngineView {
+        braking: true,
+        ..before
+    };
+    let bad = c.edge(&inp, &braking, &after).unwrap();
+    assert!(bad.contains("a segment loaded while braking"), "{bad}");
+    let mut c = FifoContract::default();
+    assert!(push(&mut c, 0, 5, 100).is_empty());
+    let brake = EngineInputs {
+        brake: Some((1000, 1 << 16)),
+        ..Default::default()
+    };
+    let bad = c.edge(&brake, &v, &v).unwrap();
+    assert!(bad.contains("level 1 with 0 segments queued"), "{bad}");
 }

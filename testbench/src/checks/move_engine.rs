@@ -25,12 +25,16 @@ pub struct EngineInputs {
     pub push: bool,
     pub clear_overflow: bool,
     pub low_water: u32,
+    /// A decelerating stop at this edge: (the NCO's rate, DECEL).
+    pub brake: Option<(i32, u32)>,
 }
 
 /// What the contract sees of the HDL around one edge.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct EngineView {
     pub active: bool,
+    /// The BRAKING output.
+    pub braking: bool,
     pub level: u32,
     pub overflow: bool,
     /// STATUS.FIFO_LEVEL and FIFO_LOW as the engine drives them.
@@ -46,7 +50,9 @@ pub struct EngineView {
 /// Random traffic in phases of 3000 clocks: fill (RUN low, segments pushed
 /// back to back, then pushes and writes into the full FIFO), drain (RUN
 /// high, steps commanded often), and mixed; short segments (0..=6 steps)
-/// so the head wraps many times; the low-water mark moves; rare resets.
+/// so the head wraps many times; the low-water mark moves; rare resets;
+/// a decelerating stop about every 4000 clocks (rates up to ±20 000, DECEL
+/// 8 to 71 LSB a clock, so each brake ends within about 5000 clocks).
 pub fn engine_stimulus(clocks: usize, seed: u64) -> Vec<EngineInputs> {
     let mut rng = Rng::new(seed);
     let mut v = vec![
@@ -72,6 +78,10 @@ pub fn engine_stimulus(clocks: usize, seed: u64) -> Vec<EngineInputs> {
             reset: rng.below(20_000) == 0,
             ..Default::default()
         };
+        if rng.below(4000) == 0 {
+            let rate = rng.below(40_001) as i32 - 20_000;
+            inp.brake = Some((rate, ((8 + rng.below(64)) as u32) << 16));
+        }
         let busy = if phase == 1 { 40 } else { 2 };
         if rng.below(busy) == 0 {
             if field < 4 {
@@ -108,6 +118,9 @@ pub struct FifoContract {
     pub full_pushes: u64,
     pub empty_stalls: u64,
     pub low_changes: u64,
+    /// Decelerating stops, and clocks spent braking.
+    pub brakes: u64,
+    pub braking_clocks: u64,
     last_low: bool,
 }
 
@@ -151,14 +164,18 @@ impl FifoContract {
             }
             return (!bad.is_empty()).then(|| bad.join("; "));
         }
-        let popped = before.staged && !after.staged;
+        self.braking_clocks += u64::from(before.braking);
+        // A brake drops the head copy with the rest (below): not a load.
+        let popped = before.staged && !after.staged && inp.brake.is_none();
         if popped {
             self.pops += 1;
-            if before.active || !inp.run {
+            if before.active || !inp.run || before.braking {
                 bad.push(format!(
                     "a segment loaded while {}",
                     if before.active {
                         "one ran"
+                    } else if before.braking {
+                        "braking"
                     } else {
                         "RUN was low"
                     }
@@ -184,9 +201,9 @@ impl FifoContract {
                 Some(None) => {}
             }
         }
-        // A segment waiting with RUN high and nothing running loads within
-        // the copy's latency.
-        if inp.run && !before.active && !self.queue.is_empty() && !popped {
+        // A segment waiting with RUN high and nothing running or braking
+        // loads within the copy's latency.
+        if inp.run && !before.active && !before.braking && !self.queue.is_empty() && !popped {
             self.waiting += 1;
             self.empty_stalls += u64::from(self.waiting == 1);
             if self.waiting > SEGMENT_FETCH_CLOCKS + 1 {
@@ -223,6 +240,13 @@ impl FifoContract {
                 }
             ));
         }
+        // A brake drops every queued segment (this edge's push too) and
+        // the tail moves to the head: fields written so far are unknown.
+        if inp.brake.is_some() {
+            self.brakes += 1;
+            self.queue.clear();
+            self.written = [None; 4];
+        }
         if after.level != self.queue.len() as u32 {
             bad.push(format!(
                 "level {} with {} segments queued",
@@ -258,6 +282,10 @@ fn apply(uut: &mut MoveEngine, inp: &EngineInputs) {
     uut.write_jerk.next = write(SegmentField::Jerk);
     uut.clear_overflow.next = inp.clear_overflow;
     uut.low_water.next = u64::from(inp.low_water).into();
+    let (rate, decel) = inp.brake.unwrap_or_default();
+    uut.brake.next = inp.brake.is_some();
+    uut.brake_rate.next = u64::from(rate as u32).into();
+    uut.decel.next = u64::from(decel).into();
 }
 
 /// STATUS.FIFO_LEVEL and FIFO_LOW, as (lsb, mask).
@@ -309,6 +337,7 @@ fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
     let p = uut.probe();
     EngineView {
         active: p.active,
+        braking: uut.braking.val(),
         level: p.level,
         overflow: p.overflow,
         status_level: s >> level.0 & level.1,
@@ -350,7 +379,11 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
             model.reset();
         } else {
             let writes: Vec<_> = inp.write.into_iter().collect();
+            let was_braking = model.braking();
             model.clock_bus(inp.run, inp.commanded, inp.advancing, &writes, inp.push);
+            if let Some((rate, decel)) = inp.brake {
+                model.brake(was_braking, rate, decel);
+            }
             if inp.clear_overflow {
                 model.clear_overflow();
             }
@@ -390,6 +423,8 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
         ("waits for the head copy", contract.empty_stalls, 10),
         ("FIFO_LOW changes", contract.low_changes, 10),
         ("head wraps", wraps, 3),
+        ("decelerating stops", contract.brakes, 5),
+        ("clocks braking", contract.braking_clocks, 1000),
     ] {
         if n < least {
             r.failures
