@@ -122,8 +122,9 @@ impl SCurveParams {
     }
 }
 
-/// Ticks to accelerate from rest to V at jerk J and acceleration A (an
-/// estimate good to a couple of ticks).
+/// Ticks to accelerate from rest to V at jerk J and acceleration A: an
+/// upper bound (measured up to 1.54 times the ramp `reach` takes, so
+/// TooLong can refuse a move whose real ramp is shorter than the limit).
 fn ramp_ticks(j: i64, a: i64, v: i64) -> i64 {
     // Jerk ramp: to A, or to the peak of a ramp that reaches V without A.
     let t_j = ((a + j - 1) / j).min(((v + j - 1) / j).isqrt() + 1);
