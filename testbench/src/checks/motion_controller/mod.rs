@@ -92,6 +92,9 @@ pub fn run_rust<const N: usize>(config: &Config, ops: &[Op]) -> (Vec<Observation
 /// What the board around a rust-hdl top does at each clock: called with
 /// the pins driven and settled just before the rising edge
 /// ([`Edge::Before`]) and once the clock has fallen again ([`Edge::After`]).
+/// A board that drives an input before the edge settles the top itself;
+/// after the edge it need not, since every sample and every edge starts by
+/// driving the pins and settling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Edge {
     Before,
@@ -102,6 +105,7 @@ pub enum Edge {
 pub fn loopback_board<T: McuTop>(uut: &mut T, edge: Edge) {
     if edge == Edge::Before {
         uut.feed_back();
+        settle(uut);
     }
 }
 
@@ -157,13 +161,11 @@ pub fn run_top<T: McuTop>(
         uut.drive(&pins, reset);
         settle(&mut uut);
         board(&mut uut, Edge::Before);
-        settle(&mut uut);
         uut.clock_input().next = Clock::from(true);
         settle(&mut uut);
         uut.clock_input().next = Clock::from(false);
         settle(&mut uut);
         board(&mut uut, Edge::After);
-        settle(&mut uut);
         clocks += 1;
         edge += CLOCK_TICKS;
     }
