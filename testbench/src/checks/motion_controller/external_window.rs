@@ -5,8 +5,7 @@
 //! FSMC must read back through them, which only holds when address, data,
 //! write strobe and read data are each wired to the MCU bridge's RAM port.
 
-use super::{compare, run_top, Edge, Plan, RAM_HALFWORD};
-use crate::bfm::fsmc::Op;
+use super::{compare, ram_window_ops, run_top, Edge, Plan};
 use crate::harness::CheckReport;
 use motionhdl_hdl::MotionControllerExternal;
 use motionhdl_model::Config;
@@ -65,36 +64,11 @@ impl WindowRam {
     }
 }
 
-/// Every window word written with its own value, then read back as
-/// halfwords, then 32-bit pairs over the first 64 words: the FSMC ops and
-/// the halfwords each read must return.
+/// The internal build's RAM-window ops ([`ram_window_ops`]) over the
+/// window's 1024 words: the FSMC ops and the halfwords each read returns.
 pub fn window_plan() -> Plan {
-    let value = |k: usize, salt: u16| (k as u16).wrapping_mul(0x9E37) ^ salt;
-    let mut ops = Vec::new();
-    let mut expected = Vec::new();
-    for k in 0..WINDOW_WORDS {
-        ops.push(Op::Write16 {
-            a: RAM_HALFWORD + k as u16,
-            data: value(k, 0x5A0F),
-        });
-    }
-    for k in 0..WINDOW_WORDS {
-        ops.push(Op::Read16 {
-            a: RAM_HALFWORD + k as u16,
-        });
-        expected.push(value(k, 0x5A0F));
-    }
-    for k in (0..64).step_by(2) {
-        let data = u32::from(value(k, 0x0FF0)) | u32::from(value(k + 1, 0x0FF0)) << 16;
-        ops.push(Op::Write32 {
-            a: RAM_HALFWORD + k as u16,
-            data,
-        });
-        ops.push(Op::Read32 {
-            a: RAM_HALFWORD + k as u16,
-        });
-        expected.extend([data as u16, (data >> 16) as u16]);
-    }
+    let (mut ops, mut expected) = (Vec::new(), Vec::new());
+    ram_window_ops(&mut [0; WINDOW_WORDS], &mut ops, &mut expected);
     Plan {
         ops,
         expected,

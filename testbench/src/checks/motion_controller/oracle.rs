@@ -163,14 +163,6 @@ impl McuOracle {
             None => 0,
         }
     }
-
-    pub fn ram_write(&mut self, word: usize, data: u16) {
-        self.ram[word] = data;
-    }
-
-    pub fn ram_read(&self, word: usize) -> u16 {
-        self.ram[word]
-    }
 }
 
 /// The SERVO writes of the plan: short TIMING (so a transfer ends within
@@ -320,39 +312,48 @@ pub fn plan(config: &Config) -> Plan {
         ops.push(Op::Read32 { a: RAM_HALFWORD });
         expected.extend([0, 0]);
     }
-    for k in 0..ram_words {
+    ram_window_ops(&mut o.ram, &mut ops, &mut expected);
+    Plan {
+        ops,
+        expected,
+        ignored_writes,
+    }
+}
+
+/// The RAM window's part of a plan: every word of `ram` written with a
+/// pattern and read back as 16-bit accesses, then the first 64 words
+/// written and read as 32-bit pairs (the low word first). `ram` follows
+/// the writes; each read's halfwords go to `expected`.
+pub fn ram_window_ops(ram: &mut [u16], ops: &mut Vec<Op>, expected: &mut Vec<u16>) {
+    let words = ram.len();
+    for (k, word) in ram.iter_mut().enumerate() {
         let data = pattern(k as u32, 0xC0DE_0000) as u16;
         ops.push(Op::Write16 {
             a: RAM_HALFWORD + k as u16,
             data,
         });
-        o.ram_write(k, data);
+        *word = data;
     }
-    for k in 0..ram_words {
+    for (k, word) in ram.iter().enumerate() {
         ops.push(Op::Read16 {
             a: RAM_HALFWORD + k as u16,
         });
-        expected.push(o.ram_read(k));
+        expected.push(*word);
     }
     // 32-bit accesses to the RAM window: two words, the low one first.
-    for k in (0..ram_words.min(64)).step_by(2) {
+    for k in (0..words.min(64)).step_by(2) {
         let data = pattern(k as u32, 0xBEEF_0000);
         ops.push(Op::Write32 {
             a: RAM_HALFWORD + k as u16,
             data,
         });
-        o.ram_write(k, data as u16);
-        o.ram_write(k + 1, (data >> 16) as u16);
+        ram[k] = data as u16;
+        ram[k + 1] = (data >> 16) as u16;
     }
-    for k in (0..ram_words.min(64)).step_by(2) {
+    for k in (0..words.min(64)).step_by(2) {
         ops.push(Op::Read32 {
             a: RAM_HALFWORD + k as u16,
         });
-        expected.extend([o.ram_read(k), o.ram_read(k + 1)]);
-    }
-    Plan {
-        ops,
-        expected,
-        ignored_writes,
+        expected.extend([ram[k], ram[k + 1]]);
     }
 }
