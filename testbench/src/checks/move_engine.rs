@@ -288,16 +288,6 @@ fn apply(uut: &mut MoveEngine, inp: &EngineInputs) {
     uut.decel.next = u64::from(decel).into();
 }
 
-/// STATUS.FIFO_LEVEL and FIFO_LOW, as (lsb, mask).
-fn status_fields() -> [(u32, u32); 2] {
-    let map = regmap::pulse_bank(1, 32);
-    let status = map.array("AX").register("STATUS");
-    ["FIFO_LEVEL", "FIFO_LOW"].map(|name| {
-        let f = status.field(name);
-        (f.lsb, (1 << f.width) - 1)
-    })
-}
-
 /// The engine's fields of STATUS, as the register map places them (BUSY
 /// and PENDING are the generator's).
 const ENGINE_STATUS: [&str; 6] = [
@@ -309,15 +299,18 @@ const ENGINE_STATUS: [&str; 6] = [
     "BRAKING",
 ];
 
-/// The lsb of each of [`ENGINE_STATUS`].
-fn engine_status_lsbs() -> [u32; 6] {
+/// Each of [`ENGINE_STATUS`] as (lsb, mask).
+fn engine_status_fields() -> [(u32, u32); 6] {
     let map = regmap::pulse_bank(1, 32);
     let status = map.array("AX").register("STATUS");
-    ENGINE_STATUS.map(|name| status.field(name).lsb)
+    ENGINE_STATUS.map(|name| {
+        let f = status.field(name);
+        (f.lsb, (1 << f.width) - 1)
+    })
 }
 
 /// The engine's part of STATUS as the model's state gives it.
-fn model_status(model: &m::MoveEngine, low_water: u32, lsbs: [u32; 6]) -> u32 {
+fn model_status(model: &m::MoveEngine, low_water: u32, fields: &[(u32, u32); 6]) -> u32 {
     let level = model.level() as u32;
     [
         u32::from(model.active()),
@@ -328,11 +321,12 @@ fn model_status(model: &m::MoveEngine, low_water: u32, lsbs: [u32; 6]) -> u32 {
         u32::from(model.braking()),
     ]
     .iter()
-    .zip(lsbs)
-    .fold(0, |w, (v, lsb)| w | v << lsb)
+    .zip(fields)
+    .fold(0, |w, (v, (lsb, _))| w | v << lsb)
 }
 
-fn view(uut: &MoveEngine, [level, low]: [(u32, u32); 2]) -> EngineView {
+fn view(uut: &MoveEngine, fields: &[(u32, u32); 6]) -> EngineView {
+    let [_, _, _, level, low, _] = *fields;
     let s = uut.status.val().index() as u32;
     let p = uut.probe();
     EngineView {
@@ -362,17 +356,16 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
     uut.connect_all();
     let mut model = m::MoveEngine::default();
     let mut contract = FifoContract::default();
-    let fields = status_fields();
-    let lsbs = engine_status_lsbs();
+    let fields = engine_status_fields();
     for (k, inp) in engine_stimulus(clocks, seed).iter().enumerate() {
         apply(&mut uut, inp);
         settle(&mut uut);
-        let before = view(&uut, fields);
+        let before = view(&uut, &fields);
         // STATUS is combinational from the registers: compared before the
         // edge, with the model's state before its clock.
         let status = (
             uut.status.val().index() as u32,
-            model_status(&model, inp.low_water, lsbs),
+            model_status(&model, inp.low_water, &fields),
         );
         cycle(&mut uut, |u| &mut u.clock);
         if inp.reset {
@@ -406,7 +399,7 @@ pub fn engine_rust(clocks: usize, seed: u64) -> CheckReport {
                     )
                 })
             });
-        if let Some(b) = contract.edge(inp, &before, &view(&uut, fields)) {
+        if let Some(b) = contract.edge(inp, &before, &view(&uut, &fields)) {
             bad.get_or_insert(format!("clock {k} {inp:?}: contract: {b}"));
         }
         r.case(bad);
