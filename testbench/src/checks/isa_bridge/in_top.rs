@@ -4,13 +4,13 @@
 //! dual-port SRAM chip run through the top unchanged, the FSMC idle. No
 //! other check drives the top's PC side with an SRAM behind it.
 
-use super::rust_run::{run_bench, DualPortSram, ExternalBench, ExternalIsa, RustRun};
+use super::rust_run::{run_bench, ExternalBench, ExternalIsa, RustRun};
 use crate::bfm::isa::Op;
 use crate::harness::settle;
 use motionhdl_hdl::MotionControllerExternal;
-use motionhdl_model::isa_bridge::{IsaBridgeExternalModel, IsaPins, SramPins};
+use motionhdl_model::isa_bridge::{IsaPins, SramPins};
 use motionhdl_model::{Config, IsaRam};
-use rust_hdl::prelude::{Block, Clock, In, Signal};
+use rust_hdl::prelude::{Clock, In, Signal};
 
 impl<const N: usize> ExternalIsa for MotionControllerExternal<N> {
     fn set(&mut self, pins: &IsaPins, reset: bool, d_in: u16) {
@@ -60,18 +60,7 @@ impl<const N: usize> ExternalIsa for MotionControllerExternal<N> {
 /// [`super::run_rust`] of the external build, through the default
 /// external-RAM top (4 axes) instead of the bridge alone.
 pub fn run_rust_in_external_top(base: u8, ops: &[Op]) -> RustRun {
-    let mut uut =
-        MotionControllerExternal::<4>::new(&Config::default().with_isa_ram(IsaRam::External));
-    uut.connect_all();
-    run_bench(
-        ExternalBench {
-            uut,
-            model: IsaBridgeExternalModel::new(),
-            chip: DualPortSram::new(),
-            sample_valid: false,
-        },
-        base,
-        ops,
-        None,
-    )
+    let config = Config::default().with_isa_ram(IsaRam::External);
+    let bench = ExternalBench::new(MotionControllerExternal::<4>::new(&config));
+    run_bench(bench, base, ops, None)
 }

@@ -303,14 +303,24 @@ impl ExternalIsa for IsaBridgeExternal {
 
 /// The build for an external dual-port SRAM, with the chip.
 pub(super) struct ExternalBench<U: ExternalIsa> {
-    pub(super) uut: U,
-    pub(super) model: IsaBridgeExternalModel,
-    pub(super) chip: DualPortSram,
+    uut: U,
+    model: IsaBridgeExternalModel,
+    chip: DualPortSram,
     /// The data pins were valid RAM data at the previous edge.
-    pub(super) sample_valid: bool,
+    sample_valid: bool,
 }
 
 impl<U: ExternalIsa> ExternalBench<U> {
+    /// `uut` (connected) beside a fresh model and SRAM chip.
+    pub(super) fn new(mut uut: U) -> Self {
+        uut.connect_all();
+        Self {
+            uut,
+            model: IsaBridgeExternalModel::new(),
+            chip: DualPortSram::new(),
+            sample_valid: false,
+        }
+    }
     fn set(&mut self, pins: &IsaPins, reset: bool, k: u64) {
         let d_in = self.chip.data_pins(k);
         self.uut.set(pins, reset, d_in);
@@ -400,21 +410,12 @@ pub fn run_rust(ram: IsaRam, base: u8, ops: &[Op], hook: Option<EdgeHook>) -> Ru
                 hook,
             )
         }
-        IsaRam::External => {
-            let mut uut = IsaBridgeExternal::new();
-            uut.connect_all();
-            run_bench(
-                ExternalBench {
-                    uut,
-                    model: IsaBridgeExternalModel::new(),
-                    chip: DualPortSram::new(),
-                    sample_valid: false,
-                },
-                base,
-                ops,
-                hook,
-            )
-        }
+        IsaRam::External => run_bench(
+            ExternalBench::new(IsaBridgeExternal::new()),
+            base,
+            ops,
+            hook,
+        ),
     }
 }
 
