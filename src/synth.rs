@@ -91,10 +91,16 @@ impl Target {
     }
 }
 
-/// Finds `name` on PATH (the testbench's lookup, so tests and the CLI
-/// agree on what is installed).
+/// Finds `name` on PATH or in the tools' venv that install-tools made
+/// (the testbench's lookup, so tests and the CLI agree on what is
+/// installed).
 pub fn which(name: &str) -> Option<PathBuf> {
     motionhdl_testbench::harness::tool(name).ok()
+}
+
+/// The venv's `bin/`, the second place [`which`] looks.
+pub fn venv_bin() -> PathBuf {
+    motionhdl_testbench::harness::tools_venv().join("bin")
 }
 
 /// The programs a target runs.
@@ -111,9 +117,10 @@ pub fn find_tools(target: Target) -> Result<Tools, CliError> {
     let first = |names: &[&str]| names.iter().find_map(|n| which(n));
     let missing = |names: &[&str]| {
         CliError::input(format!(
-            "synth --target {}: `{}` not found on PATH; {}",
+            "synth --target {}: `{}` not found on PATH or in the tools' venv ({}); {}",
             target.name(),
             names.join("` or `"),
+            venv_bin().display(),
             target.install_hint()
         ))
     };

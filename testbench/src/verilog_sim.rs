@@ -307,6 +307,7 @@ pub fn build_and_run(
         }
         Simulator::Verilator => {
             let mut c = Command::new("verilator");
+            crate::harness::cache_verilator_build(&mut c);
             c.current_dir(dir).args(["--binary", "-j", "2"]);
             if !strict {
                 c.arg("-Wno-fatal");

@@ -321,6 +321,7 @@ fn c_run(dir: &Path, verilog: &str, lib: &Path) -> String {
         .map(|i| format!("-I{}", i.display()))
         .collect();
     let mut v = Command::new("verilator");
+    motionhdl_testbench::harness::cache_verilator_build(&mut v);
     v.current_dir(dir)
         .args(["--cc", "--exe", "--build", "-j", "2", "-Wno-fatal", "-O2"])
         .args([
