@@ -81,7 +81,9 @@ enum Command {
         /// netlist, formal (the SymbiYosys proofs of formal/*.sv).
         #[arg(long, value_name = "GROUP")]
         only: Vec<String>,
-        /// Also the long formal proofs (minutes each).
+        /// The long scale: the long random runs and the wide instances at
+        /// their full size (docs/testing.md), and the long formal proofs
+        /// (minutes each).
         #[arg(long)]
         long: bool,
     },
@@ -222,6 +224,11 @@ fn run(cli: Cli) -> Result<(), CliError> {
             only,
             long,
         } => {
+            if long {
+                // The checks read their sizes from the scale
+                // (motionhdl_testbench::scale); set before any thread starts.
+                std::env::set_var(motionhdl_testbench::scale::LONG_VAR, "1");
+            }
             let verified = verify::run(!no_external, &only, long)?;
             let reports = &verified.checks;
             if !reports.is_empty() {

@@ -9,7 +9,7 @@ use motionhdl::artifacts;
 use motionhdl_hdl::{banner, catalog};
 use motionhdl_model::CounterFeatures;
 use motionhdl_testbench::harness::require_tool;
-use motionhdl_testbench::netlist;
+use motionhdl_testbench::{netlist, scale};
 use std::fs;
 use std::process::Command;
 
@@ -108,15 +108,20 @@ fn external_config() -> motionhdl_model::Config {
 /// external-RAM build and of a build with counter options off that differ
 /// from it (same names, so never loaded together with the default ones).
 fn every_build() -> Vec<catalog::VerilogModule> {
-    let mut v = catalog::all(&Default::default());
+    every_build_at(motionhdl_model::Config::default())
+}
+
+/// [`every_build`] with `base` in place of the default configuration.
+fn every_build_at(base: motionhdl_model::Config) -> Vec<catalog::VerilogModule> {
+    let mut v = catalog::all(&base);
     // The DSP seed card's counter options: no filter, index or error logic.
-    let counter_options =
-        motionhdl_model::Config::default().with_counter_features(CounterFeatures::from_bits(8));
+    let counter_options = base.with_counter_features(CounterFeatures::from_bits(8));
     // The servo card's top (SERVO block and DAC pins); its blocks are the
     // default's.
-    let servo_card = motionhdl_model::Config::default().with_servo_dac(true);
+    let servo_card = base.with_servo_dac(true);
+    let external = base.with_isa_ram(motionhdl_model::IsaRam::External);
     for (config, changed) in [
-        (external_config(), &["isa_bridge", "motion_controller"][..]),
+        (external, &["isa_bridge", "motion_controller"][..]),
         (counter_options, &["counter_bank", "motion_controller"][..]),
         (servo_card, &["motion_controller"][..]),
     ] {
@@ -288,18 +293,25 @@ fn synthesis_checks_catch_a_latch_a_multiple_driver_and_an_undriven_net() {
     }
 }
 
-/// Every module of both builds through `flow`. The vendor flows take each
-/// build's top at 1 axis: its axes are one block's logic repeated, the
-/// generic flow checks the 4-axis tops, and the vendor flows' own work
-/// (block RAM, carry chains, I/O) is the same at 1 axis; mapping both
-/// 4-axis tops twice took about 160 s of the suite's time, which belongs
-/// to `motionhdl synth`, a benchmark.
+/// Every module of every build through `flow`, each build at the scale's
+/// axis count (knob `synth_check_axes`: the default build's 4 at the long
+/// scale). An axis is one block's logic repeated, so a latch, a second
+/// driver or an undriven net shows at 1 axis as at 4 unless it is in the
+/// per-axis wiring, which the long scale covers. The vendor flows take
+/// each build's top at 1 axis at both scales: their own work (block RAM,
+/// carry chains, I/O) is the same at 1 axis; mapping both 4-axis tops
+/// twice took about 160 s of the suite's time, which belongs to
+/// `motionhdl synth`, a benchmark.
 fn synthesises_cleanly(flow: &str) {
     if require_tool("yosys").is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let mut modules = every_build();
+    let axes = scale::cases("synth_check_axes");
+    let base = motionhdl_model::Config::default()
+        .with_axes(axes)
+        .expect("synth_check_axes is 1..=16");
+    let mut modules = every_build_at(base);
     // The counter-options build's top repeats the default top with less
     // logic: its counter_bank and lints stand for it here.
     let mut tops = 0;

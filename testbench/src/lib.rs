@@ -28,6 +28,7 @@ pub mod netlist;
 pub mod player;
 pub mod plot;
 pub mod registry;
+pub mod scale;
 pub mod scenarios;
 pub mod servo_loop;
 pub mod state_map;

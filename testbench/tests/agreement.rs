@@ -26,7 +26,7 @@ use motionhdl_testbench::checks::{
 };
 use motionhdl_testbench::harness::{require_tool, require_tools};
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
-use motionhdl_testbench::{netlist, registry, CheckReport};
+use motionhdl_testbench::{netlist, registry, scale, CheckReport};
 
 fn tools() -> bool {
     require_tools(&["yosys", "iverilog", "vvp"]).is_some()
@@ -241,8 +241,14 @@ fn every_build_has_a_plain_gate_level_netlist() {
     if require_tool("yosys").is_none() {
         return;
     }
-    let mut modules = motionhdl_hdl::catalog::all(&Config::default());
-    let external = Config::default().with_isa_ram(IsaRam::External);
+    // Each build at the scale's axis count (knob `netlist_build_axes`; the
+    // default build's 4 at the long scale): the netlist script's work is
+    // per module, and an axis is the same logic again.
+    let base = Config::default()
+        .with_axes(scale::cases("netlist_build_axes"))
+        .expect("netlist_build_axes is 1..=16");
+    let mut modules = motionhdl_hdl::catalog::all(&base);
+    let external = base.with_isa_ram(IsaRam::External);
     modules.push(motionhdl_hdl::catalog::isa_bridge(IsaRam::External));
     modules.push(motionhdl_hdl::catalog::motion_controller(&external));
     for m in &modules {

@@ -7,6 +7,7 @@ use motionhdl_testbench::checks::counter_bank::{self, BankPair};
 use motionhdl_testbench::checks::counter_channel::{self, ctrl_value};
 use motionhdl_testbench::checks::input_filter;
 use motionhdl_testbench::harness::require_tool;
+use motionhdl_testbench::scale;
 use motionhdl_testbench::scenarios::counter_bank::quadrature;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
@@ -265,11 +266,13 @@ fn generated_verilog_in_icarus_matches_model() {
 }
 
 #[test]
-fn generated_verilog_in_verilator_matches_model_for_ten_million_clocks() {
+fn generated_verilog_in_verilator_matches_model_for_the_long_run() {
     if require_tool("verilator").is_none() {
         return;
     }
-    let r = counter_bank::verilog_long_run(Simulator::Verilator, 10_000_000);
-    assert_eq!(r.expected, 10_000_000);
+    // 10^6 clocks at the default scale, 10^7 at the long one.
+    let clocks = scale::cases("counter_bank_verilator_clocks");
+    let r = counter_bank::verilog_long_run(Simulator::Verilator, clocks);
+    assert_eq!(r.expected, clocks);
     r.assert_passed();
 }

@@ -8,6 +8,7 @@ use motionhdl_model::pulse_generator::{Segment, StepTiming};
 use motionhdl_testbench::checks::pulse_bank as pb;
 use motionhdl_testbench::checks::pulse_bank::braking;
 use motionhdl_testbench::checks::pulse_generator as pg;
+use motionhdl_testbench::scale;
 use motionhdl_testbench::verilog_sim::Simulator;
 use proptest::prelude::*;
 
@@ -136,7 +137,10 @@ fn a_move_through_the_segment_fifo_ends_on_the_commanded_steps() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    // Knob `ramped_move_cases`: 12 moves at the default scale, 48 long.
+    #![proptest_config(ProptestConfig::with_cases(
+        u32::try_from(scale::cases("ramped_move_cases")).unwrap()
+    ))]
 
     /// Random segment streams with ramps: start rate, acceleration with its
     /// fraction bits, jerk, and reversals between segments. The move ends

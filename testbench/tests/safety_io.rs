@@ -5,6 +5,7 @@
 use motionhdl_testbench::checks::safety_io::contract::{contract, Breakage, PROPERTIES};
 use motionhdl_testbench::checks::safety_io::{random_rust, random_verilog, run_rust, stimulus};
 use motionhdl_testbench::harness::doc_table_rows;
+use motionhdl_testbench::scale;
 use motionhdl_testbench::verilog_sim::{Simulator, Target};
 
 #[test]
@@ -39,14 +40,23 @@ fn one_axis_soft_limits_and_counter_events_every_reachable_state_and_input() {
 
 #[test]
 fn generated_verilog_against_model() {
-    random_verilog(Simulator::Icarus, 100_000, 0x5afe_0002).assert_passed();
-    random_verilog(Simulator::Verilator, 1_000_000, 0x5afe_0003).assert_passed();
+    scale::run_sized("safety_io_icarus_clocks", |n| {
+        random_verilog(Simulator::Icarus, n as usize, 0x5afe_0002)
+    });
+    scale::run_sized("safety_io_verilator_clocks", |n| {
+        random_verilog(Simulator::Verilator, n as usize, 0x5afe_0003)
+    });
 }
 
 #[test]
 fn netlist_against_model() {
-    random_verilog(Target::netlist(Simulator::Icarus), 20_000, 0x5afe_0004).assert_passed();
-    random_verilog(Target::netlist(Simulator::Verilator), 200_000, 0x5afe_0005).assert_passed();
+    let (icarus, verilator) = (Simulator::Icarus, Simulator::Verilator);
+    scale::run_sized("safety_io_netlist_icarus_clocks", |n| {
+        random_verilog(Target::netlist(icarus), n as usize, 0x5afe_0004)
+    });
+    scale::run_sized("safety_io_netlist_verilator_clocks", |n| {
+        random_verilog(Target::netlist(verilator), n as usize, 0x5afe_0005)
+    });
 }
 
 /// Clocks of the contract run, and how often each property's antecedent

@@ -8,6 +8,7 @@ use motionhdl_testbench::checks::servo_dac::contract::{
 };
 use motionhdl_testbench::checks::servo_dac::{random_rust, random_verilog, run_rust, stimulus};
 use motionhdl_testbench::harness::doc_table_rows;
+use motionhdl_testbench::scale;
 use motionhdl_testbench::verilog_sim::{Simulator, Target};
 
 #[test]
@@ -41,8 +42,13 @@ fn generated_verilog_against_model() {
 
 #[test]
 fn netlist_against_model() {
-    random_verilog(Target::netlist(Simulator::Icarus), 20_000, 0xdac0_0004).assert_passed();
-    random_verilog(Target::netlist(Simulator::Verilator), 100_000, 0xdac0_0005).assert_passed();
+    let (icarus, verilator) = (Simulator::Icarus, Simulator::Verilator);
+    scale::run_sized("servo_dac_netlist_icarus_clocks", |n| {
+        random_verilog(Target::netlist(icarus), n as usize, 0xdac0_0004)
+    });
+    scale::run_sized("servo_dac_netlist_verilator_clocks", |n| {
+        random_verilog(Target::netlist(verilator), n as usize, 0xdac0_0005)
+    });
 }
 
 /// Clocks of the contract run, and how often each property's antecedent

@@ -275,7 +275,7 @@ pub fn all(external: bool) -> Vec<CheckReport> {
         ));
         v.push(verilog_long_run(
             crate::verilog_sim::Simulator::Verilator,
-            10_000_000,
+            crate::scale::cases("counter_bank_verilator_clocks"),
         ));
     }
     v
