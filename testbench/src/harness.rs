@@ -129,9 +129,18 @@ pub const VENV_VAR: &str = "MOTIONHDL_YOWASP_VENV";
 pub fn tools_venv() -> PathBuf {
     match std::env::var_os(VENV_VAR) {
         Some(dir) if !dir.is_empty() => PathBuf::from(dir),
-        _ => PathBuf::from(std::env::var_os("HOME").unwrap_or_default())
-            .join(".cache/motionhdl/yowasp"),
+        _ => user_cache().join("yowasp"),
     }
+}
+
+/// The venv's `bin/`, the second place [`tool`] looks.
+pub fn venv_bin() -> PathBuf {
+    tools_venv().join("bin")
+}
+
+/// `~/.cache/motionhdl`, where install-tools and the Verilator cache live.
+fn user_cache() -> PathBuf {
+    PathBuf::from(std::env::var_os("HOME").unwrap_or_default()).join(".cache/motionhdl")
 }
 
 /// Where tools are looked for: PATH, then the venv's `bin/`, so that the
@@ -139,7 +148,7 @@ pub fn tools_venv() -> PathBuf {
 pub fn tool_dirs() -> Vec<PathBuf> {
     let path = std::env::var_os("PATH").unwrap_or_default();
     let mut dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
-    dirs.push(tools_venv().join("bin"));
+    dirs.push(venv_bin());
     dirs
 }
 
@@ -151,12 +160,7 @@ pub fn tool(name: &str) -> Result<PathBuf, String> {
         .into_iter()
         .map(|dir| dir.join(name))
         .find(|p| p.is_file())
-        .ok_or_else(|| {
-            format!(
-                "`{name}` not found on PATH or in {}",
-                tools_venv().join("bin").display()
-            )
-        })
+        .ok_or_else(|| format!("`{name}` not found on PATH or in {}", venv_bin().display()))
 }
 
 /// Lets a Verilator build reuse earlier compiles across runs: Verilator
@@ -169,8 +173,7 @@ pub fn cache_verilator_build(cmd: &mut std::process::Command) {
         }
     }
     if std::env::var_os("CCACHE_DIR").is_none() {
-        let home = PathBuf::from(std::env::var_os("HOME").unwrap_or_default());
-        cmd.env("CCACHE_DIR", home.join(".cache/motionhdl/ccache"));
+        cmd.env("CCACHE_DIR", user_cache().join("ccache"));
     }
 }
 
