@@ -94,8 +94,21 @@ fn traces(config: &Config) -> Vec<Artifact> {
     done.into_iter().flat_map(|(_, files)| files).collect()
 }
 
-/// One scenario's save file, its plot if it draws one, and its trace.
+/// One scenario's files, simulated once per test run: a run's processes
+/// share them through `MOTIONHDL_RUN_CACHE` when it is set
+/// (`harness::run_cached`; scripts/test sets it, `generate` alone does
+/// not).
 fn trace_files(s: &scenarios::Scenario, config: &Config) -> Vec<Artifact> {
+    let key = (VERSION, s.name, format!("{config:?}"));
+    let packed = motionhdl_testbench::harness::run_cached("traces", &key, || {
+        Ok::<_, std::convert::Infallible>(pack(&simulate_trace(s, config)))
+    });
+    let packed = packed.unwrap_or_else(|never| match never {});
+    unpack(&packed).unwrap_or_else(|| simulate_trace(s, config))
+}
+
+/// One scenario's save file, its plot if it draws one, and its trace.
+fn simulate_trace(s: &scenarios::Scenario, config: &Config) -> Vec<Artifact> {
     let trace = s.trace(config);
     let vcd = format!("{}.vcd", s.name);
     let mut files = vec![Artifact {
@@ -113,6 +126,34 @@ fn trace_files(s: &scenarios::Scenario, config: &Config) -> Vec<Artifact> {
         contents: trace.to_vcd_string().into_bytes(),
     });
     files
+}
+
+/// `files` as one byte string: per file, its path and length on a line,
+/// then its bytes.
+fn pack(files: &[Artifact]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for f in files {
+        out.extend(format!("{}\t{}\n", f.path.display(), f.contents.len()).into_bytes());
+        out.extend(&f.contents);
+    }
+    out
+}
+
+/// [`pack`]'s files again; `None` for bytes it did not write.
+fn unpack(mut bytes: &[u8]) -> Option<Vec<Artifact>> {
+    let mut files = Vec::new();
+    while !bytes.is_empty() {
+        let eol = bytes.iter().position(|&b| b == b'\n')?;
+        let (path, len) = std::str::from_utf8(&bytes[..eol]).ok()?.split_once('\t')?;
+        let len: usize = len.parse().ok()?;
+        let rest = bytes.get(eol + 1..)?;
+        files.push(Artifact {
+            path: PathBuf::from(path),
+            contents: rest.get(..len)?.to_vec(),
+        });
+        bytes = &rest[len..];
+    }
+    Some(files)
 }
 
 /// The FPGA flow's files for the top level with ports `top`: the
@@ -228,4 +269,34 @@ pub fn config_header(config: &Config) -> String {
     o.push('\n');
     line(&mut o, "#endif /* MOTIONHDL_CONFIG_H */");
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packed_files_unpack_whole_and_a_cut_copy_is_refused() {
+        let files = vec![
+            Artifact {
+                path: PathBuf::from("vcd/a.gtkw"),
+                contents: b"[dumpfile] \"a.vcd\"\n".to_vec(),
+            },
+            Artifact {
+                path: PathBuf::from("vcd/a.vcd"),
+                contents: vec![0, b'\n', b'\t', 255],
+            },
+        ];
+        let packed = pack(&files);
+        let back = unpack(&packed).expect("unpacks");
+        assert_eq!(back.len(), 2);
+        for (a, b) in files.iter().zip(&back) {
+            assert_eq!((&a.path, &a.contents), (&b.path, &b.contents));
+        }
+        for cut in 1..packed.len() {
+            let got = unpack(&packed[..cut]);
+            let whole_files = got.as_ref().map_or(0, Vec::len);
+            assert!(got.is_none() || whole_files == 1, "cut at {cut}");
+        }
+    }
 }

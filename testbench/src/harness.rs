@@ -177,6 +177,42 @@ pub fn cache_verilator_build(cmd: &mut std::process::Command) {
     }
 }
 
+/// The directory the processes of one run share results through
+/// (scripts/test makes a fresh `target/run-cache` for every run): nextest
+/// runs each test in a process of its own, and the netlists and traces
+/// several tests read would otherwise be made once per process.
+pub const RUN_CACHE_VAR: &str = "MOTIONHDL_RUN_CACHE";
+
+/// `make()`, shared through the run's cache when [`RUN_CACHE_VAR`] names
+/// one: the file `<dir>/<kind>/<hash of key>` is written whole by a rename
+/// and read by later callers instead. Without the variable, or when the
+/// file cannot be read, `make` runs; a failure is never cached. The key
+/// must hold everything the result depends on but the build itself (one
+/// run has one build).
+pub fn run_cached<K: std::hash::Hash, E>(
+    kind: &str,
+    key: &K,
+    make: impl FnOnce() -> Result<Vec<u8>, E>,
+) -> Result<Vec<u8>, E> {
+    use std::hash::Hasher;
+    let Some(root) = std::env::var_os(RUN_CACHE_VAR).filter(|d| !d.is_empty()) else {
+        return make();
+    };
+    let mut hash = std::collections::hash_map::DefaultHasher::new();
+    key.hash(&mut hash);
+    let dir = PathBuf::from(root).join(kind);
+    let file = dir.join(format!("{:016x}", hash.finish()));
+    if let Ok(bytes) = std::fs::read(&file) {
+        return Ok(bytes);
+    }
+    let bytes = make()?;
+    let staged = file.with_extension(format!("{}.tmp", std::process::id()));
+    if std::fs::create_dir_all(&dir).is_ok() && std::fs::write(&staged, &bytes).is_ok() {
+        let _ = std::fs::rename(&staged, &file);
+    }
+    Ok(bytes)
+}
+
 /// Like [`tool`], for tests: panics under CI when the tool is missing,
 /// otherwise prints why the test is skipped and returns `None`.
 pub fn require_tool(name: &str) -> Option<PathBuf> {

@@ -10,9 +10,8 @@
 //! `assign` expressions and flip-flops as `always` blocks.
 //!
 //! Netlists are cached per module text within a process: each is made once
-//! however many checks run it. With `MOTIONHDL_NETLIST_CACHE` set to a
-//! directory (scripts/test sets a fresh one each run) the processes of one
-//! run share them too: nextest runs every test in a process of its own.
+//! however many checks run it, and the processes of one run share them
+//! through `MOTIONHDL_RUN_CACHE` ([`crate::harness::run_cached`]).
 
 use crate::harness::tool;
 use motionhdl_hdl::catalog::VerilogModule;
@@ -70,29 +69,13 @@ pub fn netlist(module: &VerilogModule) -> Result<String, String> {
         .clone()
 }
 
-/// The directory the processes of one run share netlists in.
-pub const CACHE_VAR: &str = "MOTIONHDL_NETLIST_CACHE";
-
-/// [`synthesise`] through the run's shared directory, when there is one:
-/// a file per (script, top, text), written whole by a rename.
+/// [`synthesise`] through the run's shared cache
+/// ([`crate::harness::run_cached`]), keyed by script, top and text.
 fn shared(top: &str, text: &str) -> Result<String, String> {
-    use std::hash::{Hash, Hasher};
-    let Some(dir) = std::env::var_os(CACHE_VAR).filter(|d| !d.is_empty()) else {
-        return synthesise(top, text);
-    };
-    let mut key = std::collections::hash_map::DefaultHasher::new();
-    (SCRIPT, top, text).hash(&mut key);
-    let file = std::path::Path::new(&dir).join(format!("{top}-{:016x}.v", key.finish()));
-    if let Ok(net) = fs::read_to_string(&file) {
-        return Ok(net);
-    }
-    let net = synthesise(top, text)?;
-    let _ = fs::create_dir_all(&dir);
-    let staged = file.with_extension(format!("{}.tmp", std::process::id()));
-    if fs::write(&staged, &net).is_ok() {
-        let _ = fs::rename(&staged, &file);
-    }
-    Ok(net)
+    let net = crate::harness::run_cached("netlists", &(SCRIPT, top, text), || {
+        synthesise(top, text).map(String::into_bytes)
+    })?;
+    String::from_utf8(net).map_err(|e| format!("netlist of {top}: {e}"))
 }
 
 /// Runs [`SCRIPT`] on `text` with top module `top`, uncached.
