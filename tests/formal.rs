@@ -2,12 +2,14 @@
 //! SymbiYosys as `motionhdl verify --only formal` runs them: every
 //! property proved by k-induction and every cover reached; every property
 //! shown able to fail, on a copy of the Verilog broken by its file's
-//! `//! break` edit; a failing proof leaves a counterexample GTKWave opens.
+//! `//! break` edit (in the whole top, a spread of the breaks at the default
+//! scale: `formal_in_top_breaks`, docs/testing.md); a failing proof leaves a counterexample GTKWave opens.
 
 mod common;
 
 use motionhdl::formal::{self, sby};
 use motionhdl_testbench::harness::require_tools;
+use motionhdl_testbench::scale;
 
 /// The proof tools, or `None` (a recorded skip; a failure under CI).
 fn tools() -> Option<sby::Tools> {
@@ -52,9 +54,22 @@ fn every_property_is_proved_and_every_cover_reached() {
 #[test]
 fn every_property_fails_on_its_broken_copy() {
     let Some(tools) = tools() else { return };
+    let in_top = scale::cases("formal_in_top_breaks");
+    let proofs: Vec<_> = formal::proofs().into_iter().filter(|p| !p.long).collect();
     let mut broken = 0;
-    for spec in formal::proofs().iter().filter(|p| !p.long) {
-        for b in &spec.breaks {
+    let mut expected = 0;
+    for spec in &proofs {
+        let picked = formal::breaks_at_scale(spec, in_top);
+        if scale::long() {
+            assert_eq!(
+                picked.len(),
+                spec.breaks.len(),
+                "{}: the long scale runs every break (raise formal_in_top_breaks's long size)",
+                spec.name
+            );
+        }
+        expected += picked.len();
+        for b in picked {
             let o = formal::prove_broken(spec, b, &tools).unwrap();
             assert_eq!(
                 o.verdict,
@@ -71,13 +86,18 @@ fn every_property_fails_on_its_broken_copy() {
             broken += 1;
         }
     }
-    let expected: usize = formal::proofs()
+    // Every block's own breaks, and the in-top spread.
+    let block: usize = proofs
         .iter()
-        .filter(|p| !p.long)
+        .filter(|p| !p.name.ends_with("_in_top"))
         .map(|p| p.breaks.len())
         .sum();
+    assert!(expected >= block + in_top as usize, "{expected} breaks");
     assert_eq!(broken, expected);
-    eprintln!("{broken} broken copies, each failing its property");
+    eprintln!(
+        "{broken} broken copies ({} scale), each failing its property",
+        scale::name()
+    );
 }
 
 /// A failing proof keeps its counterexample as a VCD and a save file

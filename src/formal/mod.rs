@@ -187,6 +187,25 @@ pub fn prove_broken(
     sby::run(tools, dir.path(), sby::Mode::Only(&broken.label))
 }
 
+/// The breaks a scale runs of `spec`: every one of a block's own proof;
+/// of a proof inside the whole top (`<proof>_in_top`, about 9 s a break
+/// against 1-4 s on the block alone), `in_top_breaks` of them spread over
+/// its list, first and last included, or all when there are no more.
+pub fn breaks_at_scale(spec: &ProofSpec, in_top_breaks: u64) -> Vec<&Break> {
+    let n = spec.breaks.len();
+    let keep = usize::try_from(in_top_breaks).unwrap_or(usize::MAX);
+    if !spec.name.ends_with("_in_top") || keep >= n {
+        return spec.breaks.iter().collect();
+    }
+    match keep {
+        0 => Vec::new(),
+        1 => vec![&spec.breaks[0]],
+        _ => (0..keep)
+            .map(|i| &spec.breaks[i * (n - 1) / (keep - 1)])
+            .collect(),
+    }
+}
+
 /// Runs every proof (the long ones too with `long`), one after another.
 pub fn run(long: bool) -> Result<Vec<ProofReport>, CliError> {
     let tools = sby::find_tools()?;
@@ -287,6 +306,25 @@ mod tests {
                 module(u).unwrap_or_else(|e| panic!("formal/{}.sv: {e}", p.name));
             }
         }
+    }
+
+    #[test]
+    fn an_in_top_proof_runs_a_spread_of_its_breaks_and_a_block_proof_all() {
+        let all = proofs();
+        let top = all.iter().find(|p| p.name.ends_with("_in_top")).unwrap();
+        let block = all.iter().find(|p| p.name == "counter_bank").unwrap();
+        let n = top.breaks.len();
+        assert!(n >= 4, "{n} breaks");
+        let labels = |b: Vec<&Break>| b.iter().map(|b| b.label.clone()).collect::<Vec<_>>();
+        let three = labels(breaks_at_scale(top, 3));
+        assert_eq!(three.len(), 3);
+        assert_eq!(three[0], top.breaks[0].label);
+        assert_eq!(three[2], top.breaks[n - 1].label);
+        assert_ne!(three[1], three[0]);
+        assert_ne!(three[1], three[2]);
+        assert_eq!(breaks_at_scale(top, n as u64).len(), n);
+        assert_eq!(breaks_at_scale(top, 99).len(), n);
+        assert_eq!(breaks_at_scale(block, 3).len(), block.breaks.len());
     }
 
     #[test]

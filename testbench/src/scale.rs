@@ -2,8 +2,10 @@
 //! `bash scripts/test` and `motionhdl verify`, and at the long scale by
 //! `bash scripts/test --long` and `motionhdl verify --long`
 //! (`MOTIONHDL_LONG=1`). Only the long random runs and the wide instances
-//! change with the scale; every exhaustive tour, agreement leg, contract
-//! breakage, proof and export runs at both.
+//! change with the scale; every exhaustive tour, agreement leg, proof,
+//! export and block-level contract breakage runs at both (the breakages of
+//! a block's proof inside the whole top are a wide instance: a spread of
+//! them at the default scale, all at the long one).
 //!
 //! Each [`Knob`] is one check's case count at both scales and the floor
 //! below which its default may not drop (`tests/scale.rs` holds the table
@@ -92,6 +94,14 @@ pub const KNOBS: &[Knob] = &[
         default: 100_000,
         long: 200_000,
         floor: 100_000,
+    },
+    Knob {
+        name: "formal_in_top_breaks",
+        check: "formal::every_property_fails_on_its_broken_copy",
+        unit: "breaks of each in-top proof",
+        default: 3,
+        long: 12,
+        floor: 3,
     },
     Knob {
         name: "servo_dac_netlist_icarus_clocks",
