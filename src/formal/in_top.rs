@@ -8,6 +8,9 @@
 
 use super::spec::{InTop, ProofSpec, Uses};
 
+/// Ends the name of a proof's copy on the block inside the top.
+pub const NAME_SUFFIX: &str = "_in_top";
+
 /// The top's module name and the catalog's `uses` name for it.
 pub const TOP: &str = "motion_controller";
 
@@ -147,7 +150,7 @@ pub fn derive(block: &ProofSpec, block_text: &str, top_text: &str) -> Result<Pro
         .filter(|(_, n)| n != "clock" && n != "reset")
         .collect();
     let names = declared(block_text);
-    let name = format!("{}_in_top", block.name);
+    let name = format!("{}{NAME_SUFFIX}", block.name);
 
     let mut header = String::new();
     for line in text[..port_at].lines() {

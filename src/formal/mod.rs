@@ -194,7 +194,7 @@ pub fn prove_broken(
 pub fn breaks_at_scale(spec: &ProofSpec, in_top_breaks: u64) -> Vec<&Break> {
     let n = spec.breaks.len();
     let keep = usize::try_from(in_top_breaks).unwrap_or(usize::MAX);
-    if !spec.name.ends_with("_in_top") || keep >= n {
+    if !spec.is_in_top() || keep >= n {
         return spec.breaks.iter().collect();
     }
     match keep {
@@ -298,7 +298,7 @@ mod tests {
     #[test]
     fn every_proof_file_reads_and_names_modules_the_catalog_builds() {
         let all = proofs();
-        let in_top = all.iter().filter(|p| p.name.ends_with("_in_top")).count();
+        let in_top = all.iter().filter(|p| p.is_in_top()).count();
         assert_eq!(all.len(), FILES.len() + in_top);
         assert!(in_top >= 1, "the counter bank's proof in the top");
         for p in &all {
@@ -311,7 +311,7 @@ mod tests {
     #[test]
     fn an_in_top_proof_runs_a_spread_of_its_breaks_and_a_block_proof_all() {
         let all = proofs();
-        let top = all.iter().find(|p| p.name.ends_with("_in_top")).unwrap();
+        let top = all.iter().find(|p| p.is_in_top()).unwrap();
         let block = all.iter().find(|p| p.name == "counter_bank").unwrap();
         let n = top.breaks.len();
         assert!(n >= 4, "{n} breaks");

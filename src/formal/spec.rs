@@ -52,6 +52,12 @@ impl ProofSpec {
     pub fn top(&self) -> String {
         format!("{}_props", self.name)
     }
+
+    /// Whether this is a proof's copy on the block inside the whole top
+    /// (made by `in_top::derive`), not a block's own proof.
+    pub fn is_in_top(&self) -> bool {
+        self.name.ends_with(super::in_top::NAME_SUFFIX)
+    }
 }
 
 /// Reads `text`, the proof file of `name`; a malformed header is an error
