@@ -139,7 +139,7 @@ pub fn venv_bin() -> PathBuf {
 }
 
 /// `~/.cache/motionhdl`, where install-tools and the Verilator cache live.
-fn user_cache() -> PathBuf {
+pub fn user_cache() -> PathBuf {
     PathBuf::from(std::env::var_os("HOME").unwrap_or_default()).join(".cache/motionhdl")
 }
 

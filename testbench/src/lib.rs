@@ -6,6 +6,8 @@
 //!   external tools under CI.
 //! * [`tour`]: transition tours through every reachable (state, input).
 //! * [`trace`]: our VCD writer (real timescale, port names, scopes by block).
+//! * [`verilated`]: a Verilated module stepped from Rust port by port,
+//!   for testbenches that react to its outputs every clock.
 //! * [`verilog_sim`]: runs Verilog in Icarus Verilog and Verilator, with a
 //!   vector testbench written from the design's ports.
 //! * [`player`]: replays a bus-functional model's timed pin events through
@@ -34,6 +36,7 @@ pub mod servo_loop;
 pub mod state_map;
 pub mod tour;
 pub mod trace;
+pub mod verilated;
 pub mod verilog_sim;
 
 pub use harness::CheckReport;

@@ -4,9 +4,10 @@
 //! (`driver/cosim/harness.cpp`) that drives NE1#/NOE#/NWE#/A/D at the
 //! FSMC_BTR1 timing of `motionhdl_regs.h` for every access, with drives,
 //! encoders, switches and the e-stop chain on the pins. The same scenarios
-//! run here with the Rust driver on the rust-hdl controller (the
-//! whole-controller simulation) and must print the same lines, clock
-//! counts included; the results are also checked against what the
+//! run here with the Rust driver on the whole-controller simulation (the
+//! Rust bus model and board around the same Verilog, Verilated: its
+//! rust-hdl twin agrees with it in tests/system.rs) and must print the
+//! same lines, clock counts included; the results are also checked against what the
 //! scenarios must do. A Verilog with one bit changed, or one register
 //! reached at the wrong offset, fails.
 //!
@@ -23,7 +24,7 @@ use motionhdl_model::Config;
 use motionhdl_testbench::bfm::fsmc::Op;
 use motionhdl_testbench::c_driver::{self, HOST_LIBS};
 use motionhdl_testbench::checks::motion_controller::driver_bus::SETUP_AXIS;
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 use motionhdl_testbench::harness::require_tools;
 use std::fmt::Write;
 use std::path::Path;
@@ -63,7 +64,7 @@ impl Twin {
     }
 
     fn setup() -> Self {
-        let mut sys = System::<4>::new(&config());
+        let mut sys = System::<4>::on(Engine::for_scenarios(), &config());
         sys.exec(Op::Reset);
         let mut t = Twin {
             card: Card::new(sys),

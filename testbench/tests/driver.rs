@@ -12,7 +12,7 @@ use motionhdl_model::regmap::mode;
 use motionhdl_model::Config;
 use motionhdl_testbench::bfm::fsmc::Op;
 use motionhdl_testbench::checks::motion_controller::driver_bus::SETUP_AXIS;
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 
 const ESTOP: u32 = 1 << 1;
 const BITTEN: u32 = 1 << 2;
@@ -21,7 +21,7 @@ const WATCHDOG_CAUSE: u32 = 1 << 1;
 /// The default controller out of reset, set up through the driver: the
 /// halt released, counters ×4, pulse+direction with 2-clock steps.
 fn card() -> Card<System<4>> {
-    let mut sys = System::<4>::new(&Config::default());
+    let mut sys = System::<4>::on(Engine::for_scenarios(), &Config::default());
     sys.exec(Op::Reset);
     let mut card = Card::new(sys);
     assert_eq!(card.check().map(|v| v >> 8), Ok(1), "ID.VERSION 0.1.x");
@@ -35,7 +35,10 @@ fn card() -> Card<System<4>> {
 
 #[test]
 fn the_check_refuses_a_card_with_another_map() {
-    let mut two = System::<2>::new(&Config::new(2, 28, 50_000_000).unwrap());
+    let mut two = System::<2>::on(
+        Engine::for_scenarios(),
+        &Config::new(2, 28, 50_000_000).unwrap(),
+    );
     two.exec(Op::Reset);
     let got = Card::new(&mut two).check();
     assert!(

@@ -9,13 +9,16 @@ use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::homing::home;
 use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, fast_filter_axes, run};
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 
 const CLOCK_HZ: u32 = 50_000_000;
 
 /// Two axes with a 1 µs input filter, set up; the filter's tick.
 fn system() -> (System<2>, u32) {
-    fast_filter_axes(&Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap())
+    fast_filter_axes(
+        Engine::for_scenarios(),
+        &Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap(),
+    )
 }
 
 fn params(index: bool) -> HomingParams {

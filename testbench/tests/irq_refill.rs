@@ -5,7 +5,7 @@
 
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::irq_refill::{steady, stream_on_irq};
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 
 /// The longest run of clocks without a shaft step while the axis moved.
 fn longest_pause(path: &[Vec<i32>], axis: usize) -> usize {
@@ -18,7 +18,7 @@ fn longest_pause(path: &[Vec<i32>], axis: usize) -> usize {
 #[test]
 fn a_long_two_axis_move_streams_on_the_fifo_low_interrupt_alone() {
     let config = Config::default().with_axes(2).unwrap();
-    let mut sys = System::<2>::new(&config);
+    let mut sys = System::<2>::on(Engine::for_scenarios(), &config);
     sys.setup();
     // 200 segments of 10 steps at one step per 40 and per 60 clocks:
     // three FIFOs' worth each, so the firmware refills several times.
@@ -58,7 +58,7 @@ fn a_mark_too_low_for_the_refill_runs_dry_and_is_reported() {
     // One step per 4 clocks and a mark of 1: the one segment left lasts
     // 40 clocks, a refill of 63 segments takes thousands.
     let config = Config::default().with_axes(2).unwrap();
-    let mut sys = System::<2>::new(&config);
+    let mut sys = System::<2>::on(Engine::for_scenarios(), &config);
     sys.setup();
     let per_axis = [steady(200, 10, 4), steady(200, 10, 4)];
     let e = stream_on_irq(&mut sys, &per_axis, 1, 1 << 21).unwrap_err();

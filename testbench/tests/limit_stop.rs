@@ -10,7 +10,7 @@ use motionhdl_model::machine_inputs::{FILTER_TICKS, LIMIT_LATENCY};
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, fast_filter_axes, run};
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 use motionhdl_testbench::checks::pulse_bank::braking::brake_steps_bound;
 
 const CLOCK_HZ: u32 = 50_000_000;
@@ -27,7 +27,10 @@ fn plan(target: i64) -> (Vec<Segment>, u64) {
 /// Two axes at CLOCK_HZ with a 1 µs input filter, set up, and the
 /// filter's tick in clocks.
 fn two_axes_with_fast_filter() -> (System<2>, u32) {
-    fast_filter_axes(&Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap())
+    fast_filter_axes(
+        Engine::for_scenarios(),
+        &Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap(),
+    )
 }
 
 fn shaft(sys: &System<2>, axis: usize) -> i32 {

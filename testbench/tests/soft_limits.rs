@@ -9,12 +9,15 @@ use motionhdl_model::machine_inputs::SOFT_LIMIT_LATENCY;
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
 use motionhdl_testbench::checks::motion_controller::limit_stop::{creep, run};
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 
 const CLOCK_HZ: u32 = 50_000_000;
 
 fn system() -> System<2> {
-    let mut sys = System::<2>::new(&Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap());
+    let mut sys = System::<2>::on(
+        Engine::for_scenarios(),
+        &Config::new(2, 28, u64::from(CLOCK_HZ)).unwrap(),
+    );
     sys.setup();
     sys
 }

@@ -1,5 +1,6 @@
 //! The whole controller in simulation: moves planned by the
-//! model's algorithms, streamed over the FSMC bus into the rust-hdl top,
+//! model's algorithms, streamed over the FSMC bus into the top (Verilated,
+//! [`Engine::for_scenarios`]; the last test holds it to the rust-hdl top),
 //! out through the pulse generators and selectors to simulated drives whose
 //! encoders the counter bank counts, read back by the firmware.
 
@@ -7,7 +8,9 @@ use motionhdl_firmware::scurve::{SCurve, SCurveParams};
 use motionhdl_firmware::scurve_segments::{self, EngineLimits};
 use motionhdl_model::pulse_generator::Segment;
 use motionhdl_model::Config;
-use motionhdl_testbench::checks::motion_controller::system::{net_steps, plan_segments, System};
+use motionhdl_testbench::checks::motion_controller::system::{
+    net_steps, plan_segments, trace_on, Engine, System,
+};
 
 const CLOCK_HZ: u32 = 50_000_000;
 
@@ -51,7 +54,7 @@ fn a_per_tick_s_curve_is_counted_back_exactly_on_target() {
 /// shaft, COUNT and POSITION land on `target` while the others stay still.
 fn run_on_axis_0(segs: &[Segment], target: i64) -> System<4> {
     assert_eq!(net_steps(segs), target);
-    let mut sys = System::<4>::new(&Config::default());
+    let mut sys = System::<4>::on(Engine::for_scenarios(), &Config::default());
     sys.setup();
     let none = Vec::new();
     sys.run_move(&[segs.to_vec(), none.clone(), none.clone(), none], 400_000)
@@ -82,7 +85,7 @@ fn a_two_axis_circle_closes_and_stays_on_the_circle() {
         plan_segments(&y, CLOCK_HZ, tick_hz),
     );
     assert_eq!((net_steps(&sx), net_steps(&sy)), (0, 0));
-    let mut sys = System::<4>::new(&config);
+    let mut sys = System::<4>::on(Engine::for_scenarios(), &config);
     sys.setup();
     sys.path = Some(Vec::new());
     sys.run_move(&[sx, sy, Vec::new(), Vec::new()], 1_000_000)
@@ -118,7 +121,7 @@ fn six_axes_follow_a_master_at_their_ratios() {
         let follower: Vec<i64> = master.iter().map(|m| (m * num).div_euclid(den)).collect();
         per_axis.push(plan_segments(&follower, CLOCK_HZ, tick_hz));
     }
-    let mut sys = System::<6>::new(&config);
+    let mut sys = System::<6>::on(Engine::for_scenarios(), &config);
     sys.setup();
     for (i, (num, den)) in ratios.iter().enumerate() {
         sys.track(0, i + 1, *num, *den);
@@ -169,7 +172,7 @@ fn an_estop_in_the_middle_of_four_s_curves_stops_every_axis() {
         .iter()
         .map(|&t| scurve_segments::plan(t, lim).unwrap())
         .collect();
-    let mut sys = System::<4>::new(&Config::default());
+    let mut sys = System::<4>::on(Engine::for_scenarios(), &Config::default());
     sys.setup();
     sys.write("SAFETY", None, "ENABLE", 0xf);
     sys.write("SAFETY", None, "CAUSE_MASK", 1);
@@ -226,4 +229,36 @@ fn an_estop_in_the_middle_of_four_s_curves_stops_every_axis() {
     sys.idle(5_000);
     let after: Vec<i32> = sys.drives.iter().map(|d| d.position).collect();
     assert_eq!(after, later, "the flushed moves do not resume");
+}
+
+/// The scenarios above run on the Verilated top ([`Engine::for_scenarios`]);
+/// this one runs on both engines and must give the same trace, every pin at
+/// every clock, so the rust-hdl top and its generated Verilog are one
+/// controller under the whole-system stimulus too.
+#[test]
+fn the_system_trace_is_the_same_on_rust_hdl_and_verilator() {
+    if motionhdl_testbench::harness::require_tool("verilator").is_none() {
+        return;
+    }
+    let config = Config::default();
+    let vcd = |engine| {
+        let started = std::time::Instant::now();
+        let text = trace_on(engine, &config).to_vcd_string();
+        eprintln!("{engine:?}: {:.1} s", started.elapsed().as_secs_f64());
+        text
+    };
+    let (rust_hdl, verilator) = (vcd(Engine::RustHdl), vcd(Engine::Verilator));
+    assert!(
+        rust_hdl.lines().count() > 10_000,
+        "a trace of the whole move"
+    );
+    if let Some((k, (a, b))) = rust_hdl
+        .lines()
+        .zip(verilator.lines())
+        .enumerate()
+        .find(|(_, (a, b))| a != b)
+    {
+        panic!("line {}: rust-hdl `{a}`, Verilator `{b}`", k + 1);
+    }
+    assert_eq!(rust_hdl.lines().count(), verilator.lines().count());
 }

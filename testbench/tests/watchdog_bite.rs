@@ -6,7 +6,7 @@
 //! counter bank keeps counting a shaft turned by hand.
 
 use motionhdl_model::Config;
-use motionhdl_testbench::checks::motion_controller::system::System;
+use motionhdl_testbench::checks::motion_controller::system::{Engine, System};
 use motionhdl_testbench::checks::motion_controller::watchdog_bite::{
     run_into_bite, OPEN_DRAIN, RUNNING, SAFE, TIMEOUT,
 };
@@ -22,7 +22,7 @@ fn pins(value: u32) -> (u32, u32) {
 
 #[test]
 fn an_unfed_watchdog_bites_and_stops_everything_but_the_counters() {
-    let mut sys = System::<4>::new(&Config::default());
+    let mut sys = System::<4>::on(Engine::for_scenarios(), &Config::default());
     sys.setup();
     let bite = run_into_bite(&mut sys);
     // The last feed's write ends a few clocks after the bus op began; the

@@ -5,7 +5,7 @@
 //! `motionhdl trace homing`.
 
 use super::limit_stop::fast_filter_axes;
-use super::system::System;
+use super::system::{Engine, System};
 use crate::trace::Trace;
 use motionhdl_driver::Card;
 use motionhdl_firmware::homing::{Home, Homing, HomingParams};
@@ -52,7 +52,7 @@ pub fn trace_params() -> HomingParams {
 /// steps: fast search, back-off, slow search (HOME_POSITION and
 /// HOME_COUNT capture the switch's edge), then on to the index at 75.
 pub fn trace(config: &Config) -> Trace {
-    let (mut sys, _) = fast_filter_axes(config);
+    let (mut sys, _) = fast_filter_axes(Engine::RustHdl, config);
     sys.home_at[0] = Some(TRACE_SWITCH);
     sys.index_every[0] = Some(TRACE_INDEX_EVERY);
     sys.idle(100);

@@ -2,7 +2,7 @@
 //! stops"): the moves firmware uses around one, and `motionhdl trace
 //! limit_stop` and `limit_brake`.
 
-use super::system::{two_axes, System};
+use super::system::{two_axes_on, Engine, System};
 use crate::checks::pulse_bank::braking::brake_steps_bound;
 use crate::trace::Trace;
 use motionhdl_model::pulse_generator::Segment;
@@ -45,10 +45,10 @@ pub fn run<const N: usize>(
 
 /// Two axes of `config`'s width and clock with a 1 µs input filter (so a
 /// switch shows within a few steps), set up; and the filter's tick in
-/// clocks.
-pub fn fast_filter_axes(config: &Config) -> (System<2>, u32) {
+/// clocks; the top in `engine`.
+pub fn fast_filter_axes(engine: Engine, config: &Config) -> (System<2>, u32) {
     let mut tick = 0;
-    let sys = two_axes(config, |c| {
+    let sys = two_axes_on(engine, config, |c| {
         let c = c.with_input_filter_us(1).expect("1 us is allowed");
         tick = c.filter_tick_clocks();
         c
@@ -73,7 +73,7 @@ pub const TRACE_SWITCH: i32 = 20;
 /// with LIMIT_CAUSE.POS and the IRQ pin low, a move further in is refused,
 /// it backs off 10 steps, firmware clears the cause and IRQ rises again.
 pub fn trace(config: &Config) -> Trace {
-    let (mut sys, _) = fast_filter_axes(config);
+    let (mut sys, _) = fast_filter_axes(Engine::RustHdl, config);
     sys.limit_pos_at[0] = Some(TRACE_SWITCH);
     sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
     sys.write("SAFETY", None, "LIMIT_MASK", 1);
@@ -110,7 +110,7 @@ pub const TRACE_DECEL: u32 = 1 << 29;
 /// switch's edge); a move further in is refused, it backs off to 10 steps
 /// short of the switch, firmware clears the cause and IRQ rises again.
 pub fn brake_trace(config: &Config) -> Trace {
-    let (mut sys, _) = fast_filter_axes(config);
+    let (mut sys, _) = fast_filter_axes(Engine::RustHdl, config);
     sys.limit_pos_at[0] = Some(TRACE_SWITCH);
     sys.write("SAFETY", None, "LIMIT_POS_CTRL", 1);
     sys.write("SAFETY", None, "LIMIT_MASK", 1);

@@ -26,6 +26,7 @@ mod motion_plot;
 mod oracle;
 pub mod servo_tick;
 pub mod system;
+mod top_engine;
 pub mod top_model;
 pub mod top_stimulus;
 pub mod watchdog_bite;

@@ -4,23 +4,25 @@
 //! step/direction drives whose encoders feed the counter bank back, and the
 //! firmware reads the counts over the same bus.
 //!
-//! Everything between the firmware and the drives is the rust-hdl
-//! `MotionController` stepped clock by clock; the firmware acts only through
+//! Everything between the firmware and the drives is the top stepped clock
+//! by clock, the rust-hdl `MotionController` or its generated Verilog in
+//! Verilator ([`Engine`]); the firmware acts only through
 //! the STM32F4 bus-functional model ([`crate::bfm::fsmc::timeline`]), one
 //! FSMC access at a time, so it can poll STATUS and refill the FIFO as real
 //! firmware does.
 
 use super::motion_plot;
+pub use super::top_engine::Engine;
+use super::top_engine::Top;
 use crate::bfm::fsmc::{documented_timing, timeline, Event, Op, CLOCK_TICKS, FIRST_EDGE_TICKS};
-use crate::harness::settle;
 use crate::trace::{SignalId, Trace};
 use motionhdl_firmware::segments::{direction, segments, SegmentConfig};
-use motionhdl_hdl::MotionController;
 use motionhdl_model::fsmc_bridge::FsmcPins;
+use motionhdl_model::machine_inputs::MachinePins;
+use motionhdl_model::motion_controller::TopInputs;
 use motionhdl_model::pulse_generator::{quadrature, Segment, SEGMENT_FIFO_DEPTH};
 use motionhdl_model::regmap::{self, mode, BusMap};
 use motionhdl_model::Config;
-use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 
 /// Clocks from a step edge at the drive's input to its shaft moving.
@@ -81,10 +83,13 @@ struct Probes {
     axes: Vec<[SignalId; 9]>,
 }
 
-/// The MCU and the board around the rust-hdl top: the firmware's bus
-/// accesses, the drives and encoders on the pins.
+/// The MCU and the board around the top (in rust-hdl or Verilator, see
+/// [`Engine`]): the firmware's bus accesses, the drives and encoders on
+/// the pins.
 pub struct System<const N: usize> {
-    uut: MotionController<N>,
+    uut: Top<N>,
+    /// The pins as last driven.
+    inputs: TopInputs,
     map: BusMap,
     pub drives: Vec<Drive>,
     /// Clock edges simulated.
@@ -111,16 +116,21 @@ pub struct System<const N: usize> {
 }
 
 impl<const N: usize> System<N> {
+    /// `config`'s controller on rust-hdl (what the traces are made with).
     pub fn new(config: &Config) -> Self {
+        Self::on(Engine::RustHdl, config)
+    }
+
+    /// `config`'s controller on `engine`.
+    pub fn on(engine: Engine, config: &Config) -> Self {
         assert_eq!(
             config.axes() as usize,
             N,
             "config axes vs MotionController<N>"
         );
-        let mut uut = MotionController::<N>::new(config);
-        uut.connect_all();
         Self {
-            uut,
+            uut: Top::new(engine, config),
+            inputs: TopInputs::idle(),
             map: regmap::mcu_map(config),
             drives: vec![Drive::default(); N],
             clocks: 0,
@@ -228,49 +238,47 @@ impl<const N: usize> System<N> {
     }
 
     fn drive_pins(&mut self, pins: &FsmcPins, reset: bool) {
-        let u = &mut self.uut;
-        u.reset.next = reset;
-        u.fsmc_ne_n.next = pins.ne_n;
-        u.fsmc_noe_n.next = pins.noe_n;
-        u.fsmc_nwe_n.next = pins.nwe_n;
-        u.fsmc_a.next = u64::from(pins.a).into();
-        u.fsmc_d_in.next = u64::from(pins.d_in).into();
-        // The PC side idles: no strobes, AEN high (never our cycle).
-        u.isa_ior_n.next = true;
-        u.isa_iow_n.next = true;
-        u.isa_aen.next = true;
-        let (mut a, mut b, mut z) = (0u64, 0u64, 0u64);
-        for (i, d) in self.drives.iter().enumerate() {
+        let mut enc = [0u16; 3];
+        let mut machine = MachinePins::default();
+        for (k, d) in self.drives.iter().enumerate() {
             let (ea, eb) = d.encoder();
-            a |= u64::from(ea) << i;
-            b |= u64::from(eb) << i;
-            z |= u64::from(self.index_every[i].is_some_and(|k| d.position % k == 0)) << i;
+            let z = self.index_every[k].is_some_and(|n| d.position % n == 0);
+            for (word, level) in enc.iter_mut().zip([ea, eb, z]) {
+                *word |= u16::from(level) << k;
+            }
+            let pos = self.limit_pos_at[k].is_some_and(|at| d.position >= at);
+            let neg = self.limit_neg_at[k].is_some_and(|at| d.position <= at);
+            let home = self.home_at[k].is_some_and(|at| d.position >= at);
+            machine.limit_pos |= u32::from(pos) << k;
+            machine.limit_neg |= u32::from(neg) << k;
+            machine.home |= u32::from(home) << k;
         }
-        u.enc_a.next = a.into();
-        u.enc_b.next = b.into();
-        u.enc_z.next = z.into();
-        u.estop_ok.next = self.estop_ok;
-        let (mut pos, mut neg, mut home) = (0u64, 0u64, 0u64);
-        for (i, d) in self.drives.iter().enumerate() {
-            pos |= u64::from(self.limit_pos_at[i].is_some_and(|at| d.position >= at)) << i;
-            neg |= u64::from(self.limit_neg_at[i].is_some_and(|at| d.position <= at)) << i;
-            home |= u64::from(self.home_at[i].is_some_and(|at| d.position >= at)) << i;
-        }
-        u.limit_pos.next = pos.into();
-        u.limit_neg.next = neg.into();
-        u.home.next = home.into();
+        let i = TopInputs {
+            reset,
+            fsmc_ne_n: pins.ne_n,
+            fsmc_noe_n: pins.noe_n,
+            fsmc_nwe_n: pins.nwe_n,
+            fsmc_a: pins.a,
+            fsmc_d_in: pins.d_in,
+            // The PC side idles: no strobes, AEN high (never our cycle).
+            isa_aen: true,
+            enc_a: enc[0],
+            enc_b: enc[1],
+            enc_z: enc[2],
+            estop_ok: self.estop_ok,
+            machine,
+            ..TopInputs::idle()
+        };
+        self.inputs = i;
+        self.uut.drive(&i);
     }
 
     /// One clock edge with these pins; then the drives see the outputs.
     fn edge(&mut self, pins: &FsmcPins, reset: bool) {
         self.drive_pins(pins, reset);
-        settle(&mut self.uut);
-        self.uut.clock.next = Clock::from(true);
-        settle(&mut self.uut);
-        self.uut.clock.next = Clock::from(false);
-        settle(&mut self.uut);
-        let f1 = self.uut.pulse_f1.val().index() as u64;
-        let f2 = self.uut.pulse_f2.val().index() as u64;
+        self.uut.cycle();
+        let out = self.uut.outputs();
+        let (f1, f2) = (u64::from(out.pulse_f1), u64::from(out.pulse_f2));
         for (i, d) in self.drives.iter_mut().enumerate() {
             d.clock(f1 >> i & 1 != 0, f2 >> i & 1 != 0);
         }
@@ -288,31 +296,24 @@ impl<const N: usize> System<N> {
             p.trace.set(t, p.bus[1], u64::from(pins.ne_n));
             p.trace.set(t, p.bus[2], u64::from(pins.a & 0xfff));
             p.trace.set(t, p.bus[3], u64::from(pins.d_in));
-            p.trace.set(t, p.bus[4], u64::from(self.uut.irq.val()));
-            let (out, oe) = (
-                self.uut.gpo_out.val().index(),
-                self.uut.gpo_oe.val().index(),
-            );
-            let enable = self.uut.drive_enable.val().index();
-            for (id, v) in p.machine.into_iter().zip([enable, out, oe]) {
-                p.trace.set(t, id, v as u64);
+            p.trace.set(t, p.bus[4], u64::from(out.irq));
+            let machine = [out.drive_enable, out.gpo_out, out.gpo_oe];
+            for (id, v) in p.machine.into_iter().zip(machine) {
+                p.trace.set(t, id, u64::from(v));
             }
-            let limit_pos = self.uut.limit_pos.val().index() as u64;
-            let limit_neg = self.uut.limit_neg.val().index() as u64;
-            let home = self.uut.home.val().index() as u64;
-            let z = self.uut.enc_z.val().index() as u64;
-            for (i, d) in self.drives.iter().enumerate() {
+            let (i, m) = (&self.inputs, &self.inputs.machine);
+            for (k, d) in self.drives.iter().enumerate() {
                 let (ea, eb) = d.encoder();
-                let ids = p.axes[i];
-                p.trace.set(t, ids[0], f1 >> i & 1);
-                p.trace.set(t, ids[1], f2 >> i & 1);
+                let ids = p.axes[k];
+                p.trace.set(t, ids[0], f1 >> k & 1);
+                p.trace.set(t, ids[1], f2 >> k & 1);
                 p.trace.set(t, ids[2], u64::from(ea));
                 p.trace.set(t, ids[3], u64::from(eb));
                 p.trace.set_quantity(t, ids[4], i64::from(d.position));
-                p.trace.set(t, ids[5], limit_pos >> i & 1);
-                p.trace.set(t, ids[6], limit_neg >> i & 1);
-                p.trace.set(t, ids[7], home >> i & 1);
-                p.trace.set(t, ids[8], z >> i & 1);
+                p.trace.set(t, ids[5], u64::from(m.limit_pos >> k & 1));
+                p.trace.set(t, ids[6], u64::from(m.limit_neg >> k & 1));
+                p.trace.set(t, ids[7], u64::from(m.home >> k & 1));
+                p.trace.set(t, ids[8], u64::from(i.enc_z >> k & 1));
             }
         }
         self.clocks += 1;
@@ -339,8 +340,7 @@ impl<const N: usize> System<N> {
                     Event::ObserveSetup => {}
                     Event::ObserveEnd => {
                         self.drive_pins(&pins, reset);
-                        settle(&mut self.uut);
-                        observed.push(self.uut.fsmc_d_out.val().index() as u16);
+                        observed.push(self.uut.outputs().fsmc_d_out);
                     }
                 }
                 i += 1;
@@ -406,20 +406,18 @@ impl<const N: usize> System<N> {
 
     /// The drive ENABLE pins, bit i = axis i.
     pub fn drive_enable(&self) -> u32 {
-        self.uut.drive_enable.val().index() as u32
+        u32::from(self.uut.outputs().drive_enable)
     }
 
     /// The general-purpose output pins: (levels, drive enables).
     pub fn gpo(&self) -> (u32, u32) {
-        (
-            self.uut.gpo_out.val().index() as u32,
-            self.uut.gpo_oe.val().index() as u32,
-        )
+        let out = self.uut.outputs();
+        (u32::from(out.gpo_out), u32::from(out.gpo_oe))
     }
 
     /// The IRQ pin.
     pub fn irq(&self) -> bool {
-        self.uut.irq.val()
+        self.uut.outputs().irq
     }
 
     /// Pushes one segment to `axis`'s FIFO, as firmware does: the four
@@ -527,6 +525,11 @@ pub fn net_steps(segs: &[Segment]) -> i64 {
 /// clock. One scope per axis (pulse, direction, encoder, shaft) and one for
 /// the bus; the `.gtkw` beside it opens them as groups.
 pub fn trace(config: &Config) -> Trace {
+    trace_on(Engine::RustHdl, config)
+}
+
+/// [`trace`] with the top in `engine`.
+pub fn trace_on(engine: Engine, config: &Config) -> Trace {
     let two = Config::new(2, config.counter_width().into(), config.clock_hz())
         .expect("2 axes of a valid configuration");
     let clock_hz = u32::try_from(config.clock_hz()).expect("clock_hz fits u32");
@@ -549,7 +552,7 @@ pub fn trace(config: &Config) -> Trace {
         .collect();
     let master: Vec<i64> = samples.iter().map(|s| s.steps()).collect();
     let follower: Vec<i64> = master.iter().map(|m| (-m).div_euclid(2)).collect();
-    let mut sys = System::<2>::new(&two);
+    let mut sys = System::<2>::on(engine, &two);
     sys.setup();
     sys.record_trace(
         format!(
@@ -611,9 +614,18 @@ pub fn trace(config: &Config) -> Trace {
 /// The two-axis controller the trace scenarios run: `config`'s counter
 /// width and clock, `adjust` for the rest, set up ([`System::setup`]).
 pub fn two_axes(config: &Config, adjust: impl FnOnce(Config) -> Config) -> System<2> {
+    two_axes_on(Engine::RustHdl, config, adjust)
+}
+
+/// [`two_axes`] with the top in `engine`.
+pub fn two_axes_on(
+    engine: Engine,
+    config: &Config,
+    adjust: impl FnOnce(Config) -> Config,
+) -> System<2> {
     let two = Config::new(2, config.counter_width().into(), config.clock_hz())
         .expect("2 axes of a valid configuration");
-    let mut sys = System::<2>::new(&adjust(two));
+    let mut sys = System::<2>::on(engine, &adjust(two));
     sys.setup();
     sys
 }
