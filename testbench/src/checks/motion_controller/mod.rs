@@ -7,7 +7,7 @@
 use crate::bfm::fsmc::{
     self, documented_timing, timeline, Event, Observation, Op, CLOCK_TICKS, FIRST_EDGE_TICKS,
 };
-use crate::harness::{settle, CheckReport};
+use crate::harness::{cycle, settle, CheckReport};
 use crate::player::{PinStream, Rig};
 use crate::verilog_sim::{Simulator, Source, Target};
 use motionhdl_hdl::{catalog, MotionController, MotionControllerExternal, MotionControllerServo};
@@ -162,10 +162,7 @@ pub fn run_top<T: McuTop>(
         uut.drive(&pins, reset);
         settle(&mut uut);
         board(&mut uut, Edge::Before);
-        uut.clock_input().next = Clock::from(true);
-        settle(&mut uut);
-        uut.clock_input().next = Clock::from(false);
-        settle(&mut uut);
+        cycle(&mut uut, |u| u.clock_input());
         board(&mut uut, Edge::After);
         clocks += 1;
         edge += CLOCK_TICKS;

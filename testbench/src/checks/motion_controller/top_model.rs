@@ -9,7 +9,7 @@ use crate::checks::motion_controller::servo_tick::{self, TickSample, TickWatch};
 use crate::checks::motion_controller::top_stimulus::{
     verilog_testbench, Sums, TopStimulus, RESET_CLOCKS,
 };
-use crate::harness::{settle, CheckReport};
+use crate::harness::{cycle, settle, CheckReport};
 use crate::verilog_sim::{run_for_sums, Target};
 use motionhdl_hdl::{McuSide, MotionController, MotionControllerServo};
 use motionhdl_model::fsmc_bridge::FsmcPins;
@@ -124,12 +124,10 @@ pub fn sample<const N: usize>(uut: &mut impl ModelledTop<N>, p: &TopInputs) -> T
     uut.outputs()
 }
 
-/// The rising and falling clock edges of the rust-hdl top.
-pub fn clock_edge<const N: usize>(uut: &mut impl ModelledTop<N>) {
-    uut.clock_pin().next = Clock::from(true);
-    settle(uut);
-    uut.clock_pin().next = Clock::from(false);
-    settle(uut);
+/// The rising and falling clock edges of the rust-hdl top (the falling
+/// one settles with the next [`sample`]: [`crate::harness::cycle`]).
+pub fn clock_edge<const N: usize, T: ModelledTop<N>>(uut: &mut T) {
+    cycle(uut, |u| u.clock_pin());
 }
 
 /// One clock of the rust-hdl top: [`sample`], then [`clock_edge`].
