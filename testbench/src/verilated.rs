@@ -235,17 +235,9 @@ fn build(module: &VerilogModule) -> Result<PathBuf, String> {
             "libmodel.so",
         ])
         .args([v.as_str(), "wrapper.cpp"]);
-    let out = c
-        .output()
-        .map_err(|e| format!("verilator: cannot start: {e}"))?;
-    if !out.status.success() {
+    if let Err(e) = crate::verilog_sim::run(&mut c, "verilator (shared library)") {
         let _ = std::fs::remove_dir_all(&staged);
-        return Err(format!(
-            "verilator (shared library of {}) failed:\n{}{}",
-            module.name,
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ));
+        return Err(format!("{}: {e}", module.name));
     }
     if std::fs::rename(&staged, &dir).is_err() {
         // Another process finished the same build first: use its copy.
