@@ -312,9 +312,8 @@ const IN_THE_TOPS: [&str; 6] = [
 /// per-axis wiring, which the long scale covers. The vendor flows take
 /// each build's top at 1 axis at both scales, and the blocks not in a
 /// top: their own work (block RAM, carry chains, I/O) is the same at 1
-/// axis; mapping both 4-axis tops
-/// twice took about 160 s of the suite's time, which belongs to
-/// `motionhdl synth`, a benchmark.
+/// axis; mapping both 4-axis tops twice took about 160 s of the suite's
+/// time, which belongs to `motionhdl synth`, a benchmark.
 fn synthesises_cleanly(flow: &str) {
     if require_tool("yosys").is_none() {
         return;
@@ -355,10 +354,10 @@ fn synthesises_cleanly(flow: &str) {
     }
     let names: Vec<&str> = modules.iter().map(|m| m.name).collect();
     eprintln!("yosys {flow}: {names:?}");
-    // The generic flow: the default build's 12 modules but the board
-    // wrapper, and the external-RAM and options builds' isa_bridge, top
-    // and counter_bank. A vendor flow: 5 small blocks, the options bank
-    // and the three tops.
+    // The generic flow: the catalog's 12 modules of the default build
+    // (the board wrapper is not one of them), the external-RAM build's
+    // isa_bridge and top, and the options build's counter_bank. A vendor
+    // flow: the 5 small blocks, the options bank and the three tops.
     let expected = if flow == "synth" { 15 } else { 9 };
     assert_eq!(names.len(), expected, "{flow}: {names:?}");
     for m in modules {
