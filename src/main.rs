@@ -130,6 +130,11 @@ enum Command {
         /// Run the board top without pin constraints.
         #[arg(long)]
         no_pins: bool,
+        /// Leave the run's files in this new or empty directory: the
+        /// Verilog and pin file, yosys's netlist.json and log, nextpnr's
+        /// routed.json, report.json and log.
+        #[arg(long, conflicts_with_all = ["sweep", "all_blocks"])]
+        keep: Option<PathBuf>,
         /// A QoR sweep: every block alone, then the board top at each of
         /// `--axes`, on each of `--targets` and `--seeds`, as one Markdown
         /// table (a design that does not fit is packed only and its row says
@@ -335,10 +340,14 @@ fn run(cli: Cli) -> Result<(), CliError> {
             seed,
             all_blocks,
             no_pins,
+            keep,
             ..
         } => {
             use motionhdl::synth;
             let target = synth::Target::from_name(&target)?;
+            if let Some(dir) = &keep {
+                synth::check_keep_dir(dir)?;
+            }
             let config = config_file::load(config.as_deref())?;
             let tools = synth::find_tools(target)?;
             let freq = config.clock_hz() as f64 / 1e6;
@@ -380,7 +389,10 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     target.name()
                 );
             }
-            let r = synth::synthesize(&board, target, &tools, freq, seed)?;
+            let r = match &keep {
+                Some(dir) => synth::synthesize_keeping(&board, target, &tools, freq, seed, dir)?,
+                None => synth::synthesize(&board, target, &tools, freq, seed)?,
+            };
             println!(
                 "top: {} ({})",
                 r.top,

@@ -13,7 +13,7 @@ use motionhdl_hdl::catalog;
 use motionhdl_model::Config;
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// A synthesis target.
@@ -268,11 +268,59 @@ pub fn synthesize(
     place_and_route(&netlist, design, target, tools, freq_mhz, seed, Pnr::Route)
 }
 
+/// [`synthesize`], leaving the run's files in `keep` (which
+/// [`check_keep_dir`] has passed): the Verilog and pin file, yosys's
+/// `netlist.json` and log, nextpnr's routed design `routed.json`, its
+/// `report.json` and log; also when nextpnr fails, for a look at why.
+pub fn synthesize_keeping(
+    design: &Design,
+    target: Target,
+    tools: &Tools,
+    freq_mhz: f64,
+    seed: u64,
+    keep: &Path,
+) -> Result<Report, CliError> {
+    let mut netlist = synthesize_netlist(design, target, tools)?;
+    netlist.write_routed = true;
+    let report = place_and_route(&netlist, design, target, tools, freq_mhz, seed, Pnr::Route);
+    let copy = |e: std::io::Error| {
+        CliError::failure(format!(
+            "cannot keep the run's files in {}: {e}",
+            keep.display()
+        ))
+    };
+    std::fs::create_dir_all(keep).map_err(copy)?;
+    for entry in std::fs::read_dir(netlist.scratch.path()).map_err(copy)? {
+        let entry = entry.map_err(copy)?;
+        std::fs::copy(entry.path(), keep.join(entry.file_name())).map_err(copy)?;
+    }
+    report
+}
+
+/// Refuses a `--keep` directory that holds anything: nothing a user had
+/// is overwritten.
+pub fn check_keep_dir(keep: &Path) -> Result<(), CliError> {
+    let busy = match std::fs::read_dir(keep) {
+        Ok(mut entries) => entries.next().is_some(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
+        Err(_) => true,
+    };
+    if busy {
+        return Err(CliError::input(format!(
+            "--keep {}: not an empty directory; give a new or empty one",
+            keep.display()
+        )));
+    }
+    Ok(())
+}
+
 /// yosys's netlist of a design, in its scratch directory (removed when
 /// dropped), for one or more nextpnr runs.
 pub struct Netlist {
     scratch: tempfile::TempDir,
     cells: BTreeMap<String, u64>,
+    /// nextpnr also writes the routed design (`routed.json`).
+    write_routed: bool,
 }
 
 /// Runs yosys on `design` for `target`.
@@ -324,7 +372,11 @@ pub fn synthesize_netlist(
         }
     }
 
-    Ok(Netlist { scratch, cells })
+    Ok(Netlist {
+        scratch,
+        cells,
+        write_routed: false,
+    })
 }
 
 /// Runs nextpnr on `netlist` (of `design`) with `seed`, as far as `pnr`.
@@ -354,12 +406,15 @@ pub fn place_and_route(
         "nextpnr.log",
         "-q",
     ]);
-    cmd.args([
-        "--freq",
-        &format!("{freq_mhz}"),
-        "--seed",
-        &seed.to_string(),
-    ]);
+    // A pinned design's clock comes from its constraint file (PCF
+    // set_frequency, LPF FREQUENCY), so that the report shows it arrived.
+    if design.pins.is_none() {
+        cmd.args(["--freq", &format!("{freq_mhz}")]);
+    }
+    cmd.args(["--seed", &seed.to_string()]);
+    if netlist.write_routed {
+        cmd.args(["--write", "routed.json"]);
+    }
     // nextpnr exits 1 when Fmax misses --freq; this is a measurement.
     cmd.arg(match pnr {
         Pnr::Route => "--timing-allow-fail",

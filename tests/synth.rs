@@ -1,8 +1,15 @@
 //! `motionhdl synth`: the board top through yosys and nextpnr with the
-//! generated pins, its printed numbers, and its exit codes for missing
-//! tools and bad arguments.
+//! generated pins, its printed numbers, the files `--keep` leaves, and its
+//! exit codes for missing tools and bad arguments. The runs also check the
+//! generated constraints in the vendor tools: nextpnr takes every pin
+//! without being told to allow unconstrained I/O, the constraint file's
+//! clock (PCF set_frequency, LPF FREQUENCY; `synth` passes no --freq for a
+//! pinned top) reaches it, and on iCE40 the tri-states become SB_IO cells
+//! with output enables.
 
+use motionhdl::board::{self, PinKind};
 use motionhdl_testbench::harness::{require_tool, VENV_VAR};
+use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -59,6 +66,7 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("axes1.toml");
     std::fs::write(&cfg, "axes = 1\n").unwrap();
+    let kept = dir.path().join("kept");
     let out = motionhdl(
         &[
             "synth",
@@ -68,10 +76,13 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
             "1",
             "--config",
             cfg.to_str().unwrap(),
+            "--keep",
+            kept.to_str().unwrap(),
         ],
         None,
     );
     check_ok(&out);
+    ice40_pins_are_io_cells_with_output_enables(&kept);
     // The tools' versions on the report, the command lines and each
     // stage's time on standard error.
     let report = String::from_utf8_lossy(&out.stdout);
@@ -93,6 +104,8 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
         err.lines().filter(|l| l.starts_with("$ ")).count() == 2,
         "{err}"
     );
+    // No --freq for the pinned top: the report's 50 MHz is the PCF's.
+    assert!(!err.contains("--freq"), "{err}");
     assert!(
         err.lines().any(|l| l.starts_with("nextpnr: done in ")),
         "{err}"
@@ -121,6 +134,77 @@ fn synth_ice40_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     assert!(mhz > 10.0 && fmax.contains("constraint 50.0 MHz"), "{fmax}");
 }
 
+fn json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("--keep left no {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+/// On the files `--keep` left of the 1-axis iCE40 run. yosys 0.23's
+/// synth_ice40 leaves each tri-state as a `$_TBUF_` on the pin;
+/// nextpnr-ice40 packs it into the pin's SB_IO with the output enable
+/// (PIN_TYPE 101001), and every pin is an SB_IO.
+fn ice40_pins_are_io_cells_with_output_enables(kept: &Path) {
+    let config = motionhdl::config_file::parse("axes = 1", "t").unwrap();
+    for f in [
+        "motion_controller.v",
+        "motion_controller_board.v",
+        "pins.pcf",
+        "yosys.log",
+    ] {
+        assert!(kept.join(f).is_file(), "--keep left no {f}");
+    }
+    let netlist = json(&kept.join("netlist.json"));
+    let cells = netlist["modules"][board::MODULE]["cells"]
+        .as_object()
+        .unwrap();
+    let tristate_bits: usize = board::ports(&config)
+        .iter()
+        .filter(|p| {
+            matches!(
+                p.kind,
+                PinKind::Inout | PinKind::OpenCollector | PinKind::TriState
+            )
+        })
+        .map(|p| p.width as usize)
+        .sum();
+    // FSMC and ISA data, IOCS16# and the 16 general-purpose outputs.
+    assert_eq!(tristate_bits, 49);
+    let tbufs = cells.values().filter(|c| c["type"] == "$_TBUF_").count();
+    let sb_io = cells.values().filter(|c| c["type"] == "SB_IO").count();
+    assert!(
+        tbufs == tristate_bits || sb_io >= tristate_bits,
+        "yosys left {tbufs} $_TBUF_ and {sb_io} SB_IO for {tristate_bits} tri-state bits"
+    );
+    let routed = json(&kept.join("routed.json"));
+    let module = routed["modules"]
+        .as_object()
+        .unwrap()
+        .values()
+        .next()
+        .unwrap();
+    let (mut ios, mut tri) = (0, 0);
+    for (name, c) in module["cells"].as_object().unwrap() {
+        if c["type"] != "SB_IO" {
+            continue;
+        }
+        ios += 1;
+        let pin_type = c["parameters"]["PIN_TYPE"].as_str().unwrap_or("");
+        let is_tri = ["fsmc_d[", "isa_sd[", "isa_iocs16_n", "gpo["]
+            .iter()
+            .any(|p| name.starts_with(p));
+        if is_tri {
+            assert!(
+                pin_type.ends_with("101001"),
+                "{name}: PIN_TYPE {pin_type}, want output with enable (101001)"
+            );
+            tri += 1;
+        }
+    }
+    assert_eq!(ios, pins() as usize, "every pin is an SB_IO");
+    assert_eq!(tri, tristate_bits);
+}
+
 #[test]
 fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     let has_nextpnr = motionhdl::synth::which("nextpnr-ecp5").is_some()
@@ -132,6 +216,7 @@ fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("axes1.toml");
     std::fs::write(&cfg, "axes = 1\n").unwrap();
+    let kept = dir.path().join("kept");
     let out = motionhdl(
         &[
             "synth",
@@ -139,10 +224,21 @@ fn synth_ecp5_reports_cells_ram_io_and_fmax_with_the_generated_pins() {
             "ecp5-25k",
             "--config",
             cfg.to_str().unwrap(),
+            "--keep",
+            kept.to_str().unwrap(),
         ],
         None,
     );
     check_ok(&out);
+    // No --freq for the pinned top: the 50 MHz below is the LPF's.
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("--freq"), "{err}");
+    let report = json(&kept.join("report.json"));
+    assert_eq!(
+        report["utilization"]["TRELLIS_IO"]["used"],
+        pins() as u64,
+        "every pin placed from the LPF"
+    );
     let f = fields(&out);
     assert_eq!(
         f["top"],
@@ -215,4 +311,13 @@ fn synth_bad_arguments_exit_2() {
     let out = motionhdl(&["synth", "--config", cfg.to_str().unwrap()], None);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("axes = 17"));
+    // --keep takes only a new or empty directory, and nothing in it is
+    // touched; nor does it go with a sweep.
+    let out = motionhdl(&["synth", "--keep", dir.path().to_str().unwrap()], None);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("not an empty directory"), "{err}");
+    assert_eq!(std::fs::read_to_string(&cfg).unwrap(), "axes = 17\n");
+    let out = motionhdl(&["synth", "--sweep", "--keep", "/tmp/k"], None);
+    assert_eq!(out.status.code(), Some(2));
 }

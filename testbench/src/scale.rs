@@ -119,6 +119,30 @@ pub const KNOBS: &[Knob] = &[
         long: 100_000,
         floor: 50_000,
     },
+    Knob {
+        name: "external_ram_walk_axes",
+        check: "motion_controller::external_ram_build_registers_and_no_ram_window",
+        unit: "axes of the build",
+        default: 1,
+        long: 4,
+        floor: 1,
+    },
+    Knob {
+        name: "servo_card_walk_axes",
+        check: "motion_controller::servo_card_build_registers_through_fsmc",
+        unit: "axes of the build",
+        default: 1,
+        long: 2,
+        floor: 1,
+    },
+    Knob {
+        name: "netlist_checksum_axes",
+        check: "top_model::the_post_synthesis_netlist_reaches_the_models_checksums",
+        unit: "axes of the top",
+        default: 1,
+        long: 4,
+        floor: 1,
+    },
 ];
 
 /// True at the long scale: `MOTIONHDL_LONG` set, and not to `0`.

@@ -9,10 +9,11 @@ use motionhdl_hdl::catalog;
 use motionhdl_model::regmap;
 use motionhdl_model::servo_dac::SAFE_CODE;
 use motionhdl_model::{Config, IsaRam};
+use motionhdl_testbench::bfm::fsmc::{Observation, Op};
 use motionhdl_testbench::checks::motion_controller::{self as top, McuOracle, Plan};
-use motionhdl_testbench::harness;
 use motionhdl_testbench::verilog_sim::Simulator;
 use motionhdl_testbench::CheckReport;
+use motionhdl_testbench::{harness, scale};
 use std::sync::OnceLock;
 
 fn config() -> Config {
@@ -23,6 +24,35 @@ fn external() -> Config {
     Config::default().with_isa_ram(IsaRam::External)
 }
 
+/// The external-RAM build at the scale's axis count (knob
+/// `external_ram_walk_axes`: 1 at the default scale, the default's 4 at
+/// the long one). The walk's reads are the same at every axis count (the
+/// map's 1024 words); an axis is one block's logic repeated, which the
+/// default build's walks above check at 4.
+fn external_walked() -> Config {
+    external()
+        .with_axes(scale::cases("external_ram_walk_axes"))
+        .expect("external_ram_walk_axes is 1..=16")
+}
+
+/// The rust-hdl top of `config`'s axis count (one of 1, 2, 4: the const
+/// generic the tops take).
+fn run_rust_at(config: &Config, ops: &[Op]) -> Vec<Observation> {
+    match config.axes() {
+        1 => top::run_rust::<1>(config, ops).0,
+        2 => top::run_rust::<2>(config, ops).0,
+        4 => top::run_rust::<4>(config, ops).0,
+        n => panic!("no rust-hdl top of {n} axes here: use 1, 2 or 4"),
+    }
+}
+
+/// PRESET, SNAPSHOT and CTRL/CMD of `axes` channels; RUN and 13 registers
+/// of each pulse axis (CTRL, RATE, two timings, five SEG_*,
+/// FIFO_LOW_WATER, SOFT_MIN, SOFT_MAX, DECEL); 31 SAFETY registers.
+fn writable_words(axes: u64) -> u64 {
+    2 + axes * 2 + 1 + axes * 13 + 31
+}
+
 fn plan() -> &'static Plan {
     static PLAN: OnceLock<Plan> = OnceLock::new();
     PLAN.get_or_init(|| top::plan(&config()))
@@ -30,7 +60,7 @@ fn plan() -> &'static Plan {
 
 fn external_plan() -> &'static Plan {
     static PLAN: OnceLock<Plan> = OnceLock::new();
-    PLAN.get_or_init(|| top::plan(&external()))
+    PLAN.get_or_init(|| top::plan(&external_walked()))
 }
 
 /// Halfword reads the plan makes: three passes over every register word
@@ -48,11 +78,9 @@ fn the_plan_covers_the_map() {
     // Every register word is either writable or among the ignored writes.
     let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
     assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
-    // PRESET, SNAPSHOT and CTRL/CMD of 4 channels; RUN and 13 registers of
-    // 4 pulse axes (CTRL, RATE, two timings, five SEG_*, FIFO_LOW_WATER,
-    // SOFT_MIN, SOFT_MAX, DECEL); 31 SAFETY registers (all but INFO, STATUS,
-    // WDT_COUNT, the two machine-input level registers and GPI_LEVEL).
-    assert_eq!(writable, 2 + 4 * 2 + 1 + 4 * 13 + 31);
+    // The 31 SAFETY registers are all but INFO, STATUS, WDT_COUNT, the
+    // two machine-input level registers and GPI_LEVEL.
+    assert_eq!(writable, writable_words(4));
     // The ID block reads its table values after reset.
     let id = o.map().block("ID");
     assert_eq!(o.read32(id.base), regmap::ID_MAGIC);
@@ -82,7 +110,7 @@ fn the_plan_covers_the_map() {
 fn check(
     name: &str,
     plan: &Plan,
-    got: Result<Vec<motionhdl_testbench::bfm::fsmc::Observation>, String>,
+    got: Result<Vec<Observation>, String>,
     sim: Option<Simulator>,
 ) -> CheckReport {
     match got {
@@ -190,7 +218,11 @@ fn a_wrong_register_value_is_caught() {
 fn external_ram_build_registers_and_no_ram_window() {
     let p = external_plan();
     assert_eq!(p.expected.len() as u64, EXPECTED_READS_EXTERNAL);
-    let (obs, _) = top::run_rust::<4>(&external(), &p.ops);
+    let config = external_walked();
+    let o = McuOracle::new(&config);
+    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
+    assert_eq!(writable, writable_words(config.axes().into()));
+    let obs = run_rust_at(&config, &p.ops);
     let r = check("external RAM build, rust-hdl", p, Ok(obs), None);
     r.assert_passed();
     assert_eq!(r.covered, EXPECTED_READS_EXTERNAL);
@@ -198,7 +230,7 @@ fn external_ram_build_registers_and_no_ram_window() {
         let r = check(
             &format!("external RAM build, {}", sim.name()),
             p,
-            top::run_verilog(sim, &external(), &p.ops),
+            top::run_verilog(sim, &config, &p.ops),
             Some(sim),
         );
         r.assert_passed();
@@ -208,10 +240,12 @@ fn external_ram_build_registers_and_no_ram_window() {
     }
 }
 
+/// The servo card at the scale's axis count (knob `servo_card_walk_axes`:
+/// 1 at the default scale, the card's 2 at the long one).
 fn servo() -> Config {
     Config::default()
-        .with_axes(2)
-        .expect("2 axes")
+        .with_axes(scale::cases("servo_card_walk_axes"))
+        .expect("servo_card_walk_axes is 1..=16")
         .with_servo_dac(true)
 }
 
@@ -225,9 +259,9 @@ fn servo_card_build_registers_through_fsmc() {
     assert_eq!(p.expected.len() as u64, EXPECTED_READS);
     let o = McuOracle::new(&config);
     let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
-    // 2 channels, 2 axes, SAFETY as above; SERVO: EVENTS, TICK_PERIOD,
+    // The channels, axes and SAFETY as above; SERVO: EVENTS, TICK_PERIOD,
     // UPDATE, TIMING, SERIAL, PREFIX and the 4 CODE registers.
-    assert_eq!(writable, 2 + 2 * 2 + 1 + 2 * 13 + 31 + 10);
+    assert_eq!(writable, writable_words(config.axes().into()) + 10);
     let servo = o.map().block("SERVO");
     assert_eq!(servo.base, regmap::MCU_SERVO_WORD_BASE);
     // The e-stop latch is set from reset (HALT), so the plan's UPDATE sent
@@ -252,7 +286,7 @@ fn servo_card_build_registers_through_fsmc() {
         word(servo.base + servo.register("STATUS").offset) & safe,
         safe
     );
-    let (obs, _) = top::run_rust::<2>(&config, &p.ops);
+    let obs = run_rust_at(&config, &p.ops);
     let r = check("servo card build, rust-hdl", &p, Ok(obs), None);
     r.assert_passed();
     assert_eq!(r.covered, EXPECTED_READS);

@@ -14,6 +14,7 @@ use motionhdl_testbench::checks::fsmc_bridge::random_ops;
 use motionhdl_testbench::checks::motion_controller::top_model::{self, bfm_clocks, compare, Pins};
 use motionhdl_testbench::checks::motion_controller::{loopback_ops, moves_ops};
 use motionhdl_testbench::harness::require_tools;
+use motionhdl_testbench::scale;
 use motionhdl_testbench::verilog_sim::{Simulator, Source, Target};
 
 /// Clocks of the generated-stimulus run: past the reset every 65536 clocks.
@@ -173,6 +174,10 @@ fn a_wrong_model_output_is_caught() {
 /// stimulus checksums say so, equal output checksums say the Verilog top
 /// behaves as the model over every clock of the run.
 fn reaches_the_models_checksums(target: Target, cycles: u64) {
+    reaches_the_models_checksums_of(&config(), target, cycles);
+}
+
+fn reaches_the_models_checksums_of(c: &Config, target: Target, cycles: u64) {
     // The simulator's executables, and yosys for a netlist; under CI a
     // missing one fails here.
     let mut tools = target.sim.tools().to_vec();
@@ -182,9 +187,8 @@ fn reaches_the_models_checksums(target: Target, cycles: u64) {
     if require_tools(&tools).is_none() {
         return;
     }
-    let c = config();
-    let want = top_model::model_sums(&c, 3, cycles);
-    let (got, _) = top_model::verilog_sums_timed(target, &c, 3, cycles)
+    let want = top_model::model_sums(c, 3, cycles);
+    let (got, _) = top_model::verilog_sums_timed(target, c, 3, cycles)
         .unwrap_or_else(|e| panic!("{}: {e}", target.describe()));
     assert_eq!(got, want, "{}, {cycles} clocks", target.describe());
 }
@@ -203,7 +207,15 @@ fn the_generated_verilog_in_verilator_reaches_the_models_checksums() {
 
 #[test]
 fn the_post_synthesis_netlist_reaches_the_models_checksums() {
-    reaches_the_models_checksums(Target::netlist(Simulator::Icarus), 4000);
+    // At the scale's axis count (knob `netlist_checksum_axes`: 1 at the
+    // default scale, the default's 4 at the long one): the gate netlist
+    // of an axis is one block's logic repeated, and the 4-axis one's
+    // synthesis and Icarus run took about 70 s.
+    let axes = scale::cases("netlist_checksum_axes");
+    let c = config()
+        .with_axes(axes)
+        .expect("netlist_checksum_axes is 1..=16");
+    reaches_the_models_checksums_of(&c, Target::netlist(Simulator::Icarus), 4000);
 }
 
 /// The stop contract can fail: S1 rising in the second halted sample, S2
