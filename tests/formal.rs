@@ -101,6 +101,58 @@ fn every_property_fails_on_its_broken_copy() {
     );
 }
 
+/// The breaks run sby's own steps: the commands the installed sby writes
+/// into its three yosys scripts for a bmc task (less their file reads and
+/// writes) are the proof's script and [`formal::bmc::SBY_STEPS`], and its
+/// smtbmc runs Yices to the same depth; both flows find the same failure.
+/// On the safety block (its exposes) and inside the whole top.
+#[test]
+fn the_breaks_run_the_steps_sby_runs() {
+    let Some(tools) = tools() else { return };
+    let proofs = formal::proofs();
+    for name in ["safety_io", "counter_bank_in_top"] {
+        let spec = proofs.iter().find(|p| p.name == name).unwrap();
+        let b = &spec.breaks[0];
+        let dir = tempfile::tempdir().unwrap();
+        let files = formal::stage(spec, dir.path(), Some(b)).unwrap();
+        let o = sby::run(&tools, dir.path(), sby::Mode::Only(&b.label)).unwrap();
+        let failed = sby::Verdict::Failed {
+            labels: vec![b.label.clone()],
+        };
+        assert_eq!(o.verdict, failed, "{name}: sby");
+        let model = dir.path().join("proof_prove/model");
+        let mut steps = String::new();
+        for f in ["design.ys", "design_prep.ys", "design_smt2.ys"] {
+            for line in std::fs::read_to_string(model.join(f)).unwrap().lines() {
+                let file_io = ["#", "read_rtlil", "write_"]
+                    .iter()
+                    .any(|p| line.starts_with(p));
+                if !file_io {
+                    steps.push_str(line);
+                    steps.push('\n');
+                }
+            }
+        }
+        let ours = formal::bmc::yosys_script(spec, &files, &b.label);
+        let ours = ours
+            .strip_suffix("write_smt2 -wires design.smt2\n")
+            .unwrap();
+        assert_eq!(steps, ours, "{name}: sby's steps changed");
+        let smt2 = std::fs::read_to_string(model.join("design_smt2.ys")).unwrap();
+        assert!(smt2.contains("write_smt2 -wires "), "{smt2}");
+        let depth = spec.depth.max(spec.cover_depth);
+        let log = std::fs::read_to_string(dir.path().join("proof_prove/logfile.txt")).unwrap();
+        let engine = format!("-s yices --presat --unroll --noprogress -t {depth} ");
+        assert!(
+            log.contains(&engine),
+            "{name}: sby's smtbmc is not `{engine}`:\n{log}"
+        );
+        let o = formal::prove_broken(spec, b, &tools).unwrap();
+        assert_eq!(o.verdict, failed, "{name}: the break flow");
+        assert!(o.trace.is_some(), "{name}: a counterexample trace");
+    }
+}
+
 /// A failing proof keeps its counterexample as a VCD and a save file
 /// listing the wrapper's signals, and the CLI's report names them.
 #[test]

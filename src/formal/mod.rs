@@ -4,6 +4,7 @@
 //! generated files are read as they are; a proof sees an internal register
 //! only through yosys `expose`.
 
+pub mod bmc;
 pub mod in_top;
 pub mod sby;
 pub mod spec;
@@ -107,8 +108,9 @@ impl ProofReport {
 }
 
 /// Writes the proof's files into `dir`: the modules it uses (with `broken`
-/// applied to the one whose text holds it), its own file, `proof.sby`.
-pub fn stage(spec: &ProofSpec, dir: &Path, broken: Option<&Break>) -> Result<(), String> {
+/// applied to the one whose text holds it), its own file, `proof.sby`;
+/// returns the modules' file names, in the order they are read.
+pub fn stage(spec: &ProofSpec, dir: &Path, broken: Option<&Break>) -> Result<Vec<String>, String> {
     let mut files = Vec::new();
     let mut applied = false;
     for uses in &spec.uses {
@@ -142,7 +144,8 @@ pub fn stage(spec: &ProofSpec, dir: &Path, broken: Option<&Break>) -> Result<(),
     std::fs::write(dir.join(format!("{}.sv", spec.name)), &spec.text).map_err(|e| e.to_string())?;
     let mode = broken.map_or(sby::Mode::Full, |b| sby::Mode::Only(&b.label));
     std::fs::write(dir.join("proof.sby"), sby::sby_text(spec, &files, mode))
-        .map_err(|e| e.to_string())
+        .map_err(|e| e.to_string())?;
+    Ok(files)
 }
 
 /// Runs one proof in a scratch directory, kept (with the counterexample
@@ -175,16 +178,19 @@ pub fn prove(spec: &ProofSpec, tools: &sby::Tools) -> Result<ProofReport, CliErr
     Ok(report)
 }
 
-/// Runs `spec` with one break applied and only its property kept: the
-/// verdict a test expects to be a failure of that property.
+/// Runs `spec` with one break applied and only its property kept, a
+/// bounded search from reset as deep as the covers go (they reach every
+/// antecedent) through [`bmc`]: the verdict a test expects to be a
+/// failure of that property.
 pub fn prove_broken(
     spec: &ProofSpec,
     broken: &Break,
     tools: &sby::Tools,
 ) -> Result<sby::Outcome, CliError> {
     let dir = tempfile::tempdir().map_err(|e| CliError::failure(e.to_string()))?;
-    stage(spec, dir.path(), Some(broken)).map_err(CliError::failure)?;
-    sby::run(tools, dir.path(), sby::Mode::Only(&broken.label))
+    let files = stage(spec, dir.path(), Some(broken)).map_err(CliError::failure)?;
+    let depth = spec.depth.max(spec.cover_depth);
+    bmc::run(tools, dir.path(), spec, &files, &broken.label, depth)
 }
 
 /// The breaks a scale runs of `spec`: every one of a block's own proof;
