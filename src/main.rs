@@ -374,7 +374,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
             if all_blocks {
                 println!("{}", synth::table_header(target));
                 for design in synth::all_blocks(&config).iter().chain([&board]) {
-                    let r = synth::synthesize(design, target, &tools, freq, seed)?;
+                    let r = synth::synthesize(design, target, &tools, freq, seed, None)?;
                     println!("{}", synth::row(&r, target));
                 }
                 return Ok(());
@@ -389,10 +389,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
                     target.name()
                 );
             }
-            let r = match &keep {
-                Some(dir) => synth::synthesize_keeping(&board, target, &tools, freq, seed, dir)?,
-                None => synth::synthesize(&board, target, &tools, freq, seed)?,
-            };
+            let r = synth::synthesize(&board, target, &tools, freq, seed, keep.as_deref())?;
             println!(
                 "top: {} ({})",
                 r.top,

@@ -256,43 +256,33 @@ pub enum Pnr {
 }
 
 /// Synthesises, places and routes `design` for `target` at `freq_mhz`
-/// with `seed`.
+/// with `seed`. With `keep` (which [`check_keep_dir`] has passed), the
+/// run's files stay there: the Verilog and pin file, yosys's
+/// `netlist.json` and log, nextpnr's routed design `routed.json`, its
+/// `report.json` and log; also when nextpnr fails, for a look at why.
 pub fn synthesize(
     design: &Design,
     target: Target,
     tools: &Tools,
     freq_mhz: f64,
     seed: u64,
-) -> Result<Report, CliError> {
-    let netlist = synthesize_netlist(design, target, tools)?;
-    place_and_route(&netlist, design, target, tools, freq_mhz, seed, Pnr::Route)
-}
-
-/// [`synthesize`], leaving the run's files in `keep` (which
-/// [`check_keep_dir`] has passed): the Verilog and pin file, yosys's
-/// `netlist.json` and log, nextpnr's routed design `routed.json`, its
-/// `report.json` and log; also when nextpnr fails, for a look at why.
-pub fn synthesize_keeping(
-    design: &Design,
-    target: Target,
-    tools: &Tools,
-    freq_mhz: f64,
-    seed: u64,
-    keep: &Path,
+    keep: Option<&Path>,
 ) -> Result<Report, CliError> {
     let mut netlist = synthesize_netlist(design, target, tools)?;
-    netlist.write_routed = true;
+    netlist.write_routed = keep.is_some();
     let report = place_and_route(&netlist, design, target, tools, freq_mhz, seed, Pnr::Route);
-    let copy = |e: std::io::Error| {
-        CliError::failure(format!(
-            "cannot keep the run's files in {}: {e}",
-            keep.display()
-        ))
-    };
-    std::fs::create_dir_all(keep).map_err(copy)?;
-    for entry in std::fs::read_dir(netlist.scratch.path()).map_err(copy)? {
-        let entry = entry.map_err(copy)?;
-        std::fs::copy(entry.path(), keep.join(entry.file_name())).map_err(copy)?;
+    if let Some(keep) = keep {
+        let copy = |e: std::io::Error| {
+            CliError::failure(format!(
+                "cannot keep the run's files in {}: {e}",
+                keep.display()
+            ))
+        };
+        std::fs::create_dir_all(keep).map_err(copy)?;
+        for entry in std::fs::read_dir(netlist.scratch.path()).map_err(copy)? {
+            let entry = entry.map_err(copy)?;
+            std::fs::copy(entry.path(), keep.join(entry.file_name())).map_err(copy)?;
+        }
     }
     report
 }
@@ -415,7 +405,8 @@ pub fn place_and_route(
     if netlist.write_routed {
         cmd.args(["--write", "routed.json"]);
     }
-    // nextpnr exits 1 when Fmax misses --freq; this is a measurement.
+    // nextpnr exits 1 when Fmax misses its clock target; this is a
+    // measurement.
     cmd.arg(match pnr {
         Pnr::Route => "--timing-allow-fail",
         Pnr::PackOnly => "--pack-only",

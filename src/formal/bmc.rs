@@ -74,12 +74,7 @@ pub fn run(
         .args(["-s", "yices", "--presat", "--unroll", "--noprogress", "-t"])
         .arg(depth.to_string())
         .args(["--dump-vcd", "trace.vcd", "design.smt2"]);
-    let mut path = std::ffi::OsString::from(tools.solver.parent().unwrap_or(Path::new(".")));
-    if let Some(rest) = std::env::var_os("PATH") {
-        path.push(":");
-        path.push(rest);
-    }
-    smtbmc.env("PATH", path);
+    smtbmc.env("PATH", sby::solver_path(tools));
     crate::tool::run_status(&mut smtbmc, "smtbmc", dir)?;
     let log = std::fs::read_to_string(dir.join("smtbmc.stdout")).unwrap_or_default();
     let trace = Some(dir.join("trace.vcd")).filter(|p| p.is_file());
@@ -103,15 +98,7 @@ fn outcome(
 /// The verdict from yosys-smtbmc's output: the assertions it names
 /// failing, and its status line.
 pub fn verdict(log: &str) -> Verdict {
-    let mut labels: Vec<String> = Vec::new();
-    for line in log.lines() {
-        if let Some((_, rest)) = line.split_once("Assert failed in ") {
-            let label = rest.rsplit(": ").next().unwrap_or(rest).trim().to_string();
-            if !labels.contains(&label) {
-                labels.push(label);
-            }
-        }
-    }
+    let labels = sby::failed_labels(log.lines());
     let status = log
         .lines()
         .rev()

@@ -157,12 +157,7 @@ pub fn run(tools: &Tools, dir: &Path, mode: Mode) -> Result<Outcome, CliError> {
         .arg(&tools.yosys)
         .arg("--smtbmc")
         .arg(&tools.smtbmc);
-    let mut path = std::ffi::OsString::from(tools.solver.parent().unwrap_or(Path::new(".")));
-    if let Some(rest) = std::env::var_os("PATH") {
-        path.push(":");
-        path.push(rest);
-    }
-    cmd.env("PATH", path);
+    cmd.env("PATH", solver_path(tools));
     let started = std::time::Instant::now();
     let what = match mode {
         Mode::Full => "sby".to_string(),
@@ -190,20 +185,34 @@ pub fn run(tools: &Tools, dir: &Path, mode: Mode) -> Result<Outcome, CliError> {
     })
 }
 
-/// The verdict from the prove task's status file and log.
-pub fn verdict(status: &str, log: &str) -> Verdict {
-    let failed = |engine: &str| -> Vec<String> {
-        let mut labels = Vec::new();
-        for line in log.lines().filter(|l| l.contains(engine)) {
-            if let Some((_, rest)) = line.split_once("Assert failed in ") {
-                let label = rest.rsplit(": ").next().unwrap_or(rest).trim().to_string();
-                if !labels.contains(&label) {
-                    labels.push(label);
-                }
+/// PATH with the solver's directory first: smtbmc runs it by the name
+/// `yices-smt2`.
+pub fn solver_path(tools: &Tools) -> std::ffi::OsString {
+    let mut path = std::ffi::OsString::from(tools.solver.parent().unwrap_or(Path::new(".")));
+    if let Some(rest) = std::env::var_os("PATH") {
+        path.push(":");
+        path.push(rest);
+    }
+    path
+}
+
+/// The assertions that `lines` of smtbmc output name failing, each once.
+pub fn failed_labels<'a>(lines: impl Iterator<Item = &'a str>) -> Vec<String> {
+    let mut labels: Vec<String> = Vec::new();
+    for line in lines {
+        if let Some((_, rest)) = line.split_once("Assert failed in ") {
+            let label = rest.rsplit(": ").next().unwrap_or(rest).trim().to_string();
+            if !labels.contains(&label) {
+                labels.push(label);
             }
         }
-        labels
-    };
+    }
+    labels
+}
+
+/// The verdict from the prove task's status file and log.
+pub fn verdict(status: &str, log: &str) -> Verdict {
+    let failed = |engine: &str| failed_labels(log.lines().filter(|l| l.contains(engine)));
     // A prove task's base case, or a bmc task's only engine.
     let mut base_case = failed("engine_0.basecase");
     base_case.extend(failed("engine_0: "));

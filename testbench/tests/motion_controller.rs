@@ -53,6 +53,12 @@ fn writable_words(axes: u64) -> u64 {
     2 + axes * 2 + 1 + axes * 13 + 31
 }
 
+/// The register words of `config`'s map that the oracle takes writes to.
+fn writable_count(config: &Config) -> u64 {
+    let o = McuOracle::new(config);
+    (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64
+}
+
 fn plan() -> &'static Plan {
     static PLAN: OnceLock<Plan> = OnceLock::new();
     PLAN.get_or_init(|| top::plan(&config()))
@@ -76,7 +82,7 @@ fn the_plan_covers_the_map() {
     assert_eq!(p.expected.len() as u64, EXPECTED_READS);
     let o = McuOracle::new(&config());
     // Every register word is either writable or among the ignored writes.
-    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
+    let writable = writable_count(&config());
     assert_eq!(writable + p.ignored_writes, u64::from(top::REGISTER_WORDS));
     // The 31 SAFETY registers are all but INFO, STATUS, WDT_COUNT, the
     // two machine-input level registers and GPI_LEVEL.
@@ -219,9 +225,10 @@ fn external_ram_build_registers_and_no_ram_window() {
     let p = external_plan();
     assert_eq!(p.expected.len() as u64, EXPECTED_READS_EXTERNAL);
     let config = external_walked();
-    let o = McuOracle::new(&config);
-    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
-    assert_eq!(writable, writable_words(config.axes().into()));
+    assert_eq!(
+        writable_count(&config),
+        writable_words(config.axes().into())
+    );
     let obs = run_rust_at(&config, &p.ops);
     let r = check("external RAM build, rust-hdl", p, Ok(obs), None);
     r.assert_passed();
@@ -258,7 +265,7 @@ fn servo_card_build_registers_through_fsmc() {
     let p = top::plan(&config);
     assert_eq!(p.expected.len() as u64, EXPECTED_READS);
     let o = McuOracle::new(&config);
-    let writable = (0..top::REGISTER_WORDS).filter(|w| o.writable(*w)).count() as u64;
+    let writable = writable_count(&config);
     // The channels, axes and SAFETY as above; SERVO: EVENTS, TICK_PERIOD,
     // UPDATE, TIMING, SERIAL, PREFIX and the 4 CODE registers.
     assert_eq!(writable, writable_words(config.axes().into()) + 10);
